@@ -1,0 +1,231 @@
+"""The recognizer's input (CONTRACTS §2), parsed and validated in one place.
+
+A request is ``{"scene": path|mapping (optional), "touches": [...], "noise": {...},
+"options": {...}}``. A touch is either samples (``phi``, ``x``, ``y``, optional ``s``;
+equal lengths, >= 3 samples) or ``{"contact": {x, y, phi, kappa, kappa_s}}`` with
+optional ``cov`` (2×2 covariance of κ, κ_s) or ``sigma_kappa`` / ``sigma_kappa_s``.
+Extensions: top-level ``noise: {phi: rad, pos: mm}`` and ``options: {refine, estimator,
+profile, alpha}``. Every problem raises a one-line :class:`InputError`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+from recognizer.errors import InputError
+
+__all__ = ["NoiseModel", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
+           "MIN_TOUCHES"]
+
+#: touches a class needs before its invariants can be cross-checked (>= 2 pairs for the
+#: two-parameter and cubic classes, >= 1 pair for the others)
+MIN_TOUCHES: dict[str, int] = {
+    "line": 2, "circle": 2, "parabola": 2, "ellipse": 3, "hyperbola": 3,
+    "cubical_parabola": 3, "semicubical_parabola": 3,
+}
+_TOP_KEYS = {"scene", "touches", "noise", "options", "meta"}
+_SAMPLE_KEYS = {"phi", "x", "y", "s", "finger", "meta"}
+_CONTACT_KEYS = {"x", "y", "phi", "kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s"}
+_OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float}
+ESTIMATORS = ("auto", "central", "poly")
+
+
+@dataclass(frozen=True)
+class NoiseModel:
+    """Measurement noise: standard deviation of a tangent angle (rad) and of a position (mm)."""
+
+    phi: float = 0.0
+    pos: float = 0.0
+
+    def to_json(self) -> dict:
+        return {"phi": self.phi, "pos": self.pos}
+
+
+@dataclass(frozen=True)
+class SamplesTouch:
+    """Samples of one local rolling move, ordered along the boundary."""
+
+    phi: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    s: np.ndarray | None = None
+
+    @property
+    def contact_index(self) -> int:
+        return len(self.phi) // 2
+
+
+@dataclass(frozen=True)
+class ContactTouch:
+    """An already estimated contact; ``cov`` is the 2×2 covariance of (κ, κ_s) (zeros = exact)."""
+
+    x: float
+    y: float
+    phi: float
+    kappa: float
+    kappa_s: float
+    cov: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
+
+
+@dataclass(frozen=True)
+class Request:
+    touches: tuple
+    scene: object | None  # recognizer.scene.Scene
+    classes: tuple[str, ...]
+    noise: NoiseModel | None = None
+    options: dict = field(default_factory=dict)
+    source: str = "<request>"
+
+
+def _num(v, where: str) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise InputError(f"{where}: must be a number, got {v!r}")
+    if not math.isfinite(v):
+        raise InputError(f"{where}: must be finite, got {v!r}")
+    return float(v)
+
+
+def _vec(v, where: str) -> np.ndarray:
+    if not isinstance(v, (list, tuple)):
+        raise InputError(f"{where}: must be a list of numbers")
+    return np.array([_num(e, f"{where}[{i}]") for i, e in enumerate(v)], dtype=float)
+
+
+def parse_noise(raw, where: str = "noise") -> NoiseModel:
+    if not isinstance(raw, Mapping):
+        raise InputError(f"{where}: must be a mapping {{phi: rad, pos: mm}}")
+    extra = sorted(map(str, set(raw) - {"phi", "pos"}))
+    if extra:
+        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: phi, pos")
+    vals = {k: _num(raw.get(k, 0.0), f"{where}.{k}") for k in ("phi", "pos")}
+    for k, v in vals.items():
+        if v < 0:
+            raise InputError(f"{where}.{k}: must be >= 0, got {v}")
+    return NoiseModel(**vals)
+
+
+def _parse_samples(raw: Mapping, where: str) -> SamplesTouch:
+    extra = sorted(map(str, set(raw) - _SAMPLE_KEYS))
+    if extra:
+        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; a samples touch has phi, x, y, optional s")
+    for k in ("phi", "x", "y"):
+        if k not in raw:
+            raise InputError(f"{where}: missing key {k!r} (a samples touch has phi, x, y, optional s)")
+    arrs = {k: _vec(raw[k], f"{where}.{k}") for k in ("phi", "x", "y")}
+    if raw.get("s") is not None:
+        arrs["s"] = _vec(raw["s"], f"{where}.s")
+    lens = {k: len(v) for k, v in arrs.items()}
+    if len(set(lens.values())) != 1:
+        raise InputError(f"{where}: unequal lengths " + ", ".join(f"{k}={n}" for k, n in lens.items()))
+    n = lens["phi"]
+    if n < 3:
+        raise InputError(f"{where}: needs at least 3 samples, got {n}")
+    if "s" in arrs and np.any(np.diff(arrs["s"]) <= 0):
+        raise InputError(f"{where}.s: arc length must increase strictly along the samples")
+    if "s" not in arrs and np.any(np.hypot(np.diff(arrs["x"]), np.diff(arrs["y"])) == 0):
+        raise InputError(f"{where}: two consecutive samples at the same position (give s, or distinct x, y)")
+    return SamplesTouch(arrs["phi"], arrs["x"], arrs["y"], arrs.get("s"))
+
+
+def _parse_contact(raw, where: str) -> ContactTouch:
+    if not isinstance(raw, Mapping):
+        raise InputError(f"{where}: must be a mapping with x, y, phi, kappa, kappa_s")
+    extra = sorted(map(str, set(raw) - _CONTACT_KEYS))
+    if extra:
+        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: {', '.join(sorted(_CONTACT_KEYS))}")
+    vals = {}
+    for k in ("x", "y", "phi", "kappa", "kappa_s"):
+        if k not in raw:
+            raise InputError(f"{where}: missing key {k!r} (a contact has x, y, phi, kappa, kappa_s)")
+        vals[k] = _num(raw[k], f"{where}.{k}")
+    cov = np.zeros((2, 2))
+    if "cov" in raw:
+        if "sigma_kappa" in raw or "sigma_kappa_s" in raw:
+            raise InputError(f"{where}: give cov or sigma_kappa/sigma_kappa_s, not both")
+        c = raw["cov"]
+        if not isinstance(c, (list, tuple)) or len(c) != 2:
+            raise InputError(f"{where}.cov: must be a 2x2 list [[var_k, cov], [cov, var_ks]]")
+        cov = np.array([_vec(r, f"{where}.cov[{i}]") for i, r in enumerate(c)])
+        if cov.shape != (2, 2) or abs(cov[0, 1] - cov[1, 0]) > 1e-12 * (abs(cov[0, 1]) + 1e-300):
+            raise InputError(f"{where}.cov: must be a symmetric 2x2 matrix")
+        if cov[0, 0] < 0 or cov[1, 1] < 0 or cov[0, 0] * cov[1, 1] - cov[0, 1] ** 2 < -1e-12 * (cov[0, 0] * cov[1, 1] + 1e-300):
+            raise InputError(f"{where}.cov: must be positive semi-definite")
+    for i, k in enumerate(("sigma_kappa", "sigma_kappa_s")):
+        if k in raw:
+            sig = _num(raw[k], f"{where}.{k}")
+            if sig < 0:
+                raise InputError(f"{where}.{k}: must be >= 0, got {sig}")
+            cov[i, i] = sig * sig
+    return ContactTouch(cov=cov, **vals)
+
+
+def _parse_options(raw, where: str = "options") -> dict:
+    if not isinstance(raw, Mapping):
+        raise InputError(f"{where}: must be a mapping; allowed keys: {', '.join(_OPTION_KEYS)}")
+    out = {}
+    for k, v in raw.items():
+        if k not in _OPTION_KEYS:
+            raise InputError(f"{where}: unknown key {k!r}; allowed: {', '.join(_OPTION_KEYS)}")
+        if _OPTION_KEYS[k] is bool and not isinstance(v, bool):
+            raise InputError(f"{where}.{k}: must be true or false")
+        if _OPTION_KEYS[k] is str and not isinstance(v, str):
+            raise InputError(f"{where}.{k}: must be a string")
+        if _OPTION_KEYS[k] is float:
+            v = _num(v, f"{where}.{k}")
+        out[k] = v
+    if "estimator" in out and out["estimator"] not in ESTIMATORS:
+        raise InputError(f"{where}.estimator: unknown {out['estimator']!r}; allowed: {', '.join(ESTIMATORS)}")
+    if "alpha" in out and not 0.0 < out["alpha"] < 0.5:
+        raise InputError(f"{where}.alpha: must be in (0, 0.5), got {out['alpha']}")
+    return out
+
+
+def parse_request(obj, base_dir=None, source: str = "request") -> Request:
+    """Validate a decoded JSON request; ``base_dir`` resolves a relative scene path
+    after the current directory."""
+    from recognizer.scene import ALL_CLASSES, load_scene
+
+    if not isinstance(obj, Mapping):
+        raise InputError(f"{source}: must be a JSON object with 'touches'")
+    extra = sorted(map(str, set(obj) - _TOP_KEYS))
+    if extra:
+        raise InputError(f"{source}: unknown key(s) {', '.join(extra)}; allowed: {', '.join(sorted(_TOP_KEYS))}")
+    scene = None
+    if obj.get("scene") is not None:
+        sc = obj["scene"]
+        if not isinstance(sc, (str, Mapping)):
+            raise InputError(f"{source}.scene: must be a path or a scene mapping")
+        scene = load_scene(sc, base_dir=Path(base_dir) if base_dir is not None else None)
+    classes = scene.classes if scene is not None else ALL_CLASSES
+    raw_touches = obj.get("touches")
+    if not isinstance(raw_touches, list):
+        raise InputError(f"{source}: missing 'touches' (a list of touches)")
+    touches = []
+    for i, t in enumerate(raw_touches):
+        where = f"{source}.touches[{i}]"
+        if not isinstance(t, Mapping):
+            raise InputError(f"{where}: must be an object (samples phi/x/y or contact)")
+        if "contact" in t:
+            extra = sorted(map(str, set(t) - {"contact", "finger", "meta"}))
+            if extra:
+                raise InputError(f"{where}: unknown key(s) {', '.join(extra)} beside 'contact'")
+            touches.append(_parse_contact(t["contact"], f"{where}.contact"))
+        else:
+            touches.append(_parse_samples(t, where))
+    need = min(MIN_TOUCHES[c] for c in classes)
+    if len(touches) < need:
+        raise InputError(f"{source}: {len(touches)} touch(es); the scene's classes need at least {need}")
+    noise = parse_noise(obj["noise"], f"{source}.noise") if obj.get("noise") is not None else None
+    if noise is None and scene is not None:
+        noise = scene.noise
+    options = _parse_options(obj.get("options") or {}, f"{source}.options")
+    if "profile" in options:
+        from recognizer.scene import _check_profile
+
+        _check_profile(options["profile"], f"{source}.options.profile")
+    return Request(tuple(touches), scene, classes, noise, options, source)

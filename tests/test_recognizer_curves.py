@@ -1,0 +1,113 @@
+"""Canonical curves checked against a sympy derivation of eqs. (1)-(2) from the
+canonical parametrization itself (no formula of the paper is trusted)."""
+
+import math
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy import integrate
+
+from recognizer.curves import CURVES, Pose, validate_params
+from recognizer.errors import InputError
+
+T = sp.symbols("t", real=True)
+P = {n: sp.symbols(n, real=True) for n in ("a", "b", "c", "r")}
+FORMS = {
+    "line": (T, sp.Integer(0)),
+    "circle": (P["r"] * sp.cos(T), P["r"] * sp.sin(T)),
+    "ellipse": (P["a"] * sp.cos(T), P["b"] * sp.sin(T)),
+    "parabola": (P["a"] * T**2, 2 * P["a"] * T),
+    "hyperbola": (P["a"] * sp.cosh(T), P["b"] * sp.sinh(T)),
+    "cubical_parabola": (T, P["a"] * T**3 + P["c"] * T),
+    "semicubical_parabola": (T**2, P["a"] * T**3 + P["b"] * T**2),
+}
+PARAMS = {
+    "line": [{}],
+    "circle": [{"r": 2.5}, {"r": 1e-3}],
+    "ellipse": [{"a": 2.8605, "b": 1.7263}, {"a": 1000.0, "b": 1.0}],
+    "parabola": [{"a": 0.7}, {"a": 300.0}],
+    "hyperbola": [{"a": 1.3, "b": 0.4}, {"a": 0.2, "b": 5.0}],
+    "cubical_parabola": [{"a": 3.2543, "c": -2.3215}, {"a": -0.5, "c": 1.5}],
+    "semicubical_parabola": [{"a": 1.5, "b": -0.8}, {"a": 0.3, "b": 2.0}],
+}
+TS = [-2.3, -0.7, -0.05, 0.03, 0.4, 1.1, 2.9]
+
+
+def _exact(cls):
+    x, y = FORMS[cls]
+    xd, yd = sp.diff(x, T), sp.diff(y, T)
+    sp2 = xd**2 + yd**2
+    kappa = (xd * sp.diff(yd, T) - sp.diff(xd, T) * yd) / sp2 ** sp.Rational(3, 2)
+    kappa_s = sp.diff(kappa, T) / sp.sqrt(sp2)
+    syms = [T] + [P[n] for n in CURVES[cls].param_names]
+    return {k: sp.lambdify(syms, e, "mpmath") for k, e in
+            {"x": x, "y": y, "xd": xd, "yd": yd, "kappa": kappa, "kappa_s": kappa_s, "speed": sp.sqrt(sp2)}.items()}
+
+
+@pytest.mark.parametrize("cls", list(CURVES))
+def test_closed_forms_match_sympy(cls):
+    import mpmath
+
+    mpmath.mp.dps = 40
+    ex = _exact(cls)
+    for params in PARAMS[cls]:
+        curve = CURVES[cls](params)
+        args = [params[n] for n in curve.param_names]
+        t = np.array(TS)
+        got = {"x": curve.point(t)[0], "y": curve.point(t)[1], "kappa": curve.kappa(t),
+               "kappa_s": curve.kappa_s(t), "speed": curve.speed(t)}
+        phi = curve.tangent_angle(t)
+        for i, ti in enumerate(TS):
+            for k, v in got.items():
+                want = float(ex[k](mpmath.mpf(ti), *args))
+                assert v[i] == pytest.approx(want, rel=1e-11, abs=1e-13 * (1 + abs(want))), (cls, k, ti)
+            xd, yd = float(ex["xd"](ti, *args)), float(ex["yd"](ti, *args))
+            d = math.atan2(yd, xd) - phi[i]
+            assert abs(math.remainder(d, 2 * math.pi)) < 1e-12, (cls, ti)
+
+
+def test_kappa_is_dphi_ds_numerically():
+    # κ = dφ/ds by central differences on the curve's own tangent angle and arc length
+    for cls, plist in PARAMS.items():
+        c = CURVES[cls](plist[0])
+        for t in (-0.9, 0.35, 1.7):
+            h = 1e-5
+            dphi = math.remainder(float(c.tangent_angle(t + h) - c.tangent_angle(t - h)), 2 * math.pi)
+            ds = float(c.arc_length(t - h, t + h))
+            assert dphi / ds == pytest.approx(float(c.kappa(t)), rel=1e-6, abs=1e-9)
+
+
+@pytest.mark.parametrize("cls", list(CURVES))
+def test_arc_length_and_inverse(cls):
+    for params in PARAMS[cls]:
+        c = CURVES[cls](params)
+        for t0, t1 in ((-1.2, 0.8), (0.1, 2.5), (-2.0, -0.3)):
+            want = integrate.quad(lambda u: float(c.speed(u)), t0, t1, epsabs=0, epsrel=1e-13, limit=200)[0]
+            got = float(c.arc_length(t0, t1))
+            assert got == pytest.approx(want, rel=1e-9), (cls, params, t0, t1)
+            back = float(c.t_at_arc_length(t0, got))
+            assert back == pytest.approx(t1, rel=1e-9, abs=1e-9)
+
+
+def test_pose_roundtrip_and_convention():
+    p = Pose(0.3, 120.0, 15.0)
+    x, y = p.apply(np.array([1.0, 0.0]), np.array([0.0, 2.0]))
+    assert x[0] == pytest.approx(120 + math.cos(0.3)) and y[0] == pytest.approx(15 + math.sin(0.3))
+    assert x[1] == pytest.approx(120 - 2 * math.sin(0.3))
+    bx, by = p.inverse(x, y)
+    assert np.allclose(bx, [1, 0]) and np.allclose(by, [0, 2])
+
+
+@pytest.mark.parametrize("cls,params,msg", [
+    ("ellipse", {"a": 1.0, "b": 2.0}, "a >= b"),
+    ("ellipse", {"a": 1.0}, "missing"),
+    ("circle", {"r": -1.0}, "> 0"),
+    ("parabola", {"a": 1.0, "q": 2}, "unknown key"),
+    ("cubical_parabola", {"a": 0.0, "c": 1.0}, "nonzero"),
+    ("blob", {}, "unknown class"),
+    ("hyperbola", {"a": float("nan"), "b": 1.0}, "finite"),
+])
+def test_validate_params_rejects(cls, params, msg):
+    with pytest.raises(InputError, match=msg):
+        validate_params(cls, params)
