@@ -1,0 +1,375 @@
+"""Jaw configuration: YAML → typed dataclasses, validated once (CONTRACTS §5).
+
+A jaw is a bus plus fingers; a finger is a planar chain of revolute joints fixed at a
+base pose in the hand frame, with a flat pad on the side of its distal link that ends at
+the fingertip. Joint angle (ARCHITECTURE "Units and frames")::
+
+    q = direction · (tick − zero_tick) · 2π/4096      (rad, counter-clockwise)
+
+Link i starts at joint i and points along ``base.angle + q_1 + … + q_i``; its length is
+``link_mm``. The pad is a segment parallel to the distal link, ``pad.offset_mm`` from
+its axis on ``pad.side`` (seen looking from the joint toward the tip), covering the last
+``pad.length_mm`` of the link up to the fingertip. Every check happens in
+:func:`load_config`; a bad file raises :class:`InputError` with one line naming the file,
+the key and the allowed range.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from recognizer.errors import InputError
+
+TICKS_PER_REV = 4096
+_FALLBACK_MODELS = ("XM430-W350", "XM430-W210", "XM540-W270", "XM540-W150",
+                    "XH430-W350", "XH430-W210", "XC330-T288", "XC330-M288",
+                    "XC330-T181", "XC330-M181", "XL430-W250")
+
+
+def supported_models() -> tuple[str, ...]:
+    """Model names the driver knows (hand_driver.control_table when present)."""
+    try:
+        from hand_driver.control_table import MODELS
+    except ImportError:
+        return _FALLBACK_MODELS
+    return tuple(MODELS)
+
+
+@dataclass(frozen=True)
+class BusConfig:
+    port: str = "/dev/ttyUSB0"
+    baudrate: int = 1_000_000
+    protocol: float = 2.0
+    retries: int = 3
+    timeout_s: float = 0.05
+
+
+@dataclass(frozen=True)
+class JointConfig:
+    id: int
+    model: str
+    zero_tick: float
+    link_mm: float
+    direction: int = 1
+    min_deg: float = -90.0
+    max_deg: float = 90.0
+    current_limit_ma: float = 1000.0
+
+    @property
+    def min_rad(self) -> float:
+        return math.radians(self.min_deg)
+
+    @property
+    def max_rad(self) -> float:
+        return math.radians(self.max_deg)
+
+
+@dataclass(frozen=True)
+class PadConfig:
+    """Flat pad on the distal link: ``side`` 'left'/'right' of the link (looking from the
+    joint to the tip), ``offset_mm`` from the link axis, the last ``length_mm`` of the link."""
+
+    side: str
+    offset_mm: float
+    length_mm: float
+
+    @property
+    def side_sign(self) -> int:
+        """+1: the pad's outward normal is the link direction turned +90° (left)."""
+        return 1 if self.side == "left" else -1
+
+
+@dataclass(frozen=True)
+class BasePose:
+    x: float
+    y: float
+    angle_deg: float
+
+    @property
+    def angle(self) -> float:
+        return math.radians(self.angle_deg)
+
+
+@dataclass(frozen=True)
+class FingerConfig:
+    name: str
+    base: BasePose
+    joints: tuple[JointConfig, ...]
+    pad: PadConfig
+
+
+@dataclass(frozen=True)
+class MotionConfig:
+    """How the jaw moves and how it feels a contact (used by hand_driver.motion)."""
+
+    profile_velocity: int = 100  # raw, 0.229 rev/min units
+    profile_acceleration: int = 20  # raw, 214.577 rev/min² units
+    approach_speed_mm_s: float = 10.0
+    approach_step_mm: float = 0.5
+    contact_current_ma: float = 150.0
+    goal_current_ma: float = 300.0
+    backoff_mm: float = 3.0
+    roll_step_deg: float = 2.0
+    roll_samples: int = 9
+    max_touch_s: float = 10.0
+
+
+@dataclass(frozen=True)
+class WorkspaceConfig:
+    """Where the object is expected: a disk in the hand frame."""
+
+    center_mm: tuple[float, float] = (110.0, 0.0)
+    radius_mm: float = 45.0
+
+
+@dataclass(frozen=True)
+class JawConfig:
+    bus: BusConfig
+    fingers: tuple[FingerConfig, ...]
+    motion: MotionConfig
+    workspace: WorkspaceConfig
+    source: str = field(default="<memory>", compare=False)
+
+    @property
+    def joints(self) -> tuple[JointConfig, ...]:
+        """Every joint in config order (finger by finger, base to tip)."""
+        return tuple(j for f in self.fingers for j in f.joints)
+
+    def finger(self, name: str) -> FingerConfig:
+        for f in self.fingers:
+            if f.name == name:
+                return f
+        raise InputError(f"{self.source}: no finger named {name!r}; fingers are "
+                         f"{', '.join(f.name for f in self.fingers)}")
+
+    def joint_slices(self) -> dict[str, slice]:
+        """Finger name → slice of that finger's joints in :attr:`joints` order."""
+        out, k = {}, 0
+        for f in self.fingers:
+            out[f.name] = slice(k, k + len(f.joints))
+            k += len(f.joints)
+        return out
+
+
+# ----------------------------------------------------------------------------- loading
+
+
+class _Checker:
+    """Reads typed, range-checked values; errors name file and dotted key."""
+
+    def __init__(self, source: str):
+        self.source = source
+
+    def fail(self, key: str, what: str) -> None:
+        raise InputError(f"{self.source}: {key}: {what}")
+
+    def mapping(self, obj: Any, key: str, allowed: tuple[str, ...], required: tuple[str, ...] = ()) -> dict:
+        if not isinstance(obj, dict):
+            self.fail(key or "<top>", f"expected a mapping with keys {', '.join(allowed)}")
+        for k in obj:
+            if k not in allowed:
+                self.fail(f"{key}.{k}" if key else str(k), f"unknown key; allowed: {', '.join(allowed)}")
+        for k in required:
+            if k not in obj:
+                self.fail(f"{key}.{k}" if key else k, "missing (required)")
+        return obj
+
+    def number(self, obj: dict, key: str, name: str, default: Any, lo: float, hi: float,
+               integer: bool = False, lo_open: bool = False) -> Any:
+        full = f"{key}.{name}" if key else name
+        value = obj.get(name, default)
+        rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}]"
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            self.fail(full, f"{value!r} is not a number; allowed range {rng}")
+        if integer and (not float(value).is_integer()):
+            self.fail(full, f"{value!r} is not an integer; allowed range {rng}")
+        if not math.isfinite(value) or value < lo or value > hi or (lo_open and value == lo):
+            self.fail(full, f"{value!r} out of range {rng}")
+        return int(value) if integer else float(value)
+
+    def string(self, obj: dict, key: str, name: str, default: Any, choices: tuple[str, ...] | None = None) -> str:
+        full = f"{key}.{name}" if key else name
+        value = obj.get(name, default)
+        if not isinstance(value, str) or not value:
+            self.fail(full, f"{value!r} is not a non-empty string")
+        if choices is not None and value not in choices:
+            self.fail(full, f"{value!r} not allowed; choose from {', '.join(choices)}")
+        return value
+
+
+def _bus(c: _Checker, obj: Any) -> BusConfig:
+    d = BusConfig()
+    m = c.mapping(obj if obj is not None else {}, "bus", ("port", "baudrate", "protocol", "retries", "timeout_s"))
+    protocol = c.number(m, "bus", "protocol", d.protocol, 2.0, 2.0)
+    return BusConfig(
+        port=c.string(m, "bus", "port", d.port),
+        baudrate=c.number(m, "bus", "baudrate", d.baudrate, 9600, 10_500_000, integer=True),
+        protocol=protocol,
+        retries=c.number(m, "bus", "retries", d.retries, 0, 10, integer=True),
+        timeout_s=c.number(m, "bus", "timeout_s", d.timeout_s, 0.001, 5.0),
+    )
+
+
+def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointConfig:
+    allowed = ("id", "model", "zero_tick", "link_mm", "direction", "min_deg", "max_deg", "current_limit_ma")
+    m = c.mapping(obj, key, allowed, required=("id", "model", "zero_tick", "link_mm"))
+    d = JointConfig(0, "", 0, 0)
+    model = c.string(m, key, "model", None, models)
+    direction = m.get("direction", d.direction)
+    if direction not in (1, -1) or isinstance(direction, bool):
+        c.fail(f"{key}.direction", f"{direction!r} not allowed; choose 1 or -1")
+    j = JointConfig(
+        id=c.number(m, key, "id", None, 0, 252, integer=True),
+        model=model,
+        zero_tick=c.number(m, key, "zero_tick", None, 0, TICKS_PER_REV - 1),
+        link_mm=c.number(m, key, "link_mm", None, 0.0, 1000.0, lo_open=True),
+        direction=int(direction),
+        min_deg=c.number(m, key, "min_deg", d.min_deg, -180.0, 0.0),
+        max_deg=c.number(m, key, "max_deg", d.max_deg, 0.0, 180.0),
+        current_limit_ma=c.number(m, key, "current_limit_ma", d.current_limit_ma, 0.0, 10_000.0, lo_open=True),
+    )
+    # Limits must stay inside one encoder turn of position mode (ticks 0..4095).
+    for name, deg in (("min_deg", j.min_deg), ("max_deg", j.max_deg)):
+        tick = j.zero_tick + j.direction * deg * TICKS_PER_REV / 360.0
+        if not 0 <= tick <= TICKS_PER_REV - 1:
+            lo = -j.zero_tick * 360.0 / TICKS_PER_REV
+            hi = (TICKS_PER_REV - 1 - j.zero_tick) * 360.0 / TICKS_PER_REV
+            if j.direction < 0:
+                lo, hi = -hi, -lo
+            c.fail(f"{key}.{name}", f"{deg:g}° puts the encoder at tick {tick:.0f}, outside 0..4095; "
+                                    f"with zero_tick {j.zero_tick:g} allowed range [{lo:.1f}, {hi:.1f}]")
+    return j
+
+
+def _finger(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> FingerConfig:
+    m = c.mapping(obj, key, ("name", "base", "joints", "pad"), required=("name", "joints", "pad"))
+    name = c.string(m, key, "name", None)
+    base_obj = c.mapping(m.get("base", {}), f"{key}.base", ("x", "y", "angle_deg"))
+    base = BasePose(
+        x=c.number(base_obj, f"{key}.base", "x", 0.0, -1000.0, 1000.0),
+        y=c.number(base_obj, f"{key}.base", "y", 0.0, -1000.0, 1000.0),
+        angle_deg=c.number(base_obj, f"{key}.base", "angle_deg", 0.0, -180.0, 180.0),
+    )
+    joints_obj = m["joints"]
+    if not isinstance(joints_obj, list) or len(joints_obj) != 2:
+        c.fail(f"{key}.joints", "expected a list of exactly 2 joints (a 2-joint planar chain)")
+    joints = tuple(_joint(c, j, f"{key}.joints[{i}]", models) for i, j in enumerate(joints_obj))
+    pm = c.mapping(m["pad"], f"{key}.pad", ("side", "offset_mm", "length_mm"), required=("side", "offset_mm", "length_mm"))
+    distal = joints[-1].link_mm
+    pad = PadConfig(
+        side=c.string(pm, f"{key}.pad", "side", None, ("left", "right")),
+        offset_mm=c.number(pm, f"{key}.pad", "offset_mm", None, 0.0, 100.0),
+        length_mm=c.number(pm, f"{key}.pad", "length_mm", None, 0.0, distal, lo_open=True),
+    )
+    return FingerConfig(name=name, base=base, joints=joints, pad=pad)
+
+
+def _motion(c: _Checker, obj: Any) -> MotionConfig:
+    d = MotionConfig()
+    m = c.mapping(obj if obj is not None else {}, "motion", tuple(asdict(d)))
+    k = "motion"
+    cfg = MotionConfig(
+        profile_velocity=c.number(m, k, "profile_velocity", d.profile_velocity, 0, 32767, integer=True),
+        profile_acceleration=c.number(m, k, "profile_acceleration", d.profile_acceleration, 0, 32767, integer=True),
+        approach_speed_mm_s=c.number(m, k, "approach_speed_mm_s", d.approach_speed_mm_s, 0.0, 200.0, lo_open=True),
+        approach_step_mm=c.number(m, k, "approach_step_mm", d.approach_step_mm, 0.0, 10.0, lo_open=True),
+        contact_current_ma=c.number(m, k, "contact_current_ma", d.contact_current_ma, 0.0, 5000.0, lo_open=True),
+        goal_current_ma=c.number(m, k, "goal_current_ma", d.goal_current_ma, 0.0, 5000.0, lo_open=True),
+        backoff_mm=c.number(m, k, "backoff_mm", d.backoff_mm, 0.0, 50.0),
+        roll_step_deg=c.number(m, k, "roll_step_deg", d.roll_step_deg, 0.0, 20.0, lo_open=True),
+        roll_samples=c.number(m, k, "roll_samples", d.roll_samples, 3, 200, integer=True),
+        max_touch_s=c.number(m, k, "max_touch_s", d.max_touch_s, 0.0, 600.0, lo_open=True),
+    )
+    if cfg.goal_current_ma < cfg.contact_current_ma:
+        c.fail("motion.goal_current_ma", f"{cfg.goal_current_ma:g} must be ≥ motion.contact_current_ma "
+                                         f"({cfg.contact_current_ma:g}) or a contact is never felt")
+    return cfg
+
+
+def _workspace(c: _Checker, obj: Any) -> WorkspaceConfig:
+    d = WorkspaceConfig()
+    m = c.mapping(obj if obj is not None else {}, "workspace", ("center_mm", "radius_mm"))
+    center = m.get("center_mm", list(d.center_mm))
+    if (not isinstance(center, (list, tuple)) or len(center) != 2
+            or not all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in center)):
+        c.fail("workspace.center_mm", f"{center!r} is not a pair of finite numbers [x, y] (mm)")
+    return WorkspaceConfig(
+        center_mm=(float(center[0]), float(center[1])),
+        radius_mm=c.number(m, "workspace", "radius_mm", d.radius_mm, 0.0, 1000.0, lo_open=True),
+    )
+
+
+def parse_config(obj: Any, source: str = "<memory>") -> JawConfig:
+    """Validate a config mapping (as read from YAML) into a :class:`JawConfig`."""
+    c = _Checker(source)
+    m = c.mapping(obj, "", ("bus", "fingers", "motion", "workspace"), required=("fingers",))
+    fingers_obj = m["fingers"]
+    if not isinstance(fingers_obj, list) or len(fingers_obj) != 2:
+        c.fail("fingers", "expected a list of exactly 2 fingers")
+    models = supported_models()
+    fingers = tuple(_finger(c, f, f"fingers[{i}]", models) for i, f in enumerate(fingers_obj))
+    names = [f.name for f in fingers]
+    if len(set(names)) != len(names):
+        c.fail("fingers", f"duplicate finger names {names}")
+    seen: dict[int, str] = {}
+    for i, f in enumerate(fingers):
+        for k, j in enumerate(f.joints):
+            key = f"fingers[{i}].joints[{k}].id"
+            if j.id in seen:
+                c.fail(key, f"id {j.id} is used twice (also {seen[j.id]}); ids must be unique on the bus")
+            seen[j.id] = key
+    return JawConfig(bus=_bus(c, m.get("bus")), fingers=fingers, motion=_motion(c, m.get("motion")),
+                     workspace=_workspace(c, m.get("workspace")), source=source)
+
+
+def load_config(path: str | Path) -> JawConfig:
+    """Read and validate a jaw YAML file; :class:`InputError` (one line) if it is bad."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read jaw config ({exc.strerror or exc})") from None
+    try:
+        obj = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" at line {mark.line + 1}" if mark is not None else ""
+        raise InputError(f"{path}: not valid YAML{where}") from None
+    return parse_config(obj, str(path))
+
+
+def _num(v: float) -> float | int:
+    """Integers stay integers in YAML; other floats round-trip exactly (repr)."""
+    return int(v) if float(v).is_integer() else float(v)
+
+
+def config_to_mapping(cfg: JawConfig) -> dict:
+    """The YAML mapping of a config (inverse of :func:`parse_config`)."""
+    return {
+        "bus": {"port": cfg.bus.port, "baudrate": cfg.bus.baudrate, "protocol": cfg.bus.protocol,
+                "retries": cfg.bus.retries, "timeout_s": cfg.bus.timeout_s},
+        "fingers": [{
+            "name": f.name,
+            "base": {"x": _num(f.base.x), "y": _num(f.base.y), "angle_deg": _num(f.base.angle_deg)},
+            "joints": [{"id": j.id, "model": j.model, "zero_tick": _num(j.zero_tick), "link_mm": _num(j.link_mm),
+                        "direction": j.direction, "min_deg": _num(j.min_deg), "max_deg": _num(j.max_deg),
+                        "current_limit_ma": _num(j.current_limit_ma)} for j in f.joints],
+            "pad": {"side": f.pad.side, "offset_mm": _num(f.pad.offset_mm), "length_mm": _num(f.pad.length_mm)},
+        } for f in cfg.fingers],
+        "motion": {k: _num(v) if isinstance(v, float) else v for k, v in asdict(cfg.motion).items()},
+        "workspace": {"center_mm": [_num(v) for v in cfg.workspace.center_mm],
+                      "radius_mm": _num(cfg.workspace.radius_mm)},
+    }
+
+
+def dump_config(cfg: JawConfig, path: str | Path, header: str | None = None) -> None:
+    """Write ``cfg`` as YAML that :func:`load_config` reads back to an equal config."""
+    text = yaml.safe_dump(config_to_mapping(cfg), sort_keys=False, default_flow_style=None, width=120)
+    if header:
+        text = "".join(f"# {line}\n" for line in header.splitlines()) + text
+    Path(path).write_text(text, encoding="utf-8")
