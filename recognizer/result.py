@@ -1,0 +1,103 @@
+"""Recognition results: the CONTRACTS §3 answer, the per-class candidate, the options."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from recognizer.curves import CURVES, Pose
+from recognizer.touches import NoiseModel
+
+__all__ = ["Recognition", "Candidate", "RecognizeOptions"]
+
+
+@dataclass
+class RecognizeOptions:
+    """How to recognize: ``estimator`` for samples-touches (see recognizer.estimate),
+    ``refine`` (least squares over every sample, recognizer.refine), ``alpha`` the
+    false-rejection rate of each χ² consistency test, ``noise`` the measurement noise
+    (None: exact contacts; a default for samples-touches, README), ``profile`` a name
+    of recognizer.profiles.PROFILES or None."""
+
+    estimator: str = "auto"
+    refine: bool = False
+    alpha: float = 1e-3
+    noise: NoiseModel | None = None
+    profile: str | None = None
+
+
+@dataclass
+class Candidate:
+    """One class fitted to every touch: parameters, pose, t per touch, and the fit's
+    χ² (weighted squared residuals), degrees of freedom, log-likelihood and BIC."""
+
+    cls: str
+    params: dict
+    pose: Pose
+    t: np.ndarray
+    chi2: float
+    dof: int
+    n_obs: int
+    loglik: float = 0.0
+    bic: float = math.inf
+    p_value: float = 1.0
+    consistent: bool = True
+    reason: str | None = None
+    invariants: dict = field(default_factory=dict)
+    uncertainty: dict = field(default_factory=dict)
+    worst: str | None = None  # which measurement disagreed most, for the reason
+
+    def curve(self):
+        return CURVES[self.cls](self.params)
+
+    def contacts(self) -> list[dict]:
+        x, y = self.pose.apply(*self.curve().point(np.asarray(self.t, dtype=float)))
+        return [{"t": float(ti), "x": float(xi), "y": float(yi)} for ti, xi, yi in zip(self.t, x, y)]
+
+
+def _clean(value):
+    """JSON-safe copy: floats finite or None (never NaN), arrays as lists."""
+    if isinstance(value, dict):
+        return {str(k): _clean(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [_clean(v) for v in value]
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        return float(value) if math.isfinite(value) else None
+    return value
+
+
+@dataclass
+class Recognition:
+    """The recognizer's answer (CONTRACTS §3); ``ranking`` and ``timing`` are extras."""
+
+    cls: str
+    params: dict = field(default_factory=dict)
+    pose: Pose | None = None
+    contacts: list = field(default_factory=list)
+    invariants: dict = field(default_factory=dict)
+    uncertainty: dict = field(default_factory=dict)
+    reason: str | None = None
+    ranking: list = field(default_factory=list)
+    timing: dict = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        out = {
+            "class": self.cls,
+            "params": _clean(self.params) if self.cls != "unclassified" else {},
+            "pose": self.pose.to_json() if self.pose is not None else None,
+            "contacts": _clean(self.contacts),
+            "invariants": _clean(self.invariants),
+            "uncertainty": _clean(self.uncertainty),
+            "reason": self.reason,
+        }
+        if self.ranking:
+            out["ranking"] = _clean(self.ranking)
+        if self.timing:
+            out["timing"] = _clean(self.timing)
+        return out
