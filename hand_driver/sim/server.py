@@ -1,0 +1,326 @@
+"""The emulated servo bus: X-series servos behind a pseudo-terminal.
+
+``EmulatedBus(config, scene)`` opens a pty; ``.port`` is the slave path that pyserial and
+the Dynamixel SDK open like a USB adapter. A thread parses Protocol 2.0 instruction
+packets from the master side and answers byte for byte like a bus of real servos (ping,
+read, write, reg write/action, reboot, sync/fast sync read, sync write, bulk/fast bulk
+read, bulk write; status errors; no status for broadcast writes; servos answer only at
+the baud rate their Baud Rate register selects). Motion is integrated on demand in
+simulated time (``time_scale`` × wall clock) before each packet is served; when the
+scene has an object and ``hand_driver.sim.physics.ContactWorld`` is available, every
+step is constrained so that no pad penetrates the object (joint angles from ticks use
+the *truth* config: zero_tick, direction), and a blocked servo's current rises.
+"""
+
+from __future__ import annotations
+
+import os
+import select
+import termios
+import threading
+import time
+import tty
+
+import numpy as np
+
+from hand_driver.control_table import model as model_spec
+from hand_driver.sim import protocol as P
+from hand_driver.sim.faults import FaultPlan
+from hand_driver.sim.servo import EmulatedServo
+from hand_driver.units import RAD_PER_TICK
+
+_MAX_SUBSTEP_S = 0.002
+_MAX_SUBSTEPS = 200
+_BAUD_REGISTER = {9600: 0, 57600: 1, 115200: 2, 1_000_000: 3, 2_000_000: 4, 3_000_000: 5, 4_000_000: 6, 4_500_000: 7}
+_TERMIOS_SPEED = {getattr(termios, f"B{b}"): b for b in _BAUD_REGISTER if hasattr(termios, f"B{b}")}
+
+
+def joints_of(config) -> list:
+    """Joint specs in config order: JawConfig-like (.fingers[].joints or .joints) or a sequence."""
+    if hasattr(config, "fingers"):
+        return [j for f in config.fingers for j in f.joints]
+    if hasattr(config, "joints"):
+        return list(config.joints)
+    return list(config)
+
+
+def _contact_world(truth_config, scene):
+    obj = getattr(scene, "object", scene)
+    if obj is None:
+        return None
+    try:
+        from hand_driver.sim.physics import ContactWorld
+    except ModuleNotFoundError as exc:
+        if exc.name != "hand_driver.sim.physics":
+            raise
+        return None
+    return ContactWorld(truth_config, obj)
+
+
+class EmulatedBus:
+    """Servos of ``config`` on a pty; context manager; ``stop()`` joins and closes."""
+
+    def __init__(self, config, scene=None, truth_config=None, faults: FaultPlan | None = None,
+                 time_scale: float = 1.0, *, firmware: int = 46, baudrate: int = 1_000_000,
+                 initial_ticks=None, wire_timing: bool = True, boot_time_s: float = 0.1):
+        self.joints = joints_of(config)
+        truth = truth_config if truth_config is not None else config
+        self.truth_joints = joints_of(truth)
+        if len(self.truth_joints) != len(self.joints):
+            raise ValueError("truth config and config have different numbers of joints")
+        self.faults = faults if faults is not None else FaultPlan()
+        self.time_scale = float(time_scale)
+        self.wire_timing = wire_timing
+        self.boot_time_s = boot_time_s
+        if initial_ticks is None:
+            initial_ticks = [getattr(j, "zero_tick", 2048) for j in self.truth_joints]
+        baud_reg = _BAUD_REGISTER[baudrate]
+        self.servos: dict[int, EmulatedServo] = {}
+        for j, t in zip(self.joints, initial_ticks):
+            self.servos[int(j.id)] = EmulatedServo(int(j.id), model_spec(j.model), firmware, int(t), baud_reg)
+        self._order = [int(j.id) for j in self.joints]
+        self._zero = np.array([float(getattr(j, "zero_tick", 2048)) for j in self.truth_joints])
+        self._dir = np.array([float(getattr(j, "direction", 1)) for j in self.truth_joints])
+        self.world = _contact_world(truth, scene) if scene is not None else None
+        self.lock = threading.RLock()
+        self.sim_time = 0.0
+        self.bytes_in = 0
+        self.bytes_out = 0
+        self._master, self._slave = os.openpty()
+        tty.setraw(self._slave)
+        self.port = os.ttyname(self._slave)
+        self._t0 = time.monotonic()
+        self._stop = threading.Event()
+        self._vanished = False
+        self._thread = threading.Thread(target=self._serve, name="emulated-dxl-bus", daemon=True)
+        self._thread.start()
+
+    # -- lifecycle ------------------------------------------------------------------------
+    def __enter__(self) -> "EmulatedBus":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.stop()
+
+    def stop(self) -> None:
+        """Stop serving, join the thread, close the pty (idempotent)."""
+        self._stop.set()
+        if self._thread.is_alive() and threading.current_thread() is not self._thread:
+            self._thread.join(timeout=2.0)
+        for fd in (self._master, self._slave):
+            if fd is not None:
+                try:
+                    os.close(fd)
+                except OSError:
+                    pass
+        self._master = self._slave = None
+
+    def vanish(self) -> None:
+        """The adapter disappears: the pty is closed, the port path stops existing."""
+        self._vanished = True
+        self.stop()
+
+    def hardware_error(self, dxl_id: int, bits: int = 0x20) -> None:
+        """Raise Hardware Error Status bits on a servo (default: overload); torque drops."""
+        with self.lock:
+            self.servos[dxl_id].set_hardware_error(bits)
+
+    # -- simulation -------------------------------------------------------------------------
+    def _now(self) -> float:
+        return (time.monotonic() - self._t0) * self.time_scale
+
+    def advance_to_now(self) -> None:
+        with self.lock:
+            self.step(self._now() - self.sim_time)
+
+    def step(self, dt: float) -> None:
+        """Integrate motion over dt seconds of simulated time."""
+        with self.lock:
+            if dt <= 0:
+                return
+            n = min(_MAX_SUBSTEPS, max(1, int(np.ceil(dt / _MAX_SUBSTEP_S))))
+            h = dt / n
+            servos = [self.servos[i] for i in self._order]
+            for _ in range(n):
+                pos = np.array([s.pos for s in servos])
+                prop = np.array([s.propose(h) for s in servos])
+                if self.world is not None and np.any(prop != pos):
+                    q_from = self._dir * (pos - self._zero) * RAD_PER_TICK
+                    q_to = self._dir * (prop - self._zero) * RAD_PER_TICK
+                    q = np.asarray(self.world.constrain(q_from, q_to), dtype=float)
+                    prop = self._zero + q / (self._dir * RAD_PER_TICK)
+                for s, p in zip(servos, prop):
+                    s.settle(float(p), h)
+            self.sim_time += dt
+
+    # -- serving --------------------------------------------------------------------------
+    def _line_baud(self) -> int | None:
+        try:
+            return _TERMIOS_SPEED.get(termios.tcgetattr(self._slave)[5])
+        except (termios.error, TypeError):
+            return None
+
+    def _serve(self) -> None:
+        parser = P.PacketParser()
+        while not self._stop.is_set():
+            try:
+                ready, _, _ = select.select([self._master], [], [], 0.05)
+                if not ready:
+                    continue
+                data = os.read(self._master, 4096)
+            except (OSError, ValueError, TypeError):
+                return
+            self.bytes_in += len(data)
+            t_rx = time.monotonic()
+            for pkt in parser.feed(data):
+                with self.lock:
+                    self.advance_to_now()
+                    replies = self._handle(pkt)
+                self._transmit(replies, t_rx, pkt)
+
+    def _answering(self, dxl_id: int, baud: int | None) -> EmulatedServo | None:
+        s = self.servos.get(dxl_id)
+        if s is None or s.booting_until > self.sim_time:
+            return None
+        reg = s.get("baud_rate")
+        if baud is not None and s.spec.baud_rates.get(reg) != baud:
+            return None
+        return s
+
+    def _handle(self, pkt: P.Packet) -> list[tuple[int, bytes]]:
+        """Apply one instruction; return [(servo id, status packet bytes), …] to send."""
+        baud = self._line_baud()
+        bad = not pkt.crc_ok or self.faults.take_bad_instruction()
+        if pkt.dxl_id != P.BROADCAST_ID:
+            s = self._answering(pkt.dxl_id, baud)
+            if s is None:
+                return []
+            if bad:
+                return [(s.dxl_id, P.build_status(s.dxl_id, s.status_error(P.ERR_CRC)))]
+            return self._unicast(s, pkt)
+        if bad:
+            return []
+        return self._broadcast(pkt, baud)
+
+    def _status(self, s: EmulatedServo, inst: int, code: int, data: bytes = b"") -> list[tuple[int, bytes]]:
+        level = s.get("status_return_level")
+        if inst != P.INST_PING and (level == 0 or (level == 1 and inst != P.INST_READ)):
+            return []
+        return [(s.dxl_id, P.build_status(s.dxl_id, s.status_error(code), data))]
+
+    def _unicast(self, s: EmulatedServo, pkt: P.Packet) -> list[tuple[int, bytes]]:
+        inst, prm = pkt.instruction, pkt.params
+        if inst == P.INST_PING:
+            return self._status(s, inst, 0, P.p16(s.spec.number) + bytes([s.firmware]))
+        if inst == P.INST_READ:
+            if len(prm) != 4:
+                return self._status(s, inst, P.ERR_DATA_LENGTH)
+            code, data = s.read(P.u16(prm, 0), P.u16(prm, 2))
+            return self._status(s, inst, code, data)
+        if inst in (P.INST_WRITE, P.INST_REG_WRITE):
+            if len(prm) < 3:
+                return self._status(s, inst, P.ERR_DATA_LENGTH)
+            addr, data = P.u16(prm, 0), bytes(prm[2:])
+            if inst == P.INST_WRITE:
+                return self._status(s, inst, s.write(addr, data))
+            code = s.check_write(addr, data)
+            if not code:
+                s.registered = (addr, data)
+                s._put("registered_instruction", 1)
+            return self._status(s, inst, code)
+        if inst == P.INST_ACTION:
+            self._action(s)
+            return self._status(s, inst, 0)
+        if inst == P.INST_REBOOT:
+            out = self._status(s, inst, 0)
+            s.reboot(self.sim_time, self.boot_time_s * self.time_scale)
+            return out
+        return self._status(s, inst, P.ERR_INSTRUCTION)
+
+    @staticmethod
+    def _action(s: EmulatedServo) -> None:
+        if s.registered is not None:
+            s.write(*s.registered)
+            s.registered = None
+            s._put("registered_instruction", 0)
+
+    def _broadcast(self, pkt: P.Packet, baud: int | None) -> list[tuple[int, bytes]]:
+        inst, prm = pkt.instruction, pkt.params
+        live = {i: s for i in sorted(self.servos) if (s := self._answering(i, baud)) is not None}
+        try:
+            if inst == P.INST_PING:
+                return [(i, P.build_status(i, s.status_error(), P.p16(s.spec.number) + bytes([s.firmware])))
+                        for i, s in live.items()]
+            if inst == P.INST_WRITE and len(prm) >= 3:
+                for s in live.values():
+                    s.write(P.u16(prm, 0), bytes(prm[2:]))
+                return []
+            if inst == P.INST_ACTION:
+                for s in live.values():
+                    self._action(s)
+                return []
+            if inst == P.INST_SYNC_WRITE:
+                addr, _, items = P.parse_sync_write(prm)
+                for i, data in items.items():
+                    if i in live:
+                        live[i].write(addr, data)
+                return []
+            if inst == P.INST_BULK_WRITE:
+                for i, addr, data in P.parse_bulk_write(prm):
+                    if i in live:
+                        live[i].write(addr, data)
+                return []
+            if inst in (P.INST_SYNC_READ, P.INST_FAST_SYNC_READ):
+                addr, n, ids = P.parse_sync_read(prm)
+                reqs = [(i, addr, n) for i in ids]
+            elif inst in (P.INST_BULK_READ, P.INST_FAST_BULK_READ):
+                reqs = P.parse_bulk_read(prm)
+            else:
+                return []
+        except ValueError:
+            return []
+        if inst in (P.INST_SYNC_READ, P.INST_BULK_READ):
+            out = []
+            for i, addr, n in reqs:
+                if i in live:
+                    code, data = live[i].read(addr, n)
+                    out.append((i, P.build_status(i, live[i].status_error(code), data)))
+            return out
+        slots = []
+        for i, addr, n in reqs:
+            if i not in live or self.faults.take_drop(i):
+                break  # the chain stops at a silent servo: the packet is cut short
+            code, data = live[i].read(addr, n)
+            slots.append((live[i].status_error(code), i, data if not code else bytes(n)))
+        if not slots:
+            return []
+        packet = P.build_fast_status(slots)
+        if len(slots) < len(reqs):
+            packet = packet[:-2]  # truncated: no final CRC arrives
+        return [(P.BROADCAST_ID, packet)]
+
+    def _transmit(self, replies: list[tuple[int, bytes]], t_rx: float, pkt: P.Packet) -> None:
+        if not replies:
+            return
+        baud = self._line_baud() or 1_000_000
+        byte_s = 10.0 / baud
+        t = t_rx + (len(P.build_instruction(pkt.dxl_id, pkt.instruction, pkt.params)) * byte_s
+                    if self.wire_timing else 0.0)
+        for dxl_id, packet in replies:
+            if dxl_id != P.BROADCAST_ID and self.faults.take_drop(dxl_id):
+                continue
+            if self.faults.take_corrupt(dxl_id):
+                packet = packet[:-1] + bytes([packet[-1] ^ 0xFF])
+            s = self.servos.get(dxl_id)
+            if self.wire_timing:
+                delay_reg = s.get("return_delay_time") if s is not None else 0
+                t += delay_reg * 2e-6 + len(packet) * byte_s
+            t += self.faults.take_delay()
+            wait = t - time.monotonic()
+            if wait > 0:
+                time.sleep(wait)
+            try:
+                os.write(self._master, packet)
+            except (OSError, TypeError):
+                return
+            self.bytes_out += len(packet)
