@@ -40,12 +40,16 @@ from typing import Any
 
 import numpy as np
 
+from scipy import stats
+
 from recognizer.errors import InputError
 
 SIGMA_PHI_FLOOR = 1e-10
 """rad: the smallest φ noise assumed when it is estimated from residuals."""
 
-MAX_DEGREE = 6
+MAX_DEGREE = 7
+GOF_LEVEL = 0.01
+"""level of the χ² goodness-of-fit test that picks the degree when the noise is known."""
 METHODS = ("auto", "central", "poly")
 
 
@@ -63,19 +67,6 @@ class LocalGeometry:
     cov: np.ndarray
     method: str = "given"
     degree: int = 0
-
-
-@dataclass(frozen=True)
-class _Fit:
-    """One polynomial fit: chosen indices and degree; results."""
-
-    lo: int
-    hi: int
-    degree: int
-    phi0: float
-    kappa: float
-    kappa_s: float
-    rss: float
 
 
 def _as_array(touch: Any, key: str, where: str) -> np.ndarray | None:
@@ -124,110 +115,158 @@ def _design(u: np.ndarray, degree: int, scale: float) -> np.ndarray:
     return np.stack(cols, axis=1)
 
 
-def _poly_fit(phi: np.ndarray, s: np.ndarray, m: int, lo: int, hi: int, degree: int) -> _Fit:
-    u = s[lo : hi + 1] - s[m]
+def _poly_maps(s: np.ndarray, m: int, degree: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Linear maps of a degree-``degree`` fit over all samples: rows giving (κ, κ_s)
+    from φ, the hat matrix's residual projector, and φ(s_m) − φ_m's row."""
+    u = s - s[m]
     scale = max(float(np.max(np.abs(u))), 1e-300)
     a = _design(u, degree, scale)
-    rhs = phi[lo : hi + 1] - phi[m]
-    coef, *_ = np.linalg.lstsq(a, rhs, rcond=None)
-    resid = rhs - a @ coef
-    return _Fit(lo, hi, degree, float(phi[m] + coef[0]), float(coef[1] / scale),
-                float(coef[2] / scale**2), float(resid @ resid))
+    pinv = np.linalg.pinv(a)
+    g = np.stack([pinv[1] / scale, pinv[2] / scale**2])
+    resid = np.eye(s.size) - a @ pinv
+    return g, resid, pinv[0]
 
 
-def _central(phi: np.ndarray, s: np.ndarray, m: int) -> _Fit:
-    """Derivatives at s_m of the quadratic through samples m−1, m, m+1."""
+def _central_map(s: np.ndarray, m: int) -> np.ndarray:
+    """Rows giving (κ, κ_s) at s_m from the quadratic through samples m−1, m, m+1
+    (the paper's quotients for equal spacing)."""
     h1 = s[m] - s[m - 1]
     h2 = s[m + 1] - s[m]
-    d1 = (phi[m] - phi[m - 1]) / h1
-    d2 = (phi[m + 1] - phi[m]) / h2
-    kappa = (h2 * d1 + h1 * d2) / (h1 + h2)
-    kappa_s = 2.0 * (d2 - d1) / (h1 + h2)
-    return _Fit(m - 1, m + 1, 2, float(phi[m]), float(kappa), float(kappa_s), 0.0)
+    g = np.zeros((2, s.size))
+    g[0, m - 1 : m + 2] = (-h2 / (h1 * (h1 + h2)), (h2 - h1) / (h1 * h2), h1 / (h2 * (h1 + h2)))
+    g[1, m - 1 : m + 2] = (2 / (h1 * (h1 + h2)), -2 / (h1 * h2), 2 / (h2 * (h1 + h2)))
+    return g
 
 
-def _aicc(rss: float, n: int, k: int, sigma: float | None) -> float:
-    penalty = 2 * k + 2 * k * (k + 1) / max(n - k - 1, 1e-9)
-    if sigma is not None and sigma > 0:
-        return rss / sigma**2 + penalty
-    return n * np.log(max(rss / n, 1e-300)) + penalty
+@dataclass(frozen=True)
+class _Choice:
+    """The model behind an estimate: method and the degrees used for κ and for κ_s."""
+
+    method: str
+    deg_k: int
+    deg_ks: int
 
 
-def _choose(phi: np.ndarray, s: np.ndarray, m: int, method: str, sigma_phi: float | None) -> tuple[_Fit, _Fit | None]:
-    """The fit of the chosen method and model, and the next-lower-degree fit (if any)."""
-    n = phi.size
-    if method == "central":
-        return _central(phi, s, m), None
-    max_deg = min(MAX_DEGREE, n - 3) if n >= 5 else 2
-    best: tuple[float, _Fit] | None = None
-    fits: dict[int, _Fit] = {}
-    for degree in range(2, max(max_deg, 2) + 1):
-        fit = _poly_fit(phi, s, m, 0, n - 1, degree)
-        fits[degree] = fit
-        score = _aicc(fit.rss, n, degree + 1, sigma_phi)
-        if best is None or score < best[0] - 1e-12:
-            best = (score, fit)
-    assert best is not None
-    chosen = best[1]
-    return chosen, fits.get(chosen.degree - 1)
+def _maps(s: np.ndarray, m: int, choice: _Choice) -> tuple[np.ndarray, np.ndarray]:
+    """(2×n map to (κ, κ_s), row of the φ offset at s_m) for a fixed choice."""
+    if choice.method == "central":
+        return _central_map(s, m), np.zeros(s.size)
+    gk, _, p0 = _poly_maps(s, m, choice.deg_k)
+    gks, _, _ = _poly_maps(s, m, choice.deg_ks)
+    return np.stack([gk[0], gks[1]]), p0
+
+
+def _truncation(values: list[float]) -> float:
+    """Truncation error of the last estimate of a sequence by increasing degree: the
+    last change, shrunk by the ratio of the last two distinct changes (≤ 1)."""
+    ref = values[-1]
+    errs = [abs(v - ref) for v in values[:-1]]
+    distinct: list[float] = []
+    for e in reversed(errs):
+        if e > 0 and (not distinct or abs(e - distinct[-1]) > 1e-12 * e):
+            distinct.append(e)
+        if len(distinct) == 2:
+            break
+    if not distinct:
+        return 0.0
+    if len(distinct) == 1:
+        return distinct[0]
+    return distinct[0] * min(distinct[0] / distinct[1], 1.0)
+
+
+def _select(phi: np.ndarray, s: np.ndarray, m: int, sigma_fit: float | None, max_deg: int) -> tuple[_Choice, np.ndarray, float]:
+    """Degrees for κ and κ_s minimising the estimated mean squared error (variance +
+    squared bias, the bias measured against the highest degree and corrected for the
+    noise of that difference); returns the choice, the squared-bias terms and σ̂ of φ."""
+    degrees = list(range(2, max_deg + 1))
+    maps = {d: _poly_maps(s, m, d) for d in degrees}
+    top = maps[degrees[-1]]
+    rphi = phi - phi[m]
+    if sigma_fit is None:
+        dof = s.size - (degrees[-1] + 1)
+        rss = float(np.sum((top[1] @ rphi) ** 2))
+        sigma = max(np.sqrt(rss / dof) if dof > 0 else 0.0, SIGMA_PHI_FLOOR)
+    else:
+        sigma = max(sigma_fit, SIGMA_PHI_FLOOR)
+    est = {d: maps[d][0] @ rphi for d in degrees}
+    chosen = []
+    bias2 = np.zeros(2)
+    for j in range(2):
+        ref_g = top[0][j]
+        best = None
+        for d in degrees:
+            g = maps[d][0][j]
+            var = sigma**2 * float(g @ g)
+            if d == degrees[-1]:
+                b2 = _truncation([est[k][j] for k in degrees]) ** 2
+            else:
+                diff = g - ref_g
+                b2 = max(0.0, (est[d][j] - est[degrees[-1]][j]) ** 2 - sigma**2 * float(diff @ diff))
+            if best is None or var + b2 < best[0]:
+                best = (var + b2, d, b2)
+        assert best is not None
+        chosen.append(best[1])
+        bias2[j] = best[2]
+    return _Choice("poly", chosen[0], chosen[1]), bias2, sigma
+
+
+def _select_gof(phi: np.ndarray, s: np.ndarray, m: int, sigma: float, max_deg: int) -> _Choice:
+    """Known noise: the lowest degree d whose φ residuals pass the χ² goodness-of-fit test
+    at level ``GOF_LEVEL`` (the highest degree if none does) gives κ_s; κ comes from the
+    next odd degree (on a symmetric window an even-degree fit leaves κ's O(Δs²) bias,
+    which φ's residuals cannot reveal under noise)."""
+    rphi = phi - phi[m]
+    sigma = max(sigma, SIGMA_PHI_FLOOR)
+    for d in range(2, max_deg + 1):
+        _, resid, _ = _poly_maps(s, m, d)
+        dof = s.size - d - 1
+        if dof <= 0:
+            break
+        chi2 = float(np.sum((resid @ rphi) ** 2)) / sigma**2
+        if chi2 <= stats.chi2.ppf(1.0 - GOF_LEVEL, dof):
+            return _Choice("poly", min(d + 1 - d % 2, max_deg), d)
+    return _Choice("poly", max_deg, max_deg)
 
 
 def _estimate_frozen(phi: np.ndarray, x: np.ndarray, y: np.ndarray, s: np.ndarray | None,
-                     m: int, method: str, degree: int) -> np.ndarray:
-    """(κ, κ_s) for fixed model choice; used for derivatives of the estimate."""
+                     m: int, choice: _Choice) -> np.ndarray:
+    """(κ, κ_s) for a fixed model choice; used for derivatives of the estimate."""
     ss = _arc_length(phi, x, y) if s is None else s
-    if method == "central":
-        fit = _central(phi, ss, m)
-    else:
-        fit = _poly_fit(phi, ss, m, 0, phi.size - 1, degree)
-    return np.array([fit.kappa, fit.kappa_s])
+    g, _ = _maps(ss, m, choice)
+    return g @ (phi - phi[m])
 
 
 def _jacobian_cov(phi: np.ndarray, x: np.ndarray, y: np.ndarray, s: np.ndarray | None, m: int,
-                  method: str, degree: int, sig_phi: float, sig_pos: float, sig_s: float) -> np.ndarray:
-    """J diag(σ²) Jᵀ by central differences over every input the estimate depends on."""
-    cov = np.zeros((2, 2))
-    scale = max(float(np.ptp(x)), float(np.ptp(y)), float(np.ptp(s)) if s is not None else 0.0, 1e-3)
-    groups: list[tuple[int, float, float]] = [(0, sig_phi, 1e-6)]
+                  choice: _Choice, sig_phi: float, sig_pos: float, sig_s: float) -> np.ndarray:
+    """J diag(σ²) Jᵀ over every input the estimate depends on (φ exactly, positions and
+    s by central differences, the model choice held fixed)."""
+    ss = _arc_length(phi, x, y) if s is None else s
+    g, _ = _maps(ss, m, choice)
+    jac_phi = g.copy()
+    jac_phi[:, m] -= g.sum(axis=1)
+    cov = sig_phi**2 * jac_phi @ jac_phi.T
+    scale = max(float(np.ptp(ss)), 1e-3)
+    step = 1e-6 * scale
+    groups: list[tuple[int, float]] = []
     if s is None:
-        groups += [(1, sig_pos, 1e-6 * scale), (2, sig_pos, 1e-6 * scale)]
-    else:
-        groups += [(3, sig_s, 1e-6 * scale)]
-    for which, sigma, step in groups:
+        groups += [(1, sig_pos), (2, sig_pos)]
+    elif sig_s > 0:
+        groups += [(3, sig_s)]
+    for which, sigma in groups:
         if sigma <= 0:
             continue
         for i in range(phi.size):
-            arrays = [phi, x, y, s]
-            plus = [a.copy() if a is not None else None for a in arrays]
-            minus = [a.copy() if a is not None else None for a in arrays]
+            if which == 3 and i == 0:
+                continue
+            plus = [phi, x, y, s]
+            minus = [phi, x, y, s]
+            plus[which] = plus[which].copy()
+            minus[which] = minus[which].copy()
             plus[which][i] += step
             minus[which][i] -= step
-            d = (_estimate_frozen(plus[0], plus[1], plus[2], plus[3], m, method, degree)
-                 - _estimate_frozen(minus[0], minus[1], minus[2], minus[3], m, method, degree)) / (2 * step)
+            d = (_estimate_frozen(*plus, m, choice) - _estimate_frozen(*minus, m, choice)) / (2 * step)
             cov += sigma**2 * np.outer(d, d)
     return cov
-
-
-def _residual_cov(phi: np.ndarray, s: np.ndarray, m: int, fit: _Fit, method: str) -> np.ndarray:
-    """Covariance from the φ residual variance (noise unknown)."""
-    n_used = fit.hi - fit.lo + 1
-    k = fit.degree + 1
-    sigma2 = fit.rss / (n_used - k) if n_used > k else 0.0
-    sigma2 = max(sigma2, SIGMA_PHI_FLOOR**2)
-    if method == "central":
-        grad = np.zeros((2, phi.size))
-        for i in (m - 1, m, m + 1):
-            e = np.zeros(phi.size)
-            e[i] = 1.0
-            c = _central(e, s, m)
-            grad[:, i] = (c.kappa, c.kappa_s)
-        return sigma2 * grad @ grad.T
-    u = s[fit.lo : fit.hi + 1] - s[m]
-    scale = max(float(np.max(np.abs(u))), 1e-300)
-    a = _design(u, fit.degree, scale)
-    inv = np.linalg.pinv(a.T @ a)
-    sel = np.array([[0, 1 / scale] + [0] * (fit.degree - 1), [0, 0, 1 / scale**2] + [0] * (fit.degree - 2)])
-    return sigma2 * sel @ inv @ sel.T
 
 
 def estimate_local(touch: Any, method: str = "auto", noise: Any = None, where: str = "touch") -> LocalGeometry:
@@ -257,20 +296,42 @@ def estimate_local(touch: Any, method: str = "auto", noise: Any = None, where: s
     _check_spacing(ss, where)
     m = n // 2
     if method == "auto":
-        method = "central" if n < 5 else "poly"
+        method = "central" if n < 4 else "poly"
     sig_phi = float(getattr(noise, "phi", 0.0) or 0.0) if noise is not None else None
-    fit, lower = _choose(phi, ss, m, method, sig_phi)
+    sig_pos = float(getattr(noise, "pos", 0.0) or 0.0) if noise is not None else 0.0
+    sig_s = float(getattr(noise, "s", 0.0) or 0.0) if noise is not None else 0.0
+    rphi = phi - phi[m]
+    if method == "central":
+        choice = _Choice("central", 2, 2)
+        bias2 = np.zeros(2)
+        sigma = max(sig_phi or 0.0, SIGMA_PHI_FLOOR)
+    else:
+        if noise is None:
+            max_deg = max(2, min(MAX_DEGREE, n - 3))
+            sig_fit = None
+        else:
+            max_deg = max(2, min(MAX_DEGREE, n - 2))
+            # position (or arc-length) noise moves samples along the curve: φ error κ·δs
+            kappa0 = float((_poly_maps(ss, m, 2)[0] @ rphi)[0])
+            extra = 2 * sig_pos**2 if s is None else sig_s**2
+            sig_fit = float(np.sqrt(sig_phi**2 + kappa0**2 * extra))
+        if sig_fit is None:
+            choice, bias2, sigma = _select(phi, ss, m, None, max_deg)
+        else:
+            choice, bias2, sigma = _select_gof(phi, ss, m, sig_fit, max_deg), np.zeros(2), sig_fit
+    g, p0 = _maps(ss, m, choice)
+    kappa, kappa_s = (float(v) for v in g @ rphi)
+    phi0 = phi_raw_m + float(p0 @ rphi)
     if noise is not None:
-        sig_pos = float(getattr(noise, "pos", 0.0) or 0.0)
-        sig_s = float(getattr(noise, "s", 0.0) or 0.0)
-        cov = _jacobian_cov(phi, x, y, None if s is None else ss, m, method, fit.degree,
+        cov = _jacobian_cov(phi, x, y, None if s is None else ss, m, choice,
                             max(sig_phi or 0.0, SIGMA_PHI_FLOOR), sig_pos, sig_s)
     else:
-        cov = _residual_cov(phi, ss, m, fit, method)
-        if lower is not None:
-            d = np.array([fit.kappa - lower.kappa, fit.kappa_s - lower.kappa_s])
-            cov = cov + np.diag(d**2)
+        jac = g.copy()
+        jac[:, m] -= g.sum(axis=1)
+        cov = sigma**2 * jac @ jac.T
+    cov = cov + np.diag(bias2)
     cov = 0.5 * (cov + cov.T)
-    if not np.all(np.isfinite(cov)) or not np.isfinite(fit.kappa) or not np.isfinite(fit.kappa_s):
+    if not (np.all(np.isfinite(cov)) and np.isfinite(kappa) and np.isfinite(kappa_s) and np.isfinite(phi0)):
         raise InputError(f"{where}: samples too close together to estimate curvature")
-    return LocalGeometry(float(x[m]), float(y[m]), phi_raw_m + float(fit.phi0 - phi[m]), fit.kappa, fit.kappa_s, cov, method, fit.degree)
+    return LocalGeometry(float(x[m]), float(y[m]), phi0, kappa, kappa_s, cov, method,
+                         max(choice.deg_k, choice.deg_ks))

@@ -1,0 +1,175 @@
+"""Synthetic touches from exact curves, with noise: the shared generator of the benchmark
+and the tests.
+
+A touch is ``n`` samples at equal arc-length spacing ``ds`` around a contact parameter
+``t_c`` (the middle sample n // 2 sits exactly at t_c), traversed in increasing t
+(``direction=+1``) or decreasing t (``-1``: tangent angles turn by π and κ changes
+sign), mapped to the hand frame by a pose. Noise (all Gaussian, independent):
+``phi`` rad on every tangent angle, ``pos`` mm on every x and y, ``s`` mm on every given
+arc length (the first stays 0).
+
+Random shapes (:func:`random_shape`) have a size L (mm, the extent of the part of the
+boundary that is touched) drawn from ``size_range``; each class's parameters are drawn
+so that the touched region spans about L, with random aspect (ellipse b/a in
+[0.35, 0.9], hyperbola b/a in [0.4, 2.0], cubic coefficients of either sign).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+from scipy import optimize
+
+from recognizer.curves import CURVES, Curve, Pose
+
+
+@dataclass(frozen=True)
+class SynthNoise:
+    """Standard deviations: ``phi`` rad, ``pos`` mm (x and y), ``s`` mm (given arc length)."""
+
+    phi: float = 0.0
+    pos: float = 0.0
+    s: float = 0.0
+
+
+@dataclass(frozen=True)
+class Samples:
+    """A samples-touch (CONTRACTS §2): arrays phi, x, y and optional s."""
+
+    phi: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    s: np.ndarray | None = None
+
+    def to_json(self) -> dict:
+        out = {"phi": self.phi.tolist(), "x": self.x.tolist(), "y": self.y.tolist()}
+        if self.s is not None:
+            out["s"] = self.s.tolist()
+        return out
+
+
+@dataclass(frozen=True)
+class Shape:
+    """A random shape: class, parameters, pose, size L (mm) and the contact range of t."""
+
+    cls: str
+    params: dict[str, float]
+    pose: Pose
+    size: float
+    t_range: tuple[float, float]
+    curve: Curve = field(repr=False, compare=False, default=None)  # type: ignore[assignment]
+
+
+def t_at_arc(curve: Curve, t0: float, s: np.ndarray) -> np.ndarray:
+    """Parameters reached after signed arc lengths ``s`` from ``t0`` (Newton on the
+    speed, bracketed by brentq when Newton stalls); ~1e-13 relative."""
+    out = np.empty(len(s))
+    for i, target in enumerate(np.asarray(s, dtype=float)):
+        if target == 0.0:
+            out[i] = t0
+            continue
+        t = t0 + target / max(float(curve.speed(t0)), 1e-300)
+        ok = False
+        for _ in range(50):
+            f = float(curve.arc_length(t0, t)) - target
+            sp = max(float(curve.speed(t)), 1e-300)
+            step = f / sp
+            t -= step
+            if abs(step) <= 1e-14 * max(abs(t), 1.0):
+                ok = True
+                break
+        if not ok:
+            b = t0 + 2 * target / max(float(curve.speed(t0)), 1e-300)
+            g = lambda u: float(curve.arc_length(t0, u)) - target  # noqa: E731
+            while np.sign(g(b)) != np.sign(target):
+                b = t0 + 2 * (b - t0)
+            t = optimize.brentq(g, min(t0, b), max(t0, b), xtol=1e-14)
+        out[i] = t
+    return out
+
+
+def sample_touch(curve: Curve, pose: Pose, t_c: float, n: int, ds: float, direction: int = 1,
+                 noise: SynthNoise | None = None, rng: np.random.Generator | None = None,
+                 with_s: bool = True) -> tuple[Samples, np.ndarray]:
+    """A touch of ``n`` samples spaced ``ds`` (mm of arc) around t_c; returns the touch and
+    the exact parameters t of its samples."""
+    m = n // 2
+    offsets = (np.arange(n) - m) * ds * direction
+    ts = t_at_arc(curve, t_c, offsets)
+    px, py = curve.point(ts)
+    hx, hy = pose.apply(px, py)
+    phi = np.asarray(curve.tangent_angle(ts), dtype=float) + pose.theta + (np.pi if direction < 0 else 0.0)
+    phi = np.unwrap(phi)
+    s = np.arange(n) * ds
+    hx, hy = np.asarray(hx, dtype=float), np.asarray(hy, dtype=float)
+    if noise is not None and rng is not None:
+        phi = phi + rng.normal(0.0, noise.phi, n) if noise.phi > 0 else phi
+        if noise.pos > 0:
+            hx = hx + rng.normal(0.0, noise.pos, n)
+            hy = hy + rng.normal(0.0, noise.pos, n)
+        if noise.s > 0:
+            s = s + np.concatenate(([0.0], rng.normal(0.0, noise.s, n - 1)))
+    return Samples(phi, hx, hy, s if with_s else None), ts
+
+
+def _uniform(rng: np.random.Generator, lo: float, hi: float) -> float:
+    return float(rng.uniform(lo, hi))
+
+
+def random_shape(cls: str, rng: np.random.Generator, size_range: tuple[float, float] = (30.0, 120.0),
+                 pose_range: float = 150.0) -> Shape:
+    """A random shape of class ``cls`` of size L ∈ size_range mm in a random pose."""
+    L = _uniform(rng, *size_range)
+    if cls == "line":
+        params, t_range = {}, (-L / 2, L / 2)
+    elif cls == "circle":
+        params, t_range = {"r": L / 2}, (-np.pi, np.pi)
+    elif cls == "ellipse":
+        a = L / 2
+        params, t_range = {"a": a, "b": a * _uniform(rng, 0.35, 0.9)}, (-np.pi, np.pi)
+    elif cls == "parabola":
+        params, t_range = {"a": L / 6 * _uniform(rng, 0.7, 1.4)}, (-1.5, 1.5)
+    elif cls == "hyperbola":
+        a = L / 4 * _uniform(rng, 0.5, 1.5)
+        params, t_range = {"a": a, "b": a * _uniform(rng, 0.4, 2.0)}, (-1.2, 1.2)
+    elif cls == "cubical_parabola":
+        a = rng.choice([-1.0, 1.0]) * (L / 4) * _uniform(rng, 0.5, 1.5) / (L / 2) ** 3
+        params, t_range = {"a": float(a), "c": _uniform(rng, -1.0, 1.0)}, (-L / 2, L / 2)
+    elif cls == "semicubical_parabola":
+        T = np.sqrt(L)
+        a = (L / 2) * _uniform(rng, 0.5, 1.5) / T**3
+        params, t_range = {"a": float(a), "b": _uniform(rng, -1.0, 1.0)}, (0.25 * T, T)
+    else:
+        raise ValueError(f"unknown class {cls!r}")
+    pose = Pose(_uniform(rng, -np.pi, np.pi), _uniform(rng, -pose_range, pose_range) * 0.2 + pose_range,
+                _uniform(rng, -pose_range, pose_range) * 0.2)
+    return Shape(cls, params, pose, L, t_range, CURVES[cls](params))
+
+
+def contact_ts(shape: Shape, k: int, rng: np.random.Generator, margin: float = 0.0) -> np.ndarray:
+    """``k`` contact parameters spread over the shape's t-range: one uniformly drawn in
+    each of k equal slices (inner ``margin`` fraction of every slice excluded), so the
+    touches see different parts of the boundary. The semicubical parabola's branch
+    (t > 0 or t < 0) is drawn at random."""
+    lo, hi = shape.t_range
+    edges = np.linspace(lo, hi, k + 1)
+    w = edges[1] - edges[0]
+    ts = np.array([_uniform(rng, e + margin * w, e + (1 - margin) * w) for e in edges[:-1]])
+    if shape.cls == "semicubical_parabola" and rng.random() < 0.5:
+        ts = -ts[::-1]
+    return ts
+
+
+def sample_shape(shape: Shape, ts: Sequence[float], n: int, ds: float, direction: int = 1,
+                 noise: SynthNoise | None = None, rng: np.random.Generator | None = None,
+                 with_s: bool = True) -> tuple[list[Samples], list[np.ndarray]]:
+    """One touch per contact parameter (in the order of traversal for ``direction``)."""
+    order = list(ts) if direction > 0 else list(ts)[::-1]
+    touches, sample_ts = [], []
+    for t_c in order:
+        touch, tt = sample_touch(shape.curve, shape.pose, float(t_c), n, ds, direction, noise, rng, with_s)
+        touches.append(touch)
+        sample_ts.append(tt)
+    return touches, sample_ts
