@@ -14,8 +14,10 @@ the *truth* config: zero_tick, direction), and a blocked servo's current rises.
 
 from __future__ import annotations
 
+import fcntl
 import os
 import select
+import struct
 import termios
 import threading
 import time
@@ -91,7 +93,7 @@ class EmulatedBus:
         self.port = os.ttyname(self._slave)
         self._t0 = time.monotonic()
         self._stop = threading.Event()
-        self._vanished = False
+        self._busy = False
         self._thread = threading.Thread(target=self._serve, name="emulated-dxl-bus", daemon=True)
         self._thread.start()
 
@@ -117,7 +119,6 @@ class EmulatedBus:
 
     def vanish(self) -> None:
         """The adapter disappears: the pty is closed, the port path stops existing."""
-        self._vanished = True
         self.stop()
 
     def hardware_error(self, dxl_id: int, bits: int = 0x20) -> None:
@@ -142,16 +143,30 @@ class EmulatedBus:
             h = dt / n
             servos = [self.servos[i] for i in self._order]
             for _ in range(n):
-                pos = np.array([s.pos for s in servos])
-                prop = np.array([s.propose(h) for s in servos])
-                if self.world is not None and np.any(prop != pos):
-                    q_from = self._dir * (pos - self._zero) * RAD_PER_TICK
-                    q_to = self._dir * (prop - self._zero) * RAD_PER_TICK
+                pos = [s.pos for s in servos]
+                prop = [s.propose(h) for s in servos]
+                if self.world is not None and prop != pos:
+                    q_from = self._dir * (np.array(pos) - self._zero) * RAD_PER_TICK
+                    q_to = self._dir * (np.array(prop) - self._zero) * RAD_PER_TICK
                     q = np.asarray(self.world.constrain(q_from, q_to), dtype=float)
-                    prop = self._zero + q / (self._dir * RAD_PER_TICK)
+                    prop = list(self._zero + q / (self._dir * RAD_PER_TICK))
                 for s, p in zip(servos, prop):
                     s.settle(float(p), h)
+            for s in servos:
+                s.publish(dt)
             self.sim_time += dt
+
+    def wait_idle(self, timeout: float = 2.0) -> None:
+        """Return once every byte sent to the bus has been served (for tests)."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if self._master is None:
+                return
+            pending = struct.unpack("i", fcntl.ioctl(self._master, termios.FIONREAD, b"\0\0\0\0"))[0]
+            if pending == 0 and not self._busy:
+                return
+            time.sleep(0.001)
+        raise TimeoutError("emulated bus still busy")
 
     # -- serving --------------------------------------------------------------------------
     def _line_baud(self) -> int | None:
@@ -167,8 +182,10 @@ class EmulatedBus:
                 ready, _, _ = select.select([self._master], [], [], 0.05)
                 if not ready:
                     continue
+                self._busy = True
                 data = os.read(self._master, 4096)
             except (OSError, ValueError, TypeError):
+                self._busy = False
                 return
             self.bytes_in += len(data)
             t_rx = time.monotonic()
@@ -177,6 +194,7 @@ class EmulatedBus:
                     self.advance_to_now()
                     replies = self._handle(pkt)
                 self._transmit(replies, t_rx, pkt)
+            self._busy = False
 
     def _answering(self, dxl_id: int, baud: int | None) -> EmulatedServo | None:
         s = self.servos.get(dxl_id)

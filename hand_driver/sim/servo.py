@@ -184,9 +184,12 @@ class EmulatedServo:
         return self.traj
 
     def settle(self, actual: float, dt: float) -> None:
-        """Accept the (possibly obstructed) shaft position after a step and update Present*."""
+        """Accept the (possibly obstructed) shaft position after a substep."""
         self.actual_vel = (actual - self.pos) / dt if dt > 0 else 0.0
         self.pos = actual
+
+    def publish(self, dt: float) -> None:
+        """Write the Present* items (position, velocity, current, moving) after a step of dt."""
         self._sync_present(dt)
 
     def _sync_present(self, dt: float) -> None:

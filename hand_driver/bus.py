@@ -1,0 +1,558 @@
+"""The Dynamixel bus behind a narrow interface, over the vendor SDK (Protocol 2.0).
+
+``JointBus(port, baudrate, joints)`` is a context manager. Opening it checks every servo
+(model, hardware error), writes Return Delay Time 0, the operating mode (current-based
+position, 5, where the model senses current; position, 3, otherwise), the joint limits
+as Min/Max Position Limit and the Current Limit, sets Goal Position to the present
+position and turns torque on. Each cycle reads the block Moving (122) .. Present
+Position (135) of every joint in ONE sync read, or one fast sync read when every servo
+answers it (probed at open), and writes every goal in ONE sync write after checking all
+goals against the joint limits. SDK result codes become typed exceptions
+(hand_driver.errors), transient ones (timeout, corrupt packet, CRC error at the servo)
+are retried ``retries`` times. Torque goes off in ``__exit__`` and on SIGINT/SIGTERM,
+best effort, never masking the error that is propagating.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import signal
+import threading
+import time
+from dataclasses import dataclass
+from typing import Callable, Sequence
+
+import numpy as np
+
+from hand_driver import units
+from hand_driver.control_table import (
+    ALERT_BIT,
+    MODE_CURRENT_BASED_POSITION,
+    MODE_POSITION,
+    MODELS_BY_NUMBER,
+    STATE_BLOCK_ADDR,
+    STATE_BLOCK_LEN,
+    STATUS_ERRORS,
+    ModelSpec,
+    decode_hardware_error,
+)
+from hand_driver.control_table import model as model_spec
+from hand_driver.errors import (
+    BusError,
+    BusTimeout,
+    CapabilityError,
+    CrcError,
+    JointLimitError,
+    ModelMismatchError,
+    PortError,
+    ServoHardwareError,
+    ServoStatusError,
+)
+from recognizer.errors import InputError
+
+log = logging.getLogger(__name__)
+
+BROADCAST_ID = 0xFE
+_ERR_CRC = 3
+_REBOOT_WAIT_S = 3.0
+
+
+@dataclass(frozen=True)
+class JointState:
+    """One reading of every joint, in config order."""
+
+    t_monotonic: float
+    ticks: np.ndarray  # int64, Present Position
+    current_ma: np.ndarray | None  # Present Current in mA; None if a joint cannot sense current
+    moving: np.ndarray  # bool, Moving (122)
+    velocity_rad_s: np.ndarray  # Present Velocity
+
+
+@dataclass(frozen=True)
+class ServoInfo:
+    id: int
+    model_name: str
+    model_number: int
+    firmware: int
+    baudrate: int
+
+
+@dataclass(frozen=True)
+class HardwareStatus:
+    bits: int
+    names: tuple[str, ...]
+
+
+@dataclass
+class BusStats:
+    """Counters for benchmarks and logs."""
+
+    transactions: int = 0
+    retries: int = 0
+
+
+def tick_limits(joint) -> tuple[int, int]:
+    """(min_tick, max_tick) of a joint spec: min_tick/max_tick, else min_deg/max_deg about
+    zero_tick along direction, else the whole turn."""
+    if hasattr(joint, "min_tick") and hasattr(joint, "max_tick"):
+        return int(joint.min_tick), int(joint.max_tick)
+    if hasattr(joint, "min_deg") and hasattr(joint, "max_deg"):
+        d = getattr(joint, "direction", 1)
+        a = joint.zero_tick + d * joint.min_deg * units.TICKS_PER_REV / 360.0
+        b = joint.zero_tick + d * joint.max_deg * units.TICKS_PER_REV / 360.0
+        return int(math.ceil(min(a, b) - 1e-9)), int(math.floor(max(a, b) + 1e-9))
+    return 0, units.TICKS_PER_REV - 1
+
+
+def _joints_of(joints) -> list:
+    if hasattr(joints, "fingers"):
+        return [j for f in joints.fingers for j in f.joints]
+    return list(joints)
+
+
+class JointBus:
+    """Every joint of the jaw on one Dynamixel bus. See the module docstring."""
+
+    def __init__(self, port: str, baudrate: int, joints: Sequence = (), *, retries: int = 3,
+                 fast_read: bool | None = None, on_reading: Callable[[JointState], None] | None = None,
+                 timeout_s: float | None = None, handle_signals: bool = True, torque_on_open: bool = True):
+        self.port_name = str(port)
+        self.baudrate = int(baudrate)
+        self.joints = _joints_of(joints)
+        self.ids = [int(j.id) for j in self.joints]
+        if len(set(self.ids)) != len(self.ids):
+            raise InputError(f"joint ids must be unique, got {self.ids}")
+        try:
+            self.specs: list[ModelSpec] = [model_spec(j.model) for j in self.joints]
+        except KeyError as exc:
+            raise InputError(str(exc.args[0])) from None
+        lim = [tick_limits(j) for j in self.joints]
+        self.min_ticks = np.array([a for a, _ in lim], dtype=np.int64)
+        self.max_ticks = np.array([b for _, b in lim], dtype=np.int64)
+        self.retries = int(retries)
+        self.fast_read_requested = fast_read
+        self.fast_read = False
+        self.on_reading = on_reading
+        self.timeout_s = timeout_s
+        self.handle_signals = handle_signals
+        self.torque_on_open = torque_on_open
+        self.stats = BusStats()
+        self.firmware: dict[int, int] = {}
+        self._lock = threading.RLock()
+        self._port = None
+        self._ph = None
+        self._old_handlers: dict[int, object] = {}
+        self.current_sensing = all(s.has_current_sensing for s in self.specs)
+
+    # -- opening and closing ----------------------------------------------------------------
+    def __enter__(self) -> "JointBus":
+        self.open()
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        self.close()
+
+    def open(self) -> None:
+        """Open the port and configure every joint (see module docstring)."""
+        import dynamixel_sdk as sdk
+        import serial
+
+        timeout_ms = None if self.timeout_s is None else 1000.0 * self.timeout_s
+
+        class _Port(sdk.PortHandler):
+            def setPacketTimeout(self, packet_length):  # noqa: N802 - SDK name
+                super().setPacketTimeout(packet_length)
+                if timeout_ms is not None:
+                    self.packet_timeout = self.tx_time_per_byte * packet_length + timeout_ms
+
+        self._sdk = sdk
+        self._serial_errors = (serial.SerialException, OSError)
+        port = _Port(self.port_name)
+        if port.getCFlagBaud(self.baudrate) <= 0:
+            raise InputError(f"baud rate {self.baudrate} is not supported by the Dynamixel SDK; use one of "
+                             "57600, 115200, 1000000, 2000000, 3000000, 4000000")
+        try:
+            port.baudrate = self.baudrate
+            port.openPort()
+        except self._serial_errors as exc:
+            raise PortError(f"cannot open serial port {self.port_name}: {exc}; is the adapter plugged in?") from None
+        self._port, self._ph = port, sdk.PacketHandler(2.0)
+        try:
+            if self.joints:
+                self._configure()
+            self._install_signal_handlers()
+        except BaseException:
+            self.close()
+            raise
+
+    def close(self) -> None:
+        """Torque off (best effort), restore signal handlers, close the port. Idempotent."""
+        if self._port is None:
+            return
+        try:
+            if self.joints:
+                self._torque_off_best_effort()
+        finally:
+            self._restore_signal_handlers()
+            try:
+                self._port.closePort()
+            except Exception as exc:  # closing a vanished port may fail; nothing to do
+                log.warning("closing %s: %s", self.port_name, exc)
+            self._port = None
+
+    def _configure(self) -> None:
+        for j, spec in zip(self.joints, self.specs):
+            number = self._call(f"ping of servo {j.id}", lambda i=j.id: self._ph.ping(self._port, i))[0]
+            if number != spec.number:
+                found = MODELS_BY_NUMBER.get(number)
+                raise ModelMismatchError(
+                    f"joint id {j.id} is configured as {spec.name} but the servo reports "
+                    f"{found.name if found else 'model number'} ({number})")
+            self.firmware[j.id] = self._read(j.id, spec.field("firmware_version"))
+            hw = self._read(j.id, spec.field("hardware_error_status"))
+            if hw:
+                raise ServoHardwareError(j.id, hw, decode_hardware_error(hw))
+        self._sync_write_field("torque_enable", [0] * len(self.ids))
+        for j, spec, lo, hi in zip(self.joints, self.specs, self.min_ticks, self.max_ticks):
+            mode = MODE_CURRENT_BASED_POSITION if spec.has_current_sensing else MODE_POSITION
+            wanted = {"return_delay_time": 0, "operating_mode": mode,
+                      "min_position_limit": int(lo), "max_position_limit": int(hi)}
+            if spec.has_current_sensing and hasattr(j, "current_limit_ma"):
+                wanted["current_limit"] = min(units.ma_to_current(j.current_limit_ma, spec),
+                                              spec.current_limit_default)
+            for name, value in wanted.items():  # EEPROM: write only what differs
+                f = spec.field(name)
+                if self._read(j.id, f) != value:
+                    self._write(j.id, f, value)
+        if self.current_sensing:
+            ma = [getattr(j, "current_limit_ma", None) for j in self.joints]
+            if all(m is not None for m in ma):
+                self.set_goal_current(np.array(ma, dtype=float))
+        state = self._read_state_raw()
+        self._sync_write_field("goal_position", np.clip(state.ticks, self.min_ticks, self.max_ticks))
+        self._choose_read_mode()
+        if self.torque_on_open:
+            self.torque(True)
+
+    def _choose_read_mode(self) -> None:
+        capable = all(s.fast_sync_read for s in self.specs)
+        if self.fast_read_requested is False or not capable:
+            self.fast_read = False
+            if self.fast_read_requested and not capable:
+                raise CapabilityError("fast sync read requested but not every servo model supports it")
+            return
+        self.fast_read = True
+        try:
+            self._read_state_raw(attempts=1)
+        except (BusTimeout, CrcError) as exc:
+            if self.fast_read_requested:
+                raise BusError(f"fast sync read requested but the servos do not answer it: {exc}") from None
+            log.info("fast sync read not answered (%s); using sync read", exc)
+            self.fast_read = False
+
+    # -- signals -----------------------------------------------------------------------------
+    def _install_signal_handlers(self) -> None:
+        if not self.handle_signals or threading.current_thread() is not threading.main_thread():
+            return
+        for sig in (signal.SIGINT, signal.SIGTERM):
+            self._old_handlers[sig] = signal.signal(sig, self._on_signal)
+
+    def _restore_signal_handlers(self) -> None:
+        for sig, old in self._old_handlers.items():
+            signal.signal(sig, old)
+        self._old_handlers.clear()
+
+    def _on_signal(self, signum, frame) -> None:
+        self.emergency_torque_off()
+        old = self._old_handlers.get(signum)
+        if callable(old) and old is not signal.default_int_handler:
+            old(signum, frame)
+        if signum == signal.SIGINT:
+            raise KeyboardInterrupt
+        raise SystemExit(128 + signum)
+
+    def emergency_torque_off(self) -> None:
+        """One broadcast sync write of Torque Enable 0, usable from a signal handler."""
+        if self._port is None or not self.joints:
+            return
+        try:
+            self._port.is_using = False  # the interrupted transaction is abandoned
+            self._sync_write_raw(self.specs[0].field("torque_enable"), [0] * len(self.ids))
+        except Exception as exc:
+            log.warning("emergency torque off failed: %s", exc)
+
+    def _torque_off_best_effort(self) -> None:
+        try:
+            self._port.is_using = False
+            f = self.specs[0].field("torque_enable")
+            for _ in range(2):  # broadcast: no status; send twice against a lost packet
+                self._sync_write_raw(f, [0] * len(self.ids))
+        except Exception as exc:  # never mask the error that is propagating
+            log.warning("torque off on %s failed: %s", self.port_name, exc)
+
+    # -- SDK result handling ---------------------------------------------------------------------
+    def _check(self, result: int, error: int, what: str, dxl_id: int | None = None) -> None:
+        sdk = self._sdk
+        if result == sdk.COMM_SUCCESS:
+            code = error & ~ALERT_BIT
+            if code == _ERR_CRC:
+                raise CrcError(f"{what}: servo {dxl_id} received a corrupt instruction packet")
+            if code:
+                raise ServoStatusError(dxl_id, code, STATUS_ERRORS.get(code, "unknown error"), what)
+            return
+        if result == sdk.COMM_RX_TIMEOUT:
+            raise BusTimeout(f"{what}: no status packet (timeout)")
+        if result == sdk.COMM_RX_CORRUPT:
+            raise CrcError(f"{what}: corrupt status packet (CRC or length)")
+        if result == sdk.COMM_PORT_BUSY:
+            self._port.is_using = False
+            raise BusTimeout(f"{what}: port busy")
+        if result == sdk.COMM_TX_FAIL:
+            raise PortError(f"{what}: could not transmit on {self.port_name}")
+        raise BusError(f"{what}: {self._ph.getTxRxResult(result)} ({result})")
+
+    def _attempt(self, what: str, fn: Callable, attempts: int | None = None):
+        """Run fn with bounded retries of transient faults; serial errors become PortError."""
+        n = self.retries + 1 if attempts is None else attempts
+        last: BusError | None = None
+        with self._lock:
+            if self._port is None:
+                raise PortError(f"{what}: the bus on {self.port_name} is not open")
+            for k in range(n):
+                self.stats.transactions += 1
+                try:
+                    return fn()
+                except (BusTimeout, CrcError) as exc:
+                    last = exc
+                    if k + 1 < n:
+                        self.stats.retries += 1
+                except self._serial_errors as exc:
+                    raise PortError(f"{what}: serial port {self.port_name} failed ({exc}); "
+                                    "adapter unplugged?") from None
+        raise type(last)(f"{last} — gave up after {n} attempts")
+
+    def _call(self, what: str, fn: Callable, dxl_id: int | None = None):
+        """An SDK TxRx call returning (..., result, error) with retries."""
+        def once():
+            out = fn()
+            self._check(out[-2], out[-1], what, dxl_id)
+            return out
+        return self._attempt(what, once)
+
+    def _read(self, dxl_id: int, f) -> int:
+        data = self._call(f"read of {f.name} from servo {dxl_id}",
+                          lambda: self._ph.readTxRx(self._port, dxl_id, f.addr, f.size), dxl_id)[0]
+        v = int.from_bytes(bytes(data[: f.size]), "little")
+        return units.to_signed(v, f.size) if f.signed else v
+
+    def _write(self, dxl_id: int, f, value: int) -> None:
+        data = list(units.to_unsigned(int(value), f.size).to_bytes(f.size, "little"))
+        self._call(f"write of {f.name}={value} to servo {dxl_id}",
+                   lambda: self._ph.writeTxRx(self._port, dxl_id, f.addr, f.size, data), dxl_id)
+
+    def _sync_write_raw(self, f, values) -> None:
+        g = self._sdk.GroupSyncWrite(self._port, self._ph, f.addr, f.size)
+        for i, v in zip(self.ids, values):
+            g.addParam(i, list(units.to_unsigned(int(v), f.size).to_bytes(f.size, "little")))
+        result = g.txPacket()
+        if result != self._sdk.COMM_SUCCESS:
+            self._check(result, 0, f"sync write of {f.name}")
+
+    def _sync_write_field(self, name: str, values) -> None:
+        f = self.specs[0].field(name)
+        self._attempt(f"sync write of {name}", lambda: self._sync_write_raw(f, values))
+
+    # -- the cycle ---------------------------------------------------------------------------
+    def _read_state_raw(self, attempts: int | None = None) -> JointState:
+        what = f"{'fast ' if self.fast_read else ''}sync read of servos {','.join(map(str, self.ids))}"
+        blocks, errors = self._attempt(what, lambda: self._sync_read_once(what), attempts)
+        t = time.monotonic()
+        raw = [bytes(blocks[i]) for i in self.ids]
+
+        def field(off: int, size: int, signed: bool) -> np.ndarray:
+            vals = [int.from_bytes(b[off : off + size], "little") for b in raw]
+            return np.array([units.to_signed(v, size) if signed else v for v in vals], dtype=np.int64)
+
+        ticks = field(132 - STATE_BLOCK_ADDR, 4, True)
+        moving = field(0, 1, False).astype(bool)
+        cur_raw = field(126 - STATE_BLOCK_ADDR, 2, True)
+        vel = np.array([units.velocity_to_rad_s(v, s) for v, s in zip(field(128 - STATE_BLOCK_ADDR, 4, True), self.specs)])
+        current = (np.array([units.current_to_ma(c, s) for c, s in zip(cur_raw, self.specs)])
+                   if self.current_sensing else None)
+        state = JointState(t, ticks, current, moving, vel)
+        self._pending_alerts = [i for i in self.ids if errors[i] & ALERT_BIT]
+        return state
+
+    def _sync_read_once(self, what: str):
+        sdk, ph, port = self._sdk, self._ph, self._port
+        n, ln = len(self.ids), STATE_BLOCK_LEN
+        g = sdk.GroupSyncRead(port, ph, STATE_BLOCK_ADDR, ln)
+        for i in self.ids:
+            g.addParam(i)
+        blocks, errors = {}, {}
+        if self.fast_read:
+            self._check(g.fastSyncReadTxPacket(), 0, what)
+            raw, result, _ = ph.fastSyncReadRx(port, BROADCAST_ID, (ln + 4) * n)
+            self._check(result, 0, what)
+            raw = bytes(raw)
+            if len(raw) != (ln + 4) * n:
+                raise CrcError(f"{what}: fast sync read status packet has the wrong length")
+            for k in range(n):
+                slot = raw[k * (ln + 4) : (k + 1) * (ln + 4)]
+                err, dxl_id = slot[0], slot[1]
+                if dxl_id not in self.ids or dxl_id in blocks:
+                    raise CrcError(f"{what}: unexpected servo id {dxl_id} in fast sync read packet")
+                self._check(sdk.COMM_SUCCESS, err, what, dxl_id)
+                blocks[dxl_id], errors[dxl_id] = slot[2 : 2 + ln], err
+        else:
+            self._check(g.txPacket(), 0, what)
+            for i in self.ids:
+                data, result, err = ph.readRx(port, i, ln)
+                self._check(result, err, what, i)
+                if len(data) != ln:
+                    raise CrcError(f"{what}: short status packet from servo {i}")
+                blocks[i], errors[i] = data, err
+        return blocks, errors
+
+    def read_state(self) -> JointState:
+        """Every joint's position, current, velocity and moving flag in one (fast) sync read.
+
+        The reading goes to ``on_reading`` first; then, if a servo flagged a hardware error
+        in its status, :class:`ServoHardwareError` is raised with the decoded bits.
+        """
+        with self._lock:
+            state = self._read_state_raw()
+            if self.on_reading is not None:
+                self.on_reading(state)
+            for i in self._pending_alerts:
+                hw = self.read_hardware_error(i)
+                raise ServoHardwareError(i, hw.bits, list(hw.names))
+            return state
+
+    def check_goal_ticks(self, ticks) -> np.ndarray:
+        """The goals as an int array, or JointLimitError naming the first joint out of limits."""
+        t = np.asarray(ticks)
+        if t.shape != (len(self.ids),):
+            raise InputError(f"expected {len(self.ids)} goal ticks (one per joint), got shape {t.shape}")
+        if not np.all(np.isfinite(t.astype(float))):
+            raise InputError(f"goal ticks must be finite numbers, got {t.tolist()}")
+        ti = np.rint(t.astype(float)).astype(np.int64)
+        for k, (v, lo, hi) in enumerate(zip(ti, self.min_ticks, self.max_ticks)):
+            if not lo <= v <= hi:
+                raise JointLimitError(f"joint {k} (servo id {self.ids[k]}): goal tick {v} outside its limits "
+                                      f"{lo}..{hi}; nothing was written")
+        return ti
+
+    def write_goal_ticks(self, ticks) -> None:
+        """Every joint's Goal Position in one sync write, after checking all of them."""
+        ti = self.check_goal_ticks(ticks)
+        self._sync_write_field("goal_position", ti)
+
+    def require_current_sensing(self, what: str = "a current-based guarded touch") -> None:
+        """CapabilityError unless every joint's model senses current (XL430 does not)."""
+        bad = [f"id {i} ({s.name})" for i, s in zip(self.ids, self.specs) if not s.has_current_sensing]
+        if bad:
+            raise CapabilityError(f"{what} needs current sensing, but {', '.join(bad)} has none: its address "
+                                  "126 is Present Load, not current; use XM430 or XC330 servos")
+
+    def set_goal_current(self, ma) -> None:
+        """Goal Current (the current cap in current-based position mode), mA, scalar or per joint."""
+        self.require_current_sensing("setting a goal current")
+        ma = np.broadcast_to(np.asarray(ma, dtype=float), (len(self.ids),))
+        raw = []
+        for i, s, m in zip(self.ids, self.specs, ma):
+            if not math.isfinite(m) or m < 0:
+                raise InputError(f"goal current for servo {i} must be a finite number ≥ 0 mA, got {m}")
+            r = units.ma_to_current(m, s)
+            if r > s.current_limit_default:
+                raise InputError(f"goal current {m:g} mA for servo {i} exceeds {s.name}'s limit "
+                                 f"{s.current_limit_default * s.current_unit_ma:g} mA")
+            raw.append(r)
+        self._sync_write_field("goal_current", raw)
+
+    def set_profile_raw(self, velocity: int, accel: int) -> None:
+        """Profile Velocity (0.229 rev/min units) and Acceleration (214.577 rev/min²) of all joints."""
+        for name, v in (("profile velocity", velocity), ("profile acceleration", accel)):
+            if not 0 <= int(v) <= 32767:
+                raise InputError(f"{name} {v} outside 0..32767 (raw units; 0 = unlimited)")
+        f = self.specs[0].field("profile_acceleration")
+        data = [(int(accel) | (int(velocity) << 32))] * len(self.ids)  # 108..115 in one write
+        self._attempt("sync write of profile", lambda: self._sync_write_raw(
+            type(f)("profile", f.addr, 8, "RW"), data))
+
+    def set_profile(self, velocity_rad_s: float, accel_rad_s2: float) -> None:
+        """Profile in SI units (rad/s, rad/s² of the output shaft)."""
+        s = self.specs[0]
+        self.set_profile_raw(units.rad_s_to_velocity(velocity_rad_s, s), units.rad_s2_to_accel(accel_rad_s2, s))
+
+    def torque(self, on: bool) -> None:
+        """Torque Enable of every joint in one sync write."""
+        self._sync_write_field("torque_enable", [int(bool(on))] * len(self.ids))
+
+    # -- single servos ----------------------------------------------------------------------------
+    def ping(self, dxl_id: int) -> ServoInfo:
+        """Model and firmware of one servo (BusTimeout if it does not answer)."""
+        number = self._call(f"ping of servo {dxl_id}", lambda: self._ph.ping(self._port, dxl_id), dxl_id)[0]
+        fw = self._call(f"read of firmware from servo {dxl_id}",
+                        lambda: self._ph.read1ByteTxRx(self._port, dxl_id, 6), dxl_id)[0]
+        spec = MODELS_BY_NUMBER.get(number)
+        return ServoInfo(dxl_id, spec.name if spec else f"unknown-{number}", number, fw, self._port.getBaudRate())
+
+    def scan(self, ids: Sequence[int], baudrates: Sequence[int]) -> list[ServoInfo]:
+        """Every servo that answers a ping, over the given ids and baud rates (no retries)."""
+        found = []
+        saved = self.retries
+        try:
+            self.retries = 0
+            for b in baudrates:
+                with self._lock:
+                    if not self._port.setBaudRate(int(b)):
+                        raise InputError(f"baud rate {b} is not supported by the Dynamixel SDK")
+                for i in ids:
+                    try:
+                        found.append(self.ping(int(i)))
+                    except (BusTimeout, CrcError):
+                        continue
+        finally:
+            self.retries = saved
+            with self._lock:
+                self._port.setBaudRate(self.baudrate)
+        return found
+
+    def read_hardware_error(self, dxl_id: int) -> HardwareStatus:
+        """Hardware Error Status (70) of one servo, decoded."""
+        bits = self._call(f"read of hardware error status from servo {dxl_id}",
+                          lambda: self._ph.read1ByteTxRx(self._port, dxl_id, 70), dxl_id)[0]
+        return HardwareStatus(bits, tuple(decode_hardware_error(bits)))
+
+    def reboot(self, dxl_id: int) -> None:
+        """Reboot one servo (clears a hardware error) and wait until it answers again.
+
+        RAM comes back at defaults: torque off; Goal Position is set to the present
+        position and the goal current re-applied, torque stays off until ``torque(True)``.
+        """
+        self._call(f"reboot of servo {dxl_id}", lambda: self._ph.reboot(self._port, dxl_id), dxl_id)
+        deadline = time.monotonic() + _REBOOT_WAIT_S
+        while True:
+            try:
+                self._attempt(f"ping of servo {dxl_id}", lambda: self._check(
+                    *self._ph.ping(self._port, dxl_id)[1:], f"ping of servo {dxl_id}", dxl_id), attempts=1)
+                break
+            except (BusTimeout, CrcError):
+                if time.monotonic() > deadline:
+                    raise BusTimeout(f"servo {dxl_id} did not come back within {_REBOOT_WAIT_S:g} s of reboot")
+        if dxl_id in self.ids:
+            k = self.ids.index(dxl_id)
+            spec = self.specs[k]
+            pos = self._read(dxl_id, spec.field("present_position"))
+            self._write(dxl_id, spec.field("goal_position"), int(np.clip(pos, self.min_ticks[k], self.max_ticks[k])))
+            if spec.has_current_sensing and hasattr(self.joints[k], "current_limit_ma"):
+                self._write(dxl_id, spec.field("goal_current"),
+                            min(units.ma_to_current(self.joints[k].current_limit_ma, spec), spec.current_limit_default))
+
+
+def scan(port: str, ids: Sequence[int], baudrates: Sequence[int]) -> list[ServoInfo]:
+    """Servos answering on ``port`` (no jaw config needed)."""
+    with JointBus(port, int(baudrates[0]), (), handle_signals=False) as bus:
+        return bus.scan(ids, baudrates)
