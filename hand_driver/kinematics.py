@@ -1,0 +1,316 @@
+"""Kinematics of the jaw: ticks → joint angles → pad lines → contacts → touches.
+
+Pure, vectorized functions (numpy broadcasting over leading axes of readings).
+
+Frames and conventions (docs/ARCHITECTURE.md): hand frame x forward, y left, angles CCW;
+``q = direction · (tick − zero_tick) · 2π/4096``. Finger with base ``(bx, by, β)``, joint
+angles ``q1, q2`` and links ``L1, L2``: ``α1 = β + q1``, ``α2 = α1 + q2``, distal joint
+``J2 = B + L1·e(α1)``, fingertip ``J2 + L2·e(α2)``. The pad is the segment
+``J2 + u·e(α2) + offset·n`` for ``u ∈ [L2 − length, L2]``, with outward normal
+``n = e(α2 + side·π/2)`` (side = +1 'left', −1 'right'), pointing from the finger into
+the world. A pad line is ``{p : n(ψ)·p = d}`` with ψ the angle of n.
+
+Contacts (the envelope). A pad rolled on a boundary that is convex toward it gives lines
+``n(ψ)·p = d(ψ)``; the boundary point touched at ψ is their envelope
+``p = d·n + d'·n⊥`` with ``n⊥ = dn/dψ``, the boundary's tangent angle is
+``φ = ψ − π/2`` (the solid on the left of the traversal: increasing ψ is
+counter-clockwise around the object), and since the radius of curvature is
+``ρ = −(d + d'')``, arc length is ``s(ψ) = −∫(d + d'') dψ`` (exact identity). d' and d''
+come from one least-squares polynomial of d(ψ) over the touch, in a local origin at the
+touch so the polynomial only has to follow the boundary's own shape.
+
+Accuracy: the only data error is encoder quantization, ±½ tick = ±π/4096 rad per joint.
+:func:`quantization_bound` propagates it to first order (worst case over all joints,
+Σ_j |∂output/∂q_j|·π/4096) for every output of :func:`touch_from_pad_lines`; the
+tests check the errors on exact curves against it (README, section kinematics).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from hand_driver.config import TICKS_PER_REV, FingerConfig, JawConfig, JointConfig
+from recognizer.errors import InputError
+
+RAD_PER_TICK = 2.0 * math.pi / TICKS_PER_REV
+HALF_TICK_RAD = 0.5 * RAD_PER_TICK
+
+
+class Unreachable(InputError):
+    """No joint angles within the limits put the pad where asked."""
+
+
+def _wrap(a):
+    """Angle(s) to (−π, π]."""
+    return np.pi - np.mod(np.pi - np.asarray(a, dtype=float), 2.0 * np.pi)
+
+
+def _e(a):
+    a = np.asarray(a, dtype=float)
+    return np.stack([np.cos(a), np.sin(a)], axis=-1)
+
+
+# ----------------------------------------------------------------------------- ticks
+
+
+def ticks_to_angles(joints: tuple[JointConfig, ...], ticks) -> np.ndarray:
+    """Encoder ticks (..., n_joints) → joint angles q (rad), same shape."""
+    t = np.asarray(ticks, dtype=float)
+    zero = np.array([j.zero_tick for j in joints])
+    sign = np.array([j.direction for j in joints], dtype=float)
+    return sign * (t - zero) * RAD_PER_TICK
+
+
+def angles_to_ticks(joints: tuple[JointConfig, ...], q) -> np.ndarray:
+    """Joint angles (..., n_joints) → encoder ticks (float; round to command a servo)."""
+    q = np.asarray(q, dtype=float)
+    zero = np.array([j.zero_tick for j in joints])
+    sign = np.array([j.direction for j in joints], dtype=float)
+    return zero + sign * q / RAD_PER_TICK
+
+
+def within_limits(joints: tuple[JointConfig, ...], q, margin_rad: float = 0.0) -> np.ndarray:
+    """True where every joint angle is inside [min_deg, max_deg] (shrunk by margin)."""
+    q = np.asarray(q, dtype=float)
+    lo = np.array([j.min_rad for j in joints]) + margin_rad
+    hi = np.array([j.max_rad for j in joints]) - margin_rad
+    return np.all((q >= lo) & (q <= hi), axis=-1)
+
+
+# ----------------------------------------------------------------------------- forward
+
+
+@dataclass(frozen=True)
+class PadLine:
+    """Pad pose(s); arrays with leading reading axes. ``normal`` points into the world."""
+
+    psi: np.ndarray  # angle of the outward normal
+    d: np.ndarray  # n·p for every p on the pad line
+    normal: np.ndarray  # (..., 2)
+    tangent: np.ndarray  # (..., 2): the distal link direction e(α2)
+    proximal: np.ndarray  # (..., 2) pad end nearer the distal joint
+    distal: np.ndarray  # (..., 2) pad end at the fingertip
+    joint2: np.ndarray  # (..., 2) the distal joint J2
+
+    def pad_coordinate(self, p) -> np.ndarray:
+        """Position of point(s) p along the pad, measured from the proximal end (mm)."""
+        return np.sum((np.asarray(p, dtype=float) - self.proximal) * self.tangent, axis=-1)
+
+
+def chain_pad_line(base, q, links, pad_offset, pad_length, side_sign) -> PadLine:
+    """Forward kinematics with explicit geometry (used by the fit): ``base`` (x, y, angle),
+    ``q`` (..., 2), ``links`` (L1, L2)."""
+    q = np.asarray(q, dtype=float)
+    bx, by, ba = base
+    a1 = ba + q[..., 0]
+    a2 = a1 + q[..., 1]
+    e1, e2 = _e(a1), _e(a2)
+    j2 = np.array([bx, by]) + links[0] * e1
+    psi = a2 + side_sign * (np.pi / 2)
+    n = _e(psi)
+    distal = j2 + links[1] * e2 + pad_offset * n
+    proximal = distal - pad_length * e2
+    return PadLine(psi=_wrap(psi), d=np.sum(n * distal, axis=-1), normal=n, tangent=e2,
+                   proximal=proximal, distal=distal, joint2=j2)
+
+
+def finger_pad_line(finger: FingerConfig, q) -> PadLine:
+    """Pad line(s) of one finger for its joint angles q (..., 2) in rad."""
+    j1, j2 = finger.joints
+    return chain_pad_line((finger.base.x, finger.base.y, finger.base.angle), q,
+                          (j1.link_mm, j2.link_mm), finger.pad.offset_mm, finger.pad.length_mm,
+                          finger.pad.side_sign)
+
+
+def jaw_pad_lines(cfg: JawConfig, q) -> dict[str, PadLine]:
+    """Pad lines of every finger from all joint angles (..., n_joints), config order."""
+    q = np.asarray(q, dtype=float)
+    sl = cfg.joint_slices()
+    return {f.name: finger_pad_line(f, q[..., sl[f.name]]) for f in cfg.fingers}
+
+
+def finger_pad_line_from_ticks(cfg: JawConfig, finger: str, ticks) -> PadLine:
+    """Pad line(s) of ``finger`` from that finger's encoder ticks (..., 2)."""
+    f = cfg.finger(finger)
+    return finger_pad_line(f, ticks_to_angles(f.joints, ticks))
+
+
+# ----------------------------------------------------------------------------- inverse
+
+
+def ik_line_solutions(finger: FingerConfig, psi: float, d: float) -> list[np.ndarray]:
+    """Both joint-angle solutions (rad, limits not checked) putting the pad on the line
+    ``n(ψ)·p = d`` with its outward normal at angle ψ; empty if out of reach."""
+    j1, j2 = finger.joints
+    side = finger.pad.side_sign
+    b = np.array([finger.base.x, finger.base.y])
+    n = np.array([math.cos(psi), math.sin(psi)])
+    c = (d - finger.pad.offset_mm - float(n @ b)) / j1.link_mm
+    if abs(c) > 1.0:
+        return []
+    a2 = psi - side * math.pi / 2
+    out = []
+    for sgn in (1.0, -1.0):
+        a1 = psi + sgn * math.acos(c)
+        out.append(np.array([float(_wrap(a1 - finger.base.angle)), float(_wrap(a2 - a1))]))
+    return out
+
+
+def ik_line(finger: FingerConfig, psi: float, d: float, contact=None, pad_u: float | None = None,
+            margin_rad: float = 0.0) -> np.ndarray:
+    """Joint angles (rad) putting the pad on line ``n(ψ)·p = d`` inside the joint limits.
+
+    With ``contact`` (a point on that line) the solution must have the contact on the pad;
+    among valid solutions the one whose contact is nearest ``pad_u`` (mm from the pad's
+    proximal end; default the pad's middle) wins. Raises :class:`Unreachable`."""
+    sols = [q for q in ik_line_solutions(finger, psi, d) if within_limits(finger.joints, q, margin_rad)]
+    if contact is not None:
+        target = 0.5 * finger.pad.length_mm if pad_u is None else pad_u
+        scored = []
+        for q in sols:
+            u = float(finger_pad_line(finger, q).pad_coordinate(contact))
+            if 0.0 <= u <= finger.pad.length_mm:
+                scored.append((abs(u - target), q))
+        sols = [q for _, q in sorted(scored, key=lambda t: t[0])]
+    if not sols:
+        where = "" if contact is None else f" with the contact ({contact[0]:.1f}, {contact[1]:.1f}) on the pad"
+        raise Unreachable(f"finger {finger.name}: no joint angles within limits put the pad on the line "
+                          f"psi={math.degrees(psi):.1f} deg, d={d:.1f} mm{where}")
+    return sols[0]
+
+
+def ik_tangent(finger: FingerConfig, point, psi: float, pad_u: float | None = None,
+               margin_rad: float = 0.0) -> np.ndarray:
+    """Joint angles putting the pad through ``point`` with outward normal angle ψ and the
+    point on the pad (nearest ``pad_u``)."""
+    n = np.array([math.cos(psi), math.sin(psi)])
+    return ik_line(finger, psi, float(n @ np.asarray(point, dtype=float)), contact=point, pad_u=pad_u,
+                   margin_rad=margin_rad)
+
+
+def ik_corner(finger: FingerConfig, point, margin_rad: float = 0.0) -> list[np.ndarray]:
+    """Joint-angle solutions (within limits) putting the pad's distal corner (the
+    fingertip end of the pad surface) on ``point``: two-link IK."""
+    j1, j2 = finger.joints
+    off, side = finger.pad.offset_mm, finger.pad.side_sign
+    r2 = math.hypot(j2.link_mm, off)
+    gamma = math.atan2(side * off, j2.link_mm)  # corner direction relative to e(α2)
+    v = np.asarray(point, dtype=float) - np.array([finger.base.x, finger.base.y])
+    dist = float(np.hypot(*v))
+    c = (dist**2 - j1.link_mm**2 - r2**2) / (2 * j1.link_mm * r2)
+    if abs(c) > 1.0:
+        return []
+    out = []
+    for sgn in (1.0, -1.0):
+        k = sgn * math.acos(c)  # angle of the corner vector relative to link 1
+        a1 = math.atan2(v[1], v[0]) - math.atan2(r2 * math.sin(k), j1.link_mm + r2 * math.cos(k))
+        q = np.array([float(_wrap(a1 - finger.base.angle)), float(_wrap(k - gamma))])
+        if within_limits(finger.joints, q, margin_rad):
+            out.append(q)
+    return out
+
+
+# ----------------------------------------------------------------------------- contacts
+
+
+@dataclass(frozen=True)
+class Contacts:
+    """Envelope of a rolled pad: samples ordered by increasing ψ (CCW around the solid)."""
+
+    psi: np.ndarray
+    phi: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    s: np.ndarray
+    order: np.ndarray  # indices of the input readings in output order
+
+    def to_touch(self) -> dict:
+        """CONTRACTS §2 samples touch."""
+        return {"phi": [float(v) for v in self.phi], "x": [float(v) for v in self.x],
+                "y": [float(v) for v in self.y], "s": [float(v) for v in self.s]}
+
+
+def default_degree(n: int) -> int:
+    """Polynomial degree of d(ψ) for n readings: 3 from 6 readings on, else n − 2 ≥ 1."""
+    return 3 if n >= 6 else max(1, n - 2)
+
+
+def touch_from_pad_lines(psi, d, origin=None, degree: int | None = None) -> Contacts:
+    """Contacts of one rolling touch from its pad lines ``n(ψ_i)·p = d_i`` (≥ 3 readings,
+    distinct ψ). ``origin`` is the local origin of the fit (default: the mean of the
+    lines' feet, close to the touch)."""
+    psi = np.unwrap(np.asarray(psi, dtype=float))
+    d = np.asarray(d, dtype=float)
+    if psi.shape != d.shape or psi.ndim != 1 or psi.size < 3:
+        raise InputError(f"a rolling touch needs ≥ 3 pad lines with matching psi and d; got {psi.shape}, {d.shape}")
+    if not (np.all(np.isfinite(psi)) and np.all(np.isfinite(d))):
+        raise InputError("pad lines must be finite numbers")
+    order = np.argsort(psi, kind="stable")
+    psi, d = psi[order], d[order]
+    if np.any(np.diff(psi) <= 0):
+        raise InputError("a rolling touch needs distinct pad angles psi; the pad did not roll")
+    n = _e(psi)
+    nperp = np.stack([-n[:, 1], n[:, 0]], axis=-1)
+    deg = default_degree(psi.size) if degree is None else degree
+    if not 1 <= deg <= psi.size - 1:
+        raise InputError(f"polynomial degree {deg} out of range [1, {psi.size - 1}] for {psi.size} readings")
+    c0 = 0.5 * (psi[0] + psi[-1])
+    scale = max(0.5 * (psi[-1] - psi[0]), 1e-12)
+    x = (psi - c0) / scale
+    if origin is None:  # two passes: a rough envelope gives the local origin
+        p0, _ = _envelope(x, scale, d, n, nperp, np.mean(n * d[:, None], axis=0), deg)
+        origin = np.median(p0, axis=0)
+    p, s = _envelope(x, scale, d, n, nperp, np.asarray(origin, dtype=float), deg)
+    return Contacts(psi=psi, phi=_wrap(psi - np.pi / 2), x=p[:, 0], y=p[:, 1], s=s, order=order)
+
+
+def _envelope(x, scale, d, n, nperp, o, deg):
+    """Envelope points and arc lengths from a degree-``deg`` fit of d(ψ) about origin o."""
+    dl = d - n @ o  # support values about the local origin
+    poly = np.polynomial.Polynomial.fit(x, dl, deg, domain=[-1, 1], window=[-1, 1])
+    f0 = poly(x)
+    f1 = poly.deriv(1)(x) / scale
+    integral = (poly + poly.deriv(2) / scale**2).integ()  # ∫(d + d'') dψ, in x
+    s = -(integral(x) - integral(x[0])) * scale
+    return o + n * f0[:, None] + nperp * f1[:, None], s
+
+
+def touch_from_ticks(cfg: JawConfig, finger: str, ticks, degree: int | None = None) -> Contacts:
+    """Contacts of one rolling touch of ``finger`` from its encoder ticks (n, 2)."""
+    line = finger_pad_line_from_ticks(cfg, finger, ticks)
+    return touch_from_pad_lines(line.psi, line.d, degree=degree)
+
+
+def quantization_bound(finger: FingerConfig, q, degree: int | None = None,
+                       half_step: float = HALF_TICK_RAD) -> dict[str, np.ndarray]:
+    """First-order worst-case error of every output of a touch when each joint angle of
+    each reading may be off by up to ``half_step`` (default ½ tick): for each output
+    Σ over readings and joints of |∂output/∂q|·half_step (central differences).
+
+    Returns arrays (in output order) for keys 'phi', 'x', 'y', 's' and 'point'
+    (hypot of the x and y bounds: a bound on the contact point's distance error)."""
+    q = np.asarray(q, dtype=float)
+
+    def outputs(qq):
+        line = finger_pad_line(finger, qq)
+        c = touch_from_pad_lines(line.psi, line.d, degree=degree)
+        return c, np.concatenate([c.phi, c.x, c.y, c.s])
+
+    base, _ = outputs(q)
+    m = q.shape[0]
+    h = 1e-6
+    bound = np.zeros(4 * m)
+    for i in range(m):
+        for k in range(q.shape[1]):
+            dq = np.zeros_like(q)
+            dq[i, k] = h
+            c_plus, v_plus = outputs(q + dq)
+            c_minus, v_minus = outputs(q - dq)
+            if not (np.array_equal(c_plus.order, base.order) and np.array_equal(c_minus.order, base.order)):
+                raise InputError("readings too close in psi for a first-order bound")
+            bound += np.abs((v_plus - v_minus) / (2 * h)) * half_step
+    phi_b, x_b, y_b, s_b = np.split(bound, 4)
+    return {"phi": phi_b, "x": x_b, "y": y_b, "s": s_b, "point": np.hypot(x_b, y_b)}
