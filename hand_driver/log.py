@@ -121,10 +121,11 @@ class RunLog:
         os.fsync(self._file.fileno())
 
     def reading(self, state: Any) -> int:
-        """Log one joint reading (a ``JointState``); returns its index ``i``."""
+        """Log one joint reading (a ``hand_driver.bus.JointState``); returns its index ``i``.
+        Shaped as the bus's ``on_reading`` callback."""
         i = self.readings
         self.write({
-            "type": "reading", "i": i, "t": state.t,
+            "type": "reading", "i": i, "t": state.t_monotonic,
             "ticks": list(state.ticks),
             "current_ma": None if state.current_ma is None else list(state.current_ma),
             "moving": None if getattr(state, "moving", None) is None else list(state.moving),

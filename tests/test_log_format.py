@@ -19,7 +19,7 @@ from recognizer.errors import InputError
 
 @dataclass
 class _State:
-    t: float
+    t_monotonic: float
     ticks: tuple
     current_ma: tuple | None
     moving: tuple | None
@@ -98,7 +98,7 @@ def test_sigkill_loses_no_logged_reading(tmp_path):
         from hand_driver.log import RunLog
         log = RunLog({str(path)!r}).open(config={{}}, scene=None)
         for i in range(100000):
-            log.reading(SimpleNamespace(t=time.monotonic(), ticks=[i, i], current_ma=[0.0, 0.0], moving=None))
+            log.reading(SimpleNamespace(t_monotonic=time.monotonic(), ticks=[i, i], current_ma=[0.0, 0.0], moving=None))
             with open({str(progress)!r} + ".tmp", "w") as f:
                 f.write(str(i + 1))
             os.replace({str(progress)!r} + ".tmp", {str(progress)!r})
