@@ -160,10 +160,11 @@ def _truncation(values: list[float]) -> float:
     """Truncation error of the last estimate of a sequence by increasing degree: the
     last change, shrunk by the ratio of the last two distinct changes (≤ 1)."""
     ref = values[-1]
+    tiny = 1e-9 * max(abs(v) for v in values)
     errs = [abs(v - ref) for v in values[:-1]]
     distinct: list[float] = []
     for e in reversed(errs):
-        if e > 0 and (not distinct or abs(e - distinct[-1]) > 1e-12 * e):
+        if e > tiny and (not distinct or abs(e - distinct[-1]) > 1e-6 * e):
             distinct.append(e)
         if len(distinct) == 2:
             break
@@ -226,6 +227,31 @@ def _select_gof(phi: np.ndarray, s: np.ndarray, m: int, sigma: float, max_deg: i
         if chi2 <= stats.chi2.ppf(1.0 - GOF_LEVEL, dof):
             return _Choice("poly", min(d + 1 - d % 2, max_deg), d)
     return _Choice("poly", max_deg, max_deg)
+
+
+def _bias2_known(phi: np.ndarray, s: np.ndarray, m: int, sigma: float, choice: _Choice,
+                 max_deg: int) -> np.ndarray:
+    """Squared truncation bias of each output under known noise: the change to the fit
+    two degrees higher (at most the interpolating degree) when it is significant (beyond the 1 % χ²₁
+    quantile of its own noise), else 0; at the highest degree the extrapolated last
+    change."""
+    rphi = phi - phi[m]
+    top = max(max_deg, min(MAX_DEGREE + 1, s.size - 1))
+    degrees = list(range(2, top + 1))
+    maps = {d: _poly_maps(s, m, d)[0] for d in degrees}
+    out = np.zeros(2)
+    for j, d in enumerate((choice.deg_k, choice.deg_ks)):
+        values = {k: float(maps[k][j] @ rphi) for k in degrees}
+        tiny = 1e-9 * max(abs(v) for v in values.values())
+        higher = [k for k in (d + 2, d + 1) if k <= top and abs(values[k] - values[d]) > tiny]
+        if higher:
+            g = maps[d][j] - maps[higher[0]][j]
+            diff = values[d] - values[higher[0]]
+            if diff**2 > stats.chi2.ppf(0.99, 1) * max(sigma, SIGMA_PHI_FLOOR) ** 2 * float(g @ g):
+                out[j] = diff**2
+        else:
+            out[j] = _truncation([values[k] for k in degrees if k <= d]) ** 2
+    return out
 
 
 def _estimate_frozen(phi: np.ndarray, x: np.ndarray, y: np.ndarray, s: np.ndarray | None,
@@ -318,7 +344,8 @@ def estimate_local(touch: Any, method: str = "auto", noise: Any = None, where: s
         if sig_fit is None:
             choice, bias2, sigma = _select(phi, ss, m, None, max_deg)
         else:
-            choice, bias2, sigma = _select_gof(phi, ss, m, sig_fit, max_deg), np.zeros(2), sig_fit
+            choice, sigma = _select_gof(phi, ss, m, sig_fit, max_deg), sig_fit
+            bias2 = _bias2_known(phi, ss, m, sig_fit, choice, max_deg)
     g, p0 = _maps(ss, m, choice)
     kappa, kappa_s = (float(v) for v in g @ rphi)
     phi0 = phi_raw_m + float(p0 @ rphi)
