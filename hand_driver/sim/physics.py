@@ -1,0 +1,282 @@
+"""Contact physics of the emulated jaw: flat pads meeting the scene's object.
+
+Only the pads are modelled (zero-thickness segments from hand_driver.kinematics), not the
+links, and only the scene's one object: a canonical curve of CONTRACTS §1 placed by its
+pose, the solid on its ``side``. A pad penetrates the solid when one of its end points is
+inside the solid or when the boundary crosses the segment transversally. The crossings
+are exact: the boundary meets the pad's line where ``n·P(t) = d``, which is closed form for
+every class (trigonometric for circle and ellipse, a quadratic for line/parabola and for
+e^t on the hyperbola, a cubic for the cubical and semicubical parabolas); a pad tangent to
+the boundary (a double root) touches without penetrating.
+
+:meth:`ContactWorld.constrain` moves along a straight joint-space step and stops at the
+last configuration without penetration (bisection to ``tol_rad``); far from the object a
+clearance bound (bounding circles of the boundary within reach, and the largest distance
+any pad point can travel in the step) accepts the whole step without any root finding.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from hand_driver.config import JawConfig
+from recognizer.curves import CURVES
+
+# Which side of the increasing-t traversal each class's "region" lies on (see _inside).
+_REGION_SIDE = {"line": "left", "circle": "left", "ellipse": "left", "parabola": "right",
+                "hyperbola": "right", "cubical_parabola": "left", "semicubical_parabola": "right"}
+
+
+@dataclass(frozen=True)
+class PadContact:
+    """Diagnostics of one pad: the nearest boundary point and the gap to it."""
+
+    finger: str
+    gap_mm: float  # distance from the pad segment to the boundary (0 when touching)
+    point: tuple[float, float]  # nearest boundary point, hand frame
+    pad_u_mm: float  # where along the pad (from its proximal end) the nearest point projects
+    penetrating: bool
+
+
+class ContactWorld:
+    """The truth jaw and the scene object; joint vectors are rad, in config joint order."""
+
+    def __init__(self, truth_config: JawConfig, scene_object, tol_rad: float = 1e-7,
+                 max_sweep_mm: float = 2.0):
+        self.cfg = truth_config
+        self.obj = scene_object
+        self.tol_rad = tol_rad
+        self.max_sweep_mm = max_sweep_mm
+        self.curve = CURVES[scene_object.cls](scene_object.params)
+        self._p = {k: float(v) for k, v in self.curve.params.items()}
+        pose = scene_object.pose
+        self._c, self._s = math.cos(pose.theta), math.sin(pose.theta)
+        self._ox, self._oy = pose.x, pose.y
+        self._solid_is_region = scene_object.side == _REGION_SIDE[scene_object.cls]
+        self._fingers = []
+        for f in truth_config.fingers:
+            j1, j2 = f.joints
+            self._fingers.append((f.name, f.base.x, f.base.y, f.base.angle, j1.link_mm, j2.link_mm,
+                                  f.pad.offset_mm, f.pad.length_mm, f.pad.side_sign))
+        self._reach = max(math.hypot(bx, by) + l1 + math.hypot(l2, off) + 1.0
+                          for _, bx, by, _, l1, l2, off, _, _ in self._fingers)
+        self._build_chunks()
+
+    # ------------------------------------------------------------------ geometry helpers
+    def _to_canon(self, x: float, y: float) -> tuple[float, float]:
+        dx, dy = x - self._ox, y - self._oy
+        return self._c * dx + self._s * dy, -self._s * dx + self._c * dy
+
+    def _pads(self, q) -> list[tuple[float, float, float, float]]:
+        """Pad segments (x0, y0, x1, y1) per finger, proximal → distal."""
+        out, k = [], 0
+        for _, bx, by, ba, l1, l2, off, plen, side in self._fingers:
+            a1 = ba + q[k]
+            a2 = a1 + q[k + 1]
+            k += 2
+            c2, s2 = math.cos(a2), math.sin(a2)
+            nx, ny = -side * s2, side * c2
+            x1 = bx + l1 * math.cos(a1) + l2 * c2 + off * nx
+            y1 = by + l1 * math.sin(a1) + l2 * s2 + off * ny
+            out.append((x1 - plen * c2, y1 - plen * s2, x1, y1))
+        return out
+
+    def _lever_arms(self) -> np.ndarray:
+        """Largest distance from each joint to any point of its finger's pad."""
+        arms = []
+        for _, _, _, _, l1, l2, off, _, _ in self._fingers:
+            r2 = math.hypot(l2, off)
+            arms += [l1 + r2, r2]
+        return np.array(arms)
+
+    def _build_chunks(self) -> None:
+        """Bounding circles of the boundary within reach of the pads."""
+        t = self._t_samples()
+        x, y = self.obj.pose.apply(*self.curve.point(t))
+        pts = np.stack([x, y], axis=-1)
+        keep = np.hypot(x, y) <= self._reach + 20.0
+        pts = pts[keep] if keep.any() else pts[:0]
+        self._pts = pts
+        centers, radii = [], []
+        spacing = float(np.max(np.hypot(*np.diff(pts, axis=0).T))) if len(pts) > 1 else 0.0
+        for chunk in np.array_split(pts, max(1, len(pts) // 64)) if len(pts) else []:
+            c = chunk.mean(axis=0)
+            centers.append(c)
+            radii.append(float(np.max(np.hypot(*(chunk - c).T))) + spacing)
+        self._centers = np.array(centers).reshape(-1, 2)
+        self._radii = np.array(radii)
+        self._arms = self._lever_arms()
+
+    def _t_samples(self) -> np.ndarray:
+        if self.curve.t_period is not None:
+            lo, hi = self.curve.t_period
+            return np.linspace(lo, hi, 4096)
+        span = 1.0
+        for _ in range(60):  # grow until both ends are out of reach
+            x, y = self.obj.pose.apply(*self.curve.point(np.array([-span, span])))
+            if np.all(np.hypot(x, y) > self._reach + 20.0):
+                break
+            span *= 1.5
+        u = np.linspace(-1.0, 1.0, 8001)
+        return span * np.sign(u) * np.abs(u) ** 2 if self.obj.cls != "line" else span * u
+
+    def clearance(self, q) -> float:
+        """A lower bound (mm) on the distance from every pad to the boundary."""
+        if not len(self._radii):
+            return math.inf
+        best = math.inf
+        for x0, y0, x1, y1 in self._pads(q):
+            mx, my = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+            half = 0.5 * math.hypot(x1 - x0, y1 - y0)
+            dist = np.hypot(self._centers[:, 0] - mx, self._centers[:, 1] - my) - self._radii - half
+            best = min(best, float(dist.min()))
+        return best
+
+    # ------------------------------------------------------------------ exact predicate
+    def _inside(self, x: float, y: float) -> bool:
+        """Is the hand-frame point strictly inside the solid?"""
+        u, v = self._to_canon(x, y)
+        p, cls = self._p, self.obj.cls
+        if cls == "line":
+            region = v > 0
+        elif cls == "circle":
+            region = u * u + v * v < p["r"] ** 2
+        elif cls == "ellipse":
+            region = (u / p["a"]) ** 2 + (v / p["b"]) ** 2 < 1.0
+        elif cls == "parabola":
+            region = v * v < 4.0 * p["a"] * u
+        elif cls == "hyperbola":
+            region = u > 0 and (u / p["a"]) ** 2 - (v / p["b"]) ** 2 > 1.0
+        elif cls == "cubical_parabola":
+            region = v > p["a"] * u**3 + p["c"] * u
+        else:  # semicubical_parabola, a > 0: between the branches
+            region = u > 0 and abs(v - p["b"] * u) < p["a"] * u**1.5
+        return region if self._solid_is_region else not region
+
+    def _line_hits(self, nx: float, ny: float, d: float) -> list[float]:
+        """Parameters t where the boundary crosses the line n·p = d (canonical frame),
+        transversal crossings only."""
+        p, cls = self._p, self.obj.cls
+        if cls == "line":
+            return [d / nx] if nx != 0.0 else []
+        if cls in ("circle", "ellipse"):
+            a, b = (p["r"], p["r"]) if cls == "circle" else (p["a"], p["b"])
+            big = math.hypot(a * nx, b * ny)
+            if big == 0.0 or abs(d) >= big:
+                return []
+            delta, w = math.atan2(b * ny, a * nx), math.acos(d / big)
+            return [delta - w, delta + w]
+        if cls == "parabola":
+            return _real_roots([nx * p["a"], 2.0 * ny * p["a"], -d])
+        if cls == "hyperbola":
+            aa, bb = p["a"] * nx, p["b"] * ny
+            return [math.log(w) for w in _real_roots([aa + bb, -2.0 * d, aa - bb]) if w > 0.0]
+        if cls == "cubical_parabola":
+            return _real_roots([ny * p["a"], 0.0, nx + ny * p["c"], -d])
+        return _real_roots([ny * p["a"], nx + ny * p["b"], 0.0, -d])
+
+    def _pad_penetrates(self, seg: tuple[float, float, float, float]) -> bool:
+        x0, y0, x1, y1 = seg
+        if self._inside(x0, y0) or self._inside(x1, y1):
+            return True
+        length = math.hypot(x1 - x0, y1 - y0)
+        tx, ty = (x1 - x0) / length, (y1 - y0) / length
+        # the pad's line in the canonical frame: n·p = d
+        ntx, nty = self._c * tx + self._s * ty, -self._s * tx + self._c * ty
+        nx, ny = -nty, ntx
+        u0, v0 = self._to_canon(x0, y0)
+        d = nx * u0 + ny * v0
+        for t in self._line_hits(nx, ny, d):
+            px, py = self.curve.point(t)
+            along = ntx * (float(px) - u0) + nty * (float(py) - v0)
+            if 0.0 < along < length:
+                return True
+        return False
+
+    def penetrates(self, q) -> bool:
+        """Does any pad penetrate the solid at joint angles q (rad, config order)?"""
+        return any(self._pad_penetrates(seg) for seg in self._pads(q))
+
+    # ------------------------------------------------------------------ public
+    def constrain(self, q_from, q_to) -> np.ndarray:
+        """The farthest configuration on the straight joint-space step q_from → q_to at
+        which no pad penetrates the object (q_from is assumed free)."""
+        q_from = np.asarray(q_from, dtype=float)
+        q_to = np.asarray(q_to, dtype=float)
+        dq = q_to - q_from
+        sweep = float(np.abs(dq) @ self._arms)
+        if sweep == 0.0:
+            return q_to.copy()
+        clear = self.clearance(q_from)
+        if sweep < clear:
+            return q_to.copy()
+        n = max(1, math.ceil(sweep / self.max_sweep_mm))
+        lo = 0.0
+        for i in range(1, n + 1):
+            hi = i / n
+            if self.penetrates(q_from + hi * dq):
+                break
+            lo = hi
+        else:
+            return q_to.copy()
+        tol = self.tol_rad / max(float(np.max(np.abs(dq))), 1e-300)
+        while hi - lo > tol:
+            mid = 0.5 * (lo + hi)
+            if self.penetrates(q_from + mid * dq):
+                hi = mid
+            else:
+                lo = mid
+        return q_from + lo * dq
+
+    def contact_info(self, q) -> list[PadContact]:
+        """Per finger: nearest boundary point to its pad, the gap, penetration flag (for
+        diagnostics: the gap is measured to the boundary sampled densely within reach,
+        4096 points around a closed curve)."""
+        out = []
+        for (name, *_), seg in zip(self._fingers, self._pads(np.asarray(q, dtype=float))):
+            x0, y0, x1, y1 = seg
+            a = np.array([x0, y0])
+            t = np.array([x1 - x0, y1 - y0])
+            length = float(np.hypot(*t))
+            t /= length
+            if not len(self._pts):
+                out.append(PadContact(name, math.inf, (math.nan, math.nan), math.nan, False))
+                continue
+            rel = self._pts - a
+            u = np.clip(rel @ t, 0.0, length)
+            dist = np.hypot(*(rel - u[:, None] * t).T)
+            i = int(np.argmin(dist))
+            gap = float(dist[i])
+            pen = self._pad_penetrates(seg)
+            out.append(PadContact(name, 0.0 if pen else gap, (float(self._pts[i, 0]), float(self._pts[i, 1])),
+                                  float(u[i]), pen))
+        return out
+
+    def touching(self, q, touch_mm: float = 0.05) -> dict[str, bool]:
+        """Finger name → is its pad within ``touch_mm`` of the boundary (or in it)?"""
+        return {c.finger: c.penetrating or c.gap_mm <= touch_mm for c in self.contact_info(q)}
+
+
+def _real_roots(coeffs: list[float]) -> list[float]:
+    """Real simple roots of a polynomial (highest power first); leading zeros dropped."""
+    c = list(coeffs)
+    while c and abs(c[0]) < 1e-300:
+        c.pop(0)
+    if len(c) <= 1:
+        return []
+    if len(c) == 2:
+        return [-c[1] / c[0]]
+    if len(c) == 3:
+        a, b, cc = c
+        disc = b * b - 4 * a * cc
+        if disc <= 0.0:
+            return []
+        r = math.sqrt(disc)
+        q = -0.5 * (b + math.copysign(r, b))
+        return [q / a, cc / q] if q != 0.0 else [0.0]
+    roots = np.roots(c)
+    real = roots[np.abs(roots.imag) <= 1e-12 * np.maximum(1.0, np.abs(roots.real))].real
+    return [float(r) for r in real]
