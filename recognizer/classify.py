@@ -1,0 +1,171 @@
+"""The recognition tree (paper §5, Fig. 2) over the scene's classes, with statistics.
+
+For every class the scene allows (and the touches suffice for, touches.MIN_TOUCHES) the
+class is fitted to every touch (recognizer.localize: the invariants' closed-form
+solution, then the exact contact equations by Levenberg–Marquardt). Its consistency test
+is a χ² test at level ``alpha`` on the whitened residuals of every measurement (position,
+tangent angle, κ, κ_s of every touch): the invariants' consistency across every pair of
+touches is what this tests, with each measurement's propagated uncertainty (a contact's
+κ/κ_s covariance, the noise model's φ and position deviations). With zero covariance
+(exact data) the floor localize.EPS_FLOOR (1e-7 relative) stands in for the deviations.
+Consistent classes are ranked by BIC = χ² + k·ln(n_obs) (k: shape parameters and pose
+degrees of freedom), so a circle (κ_s = 0, constant κ) beats an ellipse with a ≈ b and
+a line (κ = 0) beats a flat conic. No consistent class: ``unclassified`` with the
+invariant and the measurement that disagreed most, against their uncertainty.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from scipy import stats
+
+from recognizer import invariants as inv
+from recognizer.localize import EPS_FLOOR, Contacts, fit_class
+from recognizer.result import Candidate, Recognition, RecognizeOptions
+from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request
+
+__all__ = ["recognize", "contacts_of", "DEFAULT_SAMPLES_NOISE"]
+
+#: φ and position deviations assumed for samples-touches when neither the request nor
+#: the scene gives a noise model (the jaw's encoder and pad-line resolution)
+DEFAULT_SAMPLES_NOISE = NoiseModel(phi=1e-3, pos=0.05)
+_MEAS = ("x", "y", "phi", "kappa", "kappa_s")
+
+
+def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
+    """Local geometry of every touch: contacts as given (covariance from the request or
+    zero); samples-touches through recognizer.estimate.estimate_local."""
+    noise = options.noise or request.noise
+    rows = []
+    for i, t in enumerate(request.touches):
+        if isinstance(t, ContactTouch):
+            nz = noise or NoiseModel()
+            rows.append((t.x, t.y, t.phi, t.kappa, t.kappa_s, t.cov, nz.pos, nz.phi))
+        else:
+            from recognizer.estimate import estimate_local
+
+            g = estimate_local(t, method=options.estimator, noise=noise, where=f"{request.source}.touches[{i}]")
+            nz = noise or DEFAULT_SAMPLES_NOISE
+            rows.append((g.x, g.y, g.phi, g.kappa, g.kappa_s, np.asarray(g.cov, float), nz.pos, nz.phi))
+    cols = list(zip(*rows))
+    arr = [np.array(c, dtype=float) for c in cols[:5]]
+    return Contacts(*arr, np.array(cols[5], dtype=float).reshape(-1, 2, 2), np.array(cols[6], float),
+                    np.array(cols[7], float))
+
+
+def _pair_invariants(d: Contacts) -> dict:
+    """I_c1, I_c2 of every pair with first-order σ; ill-conditioned pairs are marked."""
+    out = {"pairs": [], "I_c1": [], "I_c2": [], "I_c1_sigma": [], "I_c2_sigma": [], "condition": []}
+    for i in range(d.n):
+        for j in range(i + 1, d.n):
+            vals = (d.kappa[i], d.kappa_s[i], d.kappa[j], d.kappa_s[j])
+            with np.errstate(all="ignore"):
+                c1 = float(inv.I_c1(*vals))
+                c2 = float(inv.I_c2(*vals))
+                s1 = math.sqrt(inv.propagate(inv.I_c1, vals, [d.cov[i], d.cov[j]]))
+                s2 = math.sqrt(inv.propagate(inv.I_c2, vals, [d.cov[i], d.cov[j]]))
+            out["pairs"].append([i, j])
+            out["I_c1"].append(c1)
+            out["I_c2"].append(c2)
+            out["I_c1_sigma"].append(s1)
+            out["I_c2_sigma"].append(s2)
+            with np.errstate(all="ignore"):
+                out["condition"].append(float(inv.pair_condition(d.kappa[i], d.kappa[j])))
+    return out
+
+
+def _class_invariants(cand: Candidate, d: Contacts, pairs: dict) -> dict:
+    """The invariants of the answered class, evaluated at the touches."""
+    cls = cand.cls
+    if cls in ("ellipse", "hyperbola"):
+        return {k: pairs[k] for k in ("pairs", "I_c1", "I_c2", "condition")}
+    if cls == "parabola":
+        return {"I_p": inv.I_p(d.kappa, d.kappa_s).tolist(), "I_c1": pairs["I_c1"], "pairs": pairs["pairs"]}
+    if cls in ("line", "circle"):
+        return {"kappa": d.kappa.tolist(), "kappa_s": d.kappa_s.tolist()}
+    # cubic classes: λ from the tangent rotation relative to the recovered canonical frame
+    sign = 1.0
+    if cls == "semicubical_parabola" and d.kappa[np.argmax(np.abs(d.kappa))] < 0:
+        sign = -1.0
+    phi = d.phi + (np.pi if sign < 0 else 0.0)
+    lam = np.tan(phi - cand.pose.theta)
+    k = sign * d.kappa
+    if cls == "cubical_parabola":
+        return {"lambda": lam.tolist(), "I_cp1": inv.I_cp1(lam, k, d.kappa_s).tolist(),
+                "I_cp2": inv.I_cp2(lam, k, d.kappa_s).tolist()}
+    return {"lambda": lam.tolist(), "I_scp1": inv.I_scp1(lam, k, d.kappa_s).tolist(),
+            "I_scp2": inv.I_scp2(lam, k, d.kappa_s).tolist()}
+
+
+def _candidate(fit, alpha: float) -> Candidate:
+    dof = max(fit.n_obs - fit.n_free, 1)
+    limit = float(stats.chi2.isf(alpha, dof))
+    chi2 = float(fit.chi2)
+    k = fit.n_free
+    worst_idx = np.unravel_index(int(np.argmax(np.abs(fit.residuals))), fit.residuals.shape)
+    worst = (f"{_MEAS[worst_idx[1]]} at touch {worst_idx[0]} is off by "
+             f"{abs(fit.residuals[worst_idx]):.3g} standard deviations")
+    return Candidate(fit.cls, fit.params, fit.pose, np.asarray(fit.t, float), chi2, dof, fit.n_obs,
+                     loglik=-0.5 * chi2, bic=chi2 + k * math.log(fit.n_obs),
+                     p_value=float(stats.chi2.sf(chi2, dof)), consistent=chi2 <= limit,
+                     uncertainty=dict(fit.sigma), worst=worst,
+                     reason=None if chi2 <= limit else f"chi2 {chi2:.3g} > {limit:.3g} (dof {dof})")
+
+
+def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: Contacts) -> str:
+    parts = []
+    if cands:
+        best = min(cands, key=lambda c: c.chi2 / stats.chi2.isf(1e-3, c.dof))
+        parts.append(f"closest class {best.cls}: {best.reason}; {best.worst}")
+    # the conic invariant across pairs, for a person to see how far from a conic
+    good = [i for i, q in enumerate(pairs["condition"]) if q > 1e-3 and math.isfinite(pairs["I_c1"][i])]
+    if len(good) >= 2:
+        v = np.array([pairs["I_c1"][i] for i in good])
+        scale = max(float(np.max(np.abs(v))), 1e-300)
+        sig = max(max(pairs["I_c1_sigma"][i] for i in good), EPS_FLOOR * scale)
+        parts.append(f"I_c1 over {len(good)} pairs spans {float(v.min()):.4g}..{float(v.max()):.4g} "
+                     f"({(float(v.max()) - float(v.min())) / sig:.3g} sigma)")
+    for cls, why in skipped.items():
+        parts.append(f"{cls} not tested: {why}")
+    return "no class of the scene fits: " + "; ".join(parts) if parts else "no class of the scene fits"
+
+
+def recognize(request: Request, options: RecognizeOptions | None = None) -> Recognition:
+    """Recognize the class, parameters, pose and contacts from a validated request."""
+    t0 = time.perf_counter()
+    options = options or RecognizeOptions()
+    d = contacts_of(request, options)
+    t_est = time.perf_counter()
+    cands: list[Candidate] = []
+    skipped: dict[str, str] = {}
+    for cls in request.classes:
+        if d.n < MIN_TOUCHES[cls]:
+            skipped[cls] = f"needs {MIN_TOUCHES[cls]} touches, got {d.n}"
+            continue
+        dof = 5 * d.n - (d.n + {"line": 2, "circle": 3}.get(cls, 5))
+        give_up = 1e4 * float(stats.chi2.isf(options.alpha, max(dof, 1)))
+        fit = fit_class(cls, d, give_up=give_up)
+        if fit is None:
+            skipped[cls] = "its invariants give no solution within 1e5 sigma of the touches"
+            continue
+        cands.append(_candidate(fit, options.alpha))
+    pairs = _pair_invariants(d)
+    consistent = [c for c in cands if c.consistent]
+    if options.refine and consistent:
+        from recognizer.refine import refine_candidates
+
+        consistent = [c for c in refine_candidates(consistent, request, options) if c.consistent]
+    ranking = sorted(cands, key=lambda c: (not c.consistent, c.bic))
+    rank_json = [{"class": c.cls, "consistent": c.consistent, "chi2": c.chi2, "dof": c.dof, "bic": c.bic,
+                  "p_value": c.p_value} for c in ranking]
+    timing = {"estimate_ms": 1e3 * (t_est - t0), "total_ms": 1e3 * (time.perf_counter() - t0)}
+    if not consistent:
+        return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
+                           {}, _unclassified_reason(cands, skipped, pairs, d), rank_json, timing)
+    best = min(consistent, key=lambda c: c.bic)
+    timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
+    return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, d, pairs),
+                       dict(best.uncertainty), None, rank_json, timing)
