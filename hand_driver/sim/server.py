@@ -92,6 +92,7 @@ class EmulatedBus:
         tty.setraw(self._slave)
         self.port = os.ttyname(self._slave)
         self._t0 = time.monotonic()
+        self._offset = 0.0
         self._stop = threading.Event()
         self._busy = False
         self._thread = threading.Thread(target=self._serve, name="emulated-dxl-bus", daemon=True)
@@ -128,14 +129,20 @@ class EmulatedBus:
 
     # -- simulation -------------------------------------------------------------------------
     def _now(self) -> float:
-        return (time.monotonic() - self._t0) * self.time_scale
+        return (time.monotonic() - self._t0) * self.time_scale + self._offset
 
     def advance_to_now(self) -> None:
         with self.lock:
-            self.step(self._now() - self.sim_time)
+            self._integrate(self._now() - self.sim_time)
 
     def step(self, dt: float) -> None:
-        """Integrate motion over dt seconds of simulated time."""
+        """Jump simulated time dt seconds ahead of the clock, integrating motion (for tests)."""
+        with self.lock:
+            self.advance_to_now()
+            self._offset += dt
+            self._integrate(dt)
+
+    def _integrate(self, dt: float) -> None:
         with self.lock:
             if dt <= 0:
                 return
@@ -156,14 +163,18 @@ class EmulatedBus:
                 s.publish(dt)
             self.sim_time += dt
 
-    def wait_idle(self, timeout: float = 2.0) -> None:
-        """Return once every byte sent to the bus has been served (for tests)."""
+    def wait_idle(self, quiet_s: float = 0.02, timeout: float = 2.0) -> None:
+        """Return once the bus has had nothing to serve for ``quiet_s`` (for tests: the pty
+        hands bytes over asynchronously)."""
         deadline = time.monotonic() + timeout
+        quiet_since = time.monotonic()
         while time.monotonic() < deadline:
             if self._master is None:
                 return
             pending = struct.unpack("i", fcntl.ioctl(self._master, termios.FIONREAD, b"\0\0\0\0"))[0]
-            if pending == 0 and not self._busy:
+            if pending or self._busy:
+                quiet_since = time.monotonic()
+            elif time.monotonic() - quiet_since >= quiet_s:
                 return
             time.sleep(0.001)
         raise TimeoutError("emulated bus still busy")
@@ -251,7 +262,7 @@ class EmulatedBus:
             return self._status(s, inst, 0)
         if inst == P.INST_REBOOT:
             out = self._status(s, inst, 0)
-            s.reboot(self.sim_time, self.boot_time_s * self.time_scale)
+            s.reboot(self.sim_time, self.boot_time_s)
             return out
         return self._status(s, inst, P.ERR_INSTRUCTION)
 

@@ -171,7 +171,10 @@ class EmulatedServo:
         amax = self.get("profile_acceleration") * self.spec.accel_unit_rpm2 * _RPM_TO_TICKS_S / 60.0
         err = goal - self.traj
         if amax > 0:
-            v_des = math.copysign(min(vmax, math.sqrt(2.0 * amax * abs(err))), err)
+            # fastest speed from which a discrete-time deceleration at amax stops at the goal
+            ad = amax * dt
+            v_stop = ad * (math.sqrt(0.25 + 2.0 * abs(err) / (ad * dt)) - 0.5)
+            v_des = math.copysign(min(vmax, v_stop), err)
             dv = max(-amax * dt, min(amax * dt, v_des - self.vel))
             self.vel += dv
         else:

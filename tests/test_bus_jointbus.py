@@ -1,0 +1,152 @@
+"""JointBus over the real SDK against the emulated bus: setup, the cycle, limits, torque."""
+
+import math
+import os
+import signal
+from types import SimpleNamespace as NS
+
+import numpy as np
+import pytest
+
+from hand_driver import units
+from hand_driver.bus import JointBus, scan, tick_limits
+from hand_driver.control_table import model
+from hand_driver.errors import CapabilityError, JointLimitError, ModelMismatchError, PortError
+from hand_driver.sim.server import EmulatedBus
+
+JOINTS = [NS(id=1, model="XM430-W350", zero_tick=2048, direction=1, min_deg=-90.0, max_deg=90.0, current_limit_ma=500.0),
+          NS(id=2, model="XM430-W350", zero_tick=2048, direction=-1, min_deg=-45.0, max_deg=30.0, current_limit_ma=500.0),
+          NS(id=3, model="XC330-T288", zero_tick=1500, direction=1, min_tick=1000, max_tick=2000, current_limit_ma=400.0)]
+
+
+@pytest.fixture
+def sim():
+    with EmulatedBus(JOINTS, time_scale=10.0) as s:
+        yield s
+
+
+def test_tick_limits_from_degrees_and_direction():
+    assert tick_limits(JOINTS[0]) == (1024, 3072)
+    # direction -1: +30° is below zero_tick
+    assert tick_limits(JOINTS[1]) == (2048 - math.floor(30 * 4096 / 360), 2048 + 512)
+    assert tick_limits(JOINTS[2]) == (1000, 2000)
+
+
+def test_open_configures_every_servo_and_close_turns_torque_off(sim):
+    with JointBus(sim.port, 1_000_000, JOINTS) as bus:
+        assert bus.fast_read
+        sim.wait_idle()
+        for j, lo, hi in zip(JOINTS, bus.min_ticks, bus.max_ticks):
+            s = sim.servos[j.id]
+            assert s.get("return_delay_time") == 0
+            assert s.get("operating_mode") == 5
+            assert (s.get("min_position_limit"), s.get("max_position_limit")) == (lo, hi)
+            assert s.get("goal_current") == units.ma_to_current(j.current_limit_ma, s.spec)
+            assert s.torque_on
+    sim.wait_idle()
+    assert not any(s.torque_on for s in sim.servos.values())
+
+
+def test_cycle_reads_state_and_moves_to_goals_with_one_sync_write(sim):
+    readings = []
+    with JointBus(sim.port, 1_000_000, JOINTS, on_reading=readings.append) as bus:
+        s0 = bus.read_state()
+        assert s0.ticks.tolist() == [2048, 2048, 1500]
+        goal = np.array([2200, 2000, 1700])
+        before = sim.bytes_in
+        bus.write_goal_ticks(goal)
+        sim.wait_idle()
+        # ONE sync write: header 7 + inst 1 + addr/len 4 + 3 × (id + 4 bytes) + crc 2
+        assert sim.bytes_in - before == 7 + 1 + 4 + 3 * 5 + 2
+        sim.step(2.0)
+        s1 = bus.read_state()
+        assert s1.ticks.tolist() == goal.tolist()
+        assert not s1.moving.any() and s1.current_ma.tolist() == [0.0, 0.0, 0.0]
+        assert readings == [s0, s1]
+
+
+def test_sync_read_and_fast_sync_read_agree(sim):
+    with JointBus(sim.port, 1_000_000, JOINTS, fast_read=False) as bus:
+        assert not bus.fast_read
+        a = bus.read_state()
+        bus.fast_read = True
+        b = bus.read_state()
+        assert a.ticks.tolist() == b.ticks.tolist() and a.moving.tolist() == b.moving.tolist()
+
+
+def test_joint_limits_refuse_before_anything_is_written(sim):
+    with JointBus(sim.port, 1_000_000, JOINTS) as bus:
+        sim.wait_idle()
+        before = sim.bytes_in
+        with pytest.raises(JointLimitError, match=r"servo id 3\): goal tick 2001 outside its limits 1000..2000"):
+            bus.write_goal_ticks([2048, 2048, 2001])
+        with pytest.raises(JointLimitError):
+            bus.write_goal_ticks([1023, 2048, 1500])
+        sim.wait_idle()
+        assert sim.bytes_in == before
+        assert [sim.servos[i].get("goal_position") for i in (1, 2, 3)] == [2048, 2048, 1500]
+
+
+def test_profile_and_goal_current_units(sim):
+    with JointBus(sim.port, 1_000_000, JOINTS) as bus:
+        bus.set_profile(velocity_rad_s=1.0, accel_rad_s2=10.0)
+        bus.set_goal_current(269.0)
+        sim.wait_idle()
+        s = sim.servos[1]
+        assert s.get("profile_velocity") == round(1.0 / (0.229 * 2 * math.pi / 60))
+        assert s.get("profile_acceleration") == round(10.0 / (214.577 * 2 * math.pi / 3600))
+        assert s.get("goal_current") == 100  # 269 mA / 2.69 mA
+        assert sim.servos[3].get("goal_current") == 269  # XC330: 1 mA units
+
+
+def test_xl430_refuses_current_based_touch_with_clear_message():
+    joints = [NS(id=4, model="XL430-W250", zero_tick=2048, min_deg=-90.0, max_deg=90.0)]
+    with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints) as bus:
+        assert sim.servos[4].get("operating_mode") == 3
+        state = bus.read_state()
+        assert state.current_ma is None
+        with pytest.raises(CapabilityError, match="XL430-W250.*Present Load, not current"):
+            bus.require_current_sensing()
+        with pytest.raises(CapabilityError):
+            bus.set_goal_current(100.0)
+
+
+def test_model_mismatch_is_refused(sim):
+    wrong = [NS(id=1, model="XL430-W250", zero_tick=2048)]
+    with pytest.raises(ModelMismatchError, match="id 1 is configured as XL430-W250 but the servo reports XM430-W350"):
+        with JointBus(sim.port, 1_000_000, wrong):
+            pass
+
+
+def test_missing_port_is_a_port_error():
+    with pytest.raises(PortError, match="cannot open serial port /dev/does-not-exist"):
+        JointBus("/dev/does-not-exist", 1_000_000, JOINTS).open()
+
+
+def test_sigint_turns_torque_off_then_interrupts(sim):
+    old = signal.getsignal(signal.SIGINT)
+    with pytest.raises(KeyboardInterrupt):
+        with JointBus(sim.port, 1_000_000, JOINTS) as bus:
+            assert signal.getsignal(signal.SIGINT) == bus._on_signal
+            os.kill(os.getpid(), signal.SIGINT)
+            for _ in range(1000):  # the handler runs between bytecodes
+                bus.read_state()
+    assert signal.getsignal(signal.SIGINT) is old
+    sim.wait_idle()
+    assert not any(s.torque_on for s in sim.servos.values())
+
+
+def test_scan_lists_servos_with_model_and_firmware(sim):
+    found = scan(sim.port, range(1, 6), [57600, 1_000_000])
+    assert [(f.id, f.model_name, f.model_number, f.firmware, f.baudrate) for f in found] == [
+        (1, "XM430-W350", 1020, 46, 1_000_000), (2, "XM430-W350", 1020, 46, 1_000_000),
+        (3, "XC330-T288", 1220, 46, 1_000_000)]
+
+
+def test_k1_jaw_config_drives_the_bus():
+    from hand_driver.config import load_config
+
+    cfg = load_config("config/jaw.yaml")
+    with EmulatedBus(cfg) as sim, JointBus(sim.port, cfg.bus.baudrate, cfg) as bus:
+        assert bus.ids == [j.id for j in cfg.joints]
+        assert bus.read_state().ticks.shape == (len(cfg.joints),)
