@@ -1,0 +1,418 @@
+"""Least-squares refinement over every sample of every touch, for one class at a time.
+
+After the invariants give a class, its parameters, pose and a contact parameter t per
+touch (paper Sects. 2–4), this fits the class's exact curve to all measurements at once:
+
+unknowns   canonical parameters (positive ones as logarithms, so a > 0 holds), pose
+           (θ, x, y) and one curve parameter t per sample;
+residuals  per sample: (x − X(t))/σ_pos, (y − Y(t))/σ_pos and the wrapped tangent-angle
+           difference (φ − Φ(t) − π·[touches run in decreasing t])/σ_φ; per contact-touch
+           additionally (κ − κ(t))/σ_κ and (κ_s − κ_s(t))/σ_κs from its covariance.
+
+Solved by ``scipy.optimize.least_squares`` with an analytic Jacobian for t and the pose
+(dX/dt = speed·(cos Φ, sin Φ), dΦ/dt = κ·speed) and central differences for the ≤ 2
+shape parameters. Gauge freedoms are removed: a circle's θ is held (its t's absorb a
+rotation); a line's pose moves only across the line.
+
+Weights: the request's (or options') NoiseModel; a zero σ is floored (``SIGMA_FLOOR_*``).
+Without a noise model σ_φ and σ_pos are estimated from the residuals (two rounds) and
+the log-likelihood is the profile one, −2 ln L = Σ_groups n_g ln(RSS_g / n_g).
+
+Each refined candidate carries ``chi2``, ``dof`` (observations − unknowns), ``n_obs``,
+``loglik``, ``bic`` = −2 ln L + k ln n (k every unknown: shape parameters, pose, t's),
+``p_value`` (χ² upper tail), ``consistent`` (p ≥ alpha), ``uncertainty`` (standard
+deviations of parameters and pose from (JᵀJ)⁻¹) and ``cov`` (the parameter covariance).
+Canonical conventions hold on output (ellipse a ≥ b: axes swapped with θ += π/2).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Any, Sequence
+
+import numpy as np
+from scipy import optimize, stats
+
+from recognizer.curves import CURVES, Pose
+from recognizer.result import Candidate
+
+SIGMA_FLOOR_PHI = 1e-9
+"""rad: σ_φ used when the noise model says 0 (exact data)."""
+SIGMA_FLOOR_POS = 1e-9
+"""mm: σ_pos used when the noise model says 0."""
+MAX_NFEV = 200
+
+_POSITIVE = {"circle": ("r",), "ellipse": ("a", "b"), "parabola": ("a",), "hyperbola": ("a", "b"),
+             "semicubical_parabola": ("a",)}
+
+
+@dataclass
+class RefinedCandidate(Candidate):
+    """A Candidate after refinement: ``cov`` the covariance of the shape parameters (in
+    ``param_names`` order), ``t_samples`` the fitted t of every sample per touch,
+    ``sigma`` the σ_φ and σ_pos used, ``nfev`` the function evaluations."""
+
+    cov: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    t_samples: list = field(default_factory=list)
+    sigma: dict = field(default_factory=dict)
+    nfev: int = 0
+
+
+@dataclass
+class _Data:
+    """All measurements of a request, flattened (samples first, then contact touches)."""
+
+    x: np.ndarray
+    y: np.ndarray
+    phi: np.ndarray
+    touch_of: np.ndarray          # touch index of each sample row
+    mid: list[int]                # row of each touch's contact sample
+    contact_rows: list[int]       # rows that are contact-touches (κ, κ_s residuals)
+    kappa: np.ndarray             # per contact row
+    kappa_s: np.ndarray
+    sig_kappa: np.ndarray
+    sig_kappa_s: np.ndarray
+    s_rel: np.ndarray             # arc length of each row from its touch's contact (0 for contacts)
+
+
+def _arrays(touch: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+    g = (lambda k: getattr(touch, k, None)) if not isinstance(touch, dict) else touch.get
+    s = g("s")
+    return (np.unwrap(np.asarray(g("phi"), float)), np.asarray(g("x"), float), np.asarray(g("y"), float),
+            None if s is None else np.asarray(s, float))
+
+
+def _collect(touches: Sequence[Any]) -> _Data:
+    xs, ys, ps, tof, mid, srel = [], [], [], [], [], []
+    crows, ck, cks, sk, sks = [], [], [], [], []
+    row = 0
+    for i, tch in enumerate(touches):
+        if hasattr(tch, "kappa"):  # a contact-touch
+            xs.append([float(tch.x)])
+            ys.append([float(tch.y)])
+            ps.append([float(tch.phi)])
+            tof.append([i])
+            srel.append([0.0])
+            mid.append(row)
+            crows.append(row)
+            ck.append(float(tch.kappa))
+            cks.append(float(tch.kappa_s))
+            cov = np.asarray(getattr(tch, "cov", np.zeros((2, 2))), float)
+            sk.append(math.sqrt(max(cov[0, 0], 0.0)))
+            sks.append(math.sqrt(max(cov[1, 1], 0.0)))
+            row += 1
+            continue
+        phi, x, y, s = _arrays(tch)
+        n = phi.size
+        if s is None:
+            s = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(x), np.diff(y)))))
+        xs.append(x)
+        ys.append(y)
+        ps.append(phi)
+        tof.append(np.full(n, i))
+        srel.append(s - s[n // 2])
+        mid.append(row + n // 2)
+        row += n
+    return _Data(np.concatenate(xs), np.concatenate(ys), np.concatenate(ps), np.concatenate(tof).astype(int),
+                 mid, crows, np.array(ck), np.array(cks), np.array(sk), np.array(sks), np.concatenate(srel))
+
+
+def _wrap(a: np.ndarray) -> np.ndarray:
+    return (a + np.pi) % (2 * np.pi) - np.pi
+
+
+class _Problem:
+    """Packs unknowns, evaluates residuals and the Jacobian for one class."""
+
+    def __init__(self, cls: str, data: _Data, pose: Pose, direction: int, sig_phi: float, sig_pos: float):
+        self.cls = cls
+        self.names = CURVES[cls].param_names
+        self.pos_names = _POSITIVE.get(cls, ())
+        self.data = data
+        self.direction = direction
+        self.sig_phi = sig_phi
+        self.sig_pos = sig_pos
+        self.theta0 = pose.theta
+        self.anchor = np.array([pose.x, pose.y])
+        self.n_rows = data.x.size
+        k = len(self.names)
+        self.k = k
+        # pose unknowns: circle (x, y); line (θ, d across the line); others (θ, x, y)
+        self.n_pose = {"circle": 2, "line": 2}.get(cls, 3)
+        self.n_glob = k + self.n_pose
+
+    # -- packing ------------------------------------------------------------------------
+    def pack(self, params: dict, pose: Pose, t: np.ndarray) -> np.ndarray:
+        q = [math.log(params[n]) if n in self.pos_names else params[n] for n in self.names]
+        if self.cls == "circle":
+            g = [pose.x, pose.y]
+        elif self.cls == "line":
+            g = [pose.theta, 0.0]
+        else:
+            g = [pose.theta, pose.x, pose.y]
+        return np.concatenate((q, g, t))
+
+    def unpack(self, z: np.ndarray) -> tuple[dict, Pose, np.ndarray]:
+        k = self.k
+        params = {n: (math.exp(min(z[i], 700.0)) if n in self.pos_names else float(z[i]))
+                  for i, n in enumerate(self.names)}
+        g = z[k : k + self.n_pose]
+        if self.cls == "circle":
+            pose = Pose(self.theta0, float(g[0]), float(g[1]))
+        elif self.cls == "line":
+            th, d = float(g[0]), float(g[1])
+            pose = Pose(th, self.anchor[0] - d * math.sin(th), self.anchor[1] + d * math.cos(th))
+        else:
+            pose = Pose(float(g[0]), float(g[1]), float(g[2]))
+        return params, pose, z[self.n_glob :]
+
+    # -- model -----------------------------------------------------------------------------
+    def _model(self, params: dict, pose: Pose, t: np.ndarray):
+        curve = CURVES[self.cls](params)
+        with np.errstate(all="ignore"):
+            px, py = curve.point(t)
+            hx, hy = pose.apply(px, py)
+            phi = np.asarray(curve.tangent_angle(t), float) + pose.theta + (np.pi if self.direction < 0 else 0.0)
+            extra = None
+            if self.data.contact_rows:
+                tc = t[self.data.contact_rows]
+                sign = 1.0 if self.direction > 0 else -1.0
+                extra = (sign * np.asarray(curve.kappa(tc), float), np.asarray(curve.kappa_s(tc), float))
+        return curve, np.asarray(hx, float), np.asarray(hy, float), phi, extra
+
+    def residuals(self, z: np.ndarray) -> np.ndarray:
+        params, pose, t = self.unpack(z)
+        _, hx, hy, phi, extra = self._model(params, pose, t)
+        d = self.data
+        parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, _wrap(d.phi - phi) / self.sig_phi]
+        if extra is not None:
+            parts += [(d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s]
+        r = np.concatenate(parts)
+        return np.where(np.isfinite(r), r, 1e8)
+
+    def jacobian(self, z: np.ndarray) -> np.ndarray:
+        params, pose, t = self.unpack(z)
+        curve, hx, hy, phi, _ = self._model(params, pose, t)
+        n = self.n_rows
+        nc = len(self.data.contact_rows)
+        rows = 3 * n + 2 * nc
+        jac = np.zeros((rows, z.size))
+        with np.errstate(all="ignore"):
+            speed = np.asarray(curve.speed(t), float)
+            kap = np.asarray(curve.kappa(t), float)
+            ang = np.asarray(curve.tangent_angle(t), float) + pose.theta
+        idx = np.arange(n)
+        col_t = self.n_glob + idx
+        jac[idx, col_t] = -speed * np.cos(ang) / self.sig_pos
+        jac[n + idx, col_t] = -speed * np.sin(ang) / self.sig_pos
+        jac[2 * n + idx, col_t] = -kap * speed / self.sig_phi
+        k = self.k
+        # pose columns
+        dx_th, dy_th = -(hy - pose.y), hx - pose.x
+        if self.cls == "circle":
+            jac[:n, k] = -1.0 / self.sig_pos
+            jac[n : 2 * n, k + 1] = -1.0 / self.sig_pos
+        elif self.cls == "line":
+            th = pose.theta
+            # (x, y) = anchor + d·(−sin θ, cos θ): ∂/∂θ includes the anchor's rotation term
+            dpx = dx_th - z[k + 1] * math.cos(th)
+            dpy = dy_th - z[k + 1] * math.sin(th)
+            jac[:n, k] = -dpx / self.sig_pos
+            jac[n : 2 * n, k] = -dpy / self.sig_pos
+            jac[2 * n :3 * n, k] = -1.0 / self.sig_phi
+            jac[:n, k + 1] = math.sin(th) / self.sig_pos
+            jac[n : 2 * n, k + 1] = -math.cos(th) / self.sig_pos
+        else:
+            jac[:n, k] = -dx_th / self.sig_pos
+            jac[n : 2 * n, k] = -dy_th / self.sig_pos
+            jac[2 * n : 3 * n, k] = -1.0 / self.sig_phi
+            jac[:n, k + 1] = -1.0 / self.sig_pos
+            jac[n : 2 * n, k + 2] = -1.0 / self.sig_pos
+        # shape parameters and contact rows' t: central differences
+        for i in range(k):
+            h = 1e-6 * max(abs(z[i]), 1.0)
+            zp, zm = z.copy(), z.copy()
+            zp[i] += h
+            zm[i] -= h
+            jac[:, i] = (self._raw(zp) - self._raw(zm)) / (2 * h)
+        if nc:
+            for j, r in enumerate(self.data.contact_rows):
+                c = self.n_glob + r
+                h = 1e-7 * max(abs(z[c]), 1.0)
+                zp, zm = z.copy(), z.copy()
+                zp[c] += h
+                zm[c] -= h
+                jac[3 * n :, c] = ((self._raw(zp) - self._raw(zm)) / (2 * h))[3 * n :]
+        return np.where(np.isfinite(jac), jac, 0.0)
+
+    def _raw(self, z: np.ndarray) -> np.ndarray:
+        """Residuals without the angle wrap's discontinuity (for differences)."""
+        params, pose, t = self.unpack(z)
+        _, hx, hy, phi, extra = self._model(params, pose, t)
+        d = self.data
+        parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, (d.phi - phi) / self.sig_phi]
+        if extra is not None:
+            parts += [(d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s]
+        r = np.concatenate(parts)
+        return np.where(np.isfinite(r), r, 0.0)
+
+
+def _direction(cls: str, params: dict, pose: Pose, t_contacts: np.ndarray, data: _Data) -> int:
+    """+1 when the touches run in increasing t on the candidate's curve, else −1."""
+    curve = CURVES[cls](params)
+    with np.errstate(all="ignore"):
+        ang = np.asarray(curve.tangent_angle(np.asarray(t_contacts, float)), float) + pose.theta
+    meas = data.phi[data.mid]
+    votes = np.cos(meas - ang)
+    return 1 if np.nansum(votes) >= 0 else -1
+
+
+def _initial_t(cls: str, params: dict, pose: Pose, t_contacts: np.ndarray, data: _Data, direction: int) -> np.ndarray:
+    """Every sample's t: its contact's t moved by its arc length, then projected onto the
+    curve (a few Gauss–Newton steps on the distance)."""
+    curve = CURVES[cls](params)
+    tc = np.asarray(t_contacts, float)[data.touch_of]
+    with np.errstate(all="ignore"):
+        sp = np.asarray(curve.speed(tc), float)
+        t = tc + direction * data.s_rel / np.where(sp > 1e-12, sp, 1.0)
+        px, py = pose.inverse(data.x, data.y)
+        for _ in range(8):
+            cx, cy = curve.point(t)
+            sp = np.asarray(curve.speed(t), float)
+            ang = np.asarray(curve.tangent_angle(t), float)
+            step = ((px - cx) * np.cos(ang) + (py - cy) * np.sin(ang)) / np.where(sp > 1e-12, sp, 1.0)
+            step = np.clip(step, -0.5, 0.5) if curve.t_period is not None else step
+            t_new = t + step
+            t = np.where(np.isfinite(t_new), t_new, t)
+    t = np.where(np.isfinite(t), t, tc)
+    if cls == "semicubical_parabola":  # stay on the contact's branch of the cusp
+        t = np.where(np.sign(t) == np.sign(tc), t, tc)
+    return t
+
+
+def _sigmas(noise: Any) -> tuple[float | None, float | None]:
+    if noise is None:
+        return None, None
+    return (max(float(getattr(noise, "phi", 0.0) or 0.0), SIGMA_FLOOR_PHI),
+            max(float(getattr(noise, "pos", 0.0) or 0.0), SIGMA_FLOOR_POS))
+
+
+def _canonical(cls: str, params: dict, pose: Pose, t: np.ndarray) -> tuple[dict, Pose, np.ndarray, list[int]]:
+    """Canonical conventions: ellipse a ≥ b. Returns the permutation of parameters."""
+    if cls == "ellipse" and params["b"] > params["a"]:
+        params = {"a": params["b"], "b": params["a"]}
+        pose = Pose(float(_wrap(np.array(pose.theta + np.pi / 2))), pose.x, pose.y)
+        return params, pose, t - np.pi / 2, [1, 0]
+    if cls in ("circle", "ellipse"):
+        pose = Pose(float(_wrap(np.array(pose.theta))), pose.x, pose.y)
+    return params, pose, t, list(range(len(params)))
+
+
+def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, alpha: float = 1e-3) -> RefinedCandidate:
+    """Refine one candidate over every sample of ``touches`` (see module docstring)."""
+    cls = candidate.cls
+    data = _collect(touches)
+    params = {k: float(v) for k, v in candidate.params.items()}
+    for name in _POSITIVE.get(cls, ()):
+        params[name] = max(params.get(name, 1.0), 1e-9)
+    t_contacts = np.asarray(candidate.t, float)
+    direction = _direction(cls, params, candidate.pose, t_contacts, data)
+    t0 = _initial_t(cls, params, candidate.pose, t_contacts, data, direction)
+    sig_phi, sig_pos = _sigmas(noise)
+    known = sig_phi is not None
+    scale = max(float(np.ptp(data.x)), float(np.ptp(data.y)), 1.0)
+    if not known:
+        sig_phi, sig_pos = 1e-3, 1e-3 * scale
+    for c in range(data.sig_kappa.size):  # contact touches: exact data gets a floor
+        data.sig_kappa[c] = max(data.sig_kappa[c], 1e-9 * (abs(data.kappa[c]) + 1e-6))
+        data.sig_kappa_s[c] = max(data.sig_kappa_s[c], 1e-9 * (abs(data.kappa_s[c]) + 1e-9))
+    z = None
+    nfev = 0
+    res = None
+    problem = None
+    for _round in range(1 if known else 3):
+        problem = _Problem(cls, data, candidate.pose, direction, sig_phi, sig_pos)
+        z0 = problem.pack(params, candidate.pose, t0) if z is None else z
+        method = "lm" if problem.n_rows * 3 + 2 * len(data.contact_rows) >= z0.size else "trf"
+        res = optimize.least_squares(problem.residuals, z0, jac=problem.jacobian, method=method,
+                                     x_scale="jac", max_nfev=MAX_NFEV, xtol=1e-15, ftol=1e-15, gtol=1e-15)
+        nfev += int(res.nfev)
+        z = res.x
+        if not known:
+            r = problem.residuals(z)
+            n = problem.n_rows
+            rp = r[: 2 * n] * problem.sig_pos
+            rf = r[2 * n : 3 * n] * problem.sig_phi
+            sig_pos = max(float(np.sqrt(np.mean(rp**2))), SIGMA_FLOOR_POS * scale)
+            sig_phi = max(float(np.sqrt(np.mean(rf**2))), SIGMA_FLOOR_PHI)
+    assert problem is not None and res is not None and z is not None
+    params_f, pose_f, t_f = problem.unpack(z)
+    r = problem.residuals(z)
+    n_obs = r.size
+    n_unknown = z.size
+    dof = max(n_obs - n_unknown, 0)
+    chi2 = float(r @ r)
+    if known:
+        loglik = -0.5 * chi2
+    else:
+        n = problem.n_rows
+        rp = r[: 2 * n] * problem.sig_pos
+        rf = r[2 * n : 3 * n] * problem.sig_phi
+        loglik = -0.5 * (2 * n * math.log(max(float(rp @ rp) / (2 * n), (SIGMA_FLOOR_POS * scale) ** 2))
+                         + n * math.log(max(float(rf @ rf) / n, SIGMA_FLOOR_PHI**2)))
+    bic = -2.0 * loglik + n_unknown * math.log(max(n_obs, 2))
+    p_value = float(stats.chi2.sf(chi2, dof)) if dof > 0 else 1.0
+    # covariance of the unknowns, then the shape parameters and pose in their own units
+    jac = problem.jacobian(z)
+    norms = np.linalg.norm(jac, axis=0)
+    norms = np.where(norms > 0, norms, 1.0)
+    pj = np.linalg.pinv(jac / norms, rcond=1e-10)
+    cov_z = (pj @ pj.T) / np.outer(norms, norms)
+    k = problem.k
+    dq = np.array([params_f[nm] if nm in problem.pos_names else 1.0 for nm in problem.names])
+    cov_p = cov_z[:k, :k] * np.outer(dq, dq)
+    params_c, pose_c, t_c, perm = _canonical(cls, params_f, pose_f, t_f)
+    cov_p = cov_p[np.ix_(perm, perm)]
+    names_c = CURVES[cls].param_names
+    unc = {nm: float(math.sqrt(max(cov_p[i, i], 0.0))) for i, nm in enumerate(names_c)}
+    pose_unc = np.sqrt(np.clip(np.diag(cov_z)[k : k + problem.n_pose], 0.0, None))
+    pose_keys = {"circle": ("x", "y"), "line": ("theta", "offset")}.get(cls, ("theta", "x", "y"))
+    unc.update({f"pose_{key}": float(v) for key, v in zip(pose_keys, pose_unc)})
+    t_touch = t_c[data.mid]
+    t_samples = [t_c[data.touch_of == i] for i in range(len(data.mid))]
+    finite = all(np.isfinite(v) for v in params_c.values()) and np.all(np.isfinite(t_c)) and \
+        np.isfinite(chi2) and all(np.isfinite([pose_c.theta, pose_c.x, pose_c.y]))
+    base = replace(candidate) if not isinstance(candidate, RefinedCandidate) else candidate
+    fields = {f: getattr(base, f) for f in Candidate.__dataclass_fields__}
+    if not finite:
+        fields.update(chi2=math.inf, loglik=-math.inf, bic=math.inf, p_value=0.0, consistent=False,
+                      reason=f"{cls}: refinement diverged")
+        return RefinedCandidate(**fields, cov=np.zeros((k, k)), sigma={"phi": sig_phi, "pos": sig_pos}, nfev=nfev)
+    fields.update(params=params_c, pose=pose_c, t=t_touch, chi2=chi2, dof=dof, n_obs=n_obs, loglik=loglik,
+                  bic=bic, p_value=p_value, consistent=bool(p_value >= alpha), uncertainty=unc)
+    if fields["consistent"] is False and not fields.get("reason"):
+        fields["reason"] = (f"{cls}: refined fit χ² = {chi2:.3g} on {dof} degrees of freedom "
+                            f"(p = {p_value:.2g} < α = {alpha:g})")
+    elif fields["consistent"]:
+        fields["reason"] = None
+    return RefinedCandidate(**fields, cov=cov_p, t_samples=t_samples,
+                            sigma={"phi": float(sig_phi), "pos": float(sig_pos)}, nfev=nfev)
+
+
+def refine_candidates(candidates: Sequence[Candidate], request: Any, options: Any) -> list[RefinedCandidate]:
+    """Refine every candidate on the request's touches; the noise model is the options'
+    (else the request's, else estimated from the residuals); alpha from the options."""
+    noise = getattr(options, "noise", None) or getattr(request, "noise", None)
+    alpha = float(getattr(options, "alpha", 1e-3) or 1e-3)
+    touches = request.touches
+    out = []
+    for cand in candidates:
+        try:
+            out.append(refine_one(cand, touches, noise, alpha))
+        except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
+            fields = {f: getattr(cand, f) for f in Candidate.__dataclass_fields__}
+            fields.update(chi2=math.inf, loglik=-math.inf, bic=math.inf, p_value=0.0, consistent=False,
+                          reason=f"{cand.cls}: refinement failed ({exc})")
+            out.append(RefinedCandidate(**fields))
+    return out
