@@ -18,6 +18,7 @@ from __future__ import annotations
 import logging
 import math
 import signal
+import termios
 import threading
 import time
 from dataclasses import dataclass
@@ -167,7 +168,7 @@ class JointBus:
                     self.packet_timeout = self.tx_time_per_byte * packet_length + timeout_ms
 
         self._sdk = sdk
-        self._serial_errors = (serial.SerialException, OSError)
+        self._serial_errors = (serial.SerialException, OSError, termios.error)
         port = _Port(self.port_name)
         if port.getCFlagBaud(self.baudrate) <= 0:
             raise InputError(f"baud rate {self.baudrate} is not supported by the Dynamixel SDK; use one of "

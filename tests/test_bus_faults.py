@@ -1,0 +1,90 @@
+"""Every injected fault: bounded retry then a typed error, torque off, readings kept."""
+
+from types import SimpleNamespace as NS
+
+import pytest
+
+from hand_driver.bus import JointBus
+from hand_driver.errors import BusTimeout, CrcError, PortError, ServoHardwareError
+from hand_driver.sim.server import EmulatedBus
+
+JOINTS = [NS(id=1, model="XM430-W350", zero_tick=2048, min_deg=-90.0, max_deg=90.0),
+          NS(id=2, model="XC330-T288", zero_tick=2048, min_deg=-90.0, max_deg=90.0)]
+
+
+@pytest.fixture
+def sim():
+    with EmulatedBus(JOINTS) as s:
+        yield s
+
+
+def run_until_fault(sim, arm, fast=True, retries=3):
+    """Three good readings, arm the fault, read again; returns (readings, returned, error, bus)."""
+    readings, returned = [], []
+    err = None
+    bus = JointBus(sim.port, 1_000_000, JOINTS, fast_read=fast, retries=retries, on_reading=readings.append)
+    try:
+        with bus:
+            returned += [bus.read_state() for _ in range(3)]
+            arm()
+            returned.append(bus.read_state())
+    except Exception as exc:  # noqa: BLE001 - the test inspects it
+        err = exc
+    sim.wait_idle()
+    assert not any(s.torque_on for s in sim.servos.values()), "torque must end off"
+    assert readings[: len(returned)] == returned and len(readings) >= len(returned), "every reading is logged"
+    return readings, err, bus
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_lost_status_is_retried(sim, fast):
+    readings, err, bus = run_until_fault(sim, lambda: sim.faults.drop_status(1, ids=[2]), fast)
+    assert err is None and len(readings) == 4 and bus.stats.retries == 1
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_lost_status_beyond_the_bound_raises(sim, fast):
+    readings, err, bus = run_until_fault(sim, lambda: sim.faults.drop_status(100), fast, retries=2)
+    assert isinstance(err, (BusTimeout, CrcError)) and "gave up after 3 attempts" in str(err)
+    assert len(readings) == 3 and bus.stats.retries == 2
+
+
+def test_corrupt_status_is_retried_then_raises(sim):
+    readings, err, bus = run_until_fault(sim, lambda: sim.faults.corrupt_status(1))
+    assert err is None and bus.stats.retries == 1
+    readings, err, bus = run_until_fault(sim, lambda: sim.faults.corrupt_status(100))
+    assert isinstance(err, CrcError) and "corrupt status packet" in str(err) and len(readings) == 3
+
+
+def test_corrupt_instruction_is_retried(sim):
+    readings, err, bus = run_until_fault(sim, lambda: sim.faults.corrupt_instruction(1), fast=False)
+    assert err is None and bus.stats.retries == 1
+
+
+def test_short_delay_passes_long_delay_times_out(sim):
+    readings, err, bus = run_until_fault(sim, lambda: sim.faults.delay(0.005, n=1))
+    assert err is None and bus.stats.retries == 0
+    readings, err, bus = run_until_fault(sim, lambda: sim.faults.delay(0.3, n=100), retries=1)
+    assert isinstance(err, (BusTimeout, CrcError)) and len(readings) == 3
+
+
+def test_hardware_error_raises_decoded_and_reboot_clears(sim):
+    readings, err, bus = run_until_fault(sim, lambda: sim.hardware_error(2, 0x24))
+    assert isinstance(err, ServoHardwareError) and err.servo_id == 2 and err.bits == 0x24
+    assert err.names == ["overheating error", "overload error"]  # bits 2 and 5
+    assert len(readings) == 4  # the reading that carried the alert is logged too
+    with JointBus(sim.port, 1_000_000, [], handle_signals=False) as bare:
+        bare.reboot(2)
+        assert bare.read_hardware_error(2).bits == 0
+    with JointBus(sim.port, 1_000_000, JOINTS) as bus:
+        assert bus.read_state().ticks.tolist() == [2048, 2048]
+
+
+def test_vanished_adapter_is_a_port_error_and_not_masked(sim):
+    readings = []
+    with pytest.raises(PortError, match="adapter unplugged"):
+        with JointBus(sim.port, 1_000_000, JOINTS, on_reading=readings.append) as bus:
+            bus.read_state()
+            sim.vanish()
+            bus.read_state()
+    assert len(readings) == 1
