@@ -150,3 +150,50 @@ def test_k1_jaw_config_drives_the_bus():
     with EmulatedBus(cfg) as sim, JointBus(sim.port, cfg.bus.baudrate, cfg) as bus:
         assert bus.ids == [j.id for j in cfg.joints]
         assert bus.read_state().ticks.shape == (len(cfg.joints),)
+
+
+def test_pads_stop_at_the_scene_object_with_current_at_the_cap():
+    from hand_driver.config import load_config
+    from recognizer.scene import load_scene
+
+    cfg = load_config("config/jaw.yaml")
+    with EmulatedBus(cfg, scene=load_scene("config/scenes/default.yaml")) as sim, \
+            JointBus(sim.port, cfg.bus.baudrate, cfg) as bus:
+        assert sim.world is not None
+        bus.set_goal_current(300.0)
+        goal = np.array([2048 + 600, 2048, 2048 - 600, 2048])  # both proximal joints close
+        bus.write_goal_ticks(goal)
+        sim.step(3.0)
+        s = bus.read_state()
+        blocked = [0, 2]
+        assert all(0 < abs(s.ticks[k] - 2048) < 600 for k in blocked)  # stopped short of the goal
+        cap = 2.69 * round(300.0 / 2.69)
+        assert np.allclose(np.abs(s.current_ma[blocked]), cap) and not s.moving.any()
+        q = units.ticks_to_rad(s.ticks, 2048, np.array([j.direction for j in cfg.joints]))
+        assert not sim.world.penetrates(q)
+
+
+def test_free_servo_current_is_zero_and_blocked_current_tracks_gap():
+    class Wall:  # joint 0 cannot pass 0.1 rad
+        def constrain(self, q_from, q_to):
+            q = np.array(q_to, dtype=float)
+            q[0] = min(q[0], 0.1)
+            return q
+
+    joints = JOINTS[:1]
+    with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints) as bus:
+        sim.world = Wall()
+        bus.set_goal_current(2.69 * 150)
+        wall_tick = units.rad_to_ticks(0.1, 2048, 1)
+        bus.write_goal_ticks([wall_tick + 10])
+        sim.step(2.0)
+        s = bus.read_state()
+        # blocked 10 ticks short of the goal: 8 units per tick of gap, under the 150 cap
+        assert abs(s.ticks[0] - wall_tick) <= 1 and s.current_ma[0] == pytest.approx(2.69 * 8 * (wall_tick + 10 - s.ticks[0]), abs=2.69 * 8)
+        bus.write_goal_ticks([wall_tick + 200])
+        sim.step(2.0)
+        assert bus.read_state().current_ma[0] == pytest.approx(2.69 * 150)
+        bus.write_goal_ticks([2048])
+        sim.step(2.0)
+        s = bus.read_state()
+        assert s.ticks[0] == 2048 and s.current_ma[0] == 0.0
