@@ -1,0 +1,45 @@
+"""``tactile sim`` and ``tactile scan`` as a user runs them."""
+
+import json
+import signal
+import subprocess
+import sys
+
+import pytest
+
+from hand_driver.sim.server import EmulatedBus
+from types import SimpleNamespace as NS
+
+
+def tactile(*args, **kw):
+    return subprocess.run([sys.executable, "-m", "tools.cli", *args], capture_output=True, text=True, timeout=60, **kw)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT])
+def test_sim_prints_port_first_and_exits_cleanly_on_signal(sig):
+    proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "sim", "--scene", "config/scenes/default.yaml"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        port = proc.stdout.readline().strip()
+        assert port.startswith("/dev/")
+        out = tactile("scan", "--port", port, "--ids", "1-5", "--json")
+        assert out.returncode == 0, out.stderr
+        servos = json.loads(out.stdout)["servos"]
+        assert [(s["id"], s["model"], s["model_number"]) for s in servos] == [(i, "XM430-W350", 1020) for i in (1, 2, 3, 4)]
+        proc.send_signal(sig)
+        assert proc.wait(timeout=10) == 0
+    finally:
+        proc.kill()
+        proc.wait()
+
+
+def test_scan_table_and_errors():
+    with EmulatedBus([NS(id=7, model="XC330-M288", zero_tick=2048)]) as sim:
+        out = tactile("scan", "--port", sim.port, "--ids", "5-8")
+        assert out.returncode == 0
+        assert out.stdout.splitlines()[1].split() == ["7", "XC330-M288", "1240", "46", "1000000"]
+    out = tactile("scan", "--port", "/dev/no-such-adapter")
+    assert out.returncode == 1 and "cannot open serial port /dev/no-such-adapter" in out.stderr
+    assert "Traceback" not in out.stderr
+    out = tactile("scan", "--port", "/dev/null", "--ids", "3-x")
+    assert out.returncode == 2 and "--ids" in out.stderr

@@ -1,0 +1,45 @@
+"""``tactile sim``: run the emulated servo bus until SIGINT or SIGTERM."""
+
+from __future__ import annotations
+
+HELP = "run the emulated Dynamixel bus (Protocol 2.0 on a pseudo-terminal) with the scene's object; prints its port"
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--scene", default="config/scenes/default.yaml",
+                        help="scene whose object the fingers touch (default: %(default)s)")
+    parser.add_argument("--config", default="config/jaw.yaml", help="jaw config: servo ids and models (default: %(default)s)")
+    parser.add_argument("--truth-config", default=None,
+                        help="jaw config the emulated hardware really has (zero ticks, links); default: --config")
+    parser.add_argument("--time-scale", type=float, default=1.0,
+                        help="simulated seconds per wall-clock second (default: %(default)s)")
+
+
+def run(args) -> int:
+    import signal
+    import sys
+    import threading
+
+    from hand_driver.config import load_config
+    from hand_driver.sim.server import EmulatedBus
+    from recognizer.errors import InputError
+    from recognizer.scene import load_scene
+
+    if not args.time_scale > 0:
+        raise InputError(f"--time-scale: {args.time_scale} must be > 0")
+    config = load_config(args.config)
+    truth = load_config(args.truth_config) if args.truth_config else None
+    scene = load_scene(args.scene)
+    done = threading.Event()
+    old = {s: signal.signal(s, lambda *_: done.set()) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        with EmulatedBus(config, scene=scene, truth_config=truth, time_scale=args.time_scale,
+                         baudrate=config.bus.baudrate) as bus:
+            sys.stdout.write(bus.port + "\n")
+            sys.stdout.flush()
+            while not done.wait(0.2):
+                pass
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+    return 0
