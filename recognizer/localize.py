@@ -86,10 +86,11 @@ class Contacts:
 
     def whitener(self) -> np.ndarray:
         """(n, 2, 2) W with W·(δκ, δκ_s) standardized; floors EPS_FLOOR·(|κ| + 1/L) and
-        EPS_FLOOR·(|κ_s| + |κ|/L + 1/L²) added to the variances."""
+        EPS_FLOOR·(|κ_s| + κ² + |κ|/L + 1/L²) added to the variances (κ² is κ_s's natural
+        scale: at a sharp vertex κ_s swings by ~κ² over a roundoff-sized step)."""
         L = self.scale
         fk = EPS_FLOOR * (np.abs(self.kappa) + 1.0 / L)
-        fks = EPS_FLOOR * (np.abs(self.kappa_s) + np.abs(self.kappa) / L + 1.0 / L**2)
+        fks = EPS_FLOOR * (np.abs(self.kappa_s) + self.kappa**2 + np.abs(self.kappa) / L + 1.0 / L**2)
         c = self.cov.copy()
         c[:, 0, 0] += fk**2
         c[:, 1, 1] += fks**2
@@ -356,7 +357,7 @@ def _canonical(cls: str, params: dict, th: float, X: float, Y: float, t: np.ndar
     return params, float(_wrap(th)), X, Y, t
 
 
-#: a start whose χ² per observation exceeds this (residuals ~1e5 σ) is not refined
+#: a start whose position-and-angle χ² per observation exceeds this (~1e5 σ) is not refined
 HOPELESS_PER_OBS = 1e10
 
 
@@ -364,7 +365,7 @@ def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = ma
     """Fit one class to every touch: closed-form start, then Levenberg–Marquardt.
 
     Returns None when the class has no closed-form start or its best start is hopeless
-    (χ² > HOPELESS_PER_OBS per observation); ``give_up`` stops the iterations of a class
+    (position-and-angle χ² > HOPELESS_PER_OBS per observation); ``give_up`` stops the iterations of a class
     whose χ² stays above it."""
     sign = CURVES[cls].kappa_sign
     d = data
@@ -382,13 +383,13 @@ def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = ma
             th, X, Y = _pose_from(cur, t, d)
             z = model.pack(params, th, X, Y, t)
             r, _ = model.eval(z)
-            cost = float(np.sum(r * r))
+            cost = float(np.sum(r[:, :3] ** 2))  # position and angle: well-conditioned at any aspect
             if np.isfinite(cost):
                 starts.append((cost, z, params))
         if not starts:
             return None
         starts.sort(key=lambda s: s[0])
-        if starts[0][0] > HOPELESS_PER_OBS * 5 * d.n:
+        if starts[0][0] > HOPELESS_PER_OBS * 3 * d.n:
             return None
         best = None
         for cost0, z0, p0 in starts[:max_starts]:

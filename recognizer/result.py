@@ -96,8 +96,7 @@ class Recognition:
             "uncertainty": _clean(self.uncertainty),
             "reason": self.reason,
         }
-        if self.ranking:
-            out["ranking"] = _clean(self.ranking)
+        out["ranking"] = _clean(self.ranking)
         if self.timing:
             out["timing"] = _clean(self.timing)
         return out
