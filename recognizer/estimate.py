@@ -49,6 +49,11 @@ SIGMA_PHI_FLOOR = 1e-10
 
 MAX_DEGREE = 7
 GOF_LEVEL = 0.01
+TURN_LIMIT = 0.5
+"""rad: above this tangent turn over a touch κ_s takes two more polynomial degrees."""
+BIAS_NOISE_FACTOR = 1.0
+"""the squared change to the fit two degrees higher, less this many times its own noise
+variance, is added to the covariance as squared truncation bias (known noise)."""
 """level of the χ² goodness-of-fit test that picks the degree when the noise is known."""
 METHODS = ("auto", "central", "poly")
 
@@ -215,7 +220,8 @@ def _select_gof(phi: np.ndarray, s: np.ndarray, m: int, sigma: float, max_deg: i
     """Known noise: the lowest degree d whose φ residuals pass the χ² goodness-of-fit test
     at level ``GOF_LEVEL`` (the highest degree if none does) gives κ_s; κ comes from the
     next odd degree (on a symmetric window an even-degree fit leaves κ's O(Δs²) bias,
-    which φ's residuals cannot reveal under noise)."""
+    which φ's residuals cannot reveal under noise); κ_s from d + 2 when the touch turns
+    by more than ``TURN_LIMIT`` (its window is then not local enough for degree d)."""
     rphi = phi - phi[m]
     sigma = max(sigma, SIGMA_PHI_FLOOR)
     for d in range(2, max_deg + 1):
@@ -225,7 +231,9 @@ def _select_gof(phi: np.ndarray, s: np.ndarray, m: int, sigma: float, max_deg: i
             break
         chi2 = float(np.sum((resid @ rphi) ** 2)) / sigma**2
         if chi2 <= stats.chi2.ppf(1.0 - GOF_LEVEL, dof):
-            return _Choice("poly", min(d + 1 - d % 2, max_deg), d)
+            turn = abs(float(phi[-1] - phi[0]))
+            d_ks = min(d + 2, max_deg) if turn > TURN_LIMIT else d
+            return _Choice("poly", min(d + 1 - d % 2, max_deg), d_ks)
     return _Choice("poly", max_deg, max_deg)
 
 
@@ -247,8 +255,8 @@ def _bias2_known(phi: np.ndarray, s: np.ndarray, m: int, sigma: float, choice: _
         if higher:
             g = maps[d][j] - maps[higher[0]][j]
             diff = values[d] - values[higher[0]]
-            if diff**2 > stats.chi2.ppf(0.99, 1) * max(sigma, SIGMA_PHI_FLOOR) ** 2 * float(g @ g):
-                out[j] = diff**2
+            var_diff = max(sigma, SIGMA_PHI_FLOOR) ** 2 * float(g @ g)
+            out[j] = max(diff**2 - BIAS_NOISE_FACTOR * var_diff, 0.0)
         else:
             out[j] = _truncation([values[k] for k in degrees if k <= d]) ** 2
     return out
