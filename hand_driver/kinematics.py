@@ -191,13 +191,14 @@ def ik_tangent(finger: FingerConfig, point, psi: float, pad_u: float | None = No
                    margin_rad=margin_rad)
 
 
-def ik_corner(finger: FingerConfig, point, margin_rad: float = 0.0) -> list[np.ndarray]:
-    """Joint-angle solutions (within limits) putting the pad's distal corner (the
-    fingertip end of the pad surface) on ``point``: two-link IK."""
+def ik_corner(finger: FingerConfig, point, margin_rad: float = 0.0, end: str = "distal") -> list[np.ndarray]:
+    """Joint-angle solutions (within limits) putting one end of the pad surface on
+    ``point``: ``end`` 'distal' (the fingertip corner) or 'proximal'. Two-link IK."""
     j1, j2 = finger.joints
     off, side = finger.pad.offset_mm, finger.pad.side_sign
-    r2 = math.hypot(j2.link_mm, off)
-    gamma = math.atan2(side * off, j2.link_mm)  # corner direction relative to e(α2)
+    along = j2.link_mm - (finger.pad.length_mm if end == "proximal" else 0.0)
+    r2 = math.hypot(along, off)
+    gamma = math.atan2(side * off, along)  # corner direction relative to e(α2)
     v = np.asarray(point, dtype=float) - np.array([finger.base.x, finger.base.y])
     dist = float(np.hypot(*v))
     c = (dist**2 - j1.link_mm**2 - r2**2) / (2 * j1.link_mm * r2)

@@ -1,0 +1,383 @@
+"""Calibration: fit the jaw's kinematic parameters from touches on a known object.
+
+Unknowns (per finger): the ``zero_tick`` of both joints, the ``link_mm`` of both links
+and the pad's ``offset_mm``; nuisance: the reference object's pose. Readings are joint
+ticks at contact, of two kinds:
+
+- ``face``: the pad lies tangent to the reference (a disk: the pad line is at distance r
+  from the centre, ``n(ψ)·C − d − r = 0``; a flat block: the pad lies on the face, both
+  pad ends on the face line ``m·p = h``);
+- ``corner``: the pad's distal corner (fingertip end of the pad surface) touches the
+  reference (disk: ``|corner − C| − r = 0``; block: ``m·corner − h = 0``).
+
+Why both kinds (identifiability): a face contact depends on the distal link only through
+its direction (the pad is parallel to it), so ``link_mm`` of the distal joint is
+invisible to face touches; corner touches see it. The pad offset and the proximal link
+are separated by face touches at many pad orientations; the zero ticks of a finger are
+separated from the object's unknown position only because both fingers touch the same
+object (a single finger turning about its own base together with the object is a
+symmetry). The touch plan (:func:`plan_touches`) therefore uses, for each finger, face
+touches spread over its reachable orientations on both inverse-kinematics branches and
+corner touches spread around the reachable arc. The fit (scipy.optimize.least_squares)
+reports residuals before (nominal config, only the object's pose fitted) and after,
+standard errors from the Jacobian (σ² (JᵀJ)⁻¹ with σ² from the residuals, floored at the
+quantization variance), and refuses (:class:`CalibrationRefused`) when the Jacobian is
+rank deficient or a parameter's standard error exceeds its tolerance.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from hand_driver import kinematics as kin
+from hand_driver.config import JawConfig
+from recognizer.errors import InputError
+
+#: default standard-error tolerances: a third of the recovery targets (1 tick, 0.1 mm)
+TOLERANCES = {"zero_tick": 0.33, "link_mm": 0.033, "offset_mm": 0.033}
+#: what each parameter kind needs, for refusals
+_NEEDS = {
+    "zero_tick": "face touches of this finger at widely spread pad orientations, with the other finger "
+                 "touching the same object",
+    "link_mm": "corner touches (distal link) or face touches at widely spread orientations (proximal link)",
+    "offset_mm": "face touches at widely spread pad orientations",
+}
+
+
+class CalibrationRefused(InputError):
+    """The touches do not determine every parameter to its tolerance."""
+
+
+@dataclass(frozen=True)
+class Reading:
+    """One contact: finger name, 'face' or 'corner', that finger's two encoder ticks."""
+
+    finger: str
+    kind: str
+    ticks: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Estimate:
+    name: str  # e.g. "left.joint1.zero_tick", "left.pad.offset_mm"
+    kind: str  # zero_tick | link_mm | offset_mm
+    before: float
+    after: float
+    se: float
+    tolerance: float
+
+
+@dataclass(frozen=True)
+class CalibrationResult:
+    config: JawConfig
+    estimates: tuple[Estimate, ...]
+    reference_pose: dict
+    rms_before_mm: float
+    rms_after_mm: float
+    max_after_mm: float
+    n_readings: int
+
+    def to_json(self) -> dict:
+        return {
+            "readings": self.n_readings,
+            "rms_before_mm": self.rms_before_mm,
+            "rms_after_mm": self.rms_after_mm,
+            "max_residual_after_mm": self.max_after_mm,
+            "reference_pose": self.reference_pose,
+            "parameters": [{"name": e.name, "before": e.before, "after": e.after, "se": e.se,
+                            "tolerance": e.tolerance} for e in self.estimates],
+        }
+
+
+# ----------------------------------------------------------------------------- model
+
+_KINDS = ("zero_tick", "zero_tick", "link_mm", "link_mm", "offset_mm")
+
+
+def _param_names(cfg: JawConfig) -> list[tuple[str, str]]:
+    out = []
+    for f in cfg.fingers:
+        out += [(f"{f.name}.joint{j.id}.zero_tick", "zero_tick") for j in f.joints]
+        out += [(f"{f.name}.joint{j.id}.link_mm", "link_mm") for j in f.joints]
+        out.append((f"{f.name}.pad.offset_mm", "offset_mm"))
+    return out
+
+
+def _pack(cfg: JawConfig) -> np.ndarray:
+    v = []
+    for f in cfg.fingers:
+        v += [j.zero_tick for j in f.joints] + [j.link_mm for j in f.joints] + [f.pad.offset_mm]
+    return np.array(v, dtype=float)
+
+
+def apply_params(cfg: JawConfig, v) -> JawConfig:
+    """A copy of ``cfg`` with the calibrated parameters ``v`` (the fit's order)."""
+    fingers, k = [], 0
+    for f in cfg.fingers:
+        z, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
+        k += 5
+        joints = tuple(dataclasses.replace(j, zero_tick=float(z[i]), link_mm=float(links[i]))
+                       for i, j in enumerate(f.joints))
+        fingers.append(dataclasses.replace(f, joints=joints, pad=dataclasses.replace(f.pad, offset_mm=float(off))))
+    return dataclasses.replace(cfg, fingers=tuple(fingers))
+
+
+class _Model:
+    """Residuals (mm) of every reading for kinematic parameters v and object pose w."""
+
+    def __init__(self, cfg: JawConfig, reference, readings: list[Reading]):
+        self.cfg = cfg
+        self.cls = reference.cls
+        if self.cls == "circle":
+            self.r = float(reference.params["r"])
+        elif self.cls != "line":
+            raise InputError(f"reference object class {self.cls!r} not supported; use a circle (disk) or a "
+                             f"line (flat block face)")
+        names = [f.name for f in cfg.fingers]
+        self.groups = []
+        for fi, f in enumerate(cfg.fingers):
+            for kind in ("face", "corner", "heel"):
+                sel = [r for r in readings if r.finger == f.name and r.kind == kind]
+                if sel:
+                    ticks = np.array([r.ticks for r in sel], dtype=float)
+                    self.groups.append((fi, kind, ticks))
+        unknown = {r.finger for r in readings} - set(names)
+        if unknown:
+            raise InputError(f"readings name unknown finger(s) {sorted(unknown)}; fingers are {names}")
+        bad = {r.kind for r in readings} - {"face", "corner", "heel"}
+        if bad:
+            raise InputError(f"reading kinds must be 'face', 'corner' or 'heel', got {sorted(bad)}")
+
+    def lines(self, v, fi: int, ticks) -> kin.PadLine:
+        f = self.cfg.fingers[fi]
+        k = 5 * fi
+        zero, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
+        sign = np.array([j.direction for j in f.joints], dtype=float)
+        q = sign * (ticks - zero) * kin.RAD_PER_TICK
+        return kin.chain_pad_line((f.base.x, f.base.y, f.base.angle), q, links, off, f.pad.length_mm,
+                                  f.pad.side_sign)
+
+    def residuals(self, v, w) -> np.ndarray:
+        out = []
+        for fi, kind, ticks in self.groups:
+            line = self.lines(v, fi, ticks)
+            if self.cls == "circle":
+                c = np.array([w[0], w[1]])
+                if kind == "face":
+                    out.append(line.normal @ c - line.d - self.r)
+                else:
+                    end = line.distal if kind == "corner" else line.proximal
+                    out.append(np.hypot(*(end - c).T) - self.r)
+            else:
+                m = np.array([math.cos(w[0]), math.sin(w[0])])
+                if kind == "face":
+                    out += [line.proximal @ m - w[1], line.distal @ m - w[1]]
+                else:
+                    out.append((line.distal if kind == "corner" else line.proximal) @ m - w[1])
+        return np.concatenate(out)
+
+    def pose_start(self, v) -> np.ndarray:
+        """Object pose from the face readings by linear least squares."""
+        faces = [(fi, t) for fi, kind, t in self.groups if kind == "face"]
+        if not faces:
+            raise CalibrationRefused("no face touches: the reference's position cannot be found")
+        if self.cls == "circle":  # n·C = d + r
+            a = np.concatenate([self.lines(v, fi, t).normal for fi, t in faces])
+            b = np.concatenate([self.lines(v, fi, t).d + self.r for fi, t in faces])
+            return np.linalg.lstsq(a, b, rcond=None)[0]
+        lines = [self.lines(v, fi, t) for fi, t in faces]
+        psi = np.concatenate([ln.psi for ln in lines])
+        ang = math.atan2(np.mean(np.sin(psi + np.pi)), np.mean(np.cos(psi + np.pi)))
+        m = np.array([math.cos(ang), math.sin(ang)])
+        h = float(np.mean(np.concatenate([ln.distal @ m for ln in lines])))
+        return np.array([ang, h])
+
+    def reading_sigma(self, v, w) -> float:
+        """RMS residual that ±½-tick quantization alone produces (uniform, per joint)."""
+        h = 1e-3
+        sens = []
+        for fi, kind, ticks in self.groups:
+            var = 0.0
+            for k in range(2):
+                dt = np.zeros_like(ticks)
+                dt[:, k] = h
+                plus = self._group_residual(v, w, fi, kind, ticks + dt)
+                minus = self._group_residual(v, w, fi, kind, ticks - dt)
+                var = var + ((plus - minus) / (2 * h)) ** 2
+            sens.append(var)
+        return float(np.sqrt(np.mean(np.concatenate(sens)) / 12.0))
+
+    def _group_residual(self, v, w, fi, kind, ticks):
+        saved = self.groups
+        self.groups = [(fi, kind, ticks)]
+        try:
+            return self.residuals(v, w)
+        finally:
+            self.groups = saved
+
+
+def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | None = None) -> CalibrationResult:
+    """Least-squares calibration (module docstring); :class:`CalibrationRefused` when a
+    parameter is not determined to its tolerance."""
+    tol = dict(TOLERANCES, **(tolerances or {}))
+    model = _Model(cfg, reference, readings)
+    v0 = _pack(cfg)
+    names = _param_names(cfg)
+    nv = v0.size
+    # before: nominal parameters, only the pose fitted
+    w0 = model.pose_start(v0)
+    before = least_squares(lambda w: model.residuals(v0, w), w0, method="lm")
+    x0 = np.concatenate([v0, before.x])
+    # scale: ticks and mm are both O(1) per unit of effect on residuals
+    res = least_squares(lambda x: model.residuals(x[:nv], x[nv:]), x0, method="lm", x_scale="jac",
+                        xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
+    r = res.fun
+    m, p = r.size, x0.size
+    if m <= p:
+        raise CalibrationRefused(f"{m} residuals for {p} unknowns: more touches are needed "
+                                 f"({_NEEDS['zero_tick']}; corner touches for the distal links)")
+    jac = res.jac
+    u, s, vt = np.linalg.svd(jac, full_matrices=False)
+    col = np.linalg.norm(jac, axis=0)
+    if np.any(col == 0.0) or s[-1] <= 1e-9 * s[0]:
+        weak = int(np.argmax(np.abs(vt[-1])))
+        what = names[weak][0] if weak < nv else "the reference pose"
+        kind = names[weak][1] if weak < nv else "zero_tick"
+        raise CalibrationRefused(f"the touches cannot determine {what} (rank-deficient Jacobian); "
+                                 f"it needs {_NEEDS[kind]}")
+    sigma2 = max(float(r @ r) / (m - p), model.reading_sigma(res.x[:nv], res.x[nv:]) ** 2)
+    cov = sigma2 * (vt.T / s**2) @ vt
+    se = np.sqrt(np.diag(cov))
+    estimates = tuple(Estimate(name, kind, float(v0[i]), float(res.x[i]), float(se[i]), tol[kind])
+                      for i, (name, kind) in enumerate(names))
+    worst = [e for e in estimates if e.se > e.tolerance]
+    if worst:
+        e = max(worst, key=lambda e: e.se / e.tolerance)
+        raise CalibrationRefused(f"the touches determine {e.name} only to ±{e.se:.3g} (tolerance {e.tolerance:g}); "
+                                 f"it needs {_NEEDS[e.kind]}")
+    w = res.x[nv:]
+    pose = ({"x": float(w[0]), "y": float(w[1])} if model.cls == "circle"
+            else {"normal_angle": float(w[0]), "offset_mm": float(w[1])})
+    return CalibrationResult(config=apply_params(cfg, res.x[:nv]), estimates=estimates, reference_pose=pose,
+                             rms_before_mm=float(np.sqrt(np.mean(before.fun**2))),
+                             rms_after_mm=float(np.sqrt(np.mean(r**2))), max_after_mm=float(np.max(np.abs(r))),
+                             n_readings=len(readings))
+
+
+# ----------------------------------------------------------------------------- plan
+
+#: a corner touch needs the pad to leave the object at least this steeply (rad)
+CORNER_TILT_RAD = math.radians(20.0)
+
+
+@dataclass(frozen=True)
+class PlannedTouch:
+    """Where to touch: ``face`` at pad normal angle ``psi``, or ``corner`` at ``point``
+    approached along ``-direction`` (the reference's outward normal there); ``q`` is the
+    nominal contact configuration (rad), which fixes the inverse-kinematics branch."""
+
+    finger: str
+    kind: str
+    psi: float
+    point: tuple[float, float]
+    direction: tuple[float, float]
+    q: tuple[float, float]
+
+
+def plan_touches(cfg: JawConfig, reference, center, faces: int = 14, corners: int = 8,
+                 margin_rad: float = math.radians(3.0), clearance_mm: float = 2.0) -> list[PlannedTouch]:
+    """The calibration touch plan on a disk of the reference's radius centred at ``center``
+    (the expected position). Per finger and inverse-kinematics branch: ``faces`` pad
+    orientations evenly over the reachable range (contact ≥ 3 mm inside the pad), and
+    ``corners`` contacts of each pad end ('corner': the fingertip end, 'heel': the
+    proximal end) evenly over the reachable arc, with the pad leaving the disk by ≥ 20°.
+    Only configurations whose links clear the disk by ``clearance_mm`` are used (the
+    links are not modelled by the emulator, but they are real)."""
+    if reference.cls != "circle":
+        raise InputError("the calibration touch plan needs a disk reference (class circle)")
+    r = float(reference.params["r"])
+    c = np.asarray(center, dtype=float)
+    plan: list[PlannedTouch] = []
+    grid = np.linspace(-np.pi, np.pi, 721)[:-1]
+    for f in cfg.fingers:
+        def clear(q) -> bool:
+            line = kin.finger_pad_line(f, q)
+            base = np.array([f.base.x, f.base.y])
+            tip = line.joint2 + f.joints[1].link_mm * line.tangent
+            return (_segment_distance(c, base, line.joint2) >= r + clearance_mm
+                    and _segment_distance(c, line.joint2, tip) >= r + clearance_mm)
+
+        face_ok = []
+        for psi in grid:
+            n = np.array([math.cos(psi), math.sin(psi)])
+            pt = c - r * n
+            for q in kin.ik_line_solutions(f, psi, float(n @ c) - r):
+                u = float(kin.finger_pad_line(f, q).pad_coordinate(pt))
+                if kin.within_limits(f.joints, q, margin_rad) and 3.0 <= u <= f.pad.length_mm - 3.0 and clear(q):
+                    face_ok.append((psi, q, pt))
+        plan += _spread(f.name, "face", face_ok, faces, lambda it: (it[0], (-math.cos(it[0]), -math.sin(it[0]))))
+        for kind, end, sign in (("corner", "distal", -1.0), ("heel", "proximal", 1.0)):
+            ok = []
+            for beta in grid:
+                m = np.array([math.cos(beta), math.sin(beta)])
+                pt = c + r * m
+                for q in kin.ik_corner(f, pt, margin_rad, end=end):
+                    line = kin.finger_pad_line(f, q)
+                    if float(sign * line.tangent @ m) >= math.sin(CORNER_TILT_RAD) and clear(q):
+                        ok.append((beta, q, pt))
+            plan += _spread(f.name, kind, ok, corners, lambda it: (float("nan"), (math.cos(it[0]), math.sin(it[0]))))
+    return plan
+
+
+def _segment_distance(p, a, b) -> float:
+    ab = b - a
+    t = float(np.clip((p - a) @ ab / max(float(ab @ ab), 1e-300), 0.0, 1.0))
+    return float(np.hypot(*(p - a - t * ab)))
+
+
+def _spread(finger: str, kind: str, items: list, count: int, meta) -> list[PlannedTouch]:
+    """``count`` items evenly over the sorted angle range, per IK branch (sign of q2)."""
+    out = []
+    for branch in (1.0, -1.0):
+        sel = [it for it in items if math.copysign(1.0, it[1][1]) == branch]
+        if len(sel) < 2:
+            continue
+        sel.sort(key=lambda it: it[0])
+        idx = np.unique(np.round(np.linspace(0, len(sel) - 1, count)).astype(int))
+        for i in idx:
+            angle, q, pt = sel[i]
+            psi, direction = meta(sel[i])
+            out.append(PlannedTouch(finger, kind, float(psi), (float(pt[0]), float(pt[1])), direction,
+                                    (float(q[0]), float(q[1]))))
+    return out
+
+
+def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], quantize: bool = True,
+               rng: np.random.Generator | None = None) -> list[Reading]:
+    """Readings a jaw with geometry ``truth`` would produce for a plan (tests and
+    benchmarks): the exact truth contact configuration on the same IK branch, as ticks
+    of the truth zero ticks, rounded (optionally with a random sub-tick encoder phase)."""
+    out = []
+    r = float(reference.params["r"])
+    c = np.array([reference.pose.x, reference.pose.y])
+    for t in nominal_plan:
+        f = truth.finger(t.finger)
+        if t.kind == "face":
+            n = np.array([math.cos(t.psi), math.sin(t.psi)])
+            sols = kin.ik_line_solutions(f, t.psi, float(n @ c) - r)
+        else:
+            pt = c + r * np.asarray(t.direction)
+            sols = kin.ik_corner(f, pt, margin_rad=-math.pi, end="distal" if t.kind == "corner" else "proximal")
+        if not sols:
+            continue
+        q = min(sols, key=lambda s: float(np.sum(kin._wrap(s - np.asarray(t.q)) ** 2)))
+        ticks = kin.angles_to_ticks(f.joints, q)
+        if quantize:
+            ticks = np.rint(ticks + (rng.uniform(-0.5, 0.5, 2) if rng is not None else 0.0)) - (0.0)
+        out.append(Reading(t.finger, t.kind, (float(ticks[0]), float(ticks[1]))))
+    return out
