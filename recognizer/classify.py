@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import time
+from functools import lru_cache
 
 import numpy as np
 from scipy import stats
@@ -59,14 +60,15 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
 def _pair_invariants(d: Contacts) -> dict:
     """I_c1, I_c2 of every pair with first-order σ; ill-conditioned pairs are marked."""
     out = {"pairs": [], "I_c1": [], "I_c2": [], "I_c1_sigma": [], "I_c2_sigma": [], "condition": []}
+    noisy = bool(np.any(d.cov))
     for i in range(d.n):
         for j in range(i + 1, d.n):
             vals = (d.kappa[i], d.kappa_s[i], d.kappa[j], d.kappa_s[j])
             with np.errstate(all="ignore"):
                 c1 = float(inv.I_c1(*vals))
                 c2 = float(inv.I_c2(*vals))
-                s1 = math.sqrt(inv.propagate(inv.I_c1, vals, [d.cov[i], d.cov[j]]))
-                s2 = math.sqrt(inv.propagate(inv.I_c2, vals, [d.cov[i], d.cov[j]]))
+                s1 = math.sqrt(inv.propagate(inv.I_c1, vals, [d.cov[i], d.cov[j]])) if noisy else 0.0
+                s2 = math.sqrt(inv.propagate(inv.I_c2, vals, [d.cov[i], d.cov[j]])) if noisy else 0.0
             out["pairs"].append([i, j])
             out["I_c1"].append(c1)
             out["I_c2"].append(c2)
@@ -100,9 +102,15 @@ def _class_invariants(cand: Candidate, d: Contacts, pairs: dict) -> dict:
             "I_scp2": inv.I_scp2(lam, k, d.kappa_s).tolist()}
 
 
+@lru_cache(maxsize=256)
+def chi2_limit(alpha: float, dof: int) -> float:
+    """The χ² test's rejection threshold: P(χ²_dof > limit) = alpha."""
+    return float(stats.chi2.isf(alpha, dof))
+
+
 def _candidate(fit, alpha: float) -> Candidate:
     dof = max(fit.n_obs - fit.n_free, 1)
-    limit = float(stats.chi2.isf(alpha, dof))
+    limit = chi2_limit(alpha, dof)
     chi2 = float(fit.chi2)
     k = fit.n_free
     worst_idx = np.unravel_index(int(np.argmax(np.abs(fit.residuals))), fit.residuals.shape)
@@ -110,7 +118,7 @@ def _candidate(fit, alpha: float) -> Candidate:
              f"{abs(fit.residuals[worst_idx]):.3g} standard deviations")
     return Candidate(fit.cls, fit.params, fit.pose, np.asarray(fit.t, float), chi2, dof, fit.n_obs,
                      loglik=-0.5 * chi2, bic=chi2 + k * math.log(fit.n_obs),
-                     p_value=float(stats.chi2.sf(chi2, dof)), consistent=chi2 <= limit,
+                     p_value=float(stats.chi2.sf(chi2, dof)) if chi2 <= 10 * limit else 0.0, consistent=chi2 <= limit,
                      uncertainty=dict(fit.sigma), worst=worst,
                      reason=None if chi2 <= limit else f"chi2 {chi2:.3g} > {limit:.3g} (dof {dof})")
 
@@ -118,7 +126,7 @@ def _candidate(fit, alpha: float) -> Candidate:
 def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: Contacts) -> str:
     parts = []
     if cands:
-        best = min(cands, key=lambda c: c.chi2 / stats.chi2.isf(1e-3, c.dof))
+        best = min(cands, key=lambda c: c.chi2 / chi2_limit(1e-3, c.dof))
         parts.append(f"closest class {best.cls}: {best.reason}; {best.worst}")
     # the conic invariant across pairs, for a person to see how far from a conic
     good = [i for i, q in enumerate(pairs["condition"]) if q > 1e-3 and math.isfinite(pairs["I_c1"][i])]
@@ -146,7 +154,7 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
             skipped[cls] = f"needs {MIN_TOUCHES[cls]} touches, got {d.n}"
             continue
         dof = 5 * d.n - (d.n + {"line": 2, "circle": 3}.get(cls, 5))
-        give_up = 1e4 * float(stats.chi2.isf(options.alpha, max(dof, 1)))
+        give_up = 1e4 * chi2_limit(options.alpha, max(dof, 1))
         fit = fit_class(cls, d, give_up=give_up)
         if fit is None:
             skipped[cls] = "its invariants give no solution within 1e5 sigma of the touches"

@@ -74,9 +74,18 @@ class Contacts:
     def n(self) -> int:
         return len(self.x)
 
+    def __post_init__(self):
+        self._scale = None
+        self._white = None
+
     @property
     def scale(self) -> float:
         """L: the touches' extent (largest distance between two contacts), mm."""
+        if self._scale is None:
+            self._scale = self._extent()
+        return self._scale
+
+    def _extent(self) -> float:
         d = np.hypot(self.x[:, None] - self.x[None, :], self.y[:, None] - self.y[None, :])
         span = float(d.max())
         if span > 0:
@@ -88,6 +97,11 @@ class Contacts:
         """(n, 2, 2) W with W·(δκ, δκ_s) standardized; floors EPS_FLOOR·(|κ| + 1/L) and
         EPS_FLOOR·(|κ_s| + κ² + |κ|/L + 1/L²) added to the variances (κ² is κ_s's natural
         scale: at a sharp vertex κ_s swings by ~κ² over a roundoff-sized step)."""
+        if self._white is None:
+            self._white = self._whitener()
+        return self._white
+
+    def _whitener(self) -> np.ndarray:
         L = self.scale
         fk = EPS_FLOOR * (np.abs(self.kappa) + 1.0 / L)
         fks = EPS_FLOOR * (np.abs(self.kappa_s) + self.kappa**2 + np.abs(self.kappa) / L + 1.0 / L**2)
@@ -97,8 +111,14 @@ class Contacts:
         return np.linalg.inv(np.linalg.cholesky(c))
 
     def flipped(self) -> "Contacts":
-        return Contacts(self.x, self.y, self.phi + np.pi, -self.kappa, self.kappa_s, self.cov,
-                        self.sig_pos, self.sig_phi)
+        """The same touches seen in the other direction (φ + π, −κ); the whitener of
+        (κ, κ_s) changes only by the sign of its κ column."""
+        f = Contacts(self.x, self.y, self.phi + np.pi, -self.kappa, self.kappa_s, self.cov,
+                     self.sig_pos, self.sig_phi)
+        f._scale = self.scale
+        if not np.any(self.cov[:, 0, 1]):
+            f._white = self.whitener()
+        return f
 
 
 @dataclass
