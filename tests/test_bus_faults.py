@@ -22,7 +22,8 @@ def run_until_fault(sim, arm, fast=True, retries=3):
     """Three good readings, arm the fault, read again; returns (readings, returned, error, bus)."""
     readings, returned = [], []
     err = None
-    bus = JointBus(sim.port, 1_000_000, JOINTS, fast_read=fast, retries=retries, on_reading=readings.append)
+    bus = JointBus(sim.port, 1_000_000, JOINTS, fast_read=fast, retries=retries,
+                   on_reading=readings.append, timeout_s=0.1)
     try:
         with bus:
             returned += [bus.read_state() for _ in range(3)]

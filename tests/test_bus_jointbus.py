@@ -33,7 +33,7 @@ def test_tick_limits_from_degrees_and_direction():
 
 
 def test_open_configures_every_servo_and_close_turns_torque_off(sim):
-    with JointBus(sim.port, 1_000_000, JOINTS) as bus:
+    with JointBus(sim.port, 1_000_000, JOINTS, timeout_s=0.25) as bus:
         assert bus.fast_read
         sim.wait_idle()
         for j, lo, hi in zip(JOINTS, bus.min_ticks, bus.max_ticks):
@@ -49,7 +49,7 @@ def test_open_configures_every_servo_and_close_turns_torque_off(sim):
 
 def test_cycle_reads_state_and_moves_to_goals_with_one_sync_write(sim):
     readings = []
-    with JointBus(sim.port, 1_000_000, JOINTS, on_reading=readings.append) as bus:
+    with JointBus(sim.port, 1_000_000, JOINTS, on_reading=readings.append, timeout_s=0.25) as bus:
         s0 = bus.read_state()
         assert s0.ticks.tolist() == [2048, 2048, 1500]
         goal = np.array([2200, 2000, 1700])
@@ -66,7 +66,7 @@ def test_cycle_reads_state_and_moves_to_goals_with_one_sync_write(sim):
 
 
 def test_sync_read_and_fast_sync_read_agree(sim):
-    with JointBus(sim.port, 1_000_000, JOINTS, fast_read=False) as bus:
+    with JointBus(sim.port, 1_000_000, JOINTS, fast_read=False, timeout_s=0.25) as bus:
         assert not bus.fast_read
         a = bus.read_state()
         bus.fast_read = True
@@ -75,7 +75,7 @@ def test_sync_read_and_fast_sync_read_agree(sim):
 
 
 def test_joint_limits_refuse_before_anything_is_written(sim):
-    with JointBus(sim.port, 1_000_000, JOINTS) as bus:
+    with JointBus(sim.port, 1_000_000, JOINTS, timeout_s=0.25) as bus:
         sim.wait_idle()
         before = sim.bytes_in
         with pytest.raises(JointLimitError, match=r"servo id 3\): goal tick 2001 outside its limits 1000..2000"):
@@ -88,7 +88,7 @@ def test_joint_limits_refuse_before_anything_is_written(sim):
 
 
 def test_profile_and_goal_current_units(sim):
-    with JointBus(sim.port, 1_000_000, JOINTS) as bus:
+    with JointBus(sim.port, 1_000_000, JOINTS, timeout_s=0.25) as bus:
         bus.set_profile(velocity_rad_s=1.0, accel_rad_s2=10.0)
         bus.set_goal_current(269.0)
         sim.wait_idle()
@@ -101,7 +101,7 @@ def test_profile_and_goal_current_units(sim):
 
 def test_xl430_refuses_current_based_touch_with_clear_message():
     joints = [NS(id=4, model="XL430-W250", zero_tick=2048, min_deg=-90.0, max_deg=90.0)]
-    with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints) as bus:
+    with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints, timeout_s=0.25) as bus:
         assert sim.servos[4].get("operating_mode") == 3
         state = bus.read_state()
         assert state.current_ma is None
@@ -114,19 +114,19 @@ def test_xl430_refuses_current_based_touch_with_clear_message():
 def test_model_mismatch_is_refused(sim):
     wrong = [NS(id=1, model="XL430-W250", zero_tick=2048)]
     with pytest.raises(ModelMismatchError, match="id 1 is configured as XL430-W250 but the servo reports XM430-W350"):
-        with JointBus(sim.port, 1_000_000, wrong):
+        with JointBus(sim.port, 1_000_000, wrong, timeout_s=0.25):
             pass
 
 
 def test_missing_port_is_a_port_error():
     with pytest.raises(PortError, match="cannot open serial port /dev/does-not-exist"):
-        JointBus("/dev/does-not-exist", 1_000_000, JOINTS).open()
+        JointBus("/dev/does-not-exist", 1_000_000, JOINTS, timeout_s=0.25).open()
 
 
 def test_sigint_turns_torque_off_then_interrupts(sim):
     old = signal.getsignal(signal.SIGINT)
     with pytest.raises(KeyboardInterrupt):
-        with JointBus(sim.port, 1_000_000, JOINTS) as bus:
+        with JointBus(sim.port, 1_000_000, JOINTS, timeout_s=0.25) as bus:
             assert signal.getsignal(signal.SIGINT) == bus._on_signal
             os.kill(os.getpid(), signal.SIGINT)
             for _ in range(1000):  # the handler runs between bytecodes
@@ -147,7 +147,7 @@ def test_k1_jaw_config_drives_the_bus():
     from hand_driver.config import load_config
 
     cfg = load_config("config/jaw.yaml")
-    with EmulatedBus(cfg) as sim, JointBus(sim.port, cfg.bus.baudrate, cfg) as bus:
+    with EmulatedBus(cfg) as sim, JointBus(sim.port, cfg.bus.baudrate, cfg, timeout_s=0.25) as bus:
         assert bus.ids == [j.id for j in cfg.joints]
         assert bus.read_state().ticks.shape == (len(cfg.joints),)
 
@@ -158,7 +158,7 @@ def test_pads_stop_at_the_scene_object_with_current_at_the_cap():
 
     cfg = load_config("config/jaw.yaml")
     with EmulatedBus(cfg, scene=load_scene("config/scenes/default.yaml")) as sim, \
-            JointBus(sim.port, cfg.bus.baudrate, cfg) as bus:
+            JointBus(sim.port, cfg.bus.baudrate, cfg, timeout_s=0.25) as bus:
         assert sim.world is not None
         bus.set_goal_current(300.0)
         goal = np.array([2048 + 600, 2048, 2048 - 600, 2048])  # both proximal joints close
@@ -181,7 +181,7 @@ def test_free_servo_current_is_zero_and_blocked_current_tracks_gap():
             return q
 
     joints = JOINTS[:1]
-    with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints) as bus:
+    with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints, timeout_s=0.25) as bus:
         sim.world = Wall()
         bus.set_goal_current(2.69 * 150)
         wall_tick = units.rad_to_ticks(0.1, 2048, 1)

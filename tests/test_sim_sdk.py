@@ -20,10 +20,19 @@ JOINTS = [NS(id=1, model="XM430-W350", zero_tick=2048), NS(id=2, model="XC330-T2
           NS(id=5, model="XL430-W250", zero_tick=3000)]
 
 
+class Port(PortHandler):
+    """The SDK's port with 250 ms of timeout margin (instead of 34 ms): tests run on a
+    loaded machine with the emulator in the same process."""
+
+    def setPacketTimeout(self, packet_length):  # noqa: N802 - SDK name
+        super().setPacketTimeout(packet_length)
+        self.packet_timeout += 216.0
+
+
 @pytest.fixture
 def link():
     with EmulatedBus(JOINTS, time_scale=20.0) as sim:
-        port = PortHandler(sim.port)
+        port = Port(sim.port)
         assert port.openPort()
         yield sim, port, PacketHandler(2.0)
         port.closePort()

@@ -32,7 +32,7 @@ from hand_driver.sim.servo import EmulatedServo
 from hand_driver.units import RAD_PER_TICK
 
 _MAX_SUBSTEP_S = 0.002
-_MAX_SUBSTEPS = 200
+_MAX_SUBSTEPS = 25  # per packet: bounds the physics work done before an answer
 _BAUD_REGISTER = {9600: 0, 57600: 1, 115200: 2, 1_000_000: 3, 2_000_000: 4, 3_000_000: 5, 4_000_000: 6, 4_500_000: 7}
 _TERMIOS_SPEED = {getattr(termios, f"B{b}"): b for b in _BAUD_REGISTER if hasattr(termios, f"B{b}")}
 
@@ -136,7 +136,9 @@ class EmulatedBus:
             self._integrate(self._now() - self.sim_time)
 
     def step(self, dt: float) -> None:
-        """Jump simulated time dt seconds ahead of the clock, integrating motion (for tests)."""
+        """Serve everything already sent, then jump simulated time dt seconds ahead of the
+        clock, integrating motion (for tests)."""
+        self.wait_idle()
         with self.lock:
             self.advance_to_now()
             self._offset += dt
