@@ -144,6 +144,7 @@ class JointBus:
         self._port = None
         self._ph = None
         self._old_handlers: dict[int, object] = {}
+        self._pending_alerts: list[int] = []  # servos whose last status had the alert bit
         self.current_sensing = all(s.has_current_sensing for s in self.specs)
 
     # -- opening and closing ----------------------------------------------------------------

@@ -10,7 +10,7 @@ in the motor as the XM430 (2.69 mA units) does.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 
 @dataclass(frozen=True)

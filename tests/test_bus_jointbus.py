@@ -10,7 +10,6 @@ import pytest
 
 from hand_driver import units
 from hand_driver.bus import JointBus, scan, tick_limits
-from hand_driver.control_table import model
 from hand_driver.errors import CapabilityError, JointLimitError, ModelMismatchError, PortError
 from hand_driver.sim.server import EmulatedBus
 
