@@ -41,7 +41,7 @@ SIGMA_FLOOR_PHI = 1e-9
 """rad: σ_φ used when the noise model says 0 (exact data)."""
 SIGMA_FLOOR_POS = 1e-9
 """mm: σ_pos used when the noise model says 0."""
-MAX_NFEV = 200
+MAX_NFEV = 60
 
 _POSITIVE = {"circle": ("r",), "ellipse": ("a", "b"), "parabola": ("a",), "hyperbola": ("a", "b"),
              "semicubical_parabola": ("a",)}
@@ -188,7 +188,8 @@ class _Problem:
         parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, _wrap(d.phi - phi) / self.sig_phi]
         if extra is not None:
             parts += [(d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s]
-        r = np.concatenate(parts)
+        with np.errstate(all="ignore"):
+            r = np.concatenate(parts)
         return np.where(np.isfinite(r), r, 1e8)
 
     def jacobian(self, z: np.ndarray) -> np.ndarray:
@@ -336,7 +337,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
         z0 = problem.pack(params, candidate.pose, t0) if z is None else z
         method = "lm" if problem.n_rows * 3 + 2 * len(data.contact_rows) >= z0.size else "trf"
         res = optimize.least_squares(problem.residuals, z0, jac=problem.jacobian, method=method,
-                                     x_scale="jac", max_nfev=MAX_NFEV, xtol=1e-15, ftol=1e-15, gtol=1e-15)
+                                     x_scale="jac", max_nfev=MAX_NFEV, xtol=1e-12, ftol=1e-12, gtol=1e-12)
         nfev += int(res.nfev)
         z = res.x
         if not known:

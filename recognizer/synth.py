@@ -11,7 +11,8 @@ arc length (the first stays 0).
 Random shapes (:func:`random_shape`) have a size L (mm, the extent of the part of the
 boundary that is touched) drawn from ``size_range``; each class's parameters are drawn
 so that the touched region spans about L, with random aspect (ellipse b/a in
-[0.35, 0.9], hyperbola b/a in [0.4, 2.0], cubic coefficients of either sign).
+[0.35, 0.9], hyperbola b/a in [0.4, 2.0], cubic coefficients of either sign, the
+cubics' second coefficient (c, b) of magnitude in [0.3, 1]).
 """
 
 from __future__ import annotations
@@ -118,6 +119,12 @@ def _uniform(rng: np.random.Generator, lo: float, hi: float) -> float:
     return float(rng.uniform(lo, hi))
 
 
+def _signed(rng: np.random.Generator, lo: float, hi: float) -> float:
+    """A value of random sign with magnitude uniform in [lo, hi] (relative errors of a
+    parameter near 0 would measure nothing but its closeness to 0)."""
+    return float(rng.choice([-1.0, 1.0]) * rng.uniform(lo, hi))
+
+
 def random_shape(cls: str, rng: np.random.Generator, size_range: tuple[float, float] = (30.0, 120.0),
                  pose_range: float = 150.0) -> Shape:
     """A random shape of class ``cls`` of size L ∈ size_range mm in a random pose."""
@@ -136,11 +143,12 @@ def random_shape(cls: str, rng: np.random.Generator, size_range: tuple[float, fl
         params, t_range = {"a": a, "b": a * _uniform(rng, 0.4, 2.0)}, (-1.2, 1.2)
     elif cls == "cubical_parabola":
         a = rng.choice([-1.0, 1.0]) * (L / 4) * _uniform(rng, 0.5, 1.5) / (L / 2) ** 3
-        params, t_range = {"a": float(a), "c": _uniform(rng, -1.0, 1.0)}, (-L / 2, L / 2)
+        params, t_range = {"a": float(a), "c": _signed(rng, 0.3, 1.0)}, (-L / 2, L / 2)
     elif cls == "semicubical_parabola":
-        T = np.sqrt(L)
-        a = (L / 2) * _uniform(rng, 0.5, 1.5) / T**3
-        params, t_range = {"a": float(a), "b": _uniform(rng, -1.0, 1.0)}, (0.25 * T, T)
+        # scale-free form u = a·t: (u², u³ + b u²)/a²; contacts at u ∈ [0.8, 2.2] (extent
+        # about 4/a² = L), at least 0.15 L of arc from the cusp so touches stay smooth
+        a = 2.0 / np.sqrt(L) * _uniform(rng, 0.8, 1.25)
+        params, t_range = {"a": float(a), "b": _signed(rng, 0.3, 1.0)}, (0.8 / a, 2.2 / a)
     else:
         raise ValueError(f"unknown class {cls!r}")
     pose = Pose(_uniform(rng, -np.pi, np.pi), _uniform(rng, -pose_range, pose_range) * 0.2 + pose_range,
