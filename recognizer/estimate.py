@@ -270,37 +270,67 @@ def _estimate_frozen(phi: np.ndarray, x: np.ndarray, y: np.ndarray, s: np.ndarra
     return g @ (phi - phi[m])
 
 
+def _d_ds(phi: np.ndarray, s: np.ndarray, m: int, choice: _Choice) -> np.ndarray:
+    """∂(κ, κ_s)/∂s_i (2×n), the model choice held fixed: for a polynomial fit
+    c = (AᵀA)⁻¹Aᵀr, ∂c/∂u_i = (AᵀA)⁻¹(a_i'ᵀ e_i − a_iᵀ a_i'·c) with e the residuals and
+    a_i' the derivative of row i; u = s − s_m. Central differences for "central"."""
+    rphi = phi - phi[m]
+    n = s.size
+    if choice.method == "central":
+        out = np.zeros((2, n))
+        step = 1e-6 * max(float(np.ptp(s)), 1e-3)
+        for i in range(n):
+            sp, sm = s.copy(), s.copy()
+            sp[i] += step
+            sm[i] -= step
+            out[:, i] = (_central_map(sp, m) @ rphi - _central_map(sm, m) @ rphi) / (2 * step)
+        return out
+    u = s - s[m]
+    scale = max(float(np.max(np.abs(u))), 1e-300)
+    out = np.zeros((2, n))
+    for row, degree in ((0, choice.deg_k), (1, choice.deg_ks)):
+        a = _design(u, degree, scale)
+        da = np.zeros_like(a)
+        da[:, 1:] = a[:, :-1] / scale  # d/du of (u/L)^k/k! is (u/L)^(k-1)/(k-1)!/L
+        mat = np.linalg.pinv(a.T @ a)
+        c = mat @ (a.T @ rphi)
+        e = rphi - a @ c
+        dc = mat @ (da.T * e - a.T * (da @ c))  # column i: ∂c/∂u_i
+        du = dc[row + 1] / scale ** (row + 1)
+        out[row] = du
+        out[row, m] -= du.sum()
+    return out
+
+
 def _jacobian_cov(phi: np.ndarray, x: np.ndarray, y: np.ndarray, s: np.ndarray | None, m: int,
                   choice: _Choice, sig_phi: float, sig_pos: float, sig_s: float) -> np.ndarray:
-    """J diag(σ²) Jᵀ over every input the estimate depends on (φ exactly, positions and
-    s by central differences, the model choice held fixed)."""
+    """J diag(σ²) Jᵀ over every input the estimate depends on, the model choice held
+    fixed: φ exactly (the estimate is linear in φ), arc lengths by central differences,
+    positions through the chord lengths that make the arc lengths (chain rule)."""
     ss = _arc_length(phi, x, y) if s is None else s
     g, _ = _maps(ss, m, choice)
     jac_phi = g.copy()
     jac_phi[:, m] -= g.sum(axis=1)
     cov = sig_phi**2 * jac_phi @ jac_phi.T
-    scale = max(float(np.ptp(ss)), 1e-3)
-    step = 1e-6 * scale
-    groups: list[tuple[int, float]] = []
-    if s is None:
-        groups += [(1, sig_pos), (2, sig_pos)]
-    elif sig_s > 0:
-        groups += [(3, sig_s)]
-    for which, sigma in groups:
-        if sigma <= 0:
-            continue
-        for i in range(phi.size):
-            if which == 3 and i == 0:
-                continue
-            plus = [phi, x, y, s]
-            minus = [phi, x, y, s]
-            plus[which] = plus[which].copy()
-            minus[which] = minus[which].copy()
-            plus[which][i] += step
-            minus[which][i] -= step
-            d = (_estimate_frozen(*plus, m, choice) - _estimate_frozen(*minus, m, choice)) / (2 * step)
-            cov += sigma**2 * np.outer(d, d)
-    return cov
+    sig_arc = sig_pos if s is None else sig_s
+    if sig_arc <= 0:
+        return cov
+    jac_s = _d_ds(phi, ss, m, choice)
+    if s is not None:
+        return cov + sig_s**2 * jac_s @ jac_s.T
+    dx, dy = np.diff(x), np.diff(y)
+    chord = np.hypot(dx, dy)
+    corr = 1.0 / np.sinc(0.5 * np.diff(phi) / np.pi)
+    # s_i = Σ_{j<i} chord_j · corr_j: ∂θ/∂chord_j = corr_j Σ_{i>j} ∂θ/∂s_i
+    d_chord = corr * np.cumsum(jac_s[:, ::-1], axis=1)[:, ::-1][:, 1:]
+    ux, uy = dx / chord, dy / chord
+    jac_x = np.zeros((2, phi.size))
+    jac_y = np.zeros((2, phi.size))
+    jac_x[:, 1:] += d_chord * ux
+    jac_x[:, :-1] -= d_chord * ux
+    jac_y[:, 1:] += d_chord * uy
+    jac_y[:, :-1] -= d_chord * uy
+    return cov + sig_pos**2 * (jac_x @ jac_x.T + jac_y @ jac_y.T)
 
 
 def estimate_local(touch: Any, method: str = "auto", noise: Any = None, where: str = "touch") -> LocalGeometry:
