@@ -55,11 +55,13 @@ class CalibrationRefused(InputError):
 
 @dataclass(frozen=True)
 class Reading:
-    """One contact: finger name, 'face' or 'corner', that finger's two encoder ticks."""
+    """One contact: finger name, kind ('face', 'corner' or 'heel'), that finger's two
+    encoder ticks, and which placement of the reference it touched (0, 1, ...)."""
 
     finger: str
     kind: str
     ticks: tuple[float, float]
+    placement: int = 0
 
 
 @dataclass(frozen=True)
@@ -76,7 +78,7 @@ class Estimate:
 class CalibrationResult:
     config: JawConfig
     estimates: tuple[Estimate, ...]
-    reference_pose: dict
+    reference_poses: tuple[dict, ...]
     rms_before_mm: float
     rms_after_mm: float
     max_after_mm: float
@@ -88,7 +90,7 @@ class CalibrationResult:
             "rms_before_mm": self.rms_before_mm,
             "rms_after_mm": self.rms_after_mm,
             "max_residual_after_mm": self.max_after_mm,
-            "reference_pose": self.reference_pose,
+            "reference_poses": list(self.reference_poses),
             "parameters": [{"name": e.name, "before": e.before, "after": e.after, "se": e.se,
                             "tolerance": e.tolerance} for e in self.estimates],
         }
@@ -139,13 +141,16 @@ class _Model:
             raise InputError(f"reference object class {self.cls!r} not supported; use a circle (disk) or a "
                              f"line (flat block face)")
         names = [f.name for f in cfg.fingers]
+        self.placements = sorted({r.placement for r in readings})
+        if self.placements != list(range(len(self.placements))):
+            raise InputError(f"placements must be numbered 0, 1, ...; got {self.placements}")
         self.groups = []
-        for fi, f in enumerate(cfg.fingers):
-            for kind in ("face", "corner", "heel"):
-                sel = [r for r in readings if r.finger == f.name and r.kind == kind]
-                if sel:
-                    ticks = np.array([r.ticks for r in sel], dtype=float)
-                    self.groups.append((fi, kind, ticks))
+        for pl in self.placements:
+            for fi, f in enumerate(cfg.fingers):
+                for kind in ("face", "corner", "heel"):
+                    sel = [r for r in readings if r.finger == f.name and r.kind == kind and r.placement == pl]
+                    if sel:
+                        self.groups.append((pl, fi, kind, np.array([r.ticks for r in sel], dtype=float)))
         unknown = {r.finger for r in readings} - set(names)
         if unknown:
             raise InputError(f"readings name unknown finger(s) {sorted(unknown)}; fingers are {names}")
@@ -163,58 +168,65 @@ class _Model:
                                   f.pad.side_sign)
 
     def residuals(self, v, w) -> np.ndarray:
+        """Residuals (mm); ``w`` holds two pose numbers per placement (disk: centre x, y;
+        block: face normal angle, offset)."""
         out = []
-        for fi, kind, ticks in self.groups:
+        for pl, fi, kind, ticks in self.groups:
             line = self.lines(v, fi, ticks)
+            a, b = w[2 * pl], w[2 * pl + 1]
             if self.cls == "circle":
-                c = np.array([w[0], w[1]])
+                c = np.array([a, b])
                 if kind == "face":
                     out.append(line.normal @ c - line.d - self.r)
                 else:
                     end = line.distal if kind == "corner" else line.proximal
                     out.append(np.hypot(*(end - c).T) - self.r)
             else:
-                m = np.array([math.cos(w[0]), math.sin(w[0])])
+                m = np.array([math.cos(a), math.sin(a)])
                 if kind == "face":
-                    out += [line.proximal @ m - w[1], line.distal @ m - w[1]]
+                    out += [line.proximal @ m - b, line.distal @ m - b]
                 else:
-                    out.append((line.distal if kind == "corner" else line.proximal) @ m - w[1])
+                    out.append((line.distal if kind == "corner" else line.proximal) @ m - b)
         return np.concatenate(out)
 
     def pose_start(self, v) -> np.ndarray:
-        """Object pose from the face readings by linear least squares."""
-        faces = [(fi, t) for fi, kind, t in self.groups if kind == "face"]
-        if not faces:
-            raise CalibrationRefused("no face touches: the reference's position cannot be found")
-        if self.cls == "circle":  # n·C = d + r
-            a = np.concatenate([self.lines(v, fi, t).normal for fi, t in faces])
-            b = np.concatenate([self.lines(v, fi, t).d + self.r for fi, t in faces])
-            return np.linalg.lstsq(a, b, rcond=None)[0]
-        lines = [self.lines(v, fi, t) for fi, t in faces]
-        psi = np.concatenate([ln.psi for ln in lines])
-        ang = math.atan2(np.mean(np.sin(psi + np.pi)), np.mean(np.cos(psi + np.pi)))
-        m = np.array([math.cos(ang), math.sin(ang)])
-        h = float(np.mean(np.concatenate([ln.distal @ m for ln in lines])))
-        return np.array([ang, h])
+        """Each placement's pose from its face readings by linear least squares."""
+        w = []
+        for pl in self.placements:
+            faces = [(fi, t) for p, fi, kind, t in self.groups if kind == "face" and p == pl]
+            if not faces:
+                raise CalibrationRefused(f"placement {pl}: no face touches, so the reference cannot be located")
+            lines = [self.lines(v, fi, t) for fi, t in faces]
+            if self.cls == "circle":  # n·C = d + r
+                a = np.concatenate([ln.normal for ln in lines])
+                b = np.concatenate([ln.d + self.r for ln in lines])
+                w += list(np.linalg.lstsq(a, b, rcond=None)[0])
+            else:
+                psi = np.concatenate([ln.psi for ln in lines])
+                ang = math.atan2(np.mean(np.sin(psi + np.pi)), np.mean(np.cos(psi + np.pi)))
+                m = np.array([math.cos(ang), math.sin(ang)])
+                w += [ang, float(np.mean(np.concatenate([ln.distal @ m for ln in lines])))]
+        return np.array(w)
 
-    def reading_sigma(self, v, w) -> float:
-        """RMS residual that ±½-tick quantization alone produces (uniform, per joint)."""
+    def reading_sigmas(self, v, w) -> np.ndarray:
+        """Per-residual standard deviation (mm) that encoder quantization alone produces:
+        ±½ tick uniform per joint, σ² = Σ_joints (∂residual/∂tick)² / 12."""
         h = 1e-3
         sens = []
-        for fi, kind, ticks in self.groups:
+        for group in self.groups:
             var = 0.0
             for k in range(2):
-                dt = np.zeros_like(ticks)
+                dt = np.zeros_like(group[3])
                 dt[:, k] = h
-                plus = self._group_residual(v, w, fi, kind, ticks + dt)
-                minus = self._group_residual(v, w, fi, kind, ticks - dt)
+                plus = self._group_residual(v, w, group, group[3] + dt)
+                minus = self._group_residual(v, w, group, group[3] - dt)
                 var = var + ((plus - minus) / (2 * h)) ** 2
             sens.append(var)
-        return float(np.sqrt(np.mean(np.concatenate(sens)) / 12.0))
+        return np.sqrt(np.concatenate(sens) / 12.0)
 
-    def _group_residual(self, v, w, fi, kind, ticks):
+    def _group_residual(self, v, w, group, ticks):
         saved = self.groups
-        self.groups = [(fi, kind, ticks)]
+        self.groups = [group[:3] + (ticks,)]
         try:
             return self.residuals(v, w)
         finally:
@@ -233,10 +245,12 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     w0 = model.pose_start(v0)
     before = least_squares(lambda w: model.residuals(v0, w), w0, method="lm")
     x0 = np.concatenate([v0, before.x])
-    # scale: ticks and mm are both O(1) per unit of effect on residuals
-    res = least_squares(lambda x: model.residuals(x[:nv], x[nv:]), x0, method="lm", x_scale="jac",
+    # weighted by each reading's quantization σ (at the nominal geometry), so that
+    # readings with long lever arms (coarse) count less than fine ones
+    sig = np.maximum(model.reading_sigmas(v0, before.x), 1e-4)
+    res = least_squares(lambda x: model.residuals(x[:nv], x[nv:]) / sig, x0, method="lm", x_scale="jac",
                         xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
-    r = res.fun
+    r = res.fun * sig  # mm
     m, p = r.size, x0.size
     if m <= p:
         raise CalibrationRefused(f"{m} residuals for {p} unknowns: more touches are needed "
@@ -250,7 +264,8 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
         kind = names[weak][1] if weak < nv else "zero_tick"
         raise CalibrationRefused(f"the touches cannot determine {what} (rank-deficient Jacobian); "
                                  f"it needs {_NEEDS[kind]}")
-    sigma2 = max(float(r @ r) / (m - p), model.reading_sigma(res.x[:nv], res.x[nv:]) ** 2)
+    # variance factor: χ²/dof of the weighted fit, never below the quantization model's 1
+    sigma2 = max(float(res.fun @ res.fun) / (m - p), 1.0)
     cov = sigma2 * (vt.T / s**2) @ vt
     se = np.sqrt(np.diag(cov))
     estimates = tuple(Estimate(name, kind, float(v0[i]), float(res.x[i]), float(se[i]), tol[kind])
@@ -261,9 +276,10 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
         raise CalibrationRefused(f"the touches determine {e.name} only to ±{e.se:.3g} (tolerance {e.tolerance:g}); "
                                  f"it needs {_NEEDS[e.kind]}")
     w = res.x[nv:]
-    pose = ({"x": float(w[0]), "y": float(w[1])} if model.cls == "circle"
-            else {"normal_angle": float(w[0]), "offset_mm": float(w[1])})
-    return CalibrationResult(config=apply_params(cfg, res.x[:nv]), estimates=estimates, reference_pose=pose,
+    poses = tuple({"x": float(w[2 * i]), "y": float(w[2 * i + 1])} if model.cls == "circle"
+                  else {"normal_angle": float(w[2 * i]), "offset_mm": float(w[2 * i + 1])}
+                  for i in model.placements)
+    return CalibrationResult(config=apply_params(cfg, res.x[:nv]), estimates=estimates, reference_poses=poses,
                              rms_before_mm=float(np.sqrt(np.mean(before.fun**2))),
                              rms_after_mm=float(np.sqrt(np.mean(r**2))), max_after_mm=float(np.max(np.abs(r))),
                              n_readings=len(readings))
@@ -358,7 +374,7 @@ def _spread(finger: str, kind: str, items: list, count: int, meta) -> list[Plann
 
 
 def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], quantize: bool = True,
-               rng: np.random.Generator | None = None) -> list[Reading]:
+               placement: int = 0) -> list[Reading]:
     """Readings a jaw with geometry ``truth`` would produce for a plan (tests and
     benchmarks): the exact truth contact configuration on the same IK branch, as ticks
     of the truth zero ticks, rounded (optionally with a random sub-tick encoder phase)."""
@@ -378,6 +394,6 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
         q = min(sols, key=lambda s: float(np.sum(kin._wrap(s - np.asarray(t.q)) ** 2)))
         ticks = kin.angles_to_ticks(f.joints, q)
         if quantize:
-            ticks = np.rint(ticks + (rng.uniform(-0.5, 0.5, 2) if rng is not None else 0.0)) - (0.0)
-        out.append(Reading(t.finger, t.kind, (float(ticks[0]), float(ticks[1]))))
+            ticks = np.rint(ticks)
+        out.append(Reading(t.finger, t.kind, (float(ticks[0]), float(ticks[1])), placement))
     return out
