@@ -67,12 +67,11 @@ def test_cubic_invariants_and_slope_roots(cls, params):
         assert np.allclose(inv.I_scp1(lam, k, ks), params["a"], rtol=1e-10)
         assert np.allclose(inv.I_scp2(lam, k, ks), params["b"], rtol=1e-10, atol=1e-12)
         kk = inv.K_SEMICUBICAL
-    theta = 0.9  # unknown canonical rotation: only the turn Δ between touches is used
+    # only the turn Δ between the touches is used: the canonical rotation stays unknown
     roots, resid = inv.slope_angles(k[0], ks[0], k[1], ks[1], float(phi[1] - phi[0]), kk)
     assert resid == 0.0
     truth = math.atan(math.tan(phi[0]))
     assert min(abs(math.remainder(r - truth, math.pi)) for r in roots) < 1e-9
-    del theta
 
 
 def test_slope_equation_has_the_spurious_factor():
