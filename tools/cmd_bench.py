@@ -1,0 +1,75 @@
+"""``tactile bench``: measure the speed–accuracy trade and write a table and a plot."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from recognizer.errors import InputError
+
+HELP = "measures the speed–accuracy trade (noise, samples, span, touches, estimator, refinement) and writes a table and a plot"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--quick", action="store_true",
+                        help="a smoke run of about 20-60 s (few shapes); the committed numbers come from the default run")
+    parser.add_argument("--out", default="docs/bench", help="output directory (default docs/bench)")
+    parser.add_argument("--shapes", type=int, default=None,
+                        help="random shapes per class for the baseline and noise-free rows (default 100, quick 6)")
+    parser.add_argument("--sweep-shapes", type=int, default=None,
+                        help="random shapes per class for every other sweep row (default 15, quick 2)")
+    parser.add_argument("--table-shapes", type=int, default=None,
+                        help="shapes (points) per class for the paper's Tables 1 and 3 (default 100, quick 10)")
+    parser.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
+    parser.add_argument("--classes", nargs="+", default=None, metavar="CLASS",
+                        help="classes to draw and answer among (default: all of CONTRACTS §1)")
+    parser.add_argument("--jobs", type=int, default=None, help="worker processes (default: min(2, CPUs))")
+
+
+def _positive(value: int | None, default: int, name: str) -> int:
+    if value is None:
+        return default
+    if value < 1:
+        raise InputError(f"tactile bench: {name} must be >= 1, got {value}")
+    return value
+
+
+def run(args: argparse.Namespace) -> int:
+    from recognizer.curves import CURVES
+    from tools import bench
+
+    classes = tuple(args.classes) if args.classes else bench.CLASSES
+    unknown = [c for c in classes if c not in CURVES]
+    if unknown:
+        raise InputError(f"tactile bench: --classes: unknown {', '.join(unknown)}; allowed: {', '.join(CURVES)}")
+    shapes = _positive(args.shapes, 6 if args.quick else 100, "--shapes")
+    sweep = _positive(args.sweep_shapes, 2 if args.quick else 15, "--sweep-shapes")
+    table = _positive(args.table_shapes, 10 if args.quick else 100, "--table-shapes")
+    jobs = _positive(args.jobs, bench.default_jobs(), "--jobs")
+    out = Path(args.out)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"tactile bench: --out {out}: cannot create ({exc.strerror})") from exc
+
+    def progress(msg: str, final: bool) -> None:
+        sys.stderr.write(f"\r[bench] {msg}   " + ("\n" if final else ""))
+        sys.stderr.flush()
+
+    t0 = time.perf_counter()
+    result = bench.run_bench(bench.default_configs(), classes, shapes, sweep, args.seed, jobs, table, progress)
+    command = "tactile bench" + (" --quick" if args.quick else "") + \
+        (f" --shapes {args.shapes}" if args.shapes else "") + \
+        (f" --sweep-shapes {args.sweep_shapes}" if args.sweep_shapes else "") + \
+        (f" --table-shapes {args.table_shapes}" if args.table_shapes else "") + \
+        (f" --seed {args.seed}" if args.seed != 1 else "") + \
+        (f" --classes {' '.join(args.classes)}" if args.classes else "")
+    bench.write_csv(result, out / "bench.csv")
+    bench.write_markdown(result, out / "bench.md", command)
+    bench.write_plot(result, out / "bench.png")
+    for c in result.checks:
+        print(f"{'met ' if c['pass'] else 'MISS'}  {c['target']}: {c['measured']}")
+    print(f"wrote {out / 'bench.csv'}, {out / 'bench.md'}, {out / 'bench.png'} in {time.perf_counter() - t0:.0f} s")
+    return 0
