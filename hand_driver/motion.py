@@ -1,0 +1,440 @@
+"""Guarded touches and rolling moves, both fingers at once, one bus cycle at a time.
+
+A motion is a generator (one per finger) that yields the finger's next goal joint angles
+(or ``None`` to hold) and receives the reading of the next cycle. :func:`run_together`
+steps every finger's generator in the same cycle: one sync write of all goals, a pause
+to the cycle period, one sync read of all joints (logged). The cycle period is
+``motion.approach_step_mm / motion.approach_speed_mm_s`` of robot time.
+
+Pad lines follow hand_driver.kinematics: the pad's outward normal has angle ψ and the
+pad lies on ``n(ψ)·p = d``; moving the pad "in" (toward the object) increases d.
+
+- **Guarded approach** (:func:`guarded_approach`): the pad keeps orientation ψ and
+  advances along n at ``approach_speed_mm_s`` of robot time (coordinated 2-joint goals
+  from inverse kinematics each cycle; the goal never leads the measured pad by more than
+  two ``approach_step_mm``) until
+  a joint of the finger reads ``|current| ≥ contact_current_ma`` or the pad stalls
+  (the goal two steps ahead and no progress for two cycles). In current-based position
+  mode the goal current caps the pressing force. That reading is the sample (the pad is
+  held at the contact by the object); no contact within ``travel`` is a result, not an
+  error.
+- **Rolling touch** (:func:`rolling_touch`): ψ steps through ``ψ0 ± span/2``; between
+  samples the pad backs off ``ROLL_CLEARANCE_MM`` along its normal, turns about the last
+  contact point estimate and re-approaches; after the last it backs off ``backoff_mm``. The in-contact pad lines give the contacts
+  by their envelope (hand_driver.kinematics.touch_from_ticks).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable, Generator
+
+import numpy as np
+
+from hand_driver import kinematics as kin
+from hand_driver.config import FingerConfig, JawConfig
+
+#: joint-limit margin kept by every goal (rad): 1°
+LIMIT_MARGIN_RAD = math.radians(1.0)
+#: between the samples of a rolling touch the pad backs off this far (mm) before it turns;
+#: the turn about the last contact estimate opens a gap of only ~R·Δψ²/2 (< 0.1 mm for
+#: R = 50 mm, Δψ = 2°), so 1 mm clears it with margin and keeps re-approaches short
+ROLL_CLEARANCE_MM = 1.0
+#: a contact this close (mm) to either end of the pad is a pad end resting on the
+#: object, not a tangent contact of the pad's face
+EDGE_MARGIN_MM = 1.0
+#: a goal is "reached" when every joint of the finger is within this many ticks of it
+REACHED_TICKS = 3
+
+
+Reading = tuple[Any, int]  # (JointState, log index)
+Motion = Generator[np.ndarray | None, Reading, Any]
+
+
+class WallClock:
+    """Robot time is wall time × ``time_scale`` (1 for a real jaw; an emulator's time
+    scale when it runs on the wall clock); a cycle waits by sleeping."""
+
+    def __init__(self, time_scale: float = 1.0):
+        self.time_scale = float(time_scale)
+        self._t0 = time.monotonic()
+        self._next = self._t0
+
+    def now(self) -> float:
+        return (time.monotonic() - self._t0) * self.time_scale
+
+    def wait(self, period_s: float) -> None:
+        """Sleep until ``period_s`` robot seconds after the previous wait ended."""
+        self._next += period_s / self.time_scale
+        now = time.monotonic()
+        if self._next > now:
+            time.sleep(self._next - now)
+        else:
+            self._next = now
+
+
+class LockstepClock:
+    """Robot time is an emulated bus's simulated time, advanced only by the cycles:
+    the bus runs with ``time_scale=0`` and each wait integrates ``period_s`` of motion
+    (hand_driver.sim.server.EmulatedBus: under its lock, its clock offset and
+    integrator). A cycle's write is served before the wait, because the cycle's read
+    comes between them. Robot time is exact and the motion the same on any host;
+    wall time is only the computation."""
+
+    def __init__(self, sim):
+        if sim.time_scale != 0.0:
+            raise ValueError("LockstepClock needs an EmulatedBus with time_scale=0")
+        self.sim = sim
+
+    def now(self) -> float:
+        return float(self.sim.sim_time)
+
+    def wait(self, period_s: float) -> None:
+        with self.sim.lock:
+            self.sim._offset += period_s
+            self.sim._integrate(period_s)
+
+
+class Jaw:
+    """The bus, the config, the log and the robot clock, as the motions see them.
+
+    ``bus`` has ``read_state()`` and ``write_goal_ticks(ticks)`` over the config's joints
+    in config order (hand_driver.bus.JointBus); ``clock`` a :class:`WallClock` or a
+    :class:`LockstepClock`. ``readings_logged_by_bus``: the bus already passes every reading
+    to ``log.reading`` (its ``on_reading`` hook), so the jaw only looks up the index."""
+
+    def __init__(self, bus, config: JawConfig, log=None, clock=None, readings_logged_by_bus: bool = False):
+        self.bus = bus
+        self.config = config
+        self.log = log
+        self.clock = clock if clock is not None else WallClock()
+        self.readings_logged_by_bus = readings_logged_by_bus
+        self.slices = config.joint_slices()
+        self.period_s = config.motion.approach_step_mm / config.motion.approach_speed_mm_s
+        self.readings = 0
+        self.last_index = -1
+        self.presser: str | None = None  # the finger allowed to press (module docstring)
+        self._t0 = self.clock.now()
+        state, _ = self.read()
+        self.goal_ticks = np.asarray(state.ticks, dtype=np.int64).copy()
+        self.last_state = state
+
+    # -- clock ------------------------------------------------------------------------------
+    def robot_time(self) -> float:
+        """Robot seconds since the jaw was set up."""
+        return self.clock.now() - self._t0
+
+    def pace(self) -> None:
+        """Wait one cycle period of robot time."""
+        self.clock.wait(self.period_s)
+
+    # -- bus --------------------------------------------------------------------------------
+    def read(self) -> Reading:
+        state = self.bus.read_state()
+        self.readings += 1
+        if self.log is None:
+            i = self.readings - 1
+        elif self.readings_logged_by_bus:
+            i = self.log.readings - 1
+        else:
+            i = self.log.reading(state)
+        self.last_state, self.last_index = state, i
+        return state, i
+
+    def log_index(self) -> int:
+        """Index of the last reading taken."""
+        return self.last_index
+
+    def set_goal(self, finger: str, q) -> None:
+        f = self.config.finger(finger)
+        self.goal_ticks[self.slices[finger]] = np.rint(kin.angles_to_ticks(f.joints, q)).astype(np.int64)
+
+    def write_goals(self) -> None:
+        self.bus.write_goal_ticks([int(t) for t in self.goal_ticks])
+
+    # -- geometry ---------------------------------------------------------------------------
+    def finger_ticks(self, state, finger: str) -> np.ndarray:
+        return np.asarray(state.ticks, dtype=float)[self.slices[finger]]
+
+    def finger_q(self, state, finger: str) -> np.ndarray:
+        return kin.ticks_to_angles(self.config.finger(finger).joints, self.finger_ticks(state, finger))
+
+    def pad_line(self, state, finger: str) -> kin.PadLine:
+        return kin.finger_pad_line_from_ticks(self.config, finger, self.finger_ticks(state, finger))
+
+    def finger_current(self, state, finger: str) -> float | None:
+        """Largest |present current| (mA) over the finger's joints; None without sensing."""
+        if state.current_ma is None:
+            return None
+        values = [abs(float(c)) for c in np.asarray(state.current_ma, dtype=object)[self.slices[finger]]
+                  if c is not None]
+        return max(values) if values else None
+
+    def others_pressing(self, state, finger: str) -> bool:
+        """Whether another finger reads at least half the contact current (it is pressing)."""
+        limit = 0.5 * self.config.motion.contact_current_ma
+        for name in self.slices:
+            if name != finger:
+                current = self.finger_current(state, name)
+                if current is not None and current >= limit:
+                    return True
+        return False
+
+    def solve(self, finger: str, psi: float, d: float, q_ref) -> np.ndarray:
+        """Joint angles for the pad line (ψ, d) nearest ``q_ref``; kin.Unreachable if none."""
+        f = self.config.finger(finger)
+        sols = [q for q in kin.ik_line_solutions(f, psi, d) if kin.within_limits(f.joints, q, LIMIT_MARGIN_RAD)]
+        if not sols:
+            raise kin.Unreachable(f"finger {finger}: pad line psi={math.degrees(psi):.1f} deg, d={d:.1f} mm "
+                                  f"is outside the joint limits")
+        return min(sols, key=lambda q: float(np.sum(np.square(_wrap(q - q_ref)))))
+
+
+def _wrap(a):
+    return np.pi - np.mod(np.pi - np.asarray(a, dtype=float), 2.0 * np.pi)
+
+
+def _unit(psi: float) -> np.ndarray:
+    return np.array([math.cos(psi), math.sin(psi)])
+
+
+# --------------------------------------------------------------------------------- running
+
+
+def run_together(jaw: Jaw, motions: dict[str, Motion]) -> dict[str, Any]:
+    """Run one motion per finger in shared cycles until all have returned; their
+    return values by finger. A fault propagates at once (the bus turns torque off)."""
+    results: dict[str, Any] = {}
+    active = dict(motions)
+
+    def advance(name: str, value) -> None:
+        try:
+            goal = active[name].send(value)
+        except StopIteration as stop:
+            results[name] = stop.value
+            del active[name]
+            return
+        if goal is not None:
+            jaw.set_goal(name, goal)
+
+    for name in list(active):
+        advance(name, None)
+    while active:
+        jaw.write_goals()
+        reading = jaw.read()
+        jaw.pace()
+        for name in list(active):
+            advance(name, reading)
+    return results
+
+
+# --------------------------------------------------------------------------------- motions
+
+
+@dataclass
+class Sample:
+    """One in-contact reading of a guarded approach."""
+
+    reading: int
+    psi: float  # commanded pad normal angle (rad)
+    ticks: np.ndarray  # the finger's ticks at contact
+    psi_measured: float  # the pad's normal angle at contact (rad)
+    d: float  # measured pad line offset (mm)
+    current_ma: float | None
+    robot_time: float
+
+
+@dataclass
+class ApproachResult:
+    contact: Sample | None
+    travel_mm: float
+    reason: str  # "current", "stall", "no_contact", "timeout"; "blocked": the pad did not turn
+
+
+def move_to(jaw: Jaw, finger: str, q_goal, max_cycles: int = 200) -> Motion:
+    """Go to joint angles ``q_goal`` and wait until reached (or no progress for 3 cycles
+    while no other finger presses, or ``max_cycles``); returns True when reached."""
+    f = jaw.config.finger(finger)
+    target = np.rint(kin.angles_to_ticks(f.joints, q_goal))
+    state, _ = yield np.asarray(q_goal, dtype=float)
+    still, last = 0, jaw.finger_ticks(state, finger)
+    for _ in range(max_cycles):
+        ticks = jaw.finger_ticks(state, finger)
+        if np.all(np.abs(ticks - target) <= REACHED_TICKS):
+            return True
+        moved = not np.all(np.abs(ticks - last) <= 1)
+        still = 0 if moved or jaw.others_pressing(state, finger) else still + 1
+        if still >= 3:
+            return False
+        last = ticks
+        state, _ = yield None
+    return False
+
+
+def move_line(jaw: Jaw, finger: str, psi: float, d: float, max_turn_rad: float = math.radians(2.0),
+              max_shift_mm: float = 1.0) -> Motion:
+    """Put the pad on the line (ψ, d) by a coordinated Cartesian move: the pad line is
+    interpolated from where it is, turning about the pad's middle by at most
+    ``max_turn_rad`` and shifting at most ``max_shift_mm`` per cycle (a straight
+    joint-space move would sweep the pad off the path between the two lines); then
+    :func:`move_to` the final goal. Returns True when reached."""
+    line = jaw.pad_line(jaw.last_state, finger)
+    center = 0.5 * (line.proximal + line.distal)
+    psi0 = float(line.psi)
+    turn = math.remainder(psi - psi0, 2 * math.pi)
+    shift0 = float(line.d) - float(line.normal @ center)  # 0: the pad's middle is on its line
+    shift1 = d - float(_unit(psi) @ center)
+    steps = max(1, math.ceil(max(abs(turn) / max_turn_rad, abs(shift1 - shift0) / max_shift_mm)))
+    q = jaw.finger_q(jaw.last_state, finger)
+    for k in range(1, steps):
+        a = psi0 + turn * k / steps
+        q = jaw.solve(finger, a, shift0 + (shift1 - shift0) * k / steps + float(_unit(a) @ center), q)
+        yield q
+    q = jaw.solve(finger, psi, d, q)
+    return (yield from move_to(jaw, finger, q))
+
+
+def take_turn(jaw: Jaw, finger: str) -> Motion:
+    """Hold until no other finger may press, then become the one that may."""
+    while jaw.presser not in (None, finger):
+        yield None
+    jaw.presser = finger
+
+
+def end_turn(jaw: Jaw, finger: str) -> None:
+    if jaw.presser == finger:
+        jaw.presser = None
+
+
+def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_mm: float) -> Motion:
+    """Advance the pad along its normal from line (ψ, d_start) until contact or
+    ``travel_mm``; returns an :class:`ApproachResult` (module docstring)."""
+    m = jaw.config.motion
+    step = m.approach_step_mm
+    n = _unit(psi)
+    t0 = jaw.robot_time()
+    d_goal = d_start
+    state, i = yield jaw.solve(finger, psi, d_goal, jaw.finger_q(jaw.last_state, finger))
+    history: list[float] = []
+    while True:
+        line = jaw.pad_line(state, finger)
+        d_meas = float(n @ line.distal)  # the pad's offset along the commanded normal
+        elapsed = jaw.robot_time() - t0
+        history.append(d_meas)
+        current = jaw.finger_current(state, finger)
+        stalled = (len(history) >= 3 and d_goal - d_meas >= 1.5 * step
+                   and history[-1] - history[-3] < 0.2 * step)
+        felt = current is not None and current >= m.contact_current_ma
+        if felt or stalled:
+            sample = Sample(reading=i, psi=psi, ticks=jaw.finger_ticks(state, finger),
+                            psi_measured=float(line.psi), d=float(line.d),
+                            current_ma=current, robot_time=jaw.robot_time())
+            return ApproachResult(sample, d_meas - d_start, "current" if felt else "stall")
+        if d_goal - d_start >= travel_mm:
+            return ApproachResult(None, d_meas - d_start, "no_contact")
+        if elapsed > m.max_touch_s:
+            return ApproachResult(None, d_meas - d_start, "timeout")
+        # the goal moves at approach_speed in robot time, never more than two steps ahead
+        d_goal = min(d_start + m.approach_speed_mm_s * elapsed, d_meas + 2.0 * step, d_start + travel_mm)
+        state, i = yield jaw.solve(finger, psi, d_goal, jaw.finger_q(state, finger))
+
+
+@dataclass
+class TouchResult:
+    """One rolling touch of one finger: the in-contact samples, in the order taken."""
+
+    finger: str
+    touch: int
+    psi_center: float
+    samples: list[Sample] = field(default_factory=list)
+    outcome: str = "ok"  # ok | no_contact | timeout | blocked | edge | unreachable
+    message: str = ""
+
+
+def roll_angles(psi_center: float, span_rad: float, samples: int) -> np.ndarray:
+    """The pad orientations of a rolling touch, increasing."""
+    return psi_center + np.linspace(-0.5 * span_rad, 0.5 * span_rad, samples)
+
+
+def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad: float, samples: int,
+                  d_start: float, travel_mm: float, on_event: Callable[[dict], None] | None = None) -> Motion:
+    """A guarded approach at the first orientation, then one re-approach per further
+    orientation (module docstring); ends backed off from the object."""
+    m = jaw.config.motion
+    emit = on_event or (lambda rec: None)
+    result = TouchResult(finger, touch, psi_center)
+    angles = roll_angles(psi_center, span_rad, samples)
+    emit({"type": "touch_start", "touch": touch, "finger": finger, "psi": float(psi_center),
+          "span": float(span_rad), "samples": int(samples), "reading": jaw.log_index()})
+    try:
+        yield from move_line(jaw, finger, float(angles[0]), d_start)
+        reach = travel_mm
+        d_from = d_start
+        for k, psi in enumerate(angles):
+            psi = float(psi)
+            if k > 0:
+                pivot, u = _pivot(jaw, finger, result.samples)
+                length = jaw.config.finger(finger).pad.length_mm
+                if u is not None and not EDGE_MARGIN_MM <= u <= length - EDGE_MARGIN_MM:
+                    result.outcome = "edge"
+                    result.message = (f"{finger}: the contact is {u:.1f} mm along a {length:g} mm pad: "
+                                      f"a pad end, not the pad's face, touched")
+                    break
+                unsure = 0.5 * length if u is None else 0.0
+                clearance = ROLL_CLEARANCE_MM + unsure * abs(psi - result.samples[-1].psi)
+                d_from = float(_unit(psi) @ pivot) - clearance
+                reach = clearance + 3.0 * ROLL_CLEARANCE_MM
+                if not (yield from move_line(jaw, finger, psi, d_from)):
+                    # the object was in the way of the turn: back off further and turn again
+                    here = jaw.pad_line(jaw.last_state, finger)
+                    yield from move_line(jaw, finger, float(here.psi), float(here.d) - m.backoff_mm)
+                    d_from -= m.backoff_mm
+                    reach += m.backoff_mm
+                    yield from move_line(jaw, finger, psi, d_from)
+            yield from take_turn(jaw, finger)
+            approach = yield from guarded_approach(jaw, finger, psi, d_from, reach)
+            turned = (approach.contact is None or k == 0 or abs(math.remainder(
+                approach.contact.psi_measured - result.samples[-1].psi_measured, 2 * math.pi))
+                >= 0.5 * abs(psi - result.samples[-1].psi))
+            if not turned:
+                approach = ApproachResult(None, approach.travel_mm, "blocked")
+            if approach.contact is None:
+                end_turn(jaw, finger)
+                result.outcome = approach.reason
+                result.message = {
+                    "no_contact": f"{finger}: no contact within {reach:.1f} mm at psi={math.degrees(psi):.1f} deg",
+                    "timeout": f"{finger}: an approach took longer than {m.max_touch_s:g} s",
+                    "blocked": f"{finger}: stopped short of psi={math.degrees(psi):.1f} deg (the object was in the way)",
+                }[approach.reason]
+                break
+            result.samples.append(approach.contact)
+            emit({"type": "sample", "touch": touch, "finger": finger, "psi": psi,
+                  "reading": approach.contact.reading, "by": approach.reason})
+            last = k == len(angles) - 1
+            yield from move_line(jaw, finger, psi, approach.contact.d - (m.backoff_mm if last else ROLL_CLEARANCE_MM))
+            end_turn(jaw, finger)
+    except kin.Unreachable as exc:
+        result.outcome, result.message = "unreachable", str(exc)
+    finally:
+        end_turn(jaw, finger)
+    emit({"type": "touch_end", "touch": touch, "finger": finger, "reading": jaw.log_index(),
+          "samples": len(result.samples), "outcome": result.outcome})
+    return result
+
+
+def _pivot(jaw: Jaw, finger: str, samples: list[Sample]) -> tuple[np.ndarray, float | None]:
+    """Where the pad last touched and its coordinate along the pad (mm from the proximal
+    end): the intersection of the last two pad lines (their envelope point), or the pad's
+    middle and None after a single sample."""
+    last = kin.finger_pad_line_from_ticks(jaw.config, finger, samples[-1].ticks)
+    mid = 0.5 * (last.proximal + last.distal)
+    if len(samples) < 2:
+        return mid, None
+    prev = kin.finger_pad_line_from_ticks(jaw.config, finger, samples[-2].ticks)
+    a = np.array([last.normal, prev.normal])
+    if abs(np.linalg.det(a)) < 1e-9:
+        return mid, None
+    p = np.linalg.solve(a, np.array([float(last.d), float(prev.d)]))
+    return p, float(last.pad_coordinate(p))
