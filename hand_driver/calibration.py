@@ -319,7 +319,7 @@ def plan_touches(cfg: JawConfig, reference, center, faces: int = 14, corners: in
     r = float(reference.params["r"])
     c = np.asarray(center, dtype=float)
     plan: list[PlannedTouch] = []
-    grid = np.linspace(-np.pi, np.pi, 721)[:-1]
+    grid = np.linspace(-np.pi, np.pi, 361)[:-1]
     for f in cfg.fingers:
         def clear(q) -> bool:
             line = kin.finger_pad_line(f, q)
@@ -397,3 +397,177 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
             ticks = np.rint(ticks)
         out.append(Reading(t.finger, t.kind, (float(ticks[0]), float(ticks[1])), placement))
     return out
+
+
+# ----------------------------------------------------------------------------- touching
+
+#: pre-contact gap (mm) from which every calibration touch approaches, and its travel
+APPROACH_GAP_MM = 3.0
+APPROACH_TRAVEL_MM = 8.0
+#: locating touches start this far (mm) outside the expected disk: the placement may be
+#: off by up to this much
+LOCATE_GAP_MM = 6.0
+#: transit keeps the pads this far (mm) from the located disk (less than APPROACH_GAP_MM)
+TRANSIT_CLEARANCE_MM = 1.5
+#: suggested placements of the reference disk (hand frame, mm): the fit needs the disk
+#: seen from different sides by each finger, which one placement cannot give this jaw
+DEFAULT_PLACEMENTS = ((60.0, 0.0), (90.0, 15.0), (90.0, -15.0))
+
+
+def home_pose(finger) -> np.ndarray:
+    """A finger's parking pose: opened outward, clear of the workspace."""
+    out = np.array([math.radians(40.0), math.radians(30.0)]) * finger.pad.side_sign * -1.0
+    lo = np.array([j.min_rad for j in finger.joints])
+    hi = np.array([j.max_rad for j in finger.joints])
+    return np.clip(out, lo, hi)
+
+
+def _corner_approach(jaw, finger: str, center, r: float, direction, end: str, q_branch, gap0: float,
+                     travel: float):
+    """Guarded approach of a pad end toward the disk centre along −direction, from
+    ``gap0`` mm outside the disk (nominal geometry); returns the contact ticks or None."""
+    from hand_driver.motion import LIMIT_MARGIN_RAD
+
+    m = jaw.config.motion
+    step = m.approach_step_mm
+    f = jaw.config.finger(finger)
+    mvec, c = np.asarray(direction, dtype=float), np.asarray(center, dtype=float)
+
+    def solve(gap, q_ref):
+        sols = kin.ik_corner(f, c + (r + gap) * mvec, LIMIT_MARGIN_RAD, end=end)
+        if not sols:
+            raise kin.Unreachable(f"finger {finger}: pad {end} end cannot reach the reference")
+        return min(sols, key=lambda q: float(np.sum(kin._wrap(q - q_ref) ** 2)))
+
+    t0 = jaw.robot_time()
+    gap_goal = gap0
+    state, _ = yield solve(gap_goal, q_branch)
+    history: list[float] = []
+    while True:
+        line = jaw.pad_line(state, finger)
+        point = line.distal if end == "distal" else line.proximal
+        gap = float(mvec @ (point - c)) - r
+        history.append(gap)
+        current = jaw.finger_current(state, finger)
+        felt = current is not None and current >= m.contact_current_ma
+        stalled = len(history) >= 3 and gap - gap_goal >= 1.5 * step and history[-3] - history[-1] < 0.2 * step
+        if felt or stalled:
+            return jaw.finger_ticks(state, finger)
+        elapsed = jaw.robot_time() - t0
+        if gap0 - gap_goal >= travel or elapsed > m.max_touch_s:
+            return None
+        gap_goal = max(gap0 - m.approach_speed_mm_s * elapsed, gap - 2.0 * step, gap0 - travel)
+        state, _ = yield solve(gap_goal, jaw.finger_q(state, finger))
+
+
+def _pre_pose(cfg: JawConfig, t: PlannedTouch, center, r: float, gap: float):
+    """Nominal joint angles ``gap`` mm before the planned contact, on its branch."""
+    f = cfg.finger(t.finger)
+    c = np.asarray(center, dtype=float)
+    if t.kind == "face":
+        n = np.array([math.cos(t.psi), math.sin(t.psi)])
+        sols = kin.ik_line_solutions(f, t.psi, float(n @ c) - r - gap)
+    else:
+        pt = c + (r + gap) * np.asarray(t.direction)
+        sols = kin.ik_corner(f, pt, end="distal" if t.kind == "corner" else "proximal")
+    sols = [q for q in sols if kin.within_limits(f.joints, q)]
+    if not sols:
+        return None
+    return min(sols, key=lambda q: float(np.sum(kin._wrap(q - np.asarray(t.q)) ** 2)))
+
+
+def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float, placement: int,
+                    guard, out: list[Reading], skipped: list[str], gap: float = APPROACH_GAP_MM,
+                    travel: float = APPROACH_TRAVEL_MM):
+    """One finger's motion through its planned touches (a generator for run_together)."""
+    from hand_driver.motion import guarded_approach, move_to
+
+    cfg = jaw.config
+    f = cfg.finger(finger)
+    home = home_pose(f)
+    here = jaw.finger_q(jaw.last_state, finger)
+    for t in plan:
+        pre = _pre_pose(cfg, t, center, r, gap)
+        if pre is None:
+            skipped.append(f"{finger} {t.kind}: unreachable")
+            continue
+        route = [pre] if guard(finger, here, pre) else [home, pre]
+        if len(route) == 2 and not (guard(finger, here, home) and guard(finger, home, pre)):
+            skipped.append(f"{finger} {t.kind}: no clear path")
+            continue
+        for q in route:
+            yield from move_to(jaw, finger, q)
+        if t.kind == "face":
+            n = np.array([math.cos(t.psi), math.sin(t.psi)])
+            d_pre = float(n @ np.asarray(center)) - r - gap
+            result = yield from guarded_approach(jaw, finger, t.psi, d_pre, travel)
+            ticks = None if result.contact is None else result.contact.ticks
+        else:
+            ticks = yield from _corner_approach(jaw, finger, center, r, t.direction,
+                                                "distal" if t.kind == "corner" else "proximal", pre, gap, travel)
+        if ticks is None:
+            skipped.append(f"{finger} {t.kind}: no contact")
+        else:
+            out.append(Reading(finger, t.kind, (float(ticks[0]), float(ticks[1])), placement))
+        yield from move_to(jaw, finger, pre)
+        here = pre
+    if guard(finger, here, home):
+        yield from move_to(jaw, finger, home)
+
+
+def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, corners: int = 6,
+                    locate: int = 2) -> tuple[list[Reading], np.ndarray, list[str]]:
+    """Touch one placement of a disk reference with both fingers: ``locate`` face touches
+    per finger from LOCATE_GAP_MM outside the expected disk at ``guess`` find it (nominal
+    geometry, least squares), then the full plan (:func:`plan_touches`) runs with both
+    fingers at once. Returns the readings (locating touches included), the located
+    centre and what was skipped."""
+    from hand_driver.motion import run_together
+    from hand_driver.sim.physics import ContactWorld
+    from recognizer.curves import Pose
+
+    cfg = jaw.config
+    r = float(reference.params["r"])
+    readings: list[Reading] = []
+    skipped: list[str] = []
+    sl = cfg.joint_slices()
+
+    def make_guard(center, extra):
+        obj = dataclasses.replace(reference, params={"r": r + extra}, pose=Pose(0.0, float(center[0]),
+                                                                                float(center[1])))
+        world = ContactWorld(cfg, obj)
+        parked = np.concatenate([home_pose(f) for f in cfg.fingers])
+
+        def guard(finger, q_from, q_to) -> bool:
+            a, b = parked.copy(), parked.copy()
+            a[sl[finger]], b[sl[finger]] = q_from, q_to
+            if world.penetrates(a):
+                return False
+            return bool(np.allclose(world.constrain(a, b), b))
+        return guard
+
+    # 1. locate: the pad starts 10 mm outside the expected disk (clearance for a guess off by < 10 mm)
+    loc_gap, loc_travel = LOCATE_GAP_MM, 2.0 * LOCATE_GAP_MM
+    loc_plan = [t for t in plan_touches(cfg, reference, guess, faces=15, corners=0)
+                if t.kind == "face" and _pre_pose(cfg, t, guess, r, loc_gap) is not None]
+    by_finger = {}
+    for f in cfg.fingers:  # spread over the finger's reachable orientations, ends excluded
+        mine = [t for t in loc_plan if t.finger == f.name]
+        idx = np.round(np.linspace(0, len(mine) - 1, locate + 2)[1:-1]).astype(int) if mine else []
+        by_finger[f.name] = [mine[i] for i in sorted(set(idx))]
+    guard = make_guard(guess, loc_gap - 0.5)
+    run_together(jaw, {name: _finger_touches(jaw, name, items, guess, r, placement, guard, readings, skipped,
+                                             gap=loc_gap, travel=loc_travel) for name, items in by_finger.items()})
+    faces_found = [rd for rd in readings if rd.kind == "face"]
+    if len(faces_found) < 3:
+        raise CalibrationRefused(f"placement {placement}: found the reference with only {len(faces_found)} "
+                                 f"touches ({'; '.join(sorted(set(skipped))) or 'none skipped'}); place the disk "
+                                 f"of radius {r:g} mm near ({guess[0]:g}, {guess[1]:g})")
+    model = _Model(cfg, reference, faces_found)
+    center = model.pose_start(_pack(cfg))[:2]
+    # 2. the full plan around the located disk
+    plan = plan_touches(cfg, reference, center, faces=faces, corners=corners)
+    guard = make_guard(center, TRANSIT_CLEARANCE_MM)
+    run_together(jaw, {f.name: _finger_touches(jaw, f.name, [t for t in plan if t.finger == f.name], center, r,
+                                               placement, guard, readings, skipped) for f in cfg.fingers})
+    return readings, center, skipped

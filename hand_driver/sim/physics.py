@@ -44,7 +44,7 @@ class PadContact:
 class ContactWorld:
     """The truth jaw and the scene object; joint vectors are rad, in config joint order."""
 
-    def __init__(self, truth_config: JawConfig, scene_object, tol_rad: float = 1e-7,
+    def __init__(self, truth_config: JawConfig, scene_object, tol_rad: float = 1e-6,
                  max_sweep_mm: float = 2.0):
         self.cfg = truth_config
         self.obj = scene_object
@@ -123,17 +123,19 @@ class ContactWorld:
         u = np.linspace(-1.0, 1.0, 8001)
         return span * np.sign(u) * np.abs(u) ** 2 if self.obj.cls != "line" else span * u
 
+    def _pad_clearances(self, pads) -> list[float]:
+        """Per pad, a lower bound (mm) on its distance to the boundary."""
+        if not len(self._radii):
+            return [math.inf] * len(pads)
+        seg = np.array(pads)
+        mid = 0.5 * (seg[:, :2] + seg[:, 2:])
+        half = 0.5 * np.hypot(seg[:, 2] - seg[:, 0], seg[:, 3] - seg[:, 1])
+        dist = np.hypot(mid[:, None, 0] - self._centers[None, :, 0], mid[:, None, 1] - self._centers[None, :, 1])
+        return list((dist - self._radii[None, :]).min(axis=1) - half)
+
     def clearance(self, q) -> float:
         """A lower bound (mm) on the distance from every pad to the boundary."""
-        if not len(self._radii):
-            return math.inf
-        best = math.inf
-        for x0, y0, x1, y1 in self._pads(q):
-            mx, my = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
-            half = 0.5 * math.hypot(x1 - x0, y1 - y0)
-            dist = np.hypot(self._centers[:, 0] - mx, self._centers[:, 1] - my) - self._radii - half
-            best = min(best, float(dist.min()))
-        return best
+        return min(self._pad_clearances(self._pads(q)))
 
     # ------------------------------------------------------------------ exact predicate
     def _inside(self, x: float, y: float) -> bool:
@@ -155,6 +157,23 @@ class ContactWorld:
         else:  # semicubical_parabola, a > 0: between the branches
             region = u > 0 and abs(v - p["b"] * u) < p["a"] * u**1.5
         return region if self._solid_is_region else not region
+
+    def _point(self, t: float) -> tuple[float, float]:
+        """Canonical point at t (CONTRACTS §1), scalar and fast."""
+        p, cls = self._p, self.obj.cls
+        if cls == "line":
+            return t, 0.0
+        if cls == "circle":
+            return p["r"] * math.cos(t), p["r"] * math.sin(t)
+        if cls == "ellipse":
+            return p["a"] * math.cos(t), p["b"] * math.sin(t)
+        if cls == "parabola":
+            return p["a"] * t * t, 2.0 * p["a"] * t
+        if cls == "hyperbola":
+            return p["a"] * math.cosh(t), p["b"] * math.sinh(t)
+        if cls == "cubical_parabola":
+            return t, p["a"] * t**3 + p["c"] * t
+        return t * t, p["a"] * t**3 + p["b"] * t * t
 
     def _line_hits(self, nx: float, ny: float, d: float) -> list[float]:
         """Parameters t where the boundary crosses the line n·p = d (canonical frame),
@@ -190,46 +209,62 @@ class ContactWorld:
         u0, v0 = self._to_canon(x0, y0)
         d = nx * u0 + ny * v0
         for t in self._line_hits(nx, ny, d):
-            px, py = self.curve.point(t)
-            along = ntx * (float(px) - u0) + nty * (float(py) - v0)
+            px, py = self._point(t)
+            along = ntx * (px - u0) + nty * (py - v0)
             if 0.0 < along < length:
                 return True
         return False
 
-    def penetrates(self, q) -> bool:
-        """Does any pad penetrate the solid at joint angles q (rad, config order)?"""
-        return any(self._pad_penetrates(seg) for seg in self._pads(q))
+    def penetrates(self, q, pads: list[int] | None = None) -> bool:
+        """Does any pad (or any of the listed pads) penetrate the solid at joint angles q
+        (rad, config order)?"""
+        segs = self._pads(q)
+        return any(self._pad_penetrates(segs[i]) for i in (range(len(segs)) if pads is None else pads))
 
     # ------------------------------------------------------------------ public
     def constrain(self, q_from, q_to) -> np.ndarray:
         """The farthest configuration on the straight joint-space step q_from → q_to at
-        which no pad penetrates the object (q_from is assumed free)."""
+        which no pad penetrates the object (q_from is assumed free), finger by finger: a
+        pad depends only on its own finger's joints, so a blocked finger does not stop the
+        other. Only pads that can reach the object during the step (travel ≥ clearance)
+        are tested."""
         q_from = np.asarray(q_from, dtype=float)
         q_to = np.asarray(q_to, dtype=float)
+        out = q_to.copy()
         dq = q_to - q_from
-        sweep = float(np.abs(dq) @ self._arms)
-        if sweep == 0.0:
-            return q_to.copy()
-        clear = self.clearance(q_from)
-        if sweep < clear:
-            return q_to.copy()
+        sweeps = (np.abs(dq) * self._arms).reshape(len(self._fingers), 2).sum(axis=1)
+        if not np.any(sweeps > 0.0):
+            return out
+        clear = self._pad_clearances(self._pads(q_from))
+        for i, sweep in enumerate(sweeps):
+            if sweep > 0.0 and sweep >= clear[i]:
+                sl = slice(2 * i, 2 * i + 2)
+                out[sl] = q_from[sl] + self._blocked_fraction(q_from, dq, i, float(sweep)) * dq[sl]
+        return out
+
+    def _blocked_fraction(self, q_from: np.ndarray, dq: np.ndarray, pad: int, sweep: float) -> float:
+        """Largest fraction of finger ``pad``'s step without penetration (bisection)."""
+        step = np.zeros_like(dq)
+        step[2 * pad:2 * pad + 2] = dq[2 * pad:2 * pad + 2]
+        tol = self.tol_rad / max(float(np.max(np.abs(step))), 1e-300)
         n = max(1, math.ceil(sweep / self.max_sweep_mm))
         lo = 0.0
-        for i in range(1, n + 1):
-            hi = i / n
-            if self.penetrates(q_from + hi * dq):
+        for k in range(1, n + 1):
+            hi = k / n
+            if self.penetrates(q_from + hi * step, [pad]):
                 break
             lo = hi
         else:
-            return q_to.copy()
-        tol = self.tol_rad / max(float(np.max(np.abs(dq))), 1e-300)
+            return 1.0
+        if lo == 0.0 and self.penetrates(q_from + tol * step, [pad]):
+            return 0.0  # pressing into a contact: no bisection needed
         while hi - lo > tol:
             mid = 0.5 * (lo + hi)
-            if self.penetrates(q_from + mid * dq):
+            if self.penetrates(q_from + mid * step, [pad]):
                 hi = mid
             else:
                 lo = mid
-        return q_from + lo * dq
+        return lo
 
     def contact_info(self, q) -> list[PadContact]:
         """Per finger: nearest boundary point to its pad, the gap, penetration flag (for
