@@ -29,8 +29,9 @@ Covariance of (κ, κ_s)
 - ``noise`` None: φ noise estimated from the fit residuals, σ̂² = RSS/(N − k), floored
   at ``SIGMA_PHI_FLOOR`` (1e-10 rad) so exact data gives a tiny but positive covariance;
   ``"poly"`` adds the squared change of the estimate from degree d−1 to d as a
-  truncation term. ``"central"`` on exactly 3 samples has no spare sample: its
-  covariance is the floor's propagation only.
+  truncation term. ``"central"`` adds its difference to the quartic through the 5
+  middle samples as truncation term; on 3 or 4 samples it has no spare sample and its
+  covariance is the noise's (or the floor's) propagation only.
 """
 
 from __future__ import annotations
@@ -51,7 +52,7 @@ MAX_DEGREE = 7
 GOF_LEVEL = 0.01
 TURN_LIMIT = 0.5
 """rad: above this tangent turn over a touch κ_s takes two more polynomial degrees."""
-BIAS_NOISE_FACTOR = 1.0
+BIAS_NOISE_FACTOR = 2.0
 """the squared change to the fit two degrees higher, less this many times its own noise
 variance, is added to the covariance as squared truncation bias (known noise)."""
 """level of the χ² goodness-of-fit test that picks the degree when the noise is known."""
@@ -162,8 +163,8 @@ def _maps(s: np.ndarray, m: int, choice: _Choice) -> tuple[np.ndarray, np.ndarra
 
 
 def _truncation(values: list[float]) -> float:
-    """Truncation error of the last estimate of a sequence by increasing degree: the
-    last change, shrunk by the ratio of the last two distinct changes (≤ 1)."""
+    """Truncation error of the last estimate of a sequence by increasing degree: its last
+    change (conservative: the error of the previous degree)."""
     ref = values[-1]
     tiny = 1e-9 * max(abs(v) for v in values)
     errs = [abs(v - ref) for v in values[:-1]]
@@ -175,9 +176,7 @@ def _truncation(values: list[float]) -> float:
             break
     if not distinct:
         return 0.0
-    if len(distinct) == 1:
-        return distinct[0]
-    return distinct[0] * min(distinct[0] / distinct[1], 1.0)
+    return distinct[0]
 
 
 def _select(phi: np.ndarray, s: np.ndarray, m: int, sigma_fit: float | None, max_deg: int) -> tuple[_Choice, np.ndarray, float]:
@@ -260,6 +259,20 @@ def _bias2_known(phi: np.ndarray, s: np.ndarray, m: int, sigma: float, choice: _
         else:
             out[j] = _truncation([values[k] for k in degrees if k <= d]) ** 2
     return out
+
+
+def _central_bias2(phi: np.ndarray, s: np.ndarray, m: int, sigma: float) -> np.ndarray:
+    """Squared truncation bias of the central differences: their difference to the
+    quartic through the 5 middle samples, less that difference's noise variance (0 when
+    the touch has fewer than 5 samples)."""
+    if m < 2 or m + 2 >= s.size:
+        return np.zeros(2)
+    sub = slice(m - 2, m + 3)
+    g5 = np.zeros((2, s.size))
+    g5[:, sub] = _poly_maps(s[sub], 2, 4)[0]
+    g = _central_map(s, m) - g5
+    diff = g @ (phi - phi[m])
+    return np.maximum(diff**2 - BIAS_NOISE_FACTOR * sigma**2 * np.sum(g * g, axis=1), 0.0)
 
 
 def _estimate_frozen(phi: np.ndarray, x: np.ndarray, y: np.ndarray, s: np.ndarray | None,
@@ -367,8 +380,8 @@ def estimate_local(touch: Any, method: str = "auto", noise: Any = None, where: s
     rphi = phi - phi[m]
     if method == "central":
         choice = _Choice("central", 2, 2)
-        bias2 = np.zeros(2)
         sigma = max(sig_phi or 0.0, SIGMA_PHI_FLOOR)
+        bias2 = _central_bias2(phi, ss, m, sigma)
     else:
         if noise is None:
             max_deg = max(2, min(MAX_DEGREE, n - 3))
