@@ -1,0 +1,138 @@
+"""recognizer.refine: exact recovery, calibrated uncertainties, canonical conventions,
+model comparison by BIC, robustness."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from recognizer import synth
+from recognizer.curves import CURVES, Pose
+from recognizer.refine import RefinedCandidate, refine_candidates, refine_one
+from recognizer.result import Candidate
+from recognizer.touches import ContactTouch, NoiseModel, Request
+
+EXACT = NoiseModel(0.0, 0.0)
+
+
+def _data(cls, seed, noise=None, touches=3, direction=1, n=9):
+    rng = np.random.default_rng(seed)
+    shape = synth.random_shape(cls, rng)
+    ts = synth.contact_ts(shape, touches, rng, margin=0.1)
+    sn = synth.SynthNoise(noise.phi, noise.pos) if noise is not None else None
+    tl, tt = synth.sample_shape(shape, ts, n, 0.02 * shape.size, direction, sn, rng, with_s=noise is None)
+    return shape, tl, np.array([t[n // 2] for t in tt])
+
+
+def _perturbed(shape, t_contacts, rel=0.01, seed=0):
+    rng = np.random.default_rng(seed)
+    params = {k: v * (1 + rel * rng.normal()) for k, v in shape.params.items()}
+    size = shape.size
+    pose = Pose(shape.pose.theta + 0.01, shape.pose.x + 0.005 * size, shape.pose.y - 0.005 * size)
+    return Candidate(shape.cls, params, pose, t_contacts + 0.01, 0.0, 0, 0)
+
+
+@pytest.mark.parametrize("cls", list(CURVES))
+@pytest.mark.parametrize("direction", [1, -1])
+def test_recovers_exact_parameters_from_perturbed_start(cls, direction):
+    shape, touches, tc = _data(cls, 3, direction=direction)
+    r = refine_one(_perturbed(shape, tc), touches, EXACT)
+    assert isinstance(r, RefinedCandidate) and r.consistent
+    for k, v in shape.params.items():
+        assert abs(r.params[k] - v) <= 1e-8 * abs(v), (k, r.params[k], v)
+    if cls != "line":  # a line's origin may slide along it
+        assert abs(r.pose.x - shape.pose.x) < 1e-7 * shape.size and abs(r.pose.y - shape.pose.y) < 1e-7 * shape.size
+    if cls != "circle":  # a circle's rotation is in its t's
+        assert abs(math.remainder(r.pose.theta - shape.pose.theta, 2 * math.pi)) < 1e-8
+    # the contacts it reports are the middle samples' points
+    pts = r.contacts()
+    for touch, c in zip(touches, pts):
+        assert math.hypot(c["x"] - touch.x[4], c["y"] - touch.y[4]) < 1e-7 * shape.size
+
+
+@pytest.mark.parametrize("cls", ["ellipse", "parabola", "hyperbola", "cubical_parabola"])
+def test_uncertainty_is_calibrated(cls):
+    """z = (p̂ − p)/σ̂ over 30 noisy fits has RMS near 1 (between 0.6 and 1.6) and the
+    fit's χ² is near its degrees of freedom."""
+    zs, chi = [], []
+    for seed in range(30):
+        shape, _, _ = _data(cls, 100 + seed)
+        noise = NoiseModel(1.5e-3, 1e-3 * shape.size)
+        shape, touches, tc = _data(cls, 100 + seed, noise)
+        r = refine_one(_perturbed(shape, tc, 0.002, seed), touches, noise)
+        zs += [(r.params[k] - v) / r.uncertainty[k] for k, v in shape.params.items()]
+        chi.append(r.chi2 / r.dof)
+    rms = float(np.sqrt(np.mean(np.square(zs))))
+    assert 0.6 < rms < 1.6, rms
+    assert 0.8 < float(np.mean(chi)) < 1.2
+
+
+def test_ellipse_axes_are_canonical():
+    """Started with a and b swapped (and θ off by π/2), the answer has a ≥ b."""
+    shape, touches, tc = _data("ellipse", 5)
+    a, b = shape.params["a"], shape.params["b"]
+    start = Candidate("ellipse", {"a": b, "b": a}, Pose(shape.pose.theta - math.pi / 2, shape.pose.x, shape.pose.y),
+                      tc + math.pi / 2, 0.0, 0, 0)
+    r = refine_one(start, touches, EXACT)
+    assert r.params["a"] >= r.params["b"]
+    assert abs(r.params["a"] - a) < 1e-8 * a and abs(r.params["b"] - b) < 1e-8 * b
+
+
+def test_bic_prefers_the_true_class_and_the_simpler_one():
+    """On a circle, ellipse fits as well (χ²) but the circle has the lower BIC; on an
+    ellipse the circle's fit is rejected."""
+    for cls, other in (("circle", "ellipse"), ("ellipse", "circle")):
+        shape, _, _ = _data(cls, 9)
+        noise = NoiseModel(1.5e-3, 1e-3 * shape.size)
+        shape, touches, tc = _data(cls, 9, noise)
+        own = refine_one(_perturbed(shape, tc, 0.0), touches, noise)
+        if other == "ellipse":
+            r = shape.params["r"]
+            cand = Candidate("ellipse", {"a": r * 1.01, "b": r * 0.99}, shape.pose, tc, 0.0, 0, 0)
+        else:
+            cand = Candidate("circle", {"r": math.sqrt(shape.params["a"] * shape.params["b"])}, shape.pose, tc,
+                             0.0, 0, 0)
+        alt = refine_one(cand, touches, noise)
+        assert own.consistent and own.bic < alt.bic
+        if other == "circle":
+            assert not alt.consistent and "p =" in alt.reason
+
+
+def test_noise_unknown_estimates_sigma():
+    shape, _, _ = _data("parabola", 4)
+    noise = NoiseModel(1.5e-3, 1e-3 * shape.size)
+    shape, touches, tc = _data("parabola", 4, noise)
+    r = refine_one(_perturbed(shape, tc, 0.002), touches, None)
+    assert 0.5 * noise.phi < r.sigma["phi"] < 2 * noise.phi
+    assert 0.5 * noise.pos < r.sigma["pos"] < 2 * noise.pos
+    assert abs(r.params["a"] - shape.params["a"]) < 5 * r.uncertainty["a"]
+
+
+def test_contact_touches_take_part():
+    """A request mixing samples and an exact contact-touch still recovers the shape."""
+    shape, touches, tc = _data("ellipse", 6)
+    c = shape.curve
+    t3 = tc[2]
+    x, y = shape.pose.apply(*c.point(t3))
+    contact = ContactTouch(float(x), float(y), float(c.tangent_angle(t3) + shape.pose.theta), float(c.kappa(t3)),
+                           float(c.kappa_s(t3)))
+    mixed = [touches[0], touches[1], contact]
+    r = refine_one(_perturbed(shape, tc), mixed, EXACT)
+    assert abs(r.params["a"] - shape.params["a"]) < 1e-7 * shape.params["a"]
+
+
+def test_refine_candidates_never_raises_or_returns_nan():
+    """Absurd starts end as finite, inconsistent candidates with a reason."""
+    shape, touches, tc = _data("hyperbola", 8)
+    bad = [Candidate("hyperbola", {"a": 1e-12, "b": 1e12}, Pose(0.0, 1e9, -1e9), tc * 0 + 50.0, 0.0, 0, 0),
+           Candidate("semicubical_parabola", {"a": 1e-9, "b": 0.0}, shape.pose, tc * 0 + 1e-6, 0.0, 0, 0),
+           Candidate("line", {}, Pose(), tc, 0.0, 0, 0)]
+    req = Request(tuple(touches), None, tuple(CURVES), EXACT)
+    out = refine_candidates(bad, req, type("O", (), {"noise": EXACT, "alpha": 1e-3})())
+    assert len(out) == 3
+    for r in out:
+        assert not r.consistent and r.reason
+        assert all(np.isfinite(v) for v in r.params.values())
+        assert not math.isnan(r.bic)
