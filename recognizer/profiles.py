@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any, Mapping
 
 from recognizer.errors import InputError
 
@@ -124,3 +125,16 @@ def get_profile(name: str, where: str = "profile") -> Profile:
     if name not in PROFILES:
         raise InputError(f"{where}: unknown profile {name!r}; allowed: {', '.join(PROFILES)}")
     return PROFILES[name]
+
+
+def resolve_options(options: Mapping[str, Any] | None = None, scene: Any = None) -> dict:
+    """RecognizeOptions keywords for a request: its ``options.profile`` (else the scene's
+    ``profile``) sets estimator, refine and alpha; keys given explicitly in ``options``
+    override the profile's. Without any profile the options pass through unchanged."""
+    options = dict(options or {})
+    name = options.get("profile") or getattr(scene, "profile", None)
+    if name is None:
+        return options
+    out = get_profile(name, "options.profile" if options.get("profile") else "scene profile").options()
+    out.update({k: v for k, v in options.items() if k != "profile"})
+    return out
