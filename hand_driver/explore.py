@@ -32,6 +32,7 @@ from hand_driver import kinematics as kin
 from hand_driver.motion import (
     LIMIT_MARGIN_RAD,
     Jaw,
+    Sample,
     TouchResult,
     move_line,
     roll_angles,
@@ -52,15 +53,64 @@ PAD_EDGE_MARGIN_MM = 2.0
 PLAN_PAD_MARGIN = 0.2
 
 
+#: the roll span (deg) below which κ_s drowns in encoder quantization on the default jaw:
+#: exact ellipse touches through 4096-tick encoders are recognized with 30° and 9 samples,
+#: not with 16° or 18° (README, section motion)
+MIN_ROLL_SPAN_DEG = 30.0
+#: per-sample noise the explorer states in its requests: envelope samples carry errors
+#: that are smooth along a touch (one polynomial of the pad lines), which the estimator's
+#: independent-noise model only covers with these deviations (README, section motion)
+TOUCH_NOISE = {"phi": 0.003, "pos": 0.5}
+
+
 @dataclass(frozen=True)
 class ExploreSettings:
-    """How much to touch: a budget of touches (both fingers together), samples per
-    rolling touch, the roll's total span, and the fewest touches before recognizing."""
+    """How much to touch: a budget of touches (both fingers together, rejected ones
+    included), samples per rolling touch, the roll's total span, the fewest usable
+    touches before recognizing, and the recognizer options."""
 
     touches: int
     samples_per_touch: int
     roll_span_rad: float
     min_touches: int = 3
+    profile: str | None = None
+    recognize: dict[str, Any] = field(default_factory=dict)  # RecognizeOptions keywords
+
+    @classmethod
+    def from_profile(cls, name: str) -> "ExploreSettings":
+        """Settings of a recognizer.profiles profile: its samples per touch, its roll span
+        raised to ``MIN_ROLL_SPAN_DEG``, a budget of twice its touches plus two."""
+        from recognizer.profiles import get_profile
+
+        p = get_profile(name, "--profile")
+        return cls(touches=2 * p.touches + 2, samples_per_touch=p.samples_per_touch,
+                   roll_span_rad=math.radians(max(p.roll_span_deg, MIN_ROLL_SPAN_DEG)),
+                   min_touches=p.touches, profile=p.name, recognize=p.options())
+
+    def to_json(self) -> dict[str, Any]:
+        return {"touches": self.touches, "samples_per_touch": self.samples_per_touch,
+                "roll_span_deg": math.degrees(self.roll_span_rad), "min_touches": self.min_touches,
+                "profile": self.profile, "recognize": self.recognize}
+
+    @classmethod
+    def from_json(cls, obj: dict[str, Any]) -> "ExploreSettings":
+        return cls(touches=int(obj["touches"]), samples_per_touch=int(obj["samples_per_touch"]),
+                   roll_span_rad=math.radians(float(obj["roll_span_deg"])), min_touches=int(obj["min_touches"]),
+                   profile=obj.get("profile"), recognize=dict(obj.get("recognize") or {}))
+
+
+def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings) -> Callable[[list[dict]], Any]:
+    """touches → Recognition, with the scene (a mapping), ``TOUCH_NOISE`` and the
+    settings' recognizer options."""
+    from recognizer.classify import recognize
+    from recognizer.result import RecognizeOptions
+    from recognizer.touches import parse_request
+
+    def run(touches: list[dict]):
+        request = parse_request({"scene": scene, "touches": touches, "noise": TOUCH_NOISE}, source="exploration")
+        return recognize(request, RecognizeOptions(noise=request.noise, **settings.recognize))
+
+    return run
 
 
 @dataclass
@@ -106,6 +156,25 @@ def touch_problem(config, touch: TouchResult, samples: int) -> str | None:
         return (f"{touch.finger}: contact {float(np.min(u)):.1f}..{float(np.max(u)):.1f} mm along the pad, "
                 f"not inside {PAD_EDGE_MARGIN_MM:g}..{length - PAD_EDGE_MARGIN_MM:g} mm (a pad end touched)")
     return None
+
+
+def logged_touches(config, contents, settings: ExploreSettings) -> list[dict[str, Any]]:
+    """The usable touches of a run log (hand_driver.log.read_log), rebuilt from its
+    readings with the same checks the exploration applied, in the same order."""
+    slices = config.joint_slices()
+    out = []
+    for logged in contents.touches:
+        samples = []
+        for i, psi in zip(logged.readings, logged.psi):
+            ticks = np.asarray(contents.readings[i]["ticks"], dtype=float)[slices[logged.finger]]
+            line = kin.finger_pad_line_from_ticks(config, logged.finger, ticks)
+            samples.append(Sample(reading=i, psi=psi, ticks=ticks, psi_measured=float(line.psi), d=float(line.d),
+                                  current_ma=None, robot_time=0.0))
+        touch = TouchResult(logged.finger, logged.touch, logged.psi_center or 0.0, samples,
+                            outcome=logged.outcome or "interrupted")
+        if touch_problem(config, touch, settings.samples_per_touch) is None:
+            out.append(touch_to_samples(config, touch))
+    return out
 
 
 class ObjectModel:

@@ -14,7 +14,7 @@ happened:
 - ``{"type": "sample", "touch": k, "finger": name, "psi": rad, "reading": i}`` — reading
   ``i`` is an in-contact reading of touch ``k``: the pad line it gives is one sample of
   the rolling move.
-- ``{"type": "touch_end", "touch": k, "finger": name, "reading": i, "samples": m}``
+- ``{"type": "touch_end", "touch": k, "finger": name, "reading": i, "samples": m, "outcome": str}``
 - ``{"type": "event", "kind": str, "message": str, ...}`` — faults, retries, no-contact
   results, progress.
 - ``{"type": "result", "recognition": {CONTRACTS §3}, "robot_time_s": s}``
@@ -160,9 +160,10 @@ class LoggedTouch:
     """One touch as the log recorded it: finger, orientations and the readings in contact."""
     touch: int
     finger: str
+    psi_center: float | None = None
     psi: list[float] = field(default_factory=list)
     readings: list[int] = field(default_factory=list)
-    complete: bool = False
+    outcome: str | None = None  # from touch_end; None if the run stopped inside the touch
 
 
 @dataclass
@@ -210,14 +211,16 @@ def read_log(path: str | os.PathLike[str]) -> LogContents:
             if not isinstance(k, int):
                 raise InputError(f"{path}: line {lineno}: {kind} without an integer 'touch'")
             touch = touches.setdefault(k, LoggedTouch(touch=k, finger=str(rec.get("finger"))))
-            if kind == "sample":
+            if kind == "touch_start":
+                touch.psi_center = rec.get("psi")
+            elif kind == "sample":
                 i = rec.get("reading")
                 if not isinstance(i, int) or not 0 <= i < len(readings):
                     raise InputError(f"{path}: line {lineno}: sample names reading {i!r}, not yet logged")
                 touch.readings.append(i)
                 touch.psi.append(float(rec["psi"]))
-            elif kind == "touch_end":
-                touch.complete = True
+            else:
+                touch.outcome = str(rec.get("outcome", "ok"))
         elif kind == "event":
             events.append(rec)
         elif kind == "result":

@@ -31,7 +31,7 @@ def _write_small_log(path):
         log.write({"type": "touch_start", "touch": 0, "finger": "left", "psi": 0.5, "reading": i0})
         i1 = log.reading(_State(0.2, (2050, 2051), None, None))
         log.write({"type": "sample", "touch": 0, "finger": "left", "psi": 0.5, "reading": i1})
-        log.write({"type": "touch_end", "touch": 0, "finger": "left", "reading": i1, "samples": 1})
+        log.write({"type": "touch_end", "touch": 0, "finger": "left", "reading": i1, "samples": 1, "outcome": "ok"})
         log.event("no_contact", "right pad met nothing within 30 mm")
 
 
@@ -47,7 +47,7 @@ def test_log_round_trip(tmp_path):
     assert contents.readings[0]["current_ma"] == [1.5, -2.0]
     assert contents.readings[1]["current_ma"] is None
     (touch,) = contents.touches
-    assert touch.finger == "left" and touch.readings == [1] and touch.psi == [0.5] and touch.complete
+    assert touch.finger == "left" and touch.readings == [1] and touch.psi == [0.5] and touch.outcome == "ok"
     assert contents.events[0]["kind"] == "no_contact"
     assert not contents.truncated
 

@@ -1,0 +1,73 @@
+"""``tactile demo``: the emulated servo bus with the scene's object, explored by the jaw.
+
+The emulator (hand_driver.sim.server.EmulatedBus) runs in this process on a
+pseudo-terminal that the Dynamixel SDK opens like a USB adapter; the exploration talks
+Protocol 2.0 to it exactly as to a real jaw. The emulator runs in lockstep with the
+exploration's cycles (hand_driver.motion.LockstepClock): robot time is its simulated
+time, the same on any host, and wall time is only the computation.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+
+from tools.cmd_explore import (
+    add_common_arguments,
+    default_path,
+    finish,
+    progress_printer,
+    read_yaml_mapping,
+    run_session,
+)
+
+HELP = "explores a scene's object on an emulated servo bus (Protocol 2.0 on a pty) and prints the recognition"
+#: the emulated bus answers in lockstep, so only a stalled host delays it this long
+EMULATED_BUS_TIMEOUT_S = 1.0
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--config", default=None, help="jaw config YAML (default config/jaw.yaml)")
+    parser.add_argument("--truth-config", default=None,
+                        help="jaw config the emulated jaw really has (default: the same as --config)")
+    add_common_arguments(parser, scene_default="config/scenes/default.yaml")
+
+
+def truth_lines(recognition: dict, obj) -> list[str]:
+    """The true object and the relative parameter error, when the classes agree."""
+    params = " ".join(f"{k}={v:.3f}" for k, v in obj.params.items())
+    p = obj.pose
+    lines = [f"true:       {obj.cls} {params} | pose theta={p.theta:.4f} rad x={p.x:.2f} mm y={p.y:.2f} mm"]
+    if recognition["class"] != obj.cls:
+        lines.append(f"error:      wrong class ({recognition['class']} for {obj.cls})")
+        return lines
+    errs = [f"{k} {100.0 * (recognition['params'][k] - v) / abs(v):+.2f} %" for k, v in obj.params.items()]
+    r = recognition["pose"]
+    lines.append(f"error:      {', '.join(errs) or 'no parameters'}; pose offset "
+                 f"{math.hypot(r['x'] - p.x, r['y'] - p.y):.2f} mm")
+    return lines
+
+
+def run(args) -> int:
+    from hand_driver.config import load_config
+    from hand_driver.motion import LockstepClock
+    from hand_driver.sim.server import EmulatedBus
+    from recognizer.errors import InputError
+    from recognizer.scene import load_scene
+
+    scene_path = default_path(args.scene)
+    scene_mapping = read_yaml_mapping(scene_path, "scene")
+    scene = load_scene(scene_mapping)
+    if scene.object is None:
+        raise InputError(f"{scene_path}: the scene has no object for the emulator to show (key 'object')")
+    config = load_config(args.config or default_path("config/jaw.yaml"))
+    truth = load_config(args.truth_config) if args.truth_config else None
+    say = progress_printer()
+    sys.setswitchinterval(5e-4)  # the emulator thread answers sooner while the SDK polls
+    say(f"emulated bus: {scene.object.cls} {scene.object.params} in scene {scene.name}")
+    with EmulatedBus(config, scene, truth_config=truth, time_scale=0.0) as sim:
+        session = run_session(port=sim.port, config=config, scene_mapping=scene_mapping, profile=args.profile,
+                              log_path=args.log, clock_factory=lambda: LockstepClock(sim),
+                              bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say)
+    extra = truth_lines(session.recognition, scene.object) if session.recognition else []
+    return finish(session, args, config=config, truth=scene.object, extra_lines=extra)

@@ -1,0 +1,56 @@
+"""``tactile replay LOG``: the recognition of a recorded run, without hardware.
+
+The touches are rebuilt from the log's joint readings and touch boundaries with the
+jaw config and settings of the log's header (hand_driver.explore.logged_touches), then
+recognized exactly as during the run.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+HELP = "recognizes from a recorded run log (tactile explore/demo --log), no hardware"
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("log", help="run log (JSON Lines) written by tactile explore or tactile demo --log")
+    parser.add_argument("--json", action="store_true", help="print the recognition as CONTRACTS §3 JSON only")
+    parser.add_argument("--touches", metavar="FILE",
+                        help="also write the rebuilt touches as a CONTRACTS §2 request (for tactile recognize)")
+
+
+def run(args) -> int:
+    from hand_driver.config import parse_config
+    from hand_driver.explore import TOUCH_NOISE, ExploreSettings, logged_touches, make_recognizer
+    from hand_driver.log import read_log
+    from recognizer.errors import InputError
+    from tools.cmd_explore import describe
+
+    contents = read_log(args.log)
+    header = contents.header
+    config = parse_config(header.get("config"), f"{args.log}: header config")
+    try:
+        settings = ExploreSettings.from_json(header.get("settings") or {})
+    except (KeyError, TypeError, ValueError):
+        raise InputError(f"{args.log}: line 1: header settings lack touches/samples_per_touch/roll_span_deg") from None
+    touches = logged_touches(config, contents, settings)
+    if args.touches:
+        request = {"scene": header.get("scene"), "touches": touches, "noise": header["settings"].get("noise", TOUCH_NOISE)}
+        with open(args.touches, "w", encoding="utf-8") as f:
+            json.dump(request, f)
+    if len(touches) < settings.min_touches:
+        raise InputError(f"{args.log}: {len(touches)} usable touches in the log; the recognizer needs "
+                         f"{settings.min_touches}")
+    recognition = make_recognizer(header.get("scene"), settings)(touches).to_json()
+    if args.json:
+        sys.stdout.write(json.dumps(recognition, allow_nan=False) + "\n")
+        return 0
+    faults = [e for e in contents.events if e.get("kind") == "fault"]
+    lines = [f"recognized: {describe(recognition)}",
+             f"from {len(touches)} usable touches of {len(contents.touches)} in {len(contents.readings)} readings"
+             + (" (the log ends mid-line: the run was cut)" if contents.truncated else "")]
+    if faults:
+        lines.append(f"the run ended with a fault: {faults[-1]['message']}")
+    sys.stdout.write("\n".join(lines) + "\n")
+    return 0
