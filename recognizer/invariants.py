@@ -23,10 +23,12 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 __all__ = ["pow23", "diff23", "I_p", "I_c1", "I_c2", "pair_condition", "I_cp1", "I_cp2", "I_scp1",
-           "I_scp2", "slope_angles", "propagate"]
+           "I_scp2", "slope_angles", "propagate", "I_p_s", "I_c12_s", "pair_condition_s"]
 
 K_CUBICAL = -0.5  # I_cp2 = λ + k κ²(1+λ²)/(κ_s + 3λκ²) with k = −1/2
 K_SEMICUBICAL = 1.0  # I_scp2: k = +1
@@ -69,6 +71,39 @@ def I_c2(k1, ks1, k2, ks2):
     return pow23(k1) + pow23(k2) + (r1 - r2) / diff23(k1, k2)
 
 
+# -- the same for one touch (pair) of Python floats: math instead of NumPy calls -------
+
+def _diff23_s(k1: float, k2: float) -> float:
+    a1, a2 = abs(k1), abs(k2)
+    x, y = math.cbrt(a1), math.cbrt(a2)
+    return (a1 - a2) * (x + y) / (x * x + x * y + y * y)
+
+
+def I_p_s(k: float, ks: float) -> float:
+    """Eq. (5) for one touch (κ ≠ 0)."""
+    p = math.cbrt(abs(k)) ** 2
+    return p + ks * ks / (9.0 * p**5)
+
+
+def pair_condition_s(k1: float, k2: float) -> float:
+    """``pair_condition`` of one pair; nan for κ₁ = κ₂ = 0."""
+    x, y = math.cbrt(abs(k1)), math.cbrt(abs(k2))
+    den = x * x + y * y
+    return abs(_diff23_s(k1, k2)) / den if den > 0 else math.nan
+
+
+def I_c12_s(k1: float, ks1: float, k2: float, ks2: float) -> tuple[float, float]:
+    """(I_c1, I_c2) of one pair, eqs. (9)-(10); nan where the pair gives none."""
+    p1, p2 = math.cbrt(abs(k1)) ** 2, math.cbrt(abs(k2)) ** 2
+    try:
+        d = _diff23_s(k1, k2)
+        c1 = math.cbrt(abs(k1 * k2)) ** 2 * (1.0 + (ks1 * ks1 / (9.0 * p1**5) - ks2 * ks2 / (9.0 * p2**5)) / d)
+        c2 = p1 + p2 + (ks1 * ks1 / (9.0 * p1**4) - ks2 * ks2 / (9.0 * p2**4)) / d
+    except (ArithmeticError, ValueError):
+        return math.nan, math.nan
+    return c1, c2
+
+
 def _den(lam, k, ks):
     return ks + 3.0 * lam * k * k
 
@@ -104,7 +139,7 @@ def slope_angles(k1, ks1, k2, ks2, delta, kk):
 
     Returns (ψ list, residual): 0, 1 or 2 angles; a negative discriminant is clipped to
     its nearest (double) root and the clipped amount returned as residual."""
-    cd, sd = np.cos(delta), np.sin(delta)
+    cd, sd = math.cos(delta), math.sin(delta)
     a1, a2 = k1 * k1, k2 * k2
     A = -a1 * (kk + 3) * (cd * cd * ks2 + 3 * cd * a2 * sd - ks2)
     B = (6 * cd * cd * kk * a1 * a2 + 9 * cd * cd * a1 * a2 - cd * cd * ks1 * ks2 - 2 * cd * kk * a1 * ks2 * sd
@@ -112,17 +147,17 @@ def slope_angles(k1, ks1, k2, ks2, delta, kk):
     C = (cd * cd * kk * a1 * ks2 + 3 * cd * cd * a2 * ks1 + 3 * cd * kk * a1 * a2 * sd - cd * ks1 * ks2 * sd
          - kk * a2 * ks1 - 3 * a2 * ks1)
     # A s² + B s c + C c² = (A+C)/2 + R cos(2ψ − β)
-    R = np.hypot((C - A) / 2, B / 2)
+    R = math.hypot((C - A) / 2, B / 2)
     if R == 0:
         return [], float("inf")
-    beta = np.arctan2(B / 2, (C - A) / 2)
+    beta = math.atan2(B / 2, (C - A) / 2)
     ratio = -(A + C) / (2 * R)
     resid = max(0.0, abs(ratio) - 1.0)
-    g = np.arccos(np.clip(ratio, -1.0, 1.0))
+    g = math.acos(min(max(ratio, -1.0), 1.0))
     roots = [0.5 * (beta + g), 0.5 * (beta - g)]
     if g == 0.0:
         roots = roots[:1]
-    return [float(np.arctan(np.tan(r))) for r in roots], resid
+    return [math.atan(math.tan(r)) for r in roots], resid
 
 
 def propagate(fn, values, cov_blocks, eps=1e-7):

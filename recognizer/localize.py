@@ -48,13 +48,98 @@ N_SHAPE = {"line": 0 + 2, "circle": 1 + 2, "ellipse": 2 + 3, "parabola": 1 + 3, 
            "cubical_parabola": 2 + 3, "semicubical_parabola": 2 + 3}
 
 
+_PI, _TAU = math.pi, 2.0 * math.pi
+_NUMERIC_ERRORS = (ArithmeticError, ValueError)  # math raises where NumPy gives inf/nan
+
+
 def _wrap(a):
     return np.remainder(np.asarray(a, float) + np.pi, 2 * np.pi) - np.pi
 
 
-def _circmean(a):
-    a = np.asarray(a, float)
-    return float(np.arctan2(np.sin(a).sum(), np.cos(a).sum()))
+def _wrap_s(a: float) -> float:
+    return (a + _PI) % _TAU - _PI
+
+
+def _circmean_s(a) -> float:
+    return math.atan2(math.fsum(map(math.sin, a)), math.fsum(map(math.cos, a)))
+
+
+def _mean(a) -> float:
+    return math.fsum(a) / len(a)
+
+
+def _median(a) -> float:
+    """np.median of a short list: nan when any value is nan."""
+    if any(v != v for v in a):
+        return math.nan
+    s = sorted(a)
+    h = len(s) // 2
+    return s[h] if len(s) % 2 else (s[h - 1] + s[h]) / 2
+
+
+def _div(a: float, b: float) -> float:
+    """a / b with IEEE results (±inf, nan) where Python raises."""
+    try:
+        return a / b
+    except ZeroDivisionError:
+        return math.nan if a == 0 or a != a else math.copysign(math.inf, a) * math.copysign(1.0, b)
+
+
+# -- scalar closed forms of recognizer.curves (same formulas), for 3-5 touches ------------
+# kernel(p, t) -> (x, y, φ, κ, κ_s, speed) at one t; p the shape parameters in param_names
+# order. Python floats: a NumPy call costs more than these few operations.
+
+def _k_line(p, t):
+    return t, 0.0, 0.0, 0.0, 0.0, 1.0
+
+
+def _k_circle(p, t):
+    r = p[0]
+    return r * math.cos(t), r * math.sin(t), t + _PI / 2, 1.0 / r, 0.0, r
+
+
+def _k_ellipse(p, t):
+    a, b = p
+    s, c = math.sin(t), math.cos(t)
+    s2 = (a * s) ** 2 + (b * c) ** 2
+    return (a * c, b * s, math.atan2(b * c, -a * s), a * b / s2**1.5,
+            -3 * a * b * (a - b) * (a + b) * s * c / s2**3, math.hypot(a * s, b * c))
+
+
+def _k_parabola(p, t):
+    a = p[0]
+    h = math.hypot(1.0, t)
+    return a * t * t, 2 * a * t, math.atan2(1.0, t), -1.0 / (2 * a * h**3), 3 * t / (4 * a * a * h**6), 2 * a * h
+
+
+def _k_hyperbola(p, t):
+    a, b = p
+    ch, sh = math.cosh(t), math.sinh(t)
+    sp = math.hypot(a * sh, b * ch)
+    return (a * ch, b * sh, math.atan2(b * ch, a * sh), -a * b / sp**3,
+            3 * a * b * (a * a + b * b) * sh * ch / sp**6, sp)
+
+
+def _k_cubical(p, t):
+    a, c = p
+    lam = 3 * a * t * t + c
+    q = 1.0 + lam * lam
+    sp = math.hypot(1.0, lam)
+    return t, a * t**3 + c * t, math.atan(lam), 6 * a * t / sp**3, (6 * a * q - 108 * a * a * t * t * lam) / q**3, sp
+
+
+def _k_semicubical(p, t):
+    a, b = p
+    u = 3 * a * t + 2 * b
+    sg = -1.0 if t < 0 else 1.0
+    hu = math.hypot(2.0, u)
+    q = 4.0 + u * u
+    return (t * t, a * t**3 + b * t * t, math.atan2(sg * u, sg * 2.0), 6 * a / (abs(t) * hu**3),
+            -6 * a * (q + 9 * a * u * t) / (t**3 * q**3), abs(t) * hu)
+
+
+_KERNELS = {"line": _k_line, "circle": _k_circle, "ellipse": _k_ellipse, "parabola": _k_parabola,
+            "hyperbola": _k_hyperbola, "cubical_parabola": _k_cubical, "semicubical_parabola": _k_semicubical}
 
 
 @dataclass
@@ -77,6 +162,7 @@ class Contacts:
     def __post_init__(self):
         self._scale = None
         self._white = None
+        self._rows = None
 
     @property
     def scale(self) -> float:
@@ -110,6 +196,17 @@ class Contacts:
         c[:, 1, 1] += fks**2
         return np.linalg.inv(np.linalg.cholesky(c))
 
+    def rows(self) -> list[tuple]:
+        """Per touch, as Python floats: (x, y, φ, κ, κ_s, σ_pos, σ_φ, W₀₀, W₀₁, W₁₀, W₁₁),
+        the deviations with their floors EPS_FLOOR·L and EPS_FLOOR."""
+        if self._rows is None:
+            lo = EPS_FLOOR * self.scale
+            W = self.whitener().reshape(-1, 4).tolist()
+            self._rows = [(x, y, f, k, ks, max(sp, lo), max(sf, EPS_FLOOR), *w) for x, y, f, k, ks, sp, sf, w in zip(
+                self.x.tolist(), self.y.tolist(), self.phi.tolist(), self.kappa.tolist(), self.kappa_s.tolist(),
+                self.sig_pos.tolist(), self.sig_phi.tolist(), W)]
+        return self._rows
+
     def flipped(self) -> "Contacts":
         """The same touches seen in the other direction (φ + π, −κ); the whitener of
         (κ, κ_s) changes only by the sign of its κ column."""
@@ -138,14 +235,12 @@ class Fit:
 class _Model:
     def __init__(self, cls: str, data: Contacts):
         self.cls, self.d = cls, data
-        self.curve_cls = CURVES[cls]
-        self.names = self.curve_cls.param_names
+        self.names = CURVES[cls].param_names
         self.log = _LOG[cls]
         self.np = len(self.names)
-        self.W = data.whitener()
+        self.kern = _KERNELS[cls]
+        self.rows = data.rows()
         L = data.scale
-        self.sp = np.maximum(data.sig_pos, EPS_FLOOR * L)
-        self.sf = np.maximum(data.sig_phi, EPS_FLOOR)
         self.tscale = {"line": L, "cubical_parabola": L, "semicubical_parabola": math.sqrt(L)}.get(cls, 1.0)
 
     def params_of(self, z) -> dict:
@@ -154,35 +249,46 @@ class _Model:
 
     def pack(self, params: dict, theta, X, Y, t) -> np.ndarray:
         p = [math.log(params[k]) if lg else params[k] for k, lg in zip(self.names, self.log)]
-        return np.concatenate([p, [theta, X, Y], np.asarray(t, float)])
+        return np.array(p + [theta, X, Y] + list(t), dtype=float)
 
-    def eval(self, z):
-        """Whitened residuals (n, 5) and the pieces the Jacobian needs."""
-        c = self.curve_cls(self.params_of(z))
-        th, X, Y = z[self.np: self.np + 3]
-        t = z[self.np + 3:]
-        px, py = c.point(t)
-        phc, kc, ksc, sp = c.tangent_angle(t), c.kappa(t), c.kappa_s(t), c.speed(t)
-        ct, st = math.cos(th), math.sin(th)
-        hx, hy = ct * px - st * py + X, st * px + ct * py + Y
-        d = self.d
-        r = np.empty((len(t), 5))
-        r[:, 0] = (hx - d.x) / self.sp
-        r[:, 1] = (hy - d.y) / self.sp
-        r[:, 2] = _wrap(phc + th - d.phi) / self.sf
-        e0, e1 = kc - d.kappa, ksc - d.kappa_s
-        W = self.W
-        r[:, 3] = W[:, 0, 0] * e0 + W[:, 0, 1] * e1
-        r[:, 4] = W[:, 1, 0] * e0 + W[:, 1, 1] * e1
-        return r, (c, t, px, py, phc, kc, ksc, sp, ct, st)
+    def eval(self, z, pose_only=False):
+        """Whitened residuals of every touch (a flat list x, y, φ, κ, κ_s, ...), their sum
+        of squares (of x, y, φ only with ``pose_only``; inf when not finite) and the
+        pieces the Jacobian needs; (None, inf, None) where the curve is not defined."""
+        zl = z.tolist() if isinstance(z, np.ndarray) else z
+        o = self.np
+        th, X, Y = zl[o: o + 3]
+        kern = self.kern
+        r = []
+        fr = []
+        try:
+            p = tuple(math.exp(v) if lg else v for v, lg in zip(zl[:o], self.log))
+            ct, st = math.cos(th), math.sin(th)
+            for t, (x, y, phi, k, ks, sp, sf, w00, w01, w10, w11) in zip(zl[o + 3:], self.rows):
+                f = kern(p, t)
+                px, py = f[0], f[1]
+                e0, e1 = f[3] - k, f[4] - ks
+                r += ((ct * px - st * py + X - x) / sp, (st * px + ct * py + Y - y) / sp,
+                      ((f[2] + th - phi + _PI) % _TAU - _PI) / sf, w00 * e0 + w01 * e1, w10 * e0 + w11 * e1)
+                fr.append(f)
+        except _NUMERIC_ERRORS:
+            return None, math.inf, None
+        if pose_only:
+            cost = sum(r[i] * r[i] + r[i + 1] * r[i + 1] + r[i + 2] * r[i + 2] for i in range(0, len(r), 5))
+        else:
+            cost = sum(v * v for v in r)
+        return r, (cost if math.isfinite(cost) else math.inf), (p, ct, st, fr)
 
     def jac(self, z, r, parts):
-        c, t, px, py, phc, kc, ksc, sp, ct, st = parts
-        n = len(t)
-        m = self.np + 3 + n
-        J = np.zeros((n, 5, m))
-        # shape parameters: forward differences
-        for j in range(self.np):
+        """Jacobian (5n, m) of the residuals: forward differences in the shape parameters,
+        analytic in pose and t (dp/dt = speed·(cos φ, sin φ), dφ/dt = κ·speed,
+        dκ/dt = κ_s·speed, dκ_s/dt a central difference)."""
+        p, ct, st, fr = parts
+        n = len(fr)
+        o = self.np
+        m = o + 3 + n
+        J = np.zeros((5 * n, m))
+        for j in range(o):
             if self.log[j]:
                 h = 1e-7
             elif self.cls == "cubical_parabola" and j == 0:  # a, 1/mm², never 0
@@ -191,83 +297,89 @@ class _Model:
                 h = 1e-7 * max(abs(z[j]), 1.0)
             zz = z.copy()
             zz[j] += h
-            J[:, :, j] = (self.eval(zz)[0] - r) / h
-        o = self.np
-        # pose
-        J[:, 0, o] = (-st * px - ct * py) / self.sp
-        J[:, 1, o] = (ct * px - st * py) / self.sp
-        J[:, 2, o] = 1.0 / self.sf
-        J[:, 0, o + 1] = 1.0 / self.sp
-        J[:, 1, o + 2] = 1.0 / self.sp
-        # contact parameters: dp/dt = speed·(cos φ, sin φ), dφ/dt = κ·speed, dκ/dt = κ_s·speed
-        ang = phc + z[o]
-        idx = np.arange(n)
-        col = o + 3 + idx
-        J[idx, 0, col] = sp * np.cos(ang) / self.sp
-        J[idx, 1, col] = sp * np.sin(ang) / self.sp
-        J[idx, 2, col] = kc * sp / self.sf
-        h = 1e-6 * np.maximum(np.abs(t), self.tscale)
-        kss = (c.kappa_s(t + h) - c.kappa_s(t - h)) / (2 * h)
-        e0, e1, W = ksc * sp, kss, self.W
-        J[idx, 3, col] = W[:, 0, 0] * e0 + W[:, 0, 1] * e1
-        J[idx, 4, col] = W[:, 1, 0] * e0 + W[:, 1, 1] * e1
-        return J.reshape(n * 5, m)
+            rj = self.eval(zz)[0]
+            J[:, j] = math.nan if rj is None else (np.array(rj) - r) / h
+        zl = z.tolist()
+        th = zl[o]
+        ri, ci, vals = [], [], []
+        kern, tscale = self.kern, self.tscale
+        for i, (t, f, row) in enumerate(zip(zl[o + 3:], fr, self.rows)):
+            px, py, ph, kc, ksc, spd = f
+            sp, sf, w00, w01, w10, w11 = row[5:]
+            b, col = 5 * i, o + 3 + i
+            h = 1e-6 * max(abs(t), tscale)
+            try:
+                kss = (kern(p, t + h)[4] - kern(p, t - h)[4]) / (2 * h)
+            except _NUMERIC_ERRORS:
+                kss = math.nan
+            ang = ph + th
+            e0 = ksc * spd
+            ri += (b, b + 1, b + 2, b, b + 1, b, b + 1, b + 2, b + 3, b + 4)
+            ci += (o, o, o, o + 1, o + 2, col, col, col, col, col)
+            vals += ((-st * px - ct * py) / sp, (ct * px - st * py) / sp, 1.0 / sf, 1.0 / sp, 1.0 / sp,
+                     spd * math.cos(ang) / sp, spd * math.sin(ang) / sp, kc * spd / sf,
+                     w00 * e0 + w01 * kss, w10 * e0 + w11 * kss)
+        J[ri, ci] = vals
+        return J
 
     def solve(self, z0, max_iter=40, give_up=math.inf):
         """Levenberg–Marquardt from z0; stops early once the cost is negligible (exact data)
-        or when after 4 iterations it is still above ``give_up`` (hopeless class)."""
+        or when after 4 iterations it is still above ``give_up`` (hopeless class).
+        Each iteration takes one SVD of the column-scaled Jacobian; every damping tried is
+        then a product with it (the least-squares step of [J; √μ·I] x = [−r; 0]).
+        Returns (z, cost, J, residuals)."""
         z = np.asarray(z0, float).copy()
-        r, parts = self.eval(z)
-        if not np.all(np.isfinite(r)):
-            return z, math.inf, None
-        cost = float(np.sum(r * r))
+        r, cost, parts = self.eval(z)
+        if r is None or not cost < math.inf:
+            return z, math.inf, None, None
+        r = np.array(r)
         mu = 1e-6
-        J = None
         for it in range(max_iter):
             if cost < 1e-12 or (it >= 4 and cost > give_up):
                 break
             J = self.jac(z, r, parts)
             if not np.all(np.isfinite(J)):
                 break
-            cn = np.linalg.norm(J, axis=0)
+            cn = np.sqrt(np.einsum("ij,ij->j", J, J))
             cn[cn == 0] = 1.0
-            Js = J / cn
+            U, s, Vt = np.linalg.svd(J / cn, full_matrices=False)
+            g = s * (U.T @ -r)
+            s2 = s * s
             improved = False
             for _ in range(8):
-                A = np.vstack([Js, math.sqrt(mu) * np.eye(Js.shape[1])])
-                b = np.concatenate([-r.ravel(), np.zeros(Js.shape[1])])
-                step = np.linalg.lstsq(A, b, rcond=None)[0] / cn
-                zn = z + step
-                rn, pn = self.eval(zn)
-                cn_cost = float(np.sum(rn * rn)) if np.all(np.isfinite(rn)) else math.inf
+                zn = z + (Vt.T @ (g / (s2 + mu))) / cn
+                rn, cn_cost, pn = self.eval(zn)
                 if cn_cost < cost:
                     improved = True
                     small = cost - cn_cost <= 1e-14 * cost + 1e-24
-                    z, r, parts, cost = zn, rn, pn, cn_cost
+                    z, r, parts, cost = zn, np.array(rn), pn, cn_cost
                     mu = max(mu / 10, 1e-12)
                     break
                 mu *= 10
             if not improved or small:
                 break
-        J = self.jac(z, r, parts)
-        return z, cost, J
+        return z, cost, self.jac(z, r, parts), r
 
 
 # -- closed-form starts -------------------------------------------------------------------
 
-def _pose_from(curve, t, d: Contacts):
-    px, py = curve.point(t)
-    th = _circmean(d.phi - curve.tangent_angle(t))
+def _pose_from(kern, p, t, d: Contacts):
+    """Pose putting the curve points at t onto the touches: θ the circular mean of the
+    angle differences, (x, y) the mean offset."""
+    fr = [kern(p, ti) for ti in t]
+    rows = d.rows()
+    th = _circmean_s([row[2] - f[2] for row, f in zip(rows, fr)])
     ct, st = math.cos(th), math.sin(th)
-    return th, float(np.mean(d.x - (ct * px - st * py))), float(np.mean(d.y - (st * px + ct * py)))
+    return (th, _mean([row[0] - (ct * f[0] - st * f[1]) for row, f in zip(rows, fr)]),
+            _mean([row[1] - (st * f[0] + ct * f[1]) for row, f in zip(rows, fr)]))
 
 
-def _best_pair(d: Contacts):
-    n = d.n
+def _best_pair(k):
+    n = len(k)
     best, bi, bj = -1.0, 0, 1
     for i in range(n):
         for j in range(i + 1, n):
-            q = float(inv.pair_condition(d.kappa[i], d.kappa[j]))
+            q = inv.pair_condition_s(k[i], k[j])
             if q > best:
                 best, bi, bj = q, i, j
     return bi, bj
@@ -275,26 +387,34 @@ def _best_pair(d: Contacts):
 
 def _starts(cls: str, d: Contacts):
     """Closed-form (params, t) starting points for a class (data in canonical direction)."""
-    k, ks = d.kappa, d.kappa_s
+    rows = d.rows()
+    x = [r[0] for r in rows]
+    y = [r[1] for r in rows]
+    phi = [r[2] for r in rows]
+    k = [r[3] for r in rows]
+    ks = [r[4] for r in rows]
     if cls == "line":
-        th = _circmean(d.phi)
-        return [({}, (d.x - d.x.mean()) * math.cos(th) + (d.y - d.y.mean()) * math.sin(th))]
+        th = _circmean_s(phi)
+        c, s = math.cos(th), math.sin(th)
+        mx, my = _mean(x), _mean(y)
+        return [({}, [(xi - mx) * c + (yi - my) * s for xi, yi in zip(x, y)])]
     if cls == "circle":
-        mk = float(np.mean(k))
+        mk = _mean(k)
         if not mk > 0:
             return []
         r = 1.0 / mk
-        cx = np.mean(d.x - r * np.sin(d.phi))
-        cy = np.mean(d.y + r * np.cos(d.phi))
-        return [({"r": r}, np.arctan2(d.y - cy, d.x - cx))]
+        cx = _mean([xi - r * math.sin(f) for xi, f in zip(x, phi)])
+        cy = _mean([yi + r * math.cos(f) for yi, f in zip(y, phi)])
+        return [({"r": r}, [math.atan2(yi - cy, xi - cx) for xi, yi in zip(x, y)])]
+    if 0.0 in k and cls in ("parabola", "ellipse", "hyperbola"):  # these divide by κ: no start
+        return []
     if cls == "parabola":
-        a = float(np.median(1.0 / (2.0 * inv.I_p(k, ks) ** 1.5)))
-        return [({"a": a}, ks / (3.0 * k * k))] if a > 0 and np.isfinite(a) else []
+        a = _median([1.0 / (2.0 * inv.I_p_s(ki, ksi) ** 1.5) for ki, ksi in zip(k, ks)])
+        return [({"a": a}, [ksi / (3.0 * ki * ki) for ki, ksi in zip(k, ks)])] if a > 0 and math.isfinite(a) else []
     if cls in ("ellipse", "hyperbola"):
-        i, j = _best_pair(d)
-        c1 = float(inv.I_c1(k[i], ks[i], k[j], ks[j]))
-        c2 = float(inv.I_c2(k[i], ks[i], k[j], ks[j]))
-        if not (np.isfinite(c1) and np.isfinite(c2)):
+        i, j = _best_pair(k)
+        c1, c2 = inv.I_c12_s(k[i], ks[i], k[j], ks[j])
+        if not (math.isfinite(c1) and math.isfinite(c2)):
             return []
         if cls == "ellipse":
             if c1 <= 0:
@@ -307,13 +427,14 @@ def _starts(cls: str, d: Contacts):
             b = P / a
             if a <= b * (1 + 1e-9):
                 b = a / (1 + 1e-6)
-            w = (a * b / np.abs(k)) ** (2.0 / 3.0)
-            s2 = np.clip((w - b * b) / ((a - b) * (a + b)), 0.0, 1.0)
-            t0 = np.arctan2(np.sqrt(s2), np.sqrt(1.0 - s2)) * np.where(ks > 0, -1.0, 1.0)
-            cur = CURVES["ellipse"]({"a": a, "b": b})
-            th = float(d.phi[0] - cur.tangent_angle(t0[0]))
-            flip = np.abs(_wrap(cur.tangent_angle(t0) + th - d.phi)) > np.pi / 2
-            return [({"a": a, "b": b}, t0 + np.pi * flip)]
+            t0 = []
+            for ki, ksi in zip(k, ks):
+                w = (a * b / abs(ki)) ** (2.0 / 3.0)
+                s2 = min(max((w - b * b) / ((a - b) * (a + b)), 0.0), 1.0)
+                t0.append(math.atan2(math.sqrt(s2), math.sqrt(1.0 - s2)) * (-1.0 if ksi > 0 else 1.0))
+            th = phi[0] - _k_ellipse((a, b), t0[0])[2]
+            return [({"a": a, "b": b}, [t + _PI if abs(_wrap_s(_k_ellipse((a, b), t)[2] + th - f)) > _PI / 2 else t
+                                        for t, f in zip(t0, phi)])]
         if c1 >= 0:
             return []
         P = (-c1) ** -1.5
@@ -321,34 +442,36 @@ def _starts(cls: str, d: Contacts):
         a2 = (D + math.hypot(D, 2 * P)) / 2
         a = math.sqrt(a2)
         b = P / a
-        w = (a * b / np.abs(k)) ** (2.0 / 3.0)
-        sh = np.sqrt(np.clip((w - b * b) / (a * a + b * b), 0.0, None))
-        return [({"a": a, "b": b}, np.arcsinh(sh) * np.sign(ks))]
+        t = []
+        for ki, ksi in zip(k, ks):
+            w = (a * b / abs(ki)) ** (2.0 / 3.0)
+            sh = math.sqrt(max((w - b * b) / (a * a + b * b), 0.0))
+            t.append(math.asinh(sh) * (0.0 if ksi == 0 else math.copysign(1.0, ksi)))
+        return [({"a": a, "b": b}, t)]
     # cubic classes: canonical tangent angle from the slope equation of the best-turning pair
     kk = inv.K_CUBICAL if cls == "cubical_parabola" else inv.K_SEMICUBICAL
     n = d.n
-    i, j = max(((i, j) for i in range(n) for j in range(i + 1, n)),
-               key=lambda p: abs(math.sin(d.phi[p[1]] - d.phi[p[0]])))
-    roots, _ = inv.slope_angles(k[i], ks[i], k[j], ks[j], float(d.phi[j] - d.phi[i]), kk)
+    i, j = max(((i, j) for i in range(n) for j in range(i + 1, n)), key=lambda q: abs(math.sin(phi[q[1]] - phi[q[0]])))
+    roots, _ = inv.slope_angles(k[i], ks[i], k[j], ks[j], phi[j] - phi[i], kk)
     out = []
     for psi in roots:
-        for half in ((0.0,) if cls == "cubical_parabola" else (0.0, np.pi)):
-            th = float(d.phi[i] - psi - half)
-            psis = _wrap(d.phi - th)
-            lam = np.tan(psis)
+        for half in ((0.0,) if cls == "cubical_parabola" else (0.0, _PI)):
+            th = phi[i] - psi - half
+            lam = [math.tan(_wrap_s(f - th)) for f in phi]
+            dens = [ksi + 3.0 * li * ki * ki for li, ki, ksi in zip(lam, k, ks)]
             if cls == "cubical_parabola":
-                a = float(np.median(inv.I_cp1(lam, k, ks)))
-                c = float(np.median(inv.I_cp2(lam, k, ks)))
-                if not (np.isfinite(a) and np.isfinite(c)) or a == 0:
+                a = _median([de * (1.0 + li * li) ** 2 / 6.0 for li, de in zip(lam, dens)])
+                c = _median([li - _div(ki * ki * (1.0 + li * li), 2.0 * de) for li, ki, de in zip(lam, k, dens)])
+                if not (math.isfinite(a) and math.isfinite(c)) or a == 0:
                     continue
-                out.append(({"a": a, "c": c}, k * (1 + lam * lam) ** 1.5 / (6 * a)))
+                out.append(({"a": a, "c": c}, [ki * (1 + li * li) ** 1.5 / (6 * a) for li, ki in zip(lam, k)]))
             else:
-                a = float(np.median(inv.I_scp1(lam, k, ks)))
-                b = float(np.median(inv.I_scp2(lam, k, ks)))
-                if not (np.isfinite(a) and np.isfinite(b)) or a <= 0:
+                a = _median([math.sqrt(abs(_div(-8.0 * ki**3 * (1.0 + li * li) ** 2.5, 9.0 * de)))
+                             for li, ki, de in zip(lam, k, dens)])
+                b = _median([li + _div(ki * ki * (1.0 + li * li), de) for li, ki, de in zip(lam, k, dens)])
+                if not (math.isfinite(a) and math.isfinite(b)) or a <= 0:
                     continue
-                t = 2 * (lam - b) / (3 * a)
-                out.append(({"a": a, "b": b}, t))
+                out.append(({"a": a, "b": b}, [2 * (li - b) / (3 * a) for li in lam]))
     return out
 
 
@@ -394,42 +517,50 @@ def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = ma
         if dom != 0 and math.copysign(1.0, dom) != sign:
             d = data.flipped()
     model = _Model(cls, d)
+    kern = model.kern
     starts = []
-    with np.errstate(all="ignore"):
-        for params, t in _starts(cls, d):
-            if not np.all(np.isfinite(t)):
-                continue
-            cur = CURVES[cls](params)
-            th, X, Y = _pose_from(cur, t, d)
-            z = model.pack(params, th, X, Y, t)
-            r, _ = model.eval(z)
-            cost = float(np.sum(r[:, :3] ** 2))  # position and angle: well-conditioned at any aspect
-            if np.isfinite(cost):
-                starts.append((cost, z, params))
-        if not starts:
-            return None
-        starts.sort(key=lambda s: s[0])
-        if starts[0][0] > HOPELESS_PER_OBS * 3 * d.n:
-            return None
-        best = None
-        for cost0, z0, p0 in starts[:max_starts]:
-            z, cost, J = model.solve(z0, give_up=give_up)
-            if best is None or cost < best[1]:
-                best = (z, cost, J, p0)
-            if cost < give_up * 1e-3:
-                break
-    z, cost, J, p0 = best
+    try:
+        closed_form = _starts(cls, d)
+    except _NUMERIC_ERRORS:  # an overflow NumPy would have turned into a non-finite start
+        closed_form = []
+    for params, t in closed_form:
+        if not all(map(math.isfinite, t)):
+            continue
+        p = tuple(params[k] for k in model.names)
+        try:
+            th, X, Y = _pose_from(kern, p, t, d)
+        except _NUMERIC_ERRORS:
+            continue
+        z = model.pack(params, th, X, Y, t)
+        _, cost, _ = model.eval(z, pose_only=True)  # position and angle: well-conditioned at any aspect
+        if cost < math.inf:
+            starts.append((cost, z, params))
+    if not starts:
+        return None
+    starts.sort(key=lambda s: s[0])
+    if starts[0][0] > HOPELESS_PER_OBS * 3 * d.n:
+        return None
+    best = None
+    for cost0, z0, p0 in starts[:max_starts]:
+        z, cost, J, r = model.solve(z0, give_up=give_up)
+        if best is None or cost < best[1]:
+            best = (z, cost, J, r, p0)
+        if cost < give_up * 1e-3:
+            break
+    z, cost, J, r, p0 = best
     if not np.isfinite(cost):
         return None
-    r, _ = model.eval(z)
     params = model.params_of(z)
     th, X, Y = (float(v) for v in z[model.np: model.np + 3])
     t = z[model.np + 3:]
     sigma = {}
     if J is not None and np.all(np.isfinite(J)):
-        cov = np.linalg.pinv(J.T @ J)
+        # diagonal of pinv(JᵀJ) from the SVD of J (singular values of JᵀJ below 1e-15 of the largest dropped)
+        _, s, Vt = np.linalg.svd(J, full_matrices=False)
+        keep = s * s > 1e-15 * s[0] ** 2
+        var = (Vt[keep, : model.np] ** 2 / (s[keep] ** 2)[:, None]).sum(axis=0)
         for idx, (name, lg) in enumerate(zip(model.names, model.log)):
-            s = math.sqrt(max(cov[idx, idx], 0.0))
-            sigma[name] = s * params[name] if lg else s
+            sd = math.sqrt(max(float(var[idx]), 0.0))
+            sigma[name] = sd * params[name] if lg else sd
     params, th, X, Y, t = _canonical(cls, params, th, X, Y, t)
-    return Fit(cls, params, Pose(th, X, Y), t, cost, 5 * d.n, N_SHAPE[cls] + d.n, r, sigma, p0)
+    return Fit(cls, params, Pose(th, X, Y), t, cost, 5 * d.n, N_SHAPE[cls] + d.n, r.reshape(-1, 5), sigma, p0)
