@@ -21,7 +21,7 @@ import time
 from functools import lru_cache
 
 import numpy as np
-from scipy import stats
+from scipy import special, stats
 
 from recognizer import invariants as inv
 from recognizer.localize import EPS_FLOOR, Contacts, fit_class
@@ -61,21 +61,22 @@ def _pair_invariants(d: Contacts) -> dict:
     """I_c1, I_c2 of every pair with first-order σ; ill-conditioned pairs are marked."""
     out = {"pairs": [], "I_c1": [], "I_c2": [], "I_c1_sigma": [], "I_c2_sigma": [], "condition": []}
     noisy = bool(np.any(d.cov))
+    k, ks = d.kappa.tolist(), d.kappa_s.tolist()
     for i in range(d.n):
         for j in range(i + 1, d.n):
-            vals = (d.kappa[i], d.kappa_s[i], d.kappa[j], d.kappa_s[j])
-            with np.errstate(all="ignore"):
-                c1 = float(inv.I_c1(*vals))
-                c2 = float(inv.I_c2(*vals))
-                s1 = math.sqrt(inv.propagate(inv.I_c1, vals, [d.cov[i], d.cov[j]])) if noisy else 0.0
-                s2 = math.sqrt(inv.propagate(inv.I_c2, vals, [d.cov[i], d.cov[j]])) if noisy else 0.0
+            c1, c2 = inv.I_c12_s(k[i], ks[i], k[j], ks[j])
+            s1 = s2 = 0.0
+            if noisy:
+                vals = (k[i], ks[i], k[j], ks[j])
+                with np.errstate(all="ignore"):
+                    s1 = math.sqrt(inv.propagate(inv.I_c1, vals, [d.cov[i], d.cov[j]]))
+                    s2 = math.sqrt(inv.propagate(inv.I_c2, vals, [d.cov[i], d.cov[j]]))
             out["pairs"].append([i, j])
             out["I_c1"].append(c1)
             out["I_c2"].append(c2)
             out["I_c1_sigma"].append(s1)
             out["I_c2_sigma"].append(s2)
-            with np.errstate(all="ignore"):
-                out["condition"].append(float(inv.pair_condition(d.kappa[i], d.kappa[j])))
+            out["condition"].append(inv.pair_condition_s(k[i], k[j]))
     return out
 
 
@@ -118,7 +119,7 @@ def _candidate(fit, alpha: float) -> Candidate:
              f"{abs(fit.residuals[worst_idx]):.3g} standard deviations")
     return Candidate(fit.cls, fit.params, fit.pose, np.asarray(fit.t, float), chi2, dof, fit.n_obs,
                      loglik=-0.5 * chi2, bic=chi2 + k * math.log(fit.n_obs),
-                     p_value=float(stats.chi2.sf(chi2, dof)) if chi2 <= 10 * limit else 0.0, consistent=chi2 <= limit,
+                     p_value=float(special.chdtrc(dof, chi2)) if chi2 <= 10 * limit else 0.0, consistent=chi2 <= limit,
                      uncertainty=dict(fit.sigma), worst=worst,
                      reason=None if chi2 <= limit else f"chi2 {chi2:.3g} > {limit:.3g} (dof {dof})")
 
