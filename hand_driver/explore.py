@@ -14,10 +14,10 @@ different parts (and curvatures) of the boundary, and approach from ``APPROACH_M
 outside the model's tangent line. Between touches a pad retreats to the workspace edge
 and turns along it.
 
-After every round with at least ``settings.min_touches`` good touches the recognizer
-runs on all of them; exploration stops when two successive answers name the same class
-(not ``unclassified``) or when the touch budget is spent; the answer on every touch taken
-is the result.
+After every round with at least ``settings.min_touches`` usable touches the recognizer
+runs on all of them; exploration stops as soon as it answers a class (its χ² tests
+found the invariants of every touch consistent) or when the touch budget is spent; the
+answer on every usable touch is the result.
 """
 
 from __future__ import annotations
@@ -333,7 +333,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
             out.recognition = recognition
             out.answers.append(recognition.cls)
             say(f"after {len(good)} touches: {recognition.cls}")
-            if len(out.answers) >= 2 and out.answers[-1] == out.answers[-2] != "unclassified":
+            if recognition.cls != "unclassified":
                 break
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
     run_together(jaw, {name: transit(jaw, name, model, psi) for name, psi in here.items()})  # pads to the edge
