@@ -19,7 +19,10 @@ Without a noise model σ_φ and σ_pos are estimated from the residuals (two rou
 the log-likelihood is the profile one, −2 ln L = Σ_groups n_g ln(RSS_g / n_g).
 
 Each refined candidate carries ``chi2``, ``dof`` (observations − unknowns), ``n_obs``,
-``loglik``, ``bic`` = −2 ln L + k ln n (k every unknown: shape parameters, pose, t's),
+``loglik``, ``bic`` = −2 ln L + k·max(ln n, χ²₁ quantile at ``MODEL_ALPHA``) (k every
+unknown: shape parameters, pose, t's; the ordinary BIC penalty ln n = 4.4 for 81
+observations is raised to 10.8 so that a class with one more parameter must explain the
+data significantly better — a likelihood-ratio test at 1e-3 — before it is preferred),
 ``p_value`` (χ² upper tail), ``consistent`` (p ≥ alpha), ``uncertainty`` (standard
 deviations of parameters and pose from (JᵀJ)⁻¹) and ``cov`` (the parameter covariance).
 Canonical conventions hold on output (ellipse a ≥ b: axes swapped with θ += π/2).
@@ -42,6 +45,14 @@ SIGMA_FLOOR_PHI = 1e-9
 SIGMA_FLOOR_POS = 1e-9
 """mm: σ_pos used when the noise model says 0."""
 MAX_NFEV = 60
+MODEL_ALPHA = 1e-3
+"""a class with one more parameter must lower χ² by at least the χ²₁ quantile at this
+level (10.8) to be preferred: per-parameter penalty max(ln n, that quantile)."""
+
+
+def param_penalty(n_obs: int) -> float:
+    """Penalty per fitted parameter in ``bic``: max(ln n, χ²₁ upper MODEL_ALPHA quantile)."""
+    return max(math.log(max(n_obs, 2)), float(stats.chi2.isf(MODEL_ALPHA, 1)))
 
 _POSITIVE = {"circle": ("r",), "ellipse": ("a", "b"), "parabola": ("a",), "hyperbola": ("a", "b"),
              "semicubical_parabola": ("a",)}
@@ -193,6 +204,10 @@ class _Problem:
         return np.where(np.isfinite(r), r, 1e8)
 
     def jacobian(self, z: np.ndarray) -> np.ndarray:
+        with np.errstate(all="ignore"):
+            return self._jacobian(z)
+
+    def _jacobian(self, z: np.ndarray) -> np.ndarray:
         params, pose, t = self.unpack(z)
         curve, hx, hy, phi, _ = self._model(params, pose, t)
         n = self.n_rows
@@ -362,7 +377,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
         rf = r[2 * n : 3 * n] * problem.sig_phi
         loglik = -0.5 * (2 * n * math.log(max(float(rp @ rp) / (2 * n), (SIGMA_FLOOR_POS * scale) ** 2))
                          + n * math.log(max(float(rf @ rf) / n, SIGMA_FLOOR_PHI**2)))
-    bic = -2.0 * loglik + n_unknown * math.log(max(n_obs, 2))
+    bic = -2.0 * loglik + n_unknown * param_penalty(n_obs)
     p_value = float(stats.chi2.sf(chi2, dof)) if dof > 0 else 1.0
     # covariance of the unknowns, then the shape parameters and pose in their own units
     jac = problem.jacobian(z)

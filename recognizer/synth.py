@@ -145,10 +145,10 @@ def random_shape(cls: str, rng: np.random.Generator, size_range: tuple[float, fl
         a = rng.choice([-1.0, 1.0]) * (L / 4) * _uniform(rng, 0.5, 1.5) / (L / 2) ** 3
         params, t_range = {"a": float(a), "c": _signed(rng, 0.3, 1.0)}, (-L / 2, L / 2)
     elif cls == "semicubical_parabola":
-        # scale-free form u = a·t: (u², u³ + b u²)/a²; contacts at u ∈ [0.8, 2.2] (extent
-        # about 4/a² = L), at least 0.15 L of arc from the cusp so touches stay smooth
-        a = 2.0 / np.sqrt(L) * _uniform(rng, 0.8, 1.25)
-        params, t_range = {"a": float(a), "b": _signed(rng, 0.3, 1.0)}, (0.8 / a, 2.2 / a)
+        # scale-free form u = a·t: (u², u³ + b u²)/a²; contacts at u ∈ [0.65, 1.6] (extent
+        # about 2.56/a² = L), at least 0.16 L of arc from the cusp so touches stay smooth
+        a = 1.6 / np.sqrt(L) * _uniform(rng, 0.8, 1.25)
+        params, t_range = {"a": float(a), "b": _signed(rng, 0.3, 1.0)}, (0.65 / a, 1.6 / a)
     else:
         raise ValueError(f"unknown class {cls!r}")
     pose = Pose(_uniform(rng, -np.pi, np.pi), _uniform(rng, -pose_range, pose_range) * 0.2 + pose_range,

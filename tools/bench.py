@@ -33,6 +33,7 @@ import multiprocessing
 import os
 import sys
 import time
+import warnings
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Callable, Iterable
@@ -314,6 +315,7 @@ def _map(fn: Callable, tasks: list, jobs: int, what: str, progress: Callable[[st
     out = []
     t0 = time.perf_counter()
     last = 0.0
+    warnings.simplefilter("ignore", RuntimeWarning)  # overflow inside rejected fits is expected
     if jobs > 1:
         ctx = multiprocessing.get_context("fork")
         pool = ctx.Pool(jobs)
