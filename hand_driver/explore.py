@@ -3,7 +3,9 @@
 Each round, every finger makes one rolling touch (hand_driver.motion.rolling_touch) in
 the same bus cycles. Where to touch comes from a working model of the object, a circle
 (centre c, radius R): the workspace disk's centre and half its radius before any
-contact, then the least-squares circle through every contact point found so far. A
+contact, then the least-squares circle through every contact point found so far once
+their tangents point at least 90° apart (before that, the mean distance of the points
+from the centre). A
 finger's candidate pad orientations ψ are those, within ±75° of its pad's normal at
 zero joint angles (2.5° apart), at which inverse kinematics puts the pad, for every
 orientation of the roll, on the model's tangent line with the predicted contact on the
@@ -48,7 +50,7 @@ EDGE_TURN_STEP_DEG = 15.0
 #: largest turn (rad) and shift (mm) per cycle of a transit outside the workspace disk
 TRANSIT_STEPS = (math.radians(5.0), 3.0)
 #: a used touch's contacts are at least this far (mm) from either end of the pad
-PAD_EDGE_MARGIN_MM = 2.0
+PAD_EDGE_MARGIN_MM = 1.0
 #: planning keeps the predicted contact this fraction of the pad's length from either end
 PLAN_PAD_MARGIN = 0.2
 
@@ -57,6 +59,9 @@ PLAN_PAD_MARGIN = 0.2
 #: exact ellipse touches through 4096-tick encoders are recognized with 30° and 9 samples,
 #: not with 16° or 18° (README, section motion)
 MIN_ROLL_SPAN_DEG = 30.0
+#: the fewest samples per rolling touch that recognize on the default jaw (7 and 9 over
+#: 30° do, 5 does not: README, section motion)
+MIN_SAMPLES_PER_TOUCH = 7
 #: per-sample noise the explorer states in its requests: envelope samples carry errors
 #: that are smooth along a touch (one polynomial of the pad lines), which the estimator's
 #: independent-noise model only covers with these deviations (README, section motion)
@@ -78,12 +83,13 @@ class ExploreSettings:
 
     @classmethod
     def from_profile(cls, name: str) -> "ExploreSettings":
-        """Settings of a recognizer.profiles profile: its samples per touch, its roll span
-        raised to ``MIN_ROLL_SPAN_DEG``, a budget of twice its touches plus two."""
+        """Settings of a recognizer.profiles profile: its samples per touch raised to
+        ``MIN_SAMPLES_PER_TOUCH``, its roll span raised to ``MIN_ROLL_SPAN_DEG``, a budget
+        of twice its touches plus two, its recognizer options."""
         from recognizer.profiles import get_profile
 
         p = get_profile(name, "--profile")
-        return cls(touches=2 * p.touches + 2, samples_per_touch=p.samples_per_touch,
+        return cls(touches=2 * p.touches + 2, samples_per_touch=max(p.samples_per_touch, MIN_SAMPLES_PER_TOUCH),
                    roll_span_rad=math.radians(max(p.roll_span_deg, MIN_ROLL_SPAN_DEG)),
                    min_touches=p.touches, profile=p.name, recognize=p.options())
 
@@ -186,11 +192,16 @@ class ObjectModel:
         self.workspace_center = self.center.copy()
         self.workspace_radius = workspace_radius
         self.points = np.zeros((0, 2))
+        self.normals = np.zeros(0)
 
-    def add(self, x, y) -> None:
+    def add(self, x, y, phi) -> None:
+        """Add a touch's contact points (and tangent angles); refit."""
         self.points = np.vstack([self.points, np.stack([x, y], axis=-1)])
+        self.normals = np.concatenate([self.normals, np.asarray(phi, dtype=float)])
         p = self.points
-        if len(p) >= 3:
+        # a circle through the points only once they face directions at least 90° apart
+        spread = np.max(np.abs(np.angle(np.exp(1j * (self.normals[:, None] - self.normals[None, :])))))
+        if spread >= math.pi / 2:
             # algebraic circle fit: x² + y² = 2 a x + 2 b y + k, least squares
             a = np.column_stack([2 * p[:, 0], 2 * p[:, 1], np.ones(len(p))])
             sol, *_ = np.linalg.lstsq(a, np.sum(p * p, axis=1), rcond=None)
@@ -304,8 +315,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
         for f in cfg.fingers[:budget]:
             psi = choose_psi(f, model, settings, used[f.name])
             if psi is None:
-                emit({"type": "event", "kind": "no_orientation",
-                      "message": f"{f.name}: no untouched reachable pad orientation left"})
+                message = f"{f.name}: no untouched reachable pad orientation left"
+                emit({"type": "event", "kind": "no_orientation", "message": message})
+                say(message)
                 continue
             used[f.name].append(psi)
             plans[f.name] = _touch_plan(jaw, f.name, model, psi, len(used[f.name]) == 1, settings,
@@ -321,7 +333,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
             if problem is None:
                 samples = touch_to_samples(cfg, touch)
                 good.append(samples)
-                model.add(samples["x"], samples["y"])
+                model.add(samples["x"], samples["y"], samples["phi"])
             else:
                 if touch.outcome == "ok":
                     touch.outcome = "rejected"

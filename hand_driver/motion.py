@@ -385,7 +385,7 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
                 unsure = 0.5 * length if u is None else 0.0
                 clearance = ROLL_CLEARANCE_MM + unsure * abs(psi - result.samples[-1].psi)
                 d_from = float(_unit(psi) @ pivot) - clearance
-                reach = clearance + 3.0 * ROLL_CLEARANCE_MM
+                reach = 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM
                 if not (yield from move_line(jaw, finger, psi, d_from)):
                     # the object was in the way of the turn: back off further and turn again
                     here = jaw.pad_line(jaw.last_state, finger)

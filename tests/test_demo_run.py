@@ -1,0 +1,115 @@
+"""`tactile demo` end to end (emulated bus, real SDK), its log, `tactile replay`, a killed run."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from hand_driver.log import read_log
+from recognizer.scene import load_scene
+from tools.cli import main
+from tools.cmd_demo import truth_lines
+
+TRUTH = load_scene("config/scenes/default.yaml").object
+
+
+def _run(argv: list[str]) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        rc = main(argv)
+    return rc, out.getvalue(), err.getvalue()
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory):
+    d = tmp_path_factory.mktemp("demo")
+    log, png = d / "demo.jsonl", d / "demo.png"
+    t0 = time.monotonic()
+    rc, out, err = _run(["demo", "--json", "--log", str(log), "--plot", str(png)])
+    return {"rc": rc, "out": out, "err": err, "log": log, "png": png, "wall": time.monotonic() - t0}
+
+
+def _without_timing(rec: dict) -> dict:
+    return {k: v for k, v in rec.items() if k != "timing"}
+
+
+def test_demo_recognizes_the_default_ellipse(demo):
+    assert demo["rc"] == 0, demo["err"]
+    rec = json.loads(demo["out"])  # stdout is exactly one CONTRACTS §3 object
+    assert rec["class"] == "ellipse"
+    for k, v in TRUTH.params.items():  # measured: a +0.28 %, b +0.12 %
+        assert rec["params"][k] == pytest.approx(v, rel=0.015)
+    assert rec["pose"]["x"] == pytest.approx(TRUTH.pose.x, abs=0.5)
+    assert rec["pose"]["y"] == pytest.approx(TRUTH.pose.y, abs=0.5)
+    assert math_mod_pi(rec["pose"]["theta"] - TRUTH.pose.theta) < 0.02
+    assert len(rec["contacts"]) >= 3
+    assert "touch 1/" in demo["err"]  # progress went to stderr
+    assert demo["png"].read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def math_mod_pi(a: float) -> float:
+    """|a| modulo π (an ellipse is the same after a half turn)."""
+    import math
+
+    return abs(math.remainder(a, math.pi))
+
+
+def test_demo_log_has_header_readings_touches_and_result(demo):
+    contents = read_log(demo["log"])
+    h = contents.header
+    assert h["config"]["fingers"][0]["name"] == "left" and h["scene"]["object"]["class"] == "ellipse"
+    assert h["versions"]["dynamixel-sdk"] and h["start_time"]
+    assert len(contents.readings) > 100 and not contents.truncated
+    t = [r["t"] for r in contents.readings]
+    assert all(b >= a for a, b in zip(t, t[1:]))  # monotonic timestamps
+    assert contents.touches and all(x.outcome is not None for x in contents.touches)
+    assert _without_timing(contents.result["recognition"]) == _without_timing(json.loads(demo["out"]))
+    assert contents.result["robot_time_s"] > 0
+
+
+def test_replay_reproduces_the_demo(demo):
+    rc, out, err = _run(["replay", str(demo["log"]), "--json"])
+    assert rc == 0, err
+    assert _without_timing(json.loads(out)) == _without_timing(json.loads(demo["out"]))
+    rc, out, _ = _run(["replay", str(demo["log"])])
+    assert rc == 0 and out.startswith("recognized: ellipse")
+
+
+def test_truth_lines_report_relative_error(demo):
+    lines = truth_lines(json.loads(demo["out"]), TRUTH)
+    assert lines[0].startswith("true:       ellipse a=28.000 b=17.000")
+    assert "a +" in lines[1] or "a -" in lines[1]
+
+
+def test_replay_of_a_bad_log_is_one_line_exit_2(tmp_path):
+    bad = tmp_path / "bad.jsonl"
+    bad.write_text('{"type": "reading"}\n')
+    rc, out, err = _run(["replay", str(bad)])
+    assert rc == 2 and err.count("\n") == 1 and "header" in err
+
+
+def test_killed_demo_leaves_a_valid_log(tmp_path):
+    log = tmp_path / "killed.jsonl"
+    proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "demo", "--log", str(log)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:
+            if log.exists() and log.read_text().count('"type":"reading"') >= 150:
+                break
+            time.sleep(0.05)
+        proc.send_signal(signal.SIGKILL)
+    finally:
+        proc.wait()
+    contents = read_log(log)  # a cut last line is tolerated, nothing else is wrong
+    assert len(contents.readings) >= 150
+    assert [r["i"] for r in contents.readings] == list(range(len(contents.readings)))
+    rc, _, err = _run(["replay", str(log)])
+    assert rc in (0, 2) and "Traceback" not in err
