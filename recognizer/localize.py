@@ -243,6 +243,22 @@ class _Model:
         L = data.scale
         self.tscale = {"line": L, "cubical_parabola": L, "semicubical_parabola": math.sqrt(L)}.get(cls, 1.0)
 
+    def floor(self) -> float:
+        """A lower bound of the cost over every parameter value: the line's κ, κ_s are 0
+        and the circle's κ_s 0 and κ one value 1/r (the best common κ, by weighted least
+        squares); 0 for other classes."""
+        if self.cls == "line":
+            return sum((w00 * k + w01 * ks) ** 2 + (w10 * k + w11 * ks) ** 2
+                       for _, _, _, k, ks, _, _, w00, w01, w10, w11 in self.rows)
+        if self.cls != "circle":
+            return 0.0
+        # rows κ̂·W[:, 0] − W·(κ, κ_s) are linear in the common κ̂
+        ab = [(w0, -w0 * k - w1 * ks) for _, _, _, k, ks, _, _, w00, w01, w10, w11 in self.rows
+              for w0, w1 in ((w00, w01), (w10, w11))]
+        saa = sum(a * a for a, _ in ab)
+        c = -sum(a * b for a, b in ab) / saa if saa > 0 else 0.0
+        return sum((a * c + b) ** 2 for a, b in ab)
+
     def params_of(self, z) -> dict:
         p = z[: self.np]
         return {k: (math.exp(v) if lg else float(v)) for k, v, lg in zip(self.names, p, self.log)}
@@ -251,10 +267,10 @@ class _Model:
         p = [math.log(params[k]) if lg else params[k] for k, lg in zip(self.names, self.log)]
         return np.array(p + [theta, X, Y] + list(t), dtype=float)
 
-    def eval(self, z, pose_only=False):
+    def eval(self, z):
         """Whitened residuals of every touch (a flat list x, y, φ, κ, κ_s, ...), their sum
-        of squares (of x, y, φ only with ``pose_only``; inf when not finite) and the
-        pieces the Jacobian needs; (None, inf, None) where the curve is not defined."""
+        of squares (inf when not finite) and the pieces the Jacobian needs; (None, inf,
+        None) where the curve is not defined."""
         zl = z.tolist() if isinstance(z, np.ndarray) else z
         o = self.np
         th, X, Y = zl[o: o + 3]
@@ -273,10 +289,7 @@ class _Model:
                 fr.append(f)
         except _NUMERIC_ERRORS:
             return None, math.inf, None
-        if pose_only:
-            cost = sum(r[i] * r[i] + r[i + 1] * r[i + 1] + r[i + 2] * r[i + 2] for i in range(0, len(r), 5))
-        else:
-            cost = sum(v * v for v in r)
+        cost = sum(v * v for v in r)
         return r, (cost if math.isfinite(cost) else math.inf), (p, ct, st, fr)
 
     def jac(self, z, r, parts):
@@ -324,7 +337,8 @@ class _Model:
 
     def solve(self, z0, max_iter=40, give_up=math.inf):
         """Levenberg–Marquardt from z0; stops early once the cost is negligible (exact data)
-        or when after 4 iterations it is still above ``give_up`` (hopeless class).
+        or when after 4 iterations it is still above ``give_up`` (hopeless class), at once
+        when even the class's ``floor`` is above it (same verdict, no iterations).
         Each iteration takes one SVD of the column-scaled Jacobian; every damping tried is
         then a product with it (the least-squares step of [J; √μ·I] x = [−r; 0]).
         Returns (z, cost, J, residuals)."""
@@ -334,6 +348,8 @@ class _Model:
             return z, math.inf, None, None
         r = np.array(r)
         mu = 1e-6
+        if cost > give_up and self.floor() > give_up:
+            max_iter = 0
         for it in range(max_iter):
             if cost < 1e-12 or (it >= 4 and cost > give_up):
                 break
@@ -358,20 +374,25 @@ class _Model:
                 mu *= 10
             if not improved or small:
                 break
-        return z, cost, self.jac(z, r, parts), r
+        return z, cost, (self.jac(z, r, parts) if self.np else None), r  # J: for the shape's covariance
 
 
 # -- closed-form starts -------------------------------------------------------------------
 
 def _pose_from(kern, p, t, d: Contacts):
-    """Pose putting the curve points at t onto the touches: θ the circular mean of the
-    angle differences, (x, y) the mean offset."""
+    """Pose putting the curve points at t onto the touches (θ the circular mean of the angle
+    differences, (x, y) the mean offset) and its position-and-angle cost."""
     fr = [kern(p, ti) for ti in t]
     rows = d.rows()
-    th = _circmean_s([row[2] - f[2] for row, f in zip(rows, fr)])
+    dph = [row[2] - f[2] for row, f in zip(rows, fr)]
+    th = _circmean_s(dph)
     ct, st = math.cos(th), math.sin(th)
-    return (th, _mean([row[0] - (ct * f[0] - st * f[1]) for row, f in zip(rows, fr)]),
-            _mean([row[1] - (st * f[0] + ct * f[1]) for row, f in zip(rows, fr)]))
+    ex = [row[0] - (ct * f[0] - st * f[1]) for row, f in zip(rows, fr)]
+    ey = [row[1] - (st * f[0] + ct * f[1]) for row, f in zip(rows, fr)]
+    X, Y = _mean(ex), _mean(ey)
+    cost = sum(((X - a) ** 2 + (Y - b) ** 2) / row[5] ** 2 + (_wrap_s(th - c) / row[6]) ** 2
+               for a, b, c, row in zip(ex, ey, dph, rows))
+    return th, X, Y, (cost if math.isfinite(cost) else math.inf)
 
 
 def _best_pair(k):
@@ -526,15 +547,12 @@ def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = ma
     for params, t in closed_form:
         if not all(map(math.isfinite, t)):
             continue
-        p = tuple(params[k] for k in model.names)
-        try:
-            th, X, Y = _pose_from(kern, p, t, d)
+        try:  # cost of position and angle: well-conditioned at any aspect
+            th, X, Y, cost = _pose_from(kern, tuple(params[k] for k in model.names), t, d)
         except _NUMERIC_ERRORS:
             continue
-        z = model.pack(params, th, X, Y, t)
-        _, cost, _ = model.eval(z, pose_only=True)  # position and angle: well-conditioned at any aspect
         if cost < math.inf:
-            starts.append((cost, z, params))
+            starts.append((cost, (params, th, X, Y, t), params))
     if not starts:
         return None
     starts.sort(key=lambda s: s[0])
@@ -542,7 +560,7 @@ def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = ma
         return None
     best = None
     for cost0, z0, p0 in starts[:max_starts]:
-        z, cost, J, r = model.solve(z0, give_up=give_up)
+        z, cost, J, r = model.solve(model.pack(*z0), give_up=give_up)
         if best is None or cost < best[1]:
             best = (z, cost, J, r, p0)
         if cost < give_up * 1e-3:
