@@ -140,14 +140,16 @@ def touch_to_samples(config, touch: TouchResult) -> dict[str, Any]:
 
 
 def touch_problem(config, touch: TouchResult, samples: int) -> str | None:
-    """Why a touch cannot be used, or None: every planned sample taken, arc length
-    strictly increasing (the pad rolled on a boundary convex toward it, not on an edge
-    or a corner) and every envelope contact on the pad, ``PAD_EDGE_MARGIN_MM`` from its
-    ends (a pad end resting on the object is not a tangent contact)."""
-    if touch.outcome != "ok":
+    """Why a touch cannot be used, or None: at least ``MIN_SAMPLES_PER_TOUCH`` samples
+    (all planned ones, or those taken before the roll ran out of reach or contact), arc
+    length strictly increasing (the pad rolled on a boundary convex toward it, not on an
+    edge or a corner) and every envelope contact on the pad, ``PAD_EDGE_MARGIN_MM`` from
+    its ends (a pad end resting on the object is not a tangent contact)."""
+    cut_short = touch.outcome in ("unreachable", "no_contact", "blocked")
+    if touch.outcome != "ok" and not cut_short:
         return touch.message or touch.outcome
-    if len(touch.samples) != samples:
-        return f"{touch.finger}: {len(touch.samples)} of {samples} samples"
+    if len(touch.samples) < min(samples, MIN_SAMPLES_PER_TOUCH):
+        return touch.message if cut_short else f"{touch.finger}: {len(touch.samples)} of {samples} samples"
     ticks = np.array([s.ticks for s in touch.samples], dtype=float)
     try:
         c = kin.touch_from_ticks(config, touch.finger, ticks)
@@ -232,12 +234,14 @@ def nominal_psi(finger) -> float:
 
 def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings) -> bool:
     """Every roll orientation around ψ puts the pad on the model's tangent line, with the
-    predicted contact on the pad, inside the joint limits; the edge line is reachable."""
+    predicted contact on the pad, inside the joint limits, and also ``APPROACH_MARGIN_MM``
+    beyond it; the edge line is reachable."""
     length = finger.pad.length_mm
     for a in roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]:
         d, p = model.tangent(float(a))
         try:
             kin.ik_line(finger, float(a), d, contact=p, margin_rad=LIMIT_MARGIN_RAD)
+            kin.ik_line(finger, float(a), d + APPROACH_MARGIN_MM, margin_rad=LIMIT_MARGIN_RAD)
             kin.ik_line(finger, float(a), model.edge(float(a)), margin_rad=LIMIT_MARGIN_RAD)
         except kin.Unreachable:
             return False

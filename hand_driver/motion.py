@@ -297,9 +297,10 @@ def move_line(jaw: Jaw, finger: str, psi: float, d: float, max_turn_rad: float =
 
 
 def take_turn(jaw: Jaw, finger: str) -> Motion:
-    """Hold until no other finger may press, then become the one that may."""
+    """Hold where the finger is until no other finger may press, then become the one
+    that may."""
     while jaw.presser not in (None, finger):
-        yield None
+        yield jaw.finger_q(jaw.last_state, finger)
     jaw.presser = finger
 
 
@@ -308,9 +309,12 @@ def end_turn(jaw: Jaw, finger: str) -> None:
         jaw.presser = None
 
 
-def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_mm: float) -> Motion:
+def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_mm: float,
+                     yielding: bool = False) -> Motion:
     """Advance the pad along its normal from line (ψ, d_start) until contact or
-    ``travel_mm``; returns an :class:`ApproachResult` (module docstring)."""
+    ``travel_mm``; returns an :class:`ApproachResult` (module docstring). ``yielding``:
+    the finger does not hold the turn to press; while another finger holds it, this one
+    holds still and judges nothing."""
     m = jaw.config.motion
     step = m.approach_step_mm
     n = _unit(psi)
@@ -322,6 +326,12 @@ def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_m
         line = jaw.pad_line(state, finger)
         d_meas = float(n @ line.distal)  # the pad's offset along the commanded normal
         elapsed = jaw.robot_time() - t0
+        if yielding and jaw.presser not in (None, finger):
+            history.clear()
+            d_goal = min(d_goal, d_meas)
+            t0 = jaw.robot_time() - (d_goal - d_start) / m.approach_speed_mm_s
+            state, i = yield jaw.solve(finger, psi, d_goal, jaw.finger_q(state, finger))
+            continue
         history.append(d_meas)
         current = jaw.finger_current(state, finger)
         stalled = (len(history) >= 3 and d_goal - d_meas >= 1.5 * step
@@ -393,8 +403,19 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
                     d_from -= m.backoff_mm
                     reach += m.backoff_mm
                     yield from move_line(jaw, finger, psi, d_from)
-            yield from take_turn(jaw, finger)
-            approach = yield from guarded_approach(jaw, finger, psi, d_from, reach)
+            if k == 0:
+                # the long first approach runs while the other finger works; a contact felt
+                # without the turn is confirmed by a short approach with it
+                approach = yield from guarded_approach(jaw, finger, psi, d_from, reach, yielding=True)
+                if approach.contact is not None:
+                    yield from take_turn(jaw, finger)
+                    d_from = approach.contact.d - ROLL_CLEARANCE_MM
+                    yield from move_line(jaw, finger, psi, d_from)
+                    reach = reach - approach.travel_mm + 3.0 * ROLL_CLEARANCE_MM
+                    approach = yield from guarded_approach(jaw, finger, psi, d_from, reach)
+            else:
+                yield from take_turn(jaw, finger)
+                approach = yield from guarded_approach(jaw, finger, psi, d_from, reach)
             turned = (approach.contact is None or k == 0 or abs(math.remainder(
                 approach.contact.psi_measured - result.samples[-1].psi_measured, 2 * math.pi))
                 >= 0.5 * abs(psi - result.samples[-1].psi))

@@ -102,14 +102,22 @@ def test_killed_demo_leaves_a_valid_log(tmp_path):
     try:
         deadline = time.monotonic() + 30
         while time.monotonic() < deadline:
-            if log.exists() and log.read_text().count('"type":"reading"') >= 150:
+            if log.exists() and log.read_text().count('"type":"reading"') >= 60:
                 break
             time.sleep(0.05)
         proc.send_signal(signal.SIGKILL)
     finally:
         proc.wait()
     contents = read_log(log)  # a cut last line is tolerated, nothing else is wrong
-    assert len(contents.readings) >= 150
+    assert len(contents.readings) >= 60
     assert [r["i"] for r in contents.readings] == list(range(len(contents.readings)))
     rc, _, err = _run(["replay", str(log)])
     assert rc in (0, 2) and "Traceback" not in err
+
+
+def test_explore_without_an_adapter_is_one_line_exit_1(tmp_path):
+    log = tmp_path / "none.jsonl"
+    rc, out, err = _run(["explore", "--port", str(tmp_path / "no-such-tty"), "--log", str(log)])
+    assert rc == 1 and err.count("\n") == 1 and "no-such-tty" in err
+    contents = read_log(log)  # the header was written before the port was opened
+    assert contents.readings == [] and contents.events[-1]["kind"] == "fault"

@@ -40,14 +40,14 @@ def distance_to_ellipse(x, y) -> np.ndarray:
 
 
 @contextmanager
-def emulated_jaw(scene=SCENE, log=None, on_reading=None):
+def emulated_jaw(scene=SCENE, log=None, on_reading=None, timeout_s=1.0):
     with EmulatedBus(CONFIG, scene, time_scale=0.0) as sim:
         def hook(state):
             if log is not None:
                 log.reading(state)
             if on_reading is not None:
                 on_reading(sim, state)
-        with JointBus(sim.port, CONFIG.bus.baudrate, CONFIG, retries=CONFIG.bus.retries, timeout_s=1.0,
+        with JointBus(sim.port, CONFIG.bus.baudrate, CONFIG, retries=CONFIG.bus.retries, timeout_s=timeout_s,
                       on_reading=hook) as bus:
             bus.set_goal_current(CONFIG.motion.goal_current_ma)
             bus.set_profile_raw(CONFIG.motion.profile_velocity, CONFIG.motion.profile_acceleration)
@@ -125,7 +125,7 @@ def test_fault_mid_touch_keeps_every_reading_and_ends_torque_off(tmp_path, fault
     servos = None
     with pytest.raises(expected):
         with RunLog(path).open(config={}, scene=None) as log:
-            with emulated_jaw(log=log, on_reading=inject) as (sim, jaw):
+            with emulated_jaw(log=log, on_reading=inject, timeout_s=0.1) as (sim, jaw):
                 servos = sim.servos
                 run_together(jaw, {"left": move_line(jaw, "left", psi, _edge(psi), math.radians(5), 3.0)})
                 run_together(jaw, {"left": guarded_approach(jaw, "left", psi, _edge(psi), 45.0)})
