@@ -161,7 +161,6 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
             skipped[cls] = "its invariants give no solution within 1e5 sigma of the touches"
             continue
         cands.append(_candidate(fit, options.alpha))
-    pairs = _pair_invariants(d)
     consistent = [c for c in cands if c.consistent]
     if options.refine and consistent:
         from recognizer.refine import refine_candidates
@@ -172,9 +171,13 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
                   "p_value": c.p_value} for c in ranking]
     timing = {"estimate_ms": 1e3 * (t_est - t0), "total_ms": 1e3 * (time.perf_counter() - t0)}
     if not consistent:
+        pairs = _pair_invariants(d)
+        reason = _unclassified_reason(cands, skipped, pairs, d)
+        timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
-                           {}, _unclassified_reason(cands, skipped, pairs, d), rank_json, timing)
+                           {}, reason, rank_json, timing)
     best = min(consistent, key=lambda c: c.bic)
+    pairs = _pair_invariants(d) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, d, pairs),
                        dict(best.uncertainty), None, rank_json, timing)

@@ -188,13 +188,23 @@ class Contacts:
         return self._white
 
     def _whitener(self) -> np.ndarray:
+        """inv(cholesky(C)) of each 2×2 C in closed form: C = L·Lᵀ, L = [[l₀₀, 0], [l₁₀, l₁₁]]."""
         L = self.scale
-        fk = EPS_FLOOR * (np.abs(self.kappa) + 1.0 / L)
-        fks = EPS_FLOOR * (np.abs(self.kappa_s) + self.kappa**2 + np.abs(self.kappa) / L + 1.0 / L**2)
-        c = self.cov.copy()
-        c[:, 0, 0] += fk**2
-        c[:, 1, 1] += fks**2
-        return np.linalg.inv(np.linalg.cholesky(c))
+        out = []
+        for k, ks, ((c00, c01), (c10, c11)) in zip(self.kappa.tolist(), self.kappa_s.tolist(), self.cov.tolist()):
+            fk = EPS_FLOOR * (abs(k) + 1.0 / L)
+            fks = EPS_FLOOR * (abs(ks) + k * k + abs(k) / L + 1.0 / L**2)
+            c00, c11 = c00 + fk * fk, c11 + fks * fks
+            if not c00 > 0:
+                raise np.linalg.LinAlgError("Matrix is not positive definite")
+            l00 = math.sqrt(c00)
+            l10 = c10 / l00
+            d = c11 - l10 * l10
+            if not d > 0:
+                raise np.linalg.LinAlgError("Matrix is not positive definite")
+            l11 = math.sqrt(d)
+            out.append(((1.0 / l00, 0.0), (-l10 / (l00 * l11), 1.0 / l11)))
+        return np.array(out, dtype=float).reshape(-1, 2, 2)
 
     def rows(self) -> list[tuple]:
         """Per touch, as Python floats: (x, y, φ, κ, κ_s, σ_pos, σ_φ, W₀₀, W₀₁, W₁₀, W₁₁),

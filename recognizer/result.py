@@ -59,6 +59,8 @@ class Candidate:
 
 def _clean(value):
     """JSON-safe copy: floats finite or None (never NaN), arrays as lists."""
+    if type(value) is float:  # the common case first
+        return value if math.isfinite(value) else None
     if isinstance(value, dict):
         return {str(k): _clean(v) for k, v in value.items()}
     if isinstance(value, (list, tuple, np.ndarray)):
