@@ -1,27 +1,36 @@
 """Guarded touches and rolling moves, both fingers at once, one bus cycle at a time.
 
 A motion is a generator (one per finger) that yields the finger's next goal joint angles
-(or ``None`` to hold) and receives the reading of the next cycle. :func:`run_together`
-steps every finger's generator in the same cycle: one sync write of all goals, a pause
-to the cycle period, one sync read of all joints (logged). The cycle period is
-``motion.approach_step_mm / motion.approach_speed_mm_s`` of robot time.
+(or ``None`` to hold) and receives each cycle's reading. :func:`run_together` steps every
+finger's generator in the same cycles: one sync write of all goals, one sync read of all
+joints (logged), a wait of one cycle period, ``motion.approach_step_mm /
+motion.approach_speed_mm_s`` of robot time, on a :class:`WallClock` (a real jaw) or a
+:class:`LockstepClock` (the emulated bus, stepped by the cycles).
 
 Pad lines follow hand_driver.kinematics: the pad's outward normal has angle ψ and the
-pad lies on ``n(ψ)·p = d``; moving the pad "in" (toward the object) increases d.
+pad lies on ``n(ψ)·p = d``; moving the pad in (toward the object) increases d. Every move
+is Cartesian (:func:`move_line`): the pad line is interpolated and each step is put on the
+pad by inverse kinematics, the solution nearest the present joint angles.
 
 - **Guarded approach** (:func:`guarded_approach`): the pad keeps orientation ψ and
-  advances along n at ``approach_speed_mm_s`` of robot time (coordinated 2-joint goals
-  from inverse kinematics each cycle; the goal never leads the measured pad by more than
-  two ``approach_step_mm``) until
-  a joint of the finger reads ``|current| ≥ contact_current_ma`` or the pad stalls
-  (the goal two steps ahead and no progress for two cycles). In current-based position
-  mode the goal current caps the pressing force. That reading is the sample (the pad is
-  held at the contact by the object); no contact within ``travel`` is a result, not an
-  error.
+  advances along n at ``approach_speed_mm_s`` of robot time, the goal never more than two
+  ``approach_step_mm`` ahead of the measured pad, until a joint of the finger reads
+  ``|current| ≥ contact_current_ma`` or the pad stalls (goal ≥ 1.5 steps ahead, no
+  progress over two cycles). In current-based position mode the goal current caps the
+  pressing force. That reading is the sample (the object holds the pad at the contact);
+  no contact within ``travel`` is a result, not an error.
 - **Rolling touch** (:func:`rolling_touch`): ψ steps through ``ψ0 ± span/2``; between
-  samples the pad backs off ``ROLL_CLEARANCE_MM`` along its normal, turns about the last
-  contact point estimate and re-approaches; after the last it backs off ``backoff_mm``. The in-contact pad lines give the contacts
-  by their envelope (hand_driver.kinematics.touch_from_ticks).
+  samples the pad backs off ``ROLL_CLEARANCE_MM``, turns about the last contact estimate
+  and re-approaches (a blocked turn is retried ``backoff_mm`` further out); a contact at a
+  pad end or a pad that does not turn ends the touch; after the last sample the pad backs
+  off ``backoff_mm``. The in-contact pad lines give the contacts by their envelope
+  (hand_driver.kinematics.touch_from_ticks).
+- **Turns to press**: the emulator's contact physics stops every joint while any pad is
+  blocked, so a finger moving while the other presses would feel a false contact. Only
+  the finger holding the turn (:func:`take_turn`) approaches near the object; the other
+  holds still or does its back-offs and turns. A touch's long first approach runs without
+  the turn (it holds still while another finger has it) and a contact felt that way is
+  confirmed by a short approach with the turn.
 """
 
 from __future__ import annotations
@@ -34,7 +43,7 @@ from typing import Any, Callable, Generator
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.config import FingerConfig, JawConfig
+from hand_driver.config import JawConfig
 
 #: joint-limit margin kept by every goal (rad): 1°
 LIMIT_MARGIN_RAD = math.radians(1.0)
