@@ -38,8 +38,8 @@ from hand_driver import kinematics as kin
 from hand_driver.config import JawConfig
 from recognizer.errors import InputError
 
-#: default standard-error tolerances: a third of the recovery targets (1 tick, 0.1 mm)
-TOLERANCES = {"zero_tick": 0.33, "link_mm": 0.033, "offset_mm": 0.033}
+#: default standard-error tolerances: half the recovery targets (1 tick, 0.1 mm)
+TOLERANCES = {"zero_tick": 0.5, "link_mm": 0.05, "offset_mm": 0.05}
 #: what each parameter kind needs, for refusals
 _NEEDS = {
     "zero_tick": "face touches of this finger at widely spread pad orientations, with the other finger "
@@ -306,14 +306,17 @@ class PlannedTouch:
 
 
 def plan_touches(cfg: JawConfig, reference, center, faces: int = 14, corners: int = 8,
-                 margin_rad: float = math.radians(3.0), clearance_mm: float = 2.0) -> list[PlannedTouch]:
+                 margin_rad: float = math.radians(3.0), clearance_mm: float = 2.0,
+                 gap: float = 3.0, accept=None) -> list[PlannedTouch]:
     """The calibration touch plan on a disk of the reference's radius centred at ``center``
     (the expected position). Per finger and inverse-kinematics branch: ``faces`` pad
     orientations evenly over the reachable range (contact ≥ 3 mm inside the pad), and
     ``corners`` contacts of each pad end ('corner': the fingertip end, 'heel': the
     proximal end) evenly over the reachable arc, with the pad leaving the disk by ≥ 20°.
     Only configurations whose links clear the disk by ``clearance_mm`` are used (the
-    links are not modelled by the emulator, but they are real)."""
+    links are not modelled by the emulator, but they are real), only contacts whose
+    approach pose ``gap`` mm outside the disk is inside the joint limits too, and, with
+    ``accept(finger, q_approach) -> bool``, only approach poses it accepts (a clear path)."""
     if reference.cls != "circle":
         raise InputError("the calibration touch plan needs a disk reference (class circle)")
     r = float(reference.params["r"])
@@ -332,21 +335,30 @@ def plan_touches(cfg: JawConfig, reference, center, faces: int = 14, corners: in
         for psi in grid:
             n = np.array([math.cos(psi), math.sin(psi)])
             pt = c - r * n
+            pre = [q for q in kin.ik_line_solutions(f, psi, float(n @ c) - r - gap)
+                   if kin.within_limits(f.joints, q, margin_rad)]
             for q in kin.ik_line_solutions(f, psi, float(n @ c) - r):
                 u = float(kin.finger_pad_line(f, q).pad_coordinate(pt))
                 if kin.within_limits(f.joints, q, margin_rad) and 3.0 <= u <= f.pad.length_mm - 3.0 and clear(q):
-                    face_ok.append((psi, q, pt))
-        plan += _spread(f.name, "face", face_ok, faces, lambda it: (it[0], (-math.cos(it[0]), -math.sin(it[0]))))
+                    near = [p for p in pre if np.sum(kin._wrap(p - q) ** 2) < 0.25]
+                    if near:
+                        face_ok.append((psi, q, pt, near[0]))
+        plan += _spread(f.name, "face", face_ok, faces, lambda it: (it[0], (-math.cos(it[0]), -math.sin(it[0]))),
+                        None if accept is None else lambda it, name=f.name: accept(name, it[3]))
         for kind, end, sign in (("corner", "distal", -1.0), ("heel", "proximal", 1.0)):
             ok = []
             for beta in grid:
                 m = np.array([math.cos(beta), math.sin(beta)])
                 pt = c + r * m
+                pre = kin.ik_corner(f, c + (r + gap) * m, margin_rad, end=end)
                 for q in kin.ik_corner(f, pt, margin_rad, end=end):
                     line = kin.finger_pad_line(f, q)
                     if float(sign * line.tangent @ m) >= math.sin(CORNER_TILT_RAD) and clear(q):
-                        ok.append((beta, q, pt))
-            plan += _spread(f.name, kind, ok, corners, lambda it: (float("nan"), (math.cos(it[0]), math.sin(it[0]))))
+                        near = [p for p in pre if np.sum(kin._wrap(p - q) ** 2) < 0.25]
+                        if near:
+                            ok.append((beta, q, pt, near[0]))
+            plan += _spread(f.name, kind, ok, corners, lambda it: (float("nan"), (math.cos(it[0]), math.sin(it[0]))),
+                            None if accept is None else lambda it, name=f.name: accept(name, it[3]))
     return plan
 
 
@@ -356,18 +368,23 @@ def _segment_distance(p, a, b) -> float:
     return float(np.hypot(*(p - a - t * ab)))
 
 
-def _spread(finger: str, kind: str, items: list, count: int, meta) -> list[PlannedTouch]:
-    """``count`` items evenly over the sorted angle range, per IK branch (sign of q2)."""
+def _spread(finger: str, kind: str, items: list, count: int, meta, accept=None) -> list[PlannedTouch]:
+    """``count`` items evenly over the sorted angle range, per IK branch (sign of q2); with
+    ``accept(item) -> bool`` each pick moves to the nearest accepted item not yet taken."""
     out = []
     for branch in (1.0, -1.0):
-        sel = [it for it in items if math.copysign(1.0, it[1][1]) == branch]
+        sel = sorted((it for it in items if math.copysign(1.0, it[1][1]) == branch), key=lambda it: it[0])
         if len(sel) < 2:
             continue
-        sel.sort(key=lambda it: it[0])
-        idx = np.unique(np.round(np.linspace(0, len(sel) - 1, count)).astype(int))
-        for i in idx:
-            angle, q, pt = sel[i]
-            psi, direction = meta(sel[i])
+        taken: set[int] = set()
+        for i in np.unique(np.round(np.linspace(0, len(sel) - 1, count)).astype(int)):
+            order = sorted(range(len(sel)), key=lambda k: abs(k - i))[:max(3, len(sel) // count)]
+            pick = next((k for k in order if k not in taken and (accept is None or accept(sel[k]))), None)
+            if pick is None:
+                continue
+            taken.add(pick)
+            q, pt = sel[pick][1], sel[pick][2]
+            psi, direction = meta(sel[pick])
             out.append(PlannedTouch(finger, kind, float(psi), (float(pt[0]), float(pt[1])), direction,
                                     (float(q[0]), float(q[1]))))
     return out
@@ -411,7 +428,7 @@ LOCATE_GAP_MM = 6.0
 TRANSIT_CLEARANCE_MM = 1.5
 #: suggested placements of the reference disk (hand frame, mm): the fit needs the disk
 #: seen from different sides by each finger, which one placement cannot give this jaw
-DEFAULT_PLACEMENTS = ((60.0, 0.0), (90.0, 15.0), (90.0, -15.0))
+DEFAULT_PLACEMENTS = ((60.0, 0.0), (85.0, 10.0), (85.0, -10.0))
 
 
 def home_pose(finger) -> np.ndarray:
@@ -476,6 +493,21 @@ def _pre_pose(cfg: JawConfig, t: PlannedTouch, center, r: float, gap: float):
     return min(sols, key=lambda q: float(np.sum(kin._wrap(q - np.asarray(t.q)) ** 2)))
 
 
+def _route(guard, finger: str, here, target, home) -> list | None:
+    """Joint-space waypoints from ``here`` to ``target`` whose straight segments keep the
+    pad clear of the expected disk: direct, or via the parking pose and/or the corners of
+    the joint-space box (one joint moved first); None if none is clear."""
+    candidates = [[], [home]]
+    for a in (here, home):
+        candidates += [[np.array([a[0], target[1]])], [np.array([target[0], a[1]])]]
+    candidates += [[home, np.array([home[0], target[1]])], [home, np.array([target[0], home[1]])]]
+    for via in candidates:
+        points = [here] + via + [target]
+        if all(guard(finger, a, b) for a, b in zip(points[:-1], points[1:])):
+            return via + [target]
+    return None
+
+
 def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float, placement: int,
                     guard, out: list[Reading], skipped: list[str], gap: float = APPROACH_GAP_MM,
                     travel: float = APPROACH_TRAVEL_MM):
@@ -491,26 +523,38 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
         if pre is None:
             skipped.append(f"{finger} {t.kind}: unreachable")
             continue
-        route = [pre] if guard(finger, here, pre) else [home, pre]
-        if len(route) == 2 and not (guard(finger, here, home) and guard(finger, home, pre)):
+        route = _route(guard, finger, here, pre, home)
+        if route is None:
             skipped.append(f"{finger} {t.kind}: no clear path")
             continue
+        reached = True
         for q in route:
-            yield from move_to(jaw, finger, q)
+            reached = (yield from move_to(jaw, finger, q)) and reached
+        here = route[-1]
+        if not reached:  # blocked on the way (the object is not where expected): park, skip
+            skipped.append(f"{finger} {t.kind}: blocked on the way")
+            yield from move_to(jaw, finger, home)
+            here = home
+            continue
         if t.kind == "face":
             n = np.array([math.cos(t.psi), math.sin(t.psi)])
             d_pre = float(n @ np.asarray(center)) - r - gap
-            result = yield from guarded_approach(jaw, finger, t.psi, d_pre, travel)
-            ticks = None if result.contact is None else result.contact.ticks
+            try:
+                result = yield from guarded_approach(jaw, finger, t.psi, d_pre, travel)
+                ticks = None if result.contact is None else result.contact.ticks
+            except kin.Unreachable:
+                ticks = None
         else:
-            ticks = yield from _corner_approach(jaw, finger, center, r, t.direction,
-                                                "distal" if t.kind == "corner" else "proximal", pre, gap, travel)
+            try:
+                ticks = yield from _corner_approach(jaw, finger, center, r, t.direction,
+                                                    "distal" if t.kind == "corner" else "proximal", pre, gap, travel)
+            except kin.Unreachable:
+                ticks = None
         if ticks is None:
             skipped.append(f"{finger} {t.kind}: no contact")
         else:
             out.append(Reading(finger, t.kind, (float(ticks[0]), float(ticks[1])), placement))
         yield from move_to(jaw, finger, pre)
-        here = pre
     if guard(finger, here, home):
         yield from move_to(jaw, finger, home)
 
@@ -522,7 +566,7 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
     geometry, least squares), then the full plan (:func:`plan_touches`) runs with both
     fingers at once. Returns the readings (locating touches included), the located
     centre and what was skipped."""
-    from hand_driver.motion import run_together
+    from hand_driver.motion import move_to, run_together
     from hand_driver.sim.physics import ContactWorld
     from recognizer.curves import Pose
 
@@ -546,16 +590,22 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
             return bool(np.allclose(world.constrain(a, b), b))
         return guard
 
-    # 1. locate: the pad starts 10 mm outside the expected disk (clearance for a guess off by < 10 mm)
+    # 0. park both fingers (opening them moves the pads away from the workspace)
+    run_together(jaw, {f.name: move_to(jaw, f.name, home_pose(f)) for f in cfg.fingers})
+    # 1. locate: the pads start LOCATE_GAP_MM outside the expected disk
     loc_gap, loc_travel = LOCATE_GAP_MM, 2.0 * LOCATE_GAP_MM
-    loc_plan = [t for t in plan_touches(cfg, reference, guess, faces=15, corners=0)
-                if t.kind == "face" and _pre_pose(cfg, t, guess, r, loc_gap) is not None]
+    guard = make_guard(guess, loc_gap - 0.5)
+    homes = {f.name: home_pose(f) for f in cfg.fingers}
+
+    def reachable(g):
+        return lambda name, q: _route(g, name, homes[name], q, homes[name]) is not None
+
     by_finger = {}
-    for f in cfg.fingers:  # spread over the finger's reachable orientations, ends excluded
-        mine = [t for t in loc_plan if t.finger == f.name]
+    loc_plan = plan_touches(cfg, reference, guess, faces=15, corners=0, gap=loc_gap, accept=reachable(guard))
+    for f in cfg.fingers:  # spread over the orientations reachable by a clear path from parking
+        mine = sorted((t for t in loc_plan if t.finger == f.name and t.kind == "face"), key=lambda t: t.psi)
         idx = np.round(np.linspace(0, len(mine) - 1, locate + 2)[1:-1]).astype(int) if mine else []
         by_finger[f.name] = [mine[i] for i in sorted(set(idx))]
-    guard = make_guard(guess, loc_gap - 0.5)
     run_together(jaw, {name: _finger_touches(jaw, name, items, guess, r, placement, guard, readings, skipped,
                                              gap=loc_gap, travel=loc_travel) for name, items in by_finger.items()})
     faces_found = [rd for rd in readings if rd.kind == "face"]
@@ -563,11 +613,11 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
         raise CalibrationRefused(f"placement {placement}: found the reference with only {len(faces_found)} "
                                  f"touches ({'; '.join(sorted(set(skipped))) or 'none skipped'}); place the disk "
                                  f"of radius {r:g} mm near ({guess[0]:g}, {guess[1]:g})")
-    model = _Model(cfg, reference, faces_found)
+    model = _Model(cfg, reference, [dataclasses.replace(rd, placement=0) for rd in faces_found])
     center = model.pose_start(_pack(cfg))[:2]
     # 2. the full plan around the located disk
-    plan = plan_touches(cfg, reference, center, faces=faces, corners=corners)
     guard = make_guard(center, TRANSIT_CLEARANCE_MM)
+    plan = plan_touches(cfg, reference, center, faces=faces, corners=corners, accept=reachable(guard))
     run_together(jaw, {f.name: _finger_touches(jaw, f.name, [t for t in plan if t.finger == f.name], center, r,
                                                placement, guard, readings, skipped) for f in cfg.fingers})
     return readings, center, skipped
