@@ -1,0 +1,102 @@
+"""``tactile calibrate``: fit zero ticks, link lengths and pad offsets from touches on a
+known reference disk (hand_driver.calibration), write a new jaw config."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from recognizer.errors import InputError
+
+HELP = "fit the jaw's zero ticks, link lengths and pad offsets from touches on a reference disk; write a new config"
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--config", default="config/jaw.yaml", help="the jaw config to start from (never modified)")
+    parser.add_argument("--port", action="append", required=True,
+                        help="serial port; give it once (you move the disk between placements when asked) "
+                             "or once per placement (one emulated bus per placement)")
+    parser.add_argument("--reference", default="config/scenes/calibration.yaml",
+                        help="scene whose object is the reference disk (class circle, known radius); its pose "
+                             "is not used by the fit")
+    parser.add_argument("--out", required=True, help="where to write the calibrated config")
+    parser.add_argument("--place", action="append", metavar="X,Y",
+                        help="expected disk centre (mm, hand frame) of one placement; repeat per placement "
+                             "(default: 60,0 85,10 85,-10)")
+    parser.add_argument("--faces", type=int, default=10, help="face touches per finger, IK branch and placement")
+    parser.add_argument("--corners", type=int, default=6, help="touches of each pad end per finger, branch, placement")
+    parser.add_argument("--max-se-ticks", type=float, default=0.5, help="refuse if a zero_tick's standard error exceeds this")
+    parser.add_argument("--max-se-mm", type=float, default=0.05, help="refuse if a length's standard error exceeds this")
+    parser.add_argument("--time-scale", type=float, default=1.0, help="robot seconds per wall second (emulators)")
+    parser.add_argument("--force", action="store_true", help="overwrite --out if it exists")
+    parser.add_argument("--json", action="store_true", help="print the result as JSON")
+
+
+def _placements(args) -> list[tuple[float, float]]:
+    from hand_driver.calibration import DEFAULT_PLACEMENTS
+
+    if not args.place:
+        return list(DEFAULT_PLACEMENTS)
+    out = []
+    for text in args.place:
+        try:
+            x, y = (float(v) for v in text.split(","))
+        except ValueError:
+            raise InputError(f"--place {text!r}: expected X,Y in mm, e.g. 60,0") from None
+        out.append((x, y))
+    return out
+
+
+def run(args) -> int:
+    from hand_driver import calibration as cal
+    from hand_driver.bus import JointBus
+    from hand_driver.config import dump_config, load_config
+    from hand_driver.motion import Jaw, WallClock
+    from recognizer.scene import load_scene
+
+    src, out = Path(args.config), Path(args.out)
+    if out.resolve() == src.resolve():
+        raise InputError(f"--out {out} is the input config; calibration never overwrites it, choose another path")
+    if out.exists() and not args.force:
+        raise InputError(f"--out {out} exists; pass --force to overwrite it")
+    cfg = load_config(src)
+    scene = load_scene(args.reference)
+    if scene.object is None or scene.object.cls != "circle":
+        raise InputError(f"{args.reference}: object: the reference must be a disk (class circle) of known radius")
+    places = _placements(args)
+    if len(args.port) not in (1, len(places)):
+        raise InputError(f"--port given {len(args.port)} times for {len(places)} placements; give it once or "
+                         f"once per placement")
+    if args.faces < 2 or args.corners < 0:
+        raise InputError("--faces must be ≥ 2 and --corners ≥ 0")
+    tolerances = {"zero_tick": args.max_se_ticks, "link_mm": args.max_se_mm, "offset_mm": args.max_se_mm}
+    readings = []
+    for k, guess in enumerate(places):
+        port = args.port[k] if len(args.port) > 1 else args.port[0]
+        if len(args.port) == 1 and len(places) > 1:
+            sys.stderr.write(f"placement {k + 1}/{len(places)}: fix the disk near ({guess[0]:g}, {guess[1]:g}) mm "
+                             f"and press Enter\n")
+            sys.stderr.flush()
+            sys.stdin.readline()
+        with JointBus(port, cfg.bus.baudrate, cfg.joints, retries=cfg.bus.retries) as bus:
+            jaw = Jaw(bus, cfg, clock=WallClock(args.time_scale))
+            got, center, skipped = cal.touch_reference(jaw, scene.object, guess, placement=k,
+                                                       faces=args.faces, corners=args.corners)
+        sys.stderr.write(f"placement {k + 1}: disk found at ({center[0]:.2f}, {center[1]:.2f}) mm, "
+                         f"{len(got)} touches, {len(skipped)} planned touches skipped\n")
+        readings += got
+    result = cal.fit(cfg, scene.object, readings, tolerances)
+    dump_config(result.config, out, header=f"calibrated by tactile calibrate from {src} "
+                                           f"({result.n_readings} touches, residual RMS "
+                                           f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm)")
+    if args.json:
+        print(json.dumps(result.to_json(), indent=2))
+    else:
+        print(f"touches: {result.n_readings}; residual RMS before {result.rms_before_mm:.3f} mm, "
+              f"after {result.rms_after_mm:.4f} mm (max {result.max_after_mm:.4f} mm)")
+        print(f"{'parameter':32s} {'before':>10s} {'after':>10s} {'± se':>8s}")
+        for e in result.estimates:
+            print(f"{e.name:32s} {e.before:10.3f} {e.after:10.3f} {e.se:8.3f}")
+        print(f"wrote {out}")
+    return 0
