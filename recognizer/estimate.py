@@ -7,31 +7,35 @@ m = n // 2. κ = dφ/ds and κ_s = d²φ/ds² there (paper eqs. 1–2).
 Methods
 - ``"central"``: the paper's finite differences (Sect. 1.2) on samples m−1, m, m+1,
   written for unequal spacing (the derivatives of the quadratic through the three
-  points; for equal spacing exactly the paper's quotients). Error O(Δs²) for κ and
-  O(Δs) for κ_s on unequal spacing, O(Δs²) on equal spacing.
-- ``"poly"``: local polynomial least squares of φ(s) − φ(s_m) in the Taylor basis
-  u^k/k! (u = s − s_m) over all the touch's samples; the degree (2 … min(6, N−3)) is
-  chosen from the data by the corrected Akaike criterion (AICc) — with a known φ noise
-  χ² + 2k + 2k(k+1)/(N−k−1), without it N·ln(RSS/N) + the same penalty.
-  Error O(Δs^{d}) for κ and O(Δs^{d−1}) for κ_s at degree d on exact data.
-- ``"auto"``: ``"central"`` for 3 or 4 samples, ``"poly"`` otherwise.
+  points; for equal spacing exactly the paper's quotients). Error O(Δs²) for κ and for
+  κ_s on equal spacing (O(Δs) for κ_s on unequal spacing).
+- ``"poly"``: polynomial least squares of φ(s) − φ(s_m) in the Taylor basis u^k/k!
+  (u = s − s_m) over all the touch's samples, degree 2 … min(7, n − 2). With a noise
+  model the degree d for κ_s is the lowest whose φ residuals pass a χ² goodness-of-fit
+  test at ``GOF_LEVEL`` (d + 2 when the touch turns by more than ``TURN_LIMIT``), κ takes
+  the next odd degree (on a symmetric window an even-degree fit leaves an O(Δs²) bias in
+  κ that φ's residuals cannot show under noise). Without one (degree ≤ n − 3) each output
+  takes the degree of least estimated mean squared error (variance + squared bias against
+  the highest degree). Error O(Δs^(d−1)) or better on exact data.
+- ``"auto"``: ``"central"`` for 3 samples, ``"poly"`` otherwise.
 
 Arc length: ``s`` when the touch has it; otherwise the cumulative chord between
 consecutive points corrected to the circular arc through them with the measured turn
-Δφ: Δs = chord · (Δφ/2) / sin(Δφ/2) (exact on circles, error O(Δs³·κ_s) otherwise).
+Δφ: Δs = chord · (Δφ/2) / sin(Δφ/2) (exact on circles).
 
 Covariance of (κ, κ_s)
 - ``noise`` given (attributes ``phi``: std of φ in rad, ``pos``: std of x and y in mm,
-  optional ``s``: std of each given s in mm): first-order propagation
-  J · diag(σ²) · Jᵀ, J the derivative of the estimate with respect to every φ_i, x_i,
-  y_i (when s comes from the positions) and s_i, by central differences with the
-  model choice held fixed.
-- ``noise`` None: φ noise estimated from the fit residuals, σ̂² = RSS/(N − k), floored
-  at ``SIGMA_PHI_FLOOR`` (1e-10 rad) so exact data gives a tiny but positive covariance;
-  ``"poly"`` adds the squared change of the estimate from degree d−1 to d as a
-  truncation term. ``"central"`` adds its difference to the quartic through the 5
-  middle samples as truncation term; on 3 or 4 samples it has no spare sample and its
-  covariance is the noise's (or the floor's) propagation only.
+  optional ``s``: std of each given s in mm; zeros mean exact data): first-order
+  propagation J · diag(σ²) · Jᵀ with the model choice held fixed — exact for φ (the
+  estimate is linear in φ), analytic derivatives of the fit with respect to the arc
+  lengths, chained to the positions through the chords — plus the squared truncation
+  bias: the change to a fit two degrees higher less ``BIAS_NOISE_FACTOR`` times that
+  change's noise variance (clipped at 0); at the highest degree the last change.
+- ``noise`` None: φ noise estimated from the residuals of the highest-degree fit,
+  floored at ``SIGMA_PHI_FLOOR`` (1e-10 rad), propagated, plus the same bias terms.
+- ``"central"`` adds its difference to the quartic through the 5 middle samples as
+  truncation term; on 3 or 4 samples it has no spare sample and its covariance is the
+  noise's (or the floor's) propagation only — document your noise model for them.
 """
 
 from __future__ import annotations
@@ -273,14 +277,6 @@ def _central_bias2(phi: np.ndarray, s: np.ndarray, m: int, sigma: float) -> np.n
     g = _central_map(s, m) - g5
     diff = g @ (phi - phi[m])
     return np.maximum(diff**2 - BIAS_NOISE_FACTOR * sigma**2 * np.sum(g * g, axis=1), 0.0)
-
-
-def _estimate_frozen(phi: np.ndarray, x: np.ndarray, y: np.ndarray, s: np.ndarray | None,
-                     m: int, choice: _Choice) -> np.ndarray:
-    """(κ, κ_s) for a fixed model choice; used for derivatives of the estimate."""
-    ss = _arc_length(phi, x, y) if s is None else s
-    g, _ = _maps(ss, m, choice)
-    return g @ (phi - phi[m])
 
 
 def _d_ds(phi: np.ndarray, s: np.ndarray, m: int, choice: _Choice) -> np.ndarray:
