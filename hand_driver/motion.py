@@ -282,7 +282,7 @@ def move_to(jaw: Jaw, finger: str, q_goal, max_cycles: int = 200) -> Motion:
     return False
 
 
-def move_line(jaw: Jaw, finger: str, psi: float, d: float, max_turn_rad: float = math.radians(2.0),
+def move_line(jaw: Jaw, finger: str, psi: float, d: float, max_turn_rad: float = math.radians(1.0),
               max_shift_mm: float = 1.0) -> Motion:
     """Put the pad on the line (ψ, d) by a coordinated Cartesian move: the pad line is
     interpolated from where it is, turning about the pad's middle by at most
