@@ -19,7 +19,8 @@ and turns along it.
 After every round with at least ``settings.min_touches`` usable touches the recognizer
 runs on all of them; exploration stops as soon as it answers a class (its χ² tests
 found the invariants of every touch consistent) or when the touch budget is spent; the
-answer on every usable touch is the result.
+answer on every usable touch is the result (when the budget runs out first, the
+recognizer answers on the usable touches if they suffice for any class of the scene).
 """
 
 from __future__ import annotations
@@ -264,8 +265,7 @@ def choose_psi(finger, model: ObjectModel, settings: ExploreSettings, used: list
     if not used:
         return min(ok, key=lambda a: abs(a - nominal))
     gap = [min(abs(a - u) for u in used) for a in ok]
-    best = max(gap)
-    if best < 0.5 * settings.roll_span_rad:
+    if max(gap) < math.radians(CANDIDATE_STEP_DEG) - 1e-9:
         return None  # every feasible orientation was touched already
     return ok[int(np.argmax(gap))]
 
@@ -353,9 +353,12 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
                 break
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
     run_together(jaw, {name: transit(jaw, name, model, psi) for name, psi in here.items()})  # pads to the edge
-    if out.recognition is None and len(good) >= settings.min_touches:
-        out.recognition = recognize_touches(good)
-        out.answers.append(out.recognition.cls)
+    if out.recognition is None and good:
+        try:  # the budget is spent with fewer usable touches than planned: answer if possible
+            out.recognition = recognize_touches(good)
+            out.answers.append(out.recognition.cls)
+        except InputError as exc:
+            emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})
     out.request = {"touches": good}
     out.robot_time_s = jaw.robot_time() - t0
     return out

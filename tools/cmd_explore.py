@@ -115,8 +115,8 @@ def finish(session: Session, args, *, config, truth=None, extra_lines: list[str]
 
     ex = session.exploration
     if session.recognition is None:
-        raise DeviceFault(f"only {len(ex.request['touches'])} usable touches of {len(ex.touches)} tried; "
-                          f"the recognizer needs {session.settings.min_touches} (see the log's events)")
+        raise DeviceFault(f"only {len(ex.request['touches'])} usable touches of {len(ex.touches)} tried, too few "
+                          f"to recognize (progress lines and the log's events say why)")
     if args.plot:
         from tools.plot import plot_exploration
 
