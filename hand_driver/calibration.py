@@ -241,6 +241,11 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     v0 = _pack(cfg)
     names = _param_names(cfg)
     nv = v0.size
+    n_pose = 2 * len(model.placements)
+    n_res = sum(len(t) * (2 if (model.cls == "line" and kind == "face") else 1) for _, _, kind, t in model.groups)
+    if n_res <= nv + n_pose:
+        raise CalibrationRefused(f"{n_res} residuals for {nv + n_pose} unknowns: more touches are needed "
+                                 f"(face and corner touches of both fingers on every placement)")
     # before: nominal parameters, only the pose fitted
     w0 = model.pose_start(v0)
     before = least_squares(lambda w: model.residuals(v0, w), w0, method="lm")
@@ -252,9 +257,6 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
                         xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
     r = res.fun * sig  # mm
     m, p = r.size, x0.size
-    if m <= p:
-        raise CalibrationRefused(f"{m} residuals for {p} unknowns: more touches are needed "
-                                 f"({_NEEDS['zero_tick']}; corner touches for the distal links)")
     jac = res.jac
     u, s, vt = np.linalg.svd(jac, full_matrices=False)
     col = np.linalg.norm(jac, axis=0)

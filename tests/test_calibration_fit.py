@@ -1,0 +1,90 @@
+"""Calibration fit on synthetic readings: exact contacts of a perturbed 'truth' jaw on a
+disk, quantized to ticks; recovery, residuals, and refusals."""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+
+import numpy as np
+import pytest
+
+from hand_driver import calibration as cal
+from hand_driver.config import load_config
+from recognizer.curves import Pose
+from recognizer.scene import SceneObject
+
+CFG = load_config("config/jaw.yaml")
+DISK = SceneObject("circle", {"r": 20.0}, Pose(0.0, 0.0, 0.0), "left")
+
+
+def perturbed(seed: int):
+    rng = np.random.default_rng(seed)
+    fingers = []
+    for f in CFG.fingers:
+        joints = tuple(dataclasses.replace(j, zero_tick=j.zero_tick + rng.uniform(-20, 20),
+                                           link_mm=j.link_mm + rng.uniform(-1, 1)) for j in f.joints)
+        pad = dataclasses.replace(f.pad, offset_mm=f.pad.offset_mm + rng.uniform(-0.5, 0.5))
+        fingers.append(dataclasses.replace(f, joints=joints, pad=pad))
+    return dataclasses.replace(CFG, fingers=tuple(fingers)), rng
+
+
+@functools.cache
+def plan_at(x: float, y: float) -> tuple:
+    return tuple(cal.plan_touches(CFG, DISK, (x, y), faces=10, corners=6))
+
+
+def readings_for(truth, rng, placements=cal.DEFAULT_PLACEMENTS, kinds=("face", "corner", "heel")):
+    """Synthetic readings of the nominal plan; each disk is off its expected place by ±3 mm."""
+    out = []
+    for k, (x, y) in enumerate(placements):
+        disk = dataclasses.replace(DISK, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
+        plan = [t for t in plan_at(x, y) if t.kind in kinds]
+        out += cal.synthesize(truth, disk, plan, placement=k)
+    return out
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+def test_fit_recovers_truth_within_a_tick_and_a_tenth_of_a_mm(seed):
+    truth, rng = perturbed(seed)
+    result = cal.fit(CFG, DISK, readings_for(truth, rng))
+    err = cal._pack(result.config) - cal._pack(truth)
+    for e, d in zip(result.estimates, err):
+        limit = 1.0 if e.kind == "zero_tick" else 0.1
+        assert abs(d) <= limit, f"{e.name}: error {d:+.3f}, se {e.se:.3f}"
+        assert abs(d) <= 4.0 * e.se + 1e-9  # the reported uncertainty is honest
+    assert result.rms_before_mm > 10 * result.rms_after_mm
+    assert result.rms_after_mm < 0.06  # quantization only
+    assert len(result.reference_poses) == len(cal.DEFAULT_PLACEMENTS)
+
+
+def test_exact_readings_give_exact_parameters():
+    truth, rng = perturbed(3)
+    readings = []
+    for k, (x, y) in enumerate(cal.DEFAULT_PLACEMENTS):
+        disk = dataclasses.replace(DISK, pose=Pose(0.0, x + 1.0, y - 1.0))
+        readings += cal.synthesize(truth, disk, list(plan_at(x, y)), quantize=False, placement=k)
+    result = cal.fit(CFG, DISK, readings)
+    assert cal._pack(result.config) == pytest.approx(cal._pack(truth), abs=1e-5)
+    assert result.rms_after_mm < 1e-6
+
+
+def test_face_touches_alone_cannot_see_the_distal_links():
+    truth, rng = perturbed(4)
+    with pytest.raises(cal.CalibrationRefused, match=r"joint[24]\.link_mm.*corner touches"):
+        cal.fit(CFG, DISK, readings_for(truth, rng, kinds=("face",)))
+
+
+def test_one_finger_cannot_fix_its_base_joint_zero():
+    """A finger turning about its base with the disk: the same readings (a symmetry)."""
+    truth, rng = perturbed(5)
+    readings = [r for r in readings_for(truth, rng, placements=cal.DEFAULT_PLACEMENTS[:1]) if r.finger == "left"]
+    with pytest.raises(cal.CalibrationRefused, match="cannot determine|only to"):
+        cal.fit(CFG, DISK, readings)
+
+
+def test_too_few_readings_refused():
+    truth, rng = perturbed(6)
+    with pytest.raises(cal.CalibrationRefused, match="unknowns") as info:
+        cal.fit(CFG, DISK, readings_for(truth, rng)[:8])
+    assert "\n" not in str(info.value)
