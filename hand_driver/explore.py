@@ -3,24 +3,23 @@
 Each round, every finger makes one rolling touch (hand_driver.motion.rolling_touch) in
 the same bus cycles. Where to touch comes from a working model of the object, a circle
 (centre c, radius R): the workspace disk's centre and half its radius before any
-contact, then the least-squares circle through every contact point found so far once
-their tangents point at least 90° apart (before that, the mean distance of the points
-from the centre). A
-finger's candidate pad orientations ψ are those, within ±75° of its pad's normal at
-zero joint angles (2.5° apart), at which inverse kinematics puts the pad, for every
-orientation of the roll, on the model's tangent line with the predicted contact on the
-pad (``PLAN_PAD_MARGIN`` of its length from either end). The first touch of a finger takes the
-candidate closest to that normal and approaches from the workspace edge; later touches
-take the candidate farthest (in ψ) from the finger's earlier touches, so the touches see
-different parts (and curvatures) of the boundary, and approach from ``APPROACH_MARGIN_MM``
-outside the model's tangent line. Between touches a pad retreats to the workspace edge
-and turns along it.
+contact; then the least-squares circle through every contact found so far once their
+tangents point at least 90° apart (before that, the points' mean distance from c).
+A finger's candidate pad orientations ψ lie within ±75° of its pad's normal at zero
+joint angles, 2.5° apart, such that for both ends of the roll inverse kinematics puts
+the pad on the model's tangent line (and ``APPROACH_MARGIN_MM`` beyond it) with the
+predicted contact ``PLAN_PAD_MARGIN`` of the pad's length away from either pad end. The
+first touch of a finger takes the candidate nearest that normal and approaches from the
+workspace edge; later ones take the candidate farthest (in ψ) from the finger's earlier
+touches, so the touches see other parts (and curvatures) of the boundary, and approach
+from ``APPROACH_MARGIN_MM`` outside the model's tangent. Between touches a pad retreats
+to the workspace edge and turns along it.
 
-After every round with at least ``settings.min_touches`` usable touches the recognizer
-runs on all of them; exploration stops as soon as it answers a class (its χ² tests
-found the invariants of every touch consistent) or when the touch budget is spent; the
-answer on every usable touch is the result (when the budget runs out first, the
-recognizer answers on the usable touches if they suffice for any class of the scene).
+After every round with at least ``settings.min_touches`` usable touches
+(:func:`touch_problem`) the recognizer runs on all of them; exploration stops as soon as
+it answers a class (its χ² tests found every touch consistent) or when the touch budget
+is spent; then the recognizer answers on the usable touches if they suffice for any
+class of the scene.
 """
 
 from __future__ import annotations

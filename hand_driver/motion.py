@@ -25,12 +25,8 @@ pad by inverse kinematics, the solution nearest the present joint angles.
   pad end or a pad that does not turn ends the touch; after the last sample the pad backs
   off ``backoff_mm``. The in-contact pad lines give the contacts by their envelope
   (hand_driver.kinematics.touch_from_ticks).
-- **Turns to press**: the emulator's contact physics stops every joint while any pad is
-  blocked, so a finger moving while the other presses would feel a false contact. Only
-  the finger holding the turn (:func:`take_turn`) approaches near the object; the other
-  holds still or does its back-offs and turns. A touch's long first approach runs without
-  the turn (it holds still while another finger has it) and a contact felt that way is
-  confirmed by a short approach with the turn.
+- Both fingers run these at once in the same cycles: each finger's contact is judged on
+  its own joints' currents and motion only.
 """
 
 from __future__ import annotations
@@ -124,7 +120,6 @@ class Jaw:
         self.period_s = config.motion.approach_step_mm / config.motion.approach_speed_mm_s
         self.readings = 0
         self.last_index = -1
-        self.presser: str | None = None  # the finger allowed to press (module docstring)
         self._t0 = self.clock.now()
         state, _ = self.read()
         self.goal_ticks = np.asarray(state.ticks, dtype=np.int64).copy()
@@ -180,16 +175,6 @@ class Jaw:
         values = [abs(float(c)) for c in np.asarray(state.current_ma, dtype=object)[self.slices[finger]]
                   if c is not None]
         return max(values) if values else None
-
-    def others_pressing(self, state, finger: str) -> bool:
-        """Whether another finger reads at least half the contact current (it is pressing)."""
-        limit = 0.5 * self.config.motion.contact_current_ma
-        for name in self.slices:
-            if name != finger:
-                current = self.finger_current(state, name)
-                if current is not None and current >= limit:
-                    return True
-        return False
 
     def solve(self, finger: str, psi: float, d: float, q_ref) -> np.ndarray:
         """Joint angles for the pad line (ψ, d) nearest ``q_ref``; kin.Unreachable if none."""
@@ -263,8 +248,8 @@ class ApproachResult:
 
 
 def move_to(jaw: Jaw, finger: str, q_goal, max_cycles: int = 200) -> Motion:
-    """Go to joint angles ``q_goal`` and wait until reached (or no progress for 3 cycles
-    while no other finger presses, or ``max_cycles``); returns True when reached."""
+    """Go to joint angles ``q_goal`` and wait until reached (or no progress for 3 cycles,
+    or ``max_cycles``); returns True when reached."""
     f = jaw.config.finger(finger)
     target = np.rint(kin.angles_to_ticks(f.joints, q_goal))
     state, _ = yield np.asarray(q_goal, dtype=float)
@@ -274,7 +259,7 @@ def move_to(jaw: Jaw, finger: str, q_goal, max_cycles: int = 200) -> Motion:
         if np.all(np.abs(ticks - target) <= REACHED_TICKS):
             return True
         moved = not np.all(np.abs(ticks - last) <= 1)
-        still = 0 if moved or jaw.others_pressing(state, finger) else still + 1
+        still = 0 if moved else still + 1
         if still >= 3:
             return False
         last = ticks
@@ -305,25 +290,9 @@ def move_line(jaw: Jaw, finger: str, psi: float, d: float, max_turn_rad: float =
     return (yield from move_to(jaw, finger, q))
 
 
-def take_turn(jaw: Jaw, finger: str) -> Motion:
-    """Hold where the finger is until no other finger may press, then become the one
-    that may."""
-    while jaw.presser not in (None, finger):
-        yield jaw.finger_q(jaw.last_state, finger)
-    jaw.presser = finger
-
-
-def end_turn(jaw: Jaw, finger: str) -> None:
-    if jaw.presser == finger:
-        jaw.presser = None
-
-
-def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_mm: float,
-                     yielding: bool = False) -> Motion:
+def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_mm: float) -> Motion:
     """Advance the pad along its normal from line (ψ, d_start) until contact or
-    ``travel_mm``; returns an :class:`ApproachResult` (module docstring). ``yielding``:
-    the finger does not hold the turn to press; while another finger holds it, this one
-    holds still and judges nothing."""
+    ``travel_mm``; returns an :class:`ApproachResult` (module docstring)."""
     m = jaw.config.motion
     step = m.approach_step_mm
     n = _unit(psi)
@@ -335,12 +304,6 @@ def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_m
         line = jaw.pad_line(state, finger)
         d_meas = float(n @ line.distal)  # the pad's offset along the commanded normal
         elapsed = jaw.robot_time() - t0
-        if yielding and jaw.presser not in (None, finger):
-            history.clear()
-            d_goal = min(d_goal, d_meas)
-            t0 = jaw.robot_time() - (d_goal - d_start) / m.approach_speed_mm_s
-            state, i = yield jaw.solve(finger, psi, d_goal, jaw.finger_q(state, finger))
-            continue
         history.append(d_meas)
         current = jaw.finger_current(state, finger)
         stalled = (len(history) >= 3 and d_goal - d_meas >= 1.5 * step
@@ -412,26 +375,13 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
                     d_from -= m.backoff_mm
                     reach += m.backoff_mm
                     yield from move_line(jaw, finger, psi, d_from)
-            if k == 0:
-                # the long first approach runs while the other finger works; a contact felt
-                # without the turn is confirmed by a short approach with it
-                approach = yield from guarded_approach(jaw, finger, psi, d_from, reach, yielding=True)
-                if approach.contact is not None:
-                    yield from take_turn(jaw, finger)
-                    d_from = approach.contact.d - ROLL_CLEARANCE_MM
-                    yield from move_line(jaw, finger, psi, d_from)
-                    reach = reach - approach.travel_mm + 3.0 * ROLL_CLEARANCE_MM
-                    approach = yield from guarded_approach(jaw, finger, psi, d_from, reach)
-            else:
-                yield from take_turn(jaw, finger)
-                approach = yield from guarded_approach(jaw, finger, psi, d_from, reach)
+            approach = yield from guarded_approach(jaw, finger, psi, d_from, reach)
             turned = (approach.contact is None or k == 0 or abs(math.remainder(
                 approach.contact.psi_measured - result.samples[-1].psi_measured, 2 * math.pi))
                 >= 0.5 * abs(psi - result.samples[-1].psi))
             if not turned:
                 approach = ApproachResult(None, approach.travel_mm, "blocked")
             if approach.contact is None:
-                end_turn(jaw, finger)
                 result.outcome = approach.reason
                 result.message = {
                     "no_contact": f"{finger}: no contact within {reach:.1f} mm at psi={math.degrees(psi):.1f} deg",
@@ -444,11 +394,8 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
                   "reading": approach.contact.reading, "by": approach.reason})
             last = k == len(angles) - 1
             yield from move_line(jaw, finger, psi, approach.contact.d - (m.backoff_mm if last else ROLL_CLEARANCE_MM))
-            end_turn(jaw, finger)
     except kin.Unreachable as exc:
         result.outcome, result.message = "unreachable", str(exc)
-    finally:
-        end_turn(jaw, finger)
     emit({"type": "touch_end", "touch": touch, "finger": finger, "reading": jaw.log_index(),
           "samples": len(result.samples), "outcome": result.outcome})
     return result
