@@ -324,7 +324,7 @@ def plan_touches(cfg: JawConfig, reference, center, faces: int = 14, corners: in
     r = float(reference.params["r"])
     c = np.asarray(center, dtype=float)
     plan: list[PlannedTouch] = []
-    grid = np.linspace(-np.pi, np.pi, 361)[:-1]
+    grid = np.linspace(-np.pi, np.pi, 181)[:-1]  # 2° steps
     for f in cfg.fingers:
         def clear(q) -> bool:
             line = kin.finger_pad_line(f, q)
@@ -569,27 +569,26 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
     fingers at once. Returns the readings (locating touches included), the located
     centre and what was skipped."""
     from hand_driver.motion import move_to, run_together
-    from hand_driver.sim.physics import ContactWorld
-    from recognizer.curves import Pose
 
     cfg = jaw.config
     r = float(reference.params["r"])
     readings: list[Reading] = []
     skipped: list[str] = []
-    sl = cfg.joint_slices()
 
     def make_guard(center, extra):
-        obj = dataclasses.replace(reference, params={"r": r + extra}, pose=Pose(0.0, float(center[0]),
-                                                                                float(center[1])))
-        world = ContactWorld(cfg, obj)
-        parked = np.concatenate([home_pose(f) for f in cfg.fingers])
+        """guard(finger, q_from, q_to): does the straight joint-space move keep the pad
+        ``extra`` mm clear of the expected disk (sampled every 0.01 rad)?"""
+        c = np.asarray(center, dtype=float)
 
         def guard(finger, q_from, q_to) -> bool:
-            a, b = parked.copy(), parked.copy()
-            a[sl[finger]], b[sl[finger]] = q_from, q_to
-            if world.penetrates(a):
-                return False
-            return bool(np.allclose(world.constrain(a, b), b))
+            q_from, q_to = np.asarray(q_from, dtype=float), np.asarray(q_to, dtype=float)
+            n = max(2, math.ceil(float(np.max(np.abs(q_to - q_from))) / 0.01) + 1)
+            qs = q_from + np.linspace(0.0, 1.0, n)[:, None] * (q_to - q_from)
+            line = kin.finger_pad_line(cfg.finger(finger), qs)
+            ab = line.distal - line.proximal
+            u = np.clip(np.sum((c - line.proximal) * ab, axis=1) / np.sum(ab * ab, axis=1), 0.0, 1.0)
+            dist = np.hypot(*(line.proximal + u[:, None] * ab - c).T)
+            return bool(np.all(dist >= r + extra))
         return guard
 
     # 0. park both fingers (opening them moves the pads away from the workspace)
