@@ -163,6 +163,8 @@ class Contacts:
         self._scale = None
         self._white = None
         self._rows = None
+        self._cols = None
+        self._flip = None
 
     @property
     def scale(self) -> float:
@@ -217,15 +219,28 @@ class Contacts:
                 self.sig_pos.tolist(), self.sig_phi.tolist(), W)]
         return self._rows
 
+    def cols(self) -> tuple[list, list, list, list, list]:
+        """(x, y, φ, κ, κ_s) as lists of Python floats."""
+        if self._cols is None:
+            self._cols = tuple(list(c) for c in zip(*(r[:5] for r in self.rows())))
+        return self._cols
+
+    def dominant_kappa(self) -> float:
+        """The κ of largest magnitude (the first of equals): its sign is the direction."""
+        k = self.cols()[3]
+        return max(k, key=abs)
+
     def flipped(self) -> "Contacts":
         """The same touches seen in the other direction (φ + π, −κ); the whitener of
-        (κ, κ_s) changes only by the sign of its κ column."""
-        f = Contacts(self.x, self.y, self.phi + np.pi, -self.kappa, self.kappa_s, self.cov,
-                     self.sig_pos, self.sig_phi)
-        f._scale = self.scale
-        if not np.any(self.cov[:, 0, 1]):
-            f._white = self.whitener()
-        return f
+        (κ, κ_s) changes only by the sign of its κ column. Made once per Contacts."""
+        if self._flip is None:
+            f = Contacts(self.x, self.y, self.phi + np.pi, -self.kappa, self.kappa_s, self.cov,
+                         self.sig_pos, self.sig_phi)
+            f._scale = self.scale
+            if not np.any(self.cov[:, 0, 1]):
+                f._white = self.whitener()
+            self._flip = f
+        return self._flip
 
 
 @dataclass
@@ -251,7 +266,7 @@ class _Model:
         self.kern = _KERNELS[cls]
         self.rows = data.rows()
         L = data.scale
-        self.tscale = {"line": L, "cubical_parabola": L, "semicubical_parabola": math.sqrt(L)}.get(cls, 1.0)
+        self.tscale = L if cls in ("line", "cubical_parabola") else math.sqrt(L) if cls == "semicubical_parabola" else 1.0
 
     def floor(self) -> float:
         """A lower bound of the cost over every parameter value: the line's κ, κ_s are 0
@@ -305,31 +320,44 @@ class _Model:
     def jac(self, z, r, parts):
         """Jacobian (5n, m) of the residuals: forward differences in the shape parameters,
         analytic in pose and t (dp/dt = speed·(cos φ, sin φ), dφ/dt = κ·speed,
-        dκ/dt = κ_s·speed, dκ_s/dt a central difference)."""
+        dκ/dt = κ_s·speed, dκ_s/dt a central difference). Built in Python floats, one
+        NumPy conversion at the end (an element-wise NumPy fill costs more than the math)."""
         p, ct, st, fr = parts
         n = len(fr)
         o = self.np
         m = o + 3 + n
-        J = np.zeros((5 * n, m))
+        zl = z.tolist()
+        th, X, Y = zl[o: o + 3]
+        ts = zl[o + 3:]
+        rl = r.tolist() if isinstance(r, np.ndarray) else r
+        kern, tscale, rows = self.kern, self.tscale, self.rows
+        # shape columns: the residuals at a forward step of one shape parameter (as eval)
+        shape = []
         for j in range(o):
             if self.log[j]:
                 h = 1e-7
             elif self.cls == "cubical_parabola" and j == 0:  # a, 1/mm², never 0
-                h = 1e-7 * abs(z[j])
+                h = 1e-7 * abs(zl[j])
             else:  # dimensionless slopes c, b
-                h = 1e-7 * max(abs(z[j]), 1.0)
-            zz = z.copy()
-            zz[j] += h
-            rj = self.eval(zz)[0]
-            J[:, j] = math.nan if rj is None else (np.array(rj) - r) / h
-        zl = z.tolist()
-        th = zl[o]
-        ri, ci, vals = [], [], []
-        kern, tscale = self.kern, self.tscale
-        for i, (t, f, row) in enumerate(zip(zl[o + 3:], fr, self.rows)):
+                h = 1e-7 * max(abs(zl[j]), 1.0)
+            zj = zl[j] + h
+            pj = p[:j] + (math.exp(zj) if self.log[j] else zj,) + p[j + 1:]
+            col = []
+            try:
+                for t, (x, y, phi, k, ks, sp, sf, w00, w01, w10, w11) in zip(ts, rows):
+                    f = kern(pj, t)
+                    px, py = f[0], f[1]
+                    e0, e1 = f[3] - k, f[4] - ks
+                    col += ((ct * px - st * py + X - x) / sp, (st * px + ct * py + Y - y) / sp,
+                            ((f[2] + th - phi + _PI) % _TAU - _PI) / sf, w00 * e0 + w01 * e1, w10 * e0 + w11 * e1)
+                col = [(a - b) / h for a, b in zip(col, rl)]
+            except _NUMERIC_ERRORS:
+                col = [math.nan] * (5 * n)
+            shape.append(col)
+        out = []
+        for i, (t, f, row) in enumerate(zip(ts, fr, rows)):
             px, py, ph, kc, ksc, spd = f
             sp, sf, w00, w01, w10, w11 = row[5:]
-            b, col = 5 * i, o + 3 + i
             h = 1e-6 * max(abs(t), tscale)
             try:
                 kss = (kern(p, t + h)[4] - kern(p, t - h)[4]) / (2 * h)
@@ -337,13 +365,34 @@ class _Model:
                 kss = math.nan
             ang = ph + th
             e0 = ksc * spd
-            ri += (b, b + 1, b + 2, b, b + 1, b, b + 1, b + 2, b + 3, b + 4)
-            ci += (o, o, o, o + 1, o + 2, col, col, col, col, col)
-            vals += ((-st * px - ct * py) / sp, (ct * px - st * py) / sp, 1.0 / sf, 1.0 / sp, 1.0 / sp,
-                     spd * math.cos(ang) / sp, spd * math.sin(ang) / sp, kc * spd / sf,
-                     w00 * e0 + w01 * kss, w10 * e0 + w11 * kss)
-        J[ri, ci] = vals
-        return J
+            before, after = [0.0] * i, [0.0] * (n - 1 - i)
+            b = 5 * i
+            out += [c[b] for c in shape]
+            out += ((-st * px - ct * py) / sp, 1.0 / sp, 0.0)
+            out += before
+            out.append(spd * math.cos(ang) / sp)
+            out += after
+            out += [c[b + 1] for c in shape]
+            out += ((ct * px - st * py) / sp, 0.0, 1.0 / sp)
+            out += before
+            out.append(spd * math.sin(ang) / sp)
+            out += after
+            out += [c[b + 2] for c in shape]
+            out += (1.0 / sf, 0.0, 0.0)
+            out += before
+            out.append(kc * spd / sf)
+            out += after
+            out += [c[b + 3] for c in shape]
+            out += (0.0, 0.0, 0.0)
+            out += before
+            out.append(w00 * e0 + w01 * kss)
+            out += after
+            out += [c[b + 4] for c in shape]
+            out += (0.0, 0.0, 0.0)
+            out += before
+            out.append(w10 * e0 + w11 * kss)
+            out += after
+        return np.fromiter(out, float, 5 * n * m).reshape(5 * n, m)
 
     def solve(self, z0, max_iter=40, give_up=math.inf):
         """Levenberg–Marquardt from z0; stops early once the cost is negligible (exact data)
@@ -418,12 +467,7 @@ def _best_pair(k):
 
 def _starts(cls: str, d: Contacts):
     """Closed-form (params, t) starting points for a class (data in canonical direction)."""
-    rows = d.rows()
-    x = [r[0] for r in rows]
-    y = [r[1] for r in rows]
-    phi = [r[2] for r in rows]
-    k = [r[3] for r in rows]
-    ks = [r[4] for r in rows]
+    x, y, phi, k, ks = d.cols()
     if cls == "line":
         th = _circmean_s(phi)
         c, s = math.cos(th), math.sin(th)
@@ -544,7 +588,7 @@ def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = ma
     sign = CURVES[cls].kappa_sign
     d = data
     if sign != 0:
-        dom = float(data.kappa[np.argmax(np.abs(data.kappa))])
+        dom = data.dominant_kappa()
         if dom != 0 and math.copysign(1.0, dom) != sign:
             d = data.flipped()
     model = _Model(cls, d)
