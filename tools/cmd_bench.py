@@ -32,7 +32,7 @@ def _positive(value: int | None, default: int, name: str) -> int:
     if value is None:
         return default
     if value < 1:
-        raise InputError(f"tactile bench: {name} must be >= 1, got {value}")
+        raise InputError(f"{name} must be >= 1, got {value}")
     return value
 
 
@@ -43,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
     classes = tuple(args.classes) if args.classes else bench.CLASSES
     unknown = [c for c in classes if c not in CURVES]
     if unknown:
-        raise InputError(f"tactile bench: --classes: unknown {', '.join(unknown)}; allowed: {', '.join(CURVES)}")
+        raise InputError(f"--classes: unknown {', '.join(unknown)}; allowed: {', '.join(CURVES)}")
     shapes = _positive(args.shapes, 6 if args.quick else 100, "--shapes")
     sweep = _positive(args.sweep_shapes, 2 if args.quick else 5, "--sweep-shapes")
     table = _positive(args.table_shapes, 10 if args.quick else 100, "--table-shapes")
@@ -52,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise InputError(f"tactile bench: --out {out}: cannot create ({exc.strerror})") from exc
+        raise InputError(f"--out {out}: cannot create ({exc.strerror})") from exc
 
     def progress(msg: str, final: bool) -> None:
         sys.stderr.write(f"\r[bench] {msg}   " + ("\n" if final else ""))
