@@ -530,23 +530,24 @@ def _starts(cls: str, d: Contacts):
     roots, _ = inv.slope_angles(k[i], ks[i], k[j], ks[j], phi[j] - phi[i], kk)
     out = []
     for psi in roots:
-        for half in ((0.0,) if cls == "cubical_parabola" else (0.0, _PI)):
-            th = phi[i] - psi - half
-            lam = [math.tan(_wrap_s(f - th)) for f in phi]
-            dens = [ksi + 3.0 * li * ki * ki for li, ki, ksi in zip(lam, k, ks)]
-            if cls == "cubical_parabola":
-                a = _median([de * (1.0 + li * li) ** 2 / 6.0 for li, de in zip(lam, dens)])
-                c = _median([li - _div(ki * ki * (1.0 + li * li), 2.0 * de) for li, ki, de in zip(lam, k, dens)])
-                if not (math.isfinite(a) and math.isfinite(c)) or a == 0:
-                    continue
-                out.append(({"a": a, "c": c}, [ki * (1 + li * li) ** 1.5 / (6 * a) for li, ki in zip(lam, k)]))
-            else:
-                a = _median([math.sqrt(abs(_div(-8.0 * ki**3 * (1.0 + li * li) ** 2.5, 9.0 * de)))
-                             for li, ki, de in zip(lam, k, dens)])
-                b = _median([li + _div(ki * ki * (1.0 + li * li), de) for li, ki, de in zip(lam, k, dens)])
-                if not (math.isfinite(a) and math.isfinite(b)) or a <= 0:
-                    continue
-                out.append(({"a": a, "b": b}, [2 * (li - b) / (3 * a) for li in lam]))
+        # λ = tan ψ is blind to a half turn of the frame: the branch (sign of t) of the
+        # semicubical parabola follows from t = 2(λ − b)/(3a), so one turn per root
+        th = phi[i] - psi
+        lam = [math.tan(_wrap_s(f - th)) for f in phi]
+        dens = [ksi + 3.0 * li * ki * ki for li, ki, ksi in zip(lam, k, ks)]
+        if cls == "cubical_parabola":
+            a = _median([de * (1.0 + li * li) ** 2 / 6.0 for li, de in zip(lam, dens)])
+            c = _median([li - _div(ki * ki * (1.0 + li * li), 2.0 * de) for li, ki, de in zip(lam, k, dens)])
+            if not (math.isfinite(a) and math.isfinite(c)) or a == 0:
+                continue
+            out.append(({"a": a, "c": c}, [ki * (1 + li * li) ** 1.5 / (6 * a) for li, ki in zip(lam, k)]))
+        else:
+            a = _median([math.sqrt(abs(_div(-8.0 * ki**3 * (1.0 + li * li) ** 2.5, 9.0 * de)))
+                         for li, ki, de in zip(lam, k, dens)])
+            b = _median([li + _div(ki * ki * (1.0 + li * li), de) for li, ki, de in zip(lam, k, dens)])
+            if not (math.isfinite(a) and math.isfinite(b)) or a <= 0:
+                continue
+            out.append(({"a": a, "b": b}, [2 * (li - b) / (3 * a) for li in lam]))
     return out
 
 
