@@ -24,7 +24,7 @@ import numpy as np
 from scipy import special, stats
 
 from recognizer import invariants as inv
-from recognizer.localize import EPS_FLOOR, Contacts, fit_class
+from recognizer.localize import EPS_FLOOR, N_SHAPE, Contacts, fit_class
 from recognizer.result import Candidate, Recognition, RecognizeOptions
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request
 
@@ -156,7 +156,8 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
             continue
         dof = 5 * d.n - (d.n + {"line": 2, "circle": 3}.get(cls, 5))
         give_up = 1e4 * chi2_limit(options.alpha, max(dof, 1))
-        fit = fit_class(cls, d, give_up=give_up)
+        limit = chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[cls] + d.n), 1))  # as in _candidate
+        fit = fit_class(cls, d, give_up=give_up, sigma_below=limit)
         if fit is None:
             skipped[cls] = "its invariants give no solution within 1e5 sigma of the touches"
             continue

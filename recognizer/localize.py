@@ -400,7 +400,7 @@ class _Model:
         when even the class's ``floor`` is above it (same verdict, no iterations).
         Each iteration takes one SVD of the column-scaled Jacobian; every damping tried is
         then a product with it (the least-squares step of [J; √μ·I] x = [−r; 0]).
-        Returns (z, cost, J, residuals)."""
+        Returns (z, cost, residuals, parts) (what ``jac`` needs at z)."""
         z = np.asarray(z0, float).copy()
         r, cost, parts = self.eval(z)
         if r is None or not cost < math.inf:
@@ -433,7 +433,7 @@ class _Model:
                 mu *= 10
             if not improved or small:
                 break
-        return z, cost, (self.jac(z, r, parts) if self.np else None), r  # J: for the shape's covariance
+        return z, cost, r, parts
 
 
 # -- closed-form starts -------------------------------------------------------------------
@@ -580,12 +580,14 @@ def _canonical(cls: str, params: dict, th: float, X: float, Y: float, t: np.ndar
 HOPELESS_PER_OBS = 1e10
 
 
-def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = math.inf) -> Fit | None:
+def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = math.inf,
+              sigma_below: float = math.inf) -> Fit | None:
     """Fit one class to every touch: closed-form start, then Levenberg–Marquardt.
 
     Returns None when the class has no closed-form start or its best start is hopeless
     (position-and-angle χ² > HOPELESS_PER_OBS per observation); ``give_up`` stops the iterations of a class
-    whose χ² stays above it."""
+    whose χ² stays above it. The parameters' standard deviations (``Fit.sigma``) are
+    computed only for a χ² ≤ ``sigma_below`` (a class that fails its test reports none)."""
     sign = CURVES[cls].kappa_sign
     d = data
     if sign != 0:
@@ -615,18 +617,19 @@ def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = ma
         return None
     best = None
     for cost0, z0, p0 in starts[:max_starts]:
-        z, cost, J, r = model.solve(model.pack(*z0), give_up=give_up)
+        z, cost, r, parts = model.solve(model.pack(*z0), give_up=give_up)
         if best is None or cost < best[1]:
-            best = (z, cost, J, r, p0)
+            best = (z, cost, r, parts, p0)
         if cost < give_up * 1e-3:
             break
-    z, cost, J, r, p0 = best
+    z, cost, r, parts, p0 = best
     if not np.isfinite(cost):
         return None
     params = model.params_of(z)
     th, X, Y = (float(v) for v in z[model.np: model.np + 3])
     t = z[model.np + 3:]
     sigma = {}
+    J = model.jac(z, r, parts) if model.np and cost <= sigma_below else None
     if J is not None and np.all(np.isfinite(J)):
         # diagonal of pinv(JᵀJ) from the SVD of J (singular values of JᵀJ below 1e-15 of the largest dropped)
         _, s, Vt = np.linalg.svd(J, full_matrices=False)
