@@ -421,13 +421,13 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
 # ----------------------------------------------------------------------------- touching
 
 #: pre-contact gap (mm) from which every calibration touch approaches, and its travel
-APPROACH_GAP_MM = 3.0
-APPROACH_TRAVEL_MM = 8.0
+APPROACH_GAP_MM = 5.0
+APPROACH_TRAVEL_MM = 12.0
 #: locating touches start this far (mm) outside the expected disk: the placement may be
 #: off by up to this much
 LOCATE_GAP_MM = 6.0
 #: transit keeps the pads this far (mm) from the located disk (less than APPROACH_GAP_MM)
-TRANSIT_CLEARANCE_MM = 1.5
+TRANSIT_CLEARANCE_MM = 4.0
 #: suggested placements of the reference disk (hand frame, mm): the fit needs the disk
 #: seen from different sides by each finger, which one placement cannot give this jaw
 DEFAULT_PLACEMENTS = ((60.0, 0.0), (85.0, 10.0), (85.0, -10.0))
@@ -618,7 +618,8 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
     center = model.pose_start(_pack(cfg))[:2]
     # 2. the full plan around the located disk
     guard = make_guard(center, TRANSIT_CLEARANCE_MM)
-    plan = plan_touches(cfg, reference, center, faces=faces, corners=corners, accept=reachable(guard))
+    plan = plan_touches(cfg, reference, center, faces=faces, corners=corners, gap=APPROACH_GAP_MM,
+                        accept=reachable(guard))
     run_together(jaw, {f.name: _finger_touches(jaw, f.name, [t for t in plan if t.finger == f.name], center, r,
                                                placement, guard, readings, skipped) for f in cfg.fingers})
     return readings, center, skipped
