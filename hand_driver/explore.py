@@ -65,7 +65,7 @@ MIN_SAMPLES_PER_TOUCH = 7
 #: per-sample noise the explorer states in its requests: envelope samples carry errors
 #: that are smooth along a touch (one polynomial of the pad lines), which the estimator's
 #: independent-noise model only covers with these deviations (README, section motion)
-TOUCH_NOISE = {"phi": 0.003, "pos": 0.5}
+TOUCH_NOISE = {"phi": 0.005, "pos": 1.0}
 
 
 @dataclass(frozen=True)
