@@ -153,6 +153,7 @@ def test_k1_jaw_config_drives_the_bus():
 
 def test_pads_stop_at_the_scene_object_with_current_at_the_cap():
     from hand_driver.config import load_config
+    from hand_driver.kinematics import angles_to_ticks
     from recognizer.scene import load_scene
 
     cfg = load_config("config/jaw.yaml")
@@ -160,16 +161,22 @@ def test_pads_stop_at_the_scene_object_with_current_at_the_cap():
             JointBus(sim.port, cfg.bus.baudrate, cfg, timeout_s=0.25) as bus:
         assert sim.world is not None
         bus.set_goal_current(300.0)
-        goal = np.array([2048 + 600, 2048, 2048 - 600, 2048])  # both proximal joints close
+        # both proximal joints close by 600 ticks toward the other finger (the object between)
+        close = np.radians(600 * 360 / 4096)
+        goal = angles_to_ticks(cfg.joints, np.array([-close, 0.0, close, 0.0]))
+        zero = np.array([j.zero_tick for j in cfg.joints])
         bus.write_goal_ticks(goal)
         sim.step(3.0)
         s = bus.read_state()
         blocked = [0, 2]
-        assert all(0 < abs(s.ticks[k] - 2048) < 600 for k in blocked)  # stopped short of the goal
+        assert all(0 < abs(s.ticks[k] - zero[k]) < 600 for k in blocked)  # stopped short of the goal
         cap = 2.69 * round(300.0 / 2.69)
         assert np.allclose(np.abs(s.current_ma[blocked]), cap) and not s.moving.any()
-        q = units.ticks_to_rad(s.ticks, 2048, np.array([j.direction for j in cfg.joints]))
-        assert not sim.world.penetrates(q)
+        q = units.ticks_to_rad(s.ticks, zero, np.array([j.direction for j in cfg.joints]))
+        # the reading is the true angle rounded to a tick: one tick open, no pad is inside
+        tick = 2 * np.pi / 4096
+        assert not sim.world.penetrates(q + np.array([tick, 0.0, -tick, 0.0]))
+        assert sim.world.penetrates(q - np.array([tick, 0.0, -tick, 0.0]) * 3)
 
 
 def test_free_servo_current_is_zero_and_blocked_current_tracks_gap():
