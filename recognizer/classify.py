@@ -114,9 +114,9 @@ def _candidate(fit, alpha: float) -> Candidate:
     limit = chi2_limit(alpha, dof)
     chi2 = float(fit.chi2)
     k = fit.n_free
-    worst_idx = np.unravel_index(int(np.argmax(np.abs(fit.residuals))), fit.residuals.shape)
-    worst = (f"{_MEAS[worst_idx[1]]} at touch {worst_idx[0]} is off by "
-             f"{abs(fit.residuals[worst_idx]):.3g} standard deviations")
+    res = fit.residuals.ravel().tolist()
+    w = max(range(len(res)), key=lambda i: abs(res[i]))  # the first of equals, as np.argmax
+    worst = f"{_MEAS[w % 5]} at touch {w // 5} is off by {abs(res[w]):.3g} standard deviations"
     return Candidate(fit.cls, fit.params, fit.pose, np.asarray(fit.t, float), chi2, dof, fit.n_obs,
                      loglik=-0.5 * chi2, bic=chi2 + k * math.log(fit.n_obs),
                      p_value=float(special.chdtrc(dof, chi2)) if chi2 <= 10 * limit else 0.0, consistent=chi2 <= limit,
