@@ -396,7 +396,7 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
                placement: int = 0) -> list[Reading]:
     """Readings a jaw with geometry ``truth`` would produce for a plan (tests and
     benchmarks): the exact truth contact configuration on the same IK branch, as ticks
-    of the truth zero ticks, rounded (optionally with a random sub-tick encoder phase)."""
+    of the truth zero ticks, rounded to whole ticks as the encoders do (unless quantize=False)."""
     out = []
     r = float(reference.params["r"])
     c = np.array([reference.pose.x, reference.pose.y])
