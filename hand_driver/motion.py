@@ -83,9 +83,8 @@ class WallClock:
 class LockstepClock:
     """Robot time is an emulated bus's simulated time, advanced only by the cycles:
     the bus runs with ``time_scale=0`` and each wait integrates ``period_s`` of motion
-    (hand_driver.sim.server.EmulatedBus: under its lock, its clock offset and
-    integrator). A cycle's write is served before the wait, because the cycle's read
-    comes between them. Robot time is exact and the motion the same on any host;
+    (hand_driver.sim.server.EmulatedBus.advance). A cycle's write is served before the
+    wait, because the cycle's read comes between them. Robot time is exact and the motion the same on any host;
     wall time is only the computation."""
 
     def __init__(self, sim):
@@ -97,9 +96,7 @@ class LockstepClock:
         return float(self.sim.sim_time)
 
     def wait(self, period_s: float) -> None:
-        with self.sim.lock:
-            self.sim._offset += period_s
-            self.sim._integrate(period_s)
+        self.sim.advance(period_s)
 
 
 class Jaw:

@@ -144,6 +144,14 @@ class EmulatedBus:
             self._offset += dt
             self._integrate(dt)
 
+    def advance(self, dt: float) -> None:
+        """Jump simulated time dt seconds ahead of the clock, integrating motion, without
+        waiting for the pty to go quiet: for a client in lockstep that has had every
+        answer it waits for (hand_driver.motion.LockstepClock)."""
+        with self.lock:
+            self._offset += dt
+            self._integrate(dt)
+
     def _integrate(self, dt: float) -> None:
         with self.lock:
             if dt <= 0:
