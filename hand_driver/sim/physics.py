@@ -109,6 +109,12 @@ class ContactWorld:
         self._centers = np.array(centers).reshape(-1, 2)
         self._radii = np.array(radii)
         self._arms = self._lever_arms()
+        # one circle around every chunk: the first, pure-Python clearance test
+        if len(pts):
+            c = pts.mean(axis=0)
+            self._outer = (float(c[0]), float(c[1]), float(np.max(np.hypot(*(pts - c).T))) + spacing)
+        else:
+            self._outer = (0.0, 0.0, -math.inf)
 
     def _t_samples(self) -> np.ndarray:
         if self.curve.t_period is not None:
@@ -232,10 +238,20 @@ class ContactWorld:
         q_to = np.asarray(q_to, dtype=float)
         out = q_to.copy()
         dq = q_to - q_from
-        sweeps = (np.abs(dq) * self._arms).reshape(len(self._fingers), 2).sum(axis=1)
-        if not np.any(sweeps > 0.0):
+        arms = self._arms
+        sweeps = [abs(float(dq[2 * i])) * arms[2 * i] + abs(float(dq[2 * i + 1])) * arms[2 * i + 1]
+                  for i in range(len(self._fingers))]
+        if not any(sw > 0.0 for sw in sweeps):
             return out
-        clear = self._pad_clearances(self._pads(q_from))
+        pads = self._pads(q_from)
+        ox, oy, orad = self._outer
+        near = False
+        for (x0, y0, x1, y1), sweep in zip(pads, sweeps):
+            gap = math.hypot(0.5 * (x0 + x1) - ox, 0.5 * (y0 + y1) - oy) - orad - 0.5 * math.hypot(x1 - x0, y1 - y0)
+            near = near or (sweep > 0.0 and sweep >= gap)
+        if not near:  # every pad stays outside the circle around the whole boundary
+            return out
+        clear = self._pad_clearances(pads)
         for i, sweep in enumerate(sweeps):
             if sweep > 0.0 and sweep >= clear[i]:
                 sl = slice(2 * i, 2 * i + 2)
