@@ -406,8 +406,10 @@ class _Model:
 
     def solve(self, z0, max_iter=40, give_up=math.inf):
         """Levenberg–Marquardt from z0; stops early once the cost is negligible (exact data)
-        or when after 4 iterations it is still above ``give_up`` (hopeless class), at once
-        when even the class's ``floor`` is above it (same verdict, no iterations).
+        or when after 4 iterations it is still above ``give_up`` (hopeless class); not at all
+        when even the class's ``floor`` is above it (same verdict) or when the start is
+        HOPELESS_START times above it (a wrong class: the right class's closed-form start
+        is within 1e-4 of ``give_up`` on exact data).
         Each iteration takes one SVD of the column-scaled Jacobian; every damping tried is
         then a product with it (the least-squares step of [J; √μ·I] x = [−r; 0]).
         Returns (z, cost, residuals, parts) (what ``jac`` needs at z)."""
@@ -417,7 +419,7 @@ class _Model:
             return z, math.inf, None, None
         r = np.array(r)
         mu = 1e-6
-        if cost > give_up and self.floor() > give_up:
+        if cost > give_up and (cost > HOPELESS_START * give_up or self.floor() > give_up):
             max_iter = 0
         for it in range(max_iter):
             if cost < 1e-12 or (it >= 4 and cost > give_up):
@@ -588,6 +590,8 @@ def _canonical(cls: str, params: dict, th: float, X: float, Y: float, t: np.ndar
 
 #: a start whose position-and-angle χ² per observation exceeds this (~1e5 σ) is not refined
 HOPELESS_PER_OBS = 1e10
+#: a start whose χ² exceeds this many times the give-up level is not iterated
+HOPELESS_START = 1e6
 
 
 def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = math.inf,
