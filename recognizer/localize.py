@@ -172,6 +172,7 @@ class Contacts:
     def __post_init__(self):
         self._scale = None
         self._white = None
+        self._wl = None
         self._rows = None
         self._cols = None
         self._flip = None
@@ -184,8 +185,9 @@ class Contacts:
         return self._scale
 
     def _extent(self) -> float:
-        d = np.hypot(self.x[:, None] - self.x[None, :], self.y[:, None] - self.y[None, :])
-        span = float(d.max())
+        x, y = self.x.tolist(), self.y.tolist()
+        span = max((math.hypot(x[i] - x[j], y[i] - y[j]) for i in range(len(x)) for j in range(i + 1, len(x))),
+                   default=0.0)
         if span > 0:
             return span
         k = float(np.max(np.abs(self.kappa)))
@@ -196,11 +198,14 @@ class Contacts:
         EPS_FLOOR·(|κ_s| + κ² + |κ|/L + 1/L²) added to the variances (κ² is κ_s's natural
         scale: at a sharp vertex κ_s swings by ~κ² over a roundoff-sized step)."""
         if self._white is None:
-            self._white = self._whitener()
+            self._white = np.array(self._whitener_rows(), dtype=float).reshape(-1, 2, 2)
         return self._white
 
-    def _whitener(self) -> np.ndarray:
-        """inv(cholesky(C)) of each 2×2 C in closed form: C = L·Lᵀ, L = [[l₀₀, 0], [l₁₀, l₁₁]]."""
+    def _whitener_rows(self) -> list[tuple]:
+        """(W₀₀, W₀₁, W₁₀, W₁₁) per touch: inv(cholesky(C)) of each 2×2 C in closed form,
+        C = L·Lᵀ, L = [[l₀₀, 0], [l₁₀, l₁₁]]."""
+        if self._wl is not None:
+            return self._wl
         L = self.scale
         out = []
         for k, ks, ((c00, c01), (c10, c11)) in zip(self.kappa.tolist(), self.kappa_s.tolist(), self.cov.tolist()):
@@ -215,18 +220,18 @@ class Contacts:
             if not d > 0:
                 raise np.linalg.LinAlgError("Matrix is not positive definite")
             l11 = math.sqrt(d)
-            out.append(((1.0 / l00, 0.0), (-l10 / (l00 * l11), 1.0 / l11)))
-        return np.array(out, dtype=float).reshape(-1, 2, 2)
+            out.append((1.0 / l00, 0.0, -l10 / (l00 * l11), 1.0 / l11))
+        self._wl = out
+        return out
 
     def rows(self) -> list[tuple]:
         """Per touch, as Python floats: (x, y, φ, κ, κ_s, σ_pos, σ_φ, W₀₀, W₀₁, W₁₀, W₁₁),
         the deviations with their floors EPS_FLOOR·L and EPS_FLOOR."""
         if self._rows is None:
             lo = EPS_FLOOR * self.scale
-            W = self.whitener().reshape(-1, 4).tolist()
             self._rows = [(x, y, f, k, ks, max(sp, lo), max(sf, EPS_FLOOR), *w) for x, y, f, k, ks, sp, sf, w in zip(
                 self.x.tolist(), self.y.tolist(), self.phi.tolist(), self.kappa.tolist(), self.kappa_s.tolist(),
-                self.sig_pos.tolist(), self.sig_phi.tolist(), W)]
+                self.sig_pos.tolist(), self.sig_phi.tolist(), self._whitener_rows())]
         return self._rows
 
     def cols(self) -> tuple[list, list, list, list, list]:
@@ -241,14 +246,14 @@ class Contacts:
         return max(k, key=abs)
 
     def flipped(self) -> "Contacts":
-        """The same touches seen in the other direction (φ + π, −κ); the whitener of
-        (κ, κ_s) changes only by the sign of its κ column. Made once per Contacts."""
+        """The same touches seen in the other direction (φ + π, −κ), with the same
+        whitener W (as before: the κ/κ_s covariance is not re-signed). Made once."""
         if self._flip is None:
             f = Contacts(self.x, self.y, self.phi + np.pi, -self.kappa, self.kappa_s, self.cov,
                          self.sig_pos, self.sig_phi)
             f._scale = self.scale
-            if not np.any(self.cov[:, 0, 1]):
-                f._white = self.whitener()
+            f._wl = self._whitener_rows()  # the floors see |κ| and κ² only: the same W
+            f._rows = [(x, y, p + np.pi, -k, *rest) for x, y, p, k, *rest in self.rows()]
             self._flip = f
         return self._flip
 
