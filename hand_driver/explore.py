@@ -36,6 +36,7 @@ from hand_driver.motion import (
     Jaw,
     Sample,
     TouchResult,
+    contact_on_pad,
     move_line,
     roll_angles,
     rolling_touch,
@@ -52,7 +53,21 @@ TRANSIT_STEPS = (math.radians(5.0), 3.0)
 #: a used touch's contacts are at least this far (mm) from either end of the pad
 PAD_EDGE_MARGIN_MM = 1.0
 #: planning keeps the predicted contact this fraction of the pad's length from either end
-PLAN_PAD_MARGIN = 0.2
+PLAN_PAD_MARGIN = 0.1
+#: probes: pad normals (deg) relative to the pad's normal at zero joint angles, samples
+#: and span (deg) of each probe's short roll, and the fraction of the pad's length from
+#: either end where its contact must lie to count as a face contact
+PROBE_OFFSETS_DEG = (-60.0, -40.0, -20.0, 0.0, 20.0, 40.0, 60.0)
+PROBE_SAMPLES = 3
+PROBE_SPAN_DEG = 4.0
+PROBE_PAD_MARGIN = 0.1
+#: the object model predicts a tangent for ψ from felt lines within MODEL_REACH_DEG that
+#: span at least MODEL_MIN_SPAN_DEG, the nearest at most MODEL_EXTRAPOLATE_DEG away
+MODEL_REACH_DEG = 45.0
+MODEL_MIN_SPAN_DEG = 3.0
+MODEL_EXTRAPOLATE_DEG = 30.0
+#: ... weighting each line by 1 / (1 + (Δψ / MODEL_WEIGHT_DEG)²), Δψ its distance from ψ
+MODEL_WEIGHT_DEG = 10.0
 
 
 #: the roll span (deg) below which κ_s drowns in encoder quantization on the default jaw:
@@ -123,6 +138,7 @@ def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings) -> 
 class Exploration:
     """What an exploration did and found."""
 
+    probes: list[TouchResult] = field(default_factory=list)  # every probe, in order
     touches: list[TouchResult] = field(default_factory=list)  # every touch attempted, in order
     request: dict[str, Any] = field(default_factory=dict)  # CONTRACTS §2, good touches only
     recognition: Any = None  # recognizer.result.Recognition
@@ -186,40 +202,37 @@ def logged_touches(config, contents, settings: ExploreSettings) -> list[dict[str
 
 
 class ObjectModel:
-    """The working circle model of the object (module docstring)."""
+    """What the pads felt (module docstring): the in-contact pad lines ψ, d of face
+    contacts. The object's support function d(ψ) (the first line of normal ψ that meets
+    it) is fitted near ψ by a quadratic; its tangent point is d·n(ψ) + d'(ψ)·n'(ψ)."""
 
     def __init__(self, center, workspace_radius: float):
-        self.center = np.asarray(center, dtype=float)
-        self.radius = 0.5 * workspace_radius
-        self.workspace_center = self.center.copy()
+        self.workspace_center = np.asarray(center, dtype=float)
         self.workspace_radius = workspace_radius
-        self.points = np.zeros((0, 2))
-        self.normals = np.zeros(0)
+        self.psi = np.zeros(0)
+        self.d = np.zeros(0)
 
-    def add(self, x, y, phi) -> None:
-        """Add a touch's contact points (and tangent angles); refit."""
-        self.points = np.vstack([self.points, np.stack([x, y], axis=-1)])
-        self.normals = np.concatenate([self.normals, np.asarray(phi, dtype=float)])
-        p = self.points
-        # a circle through the points only once they face directions at least 90° apart
-        spread = np.max(np.abs(np.angle(np.exp(1j * (self.normals[:, None] - self.normals[None, :])))))
-        if spread >= math.pi / 2:
-            # algebraic circle fit: x² + y² = 2 a x + 2 b y + k, least squares
-            a = np.column_stack([2 * p[:, 0], 2 * p[:, 1], np.ones(len(p))])
-            sol, *_ = np.linalg.lstsq(a, np.sum(p * p, axis=1), rcond=None)
-            center = sol[:2]
-            radius = math.sqrt(max(sol[2] + float(center @ center), 0.0))
-            inside = np.hypot(*(center - self.workspace_center)) <= self.workspace_radius
-            if inside and 0.0 < radius <= self.workspace_radius:
-                self.center, self.radius = center, radius
-                return
-        self.radius = float(np.mean(np.hypot(*(p - self.center).T)))
+    def add(self, psi, d) -> None:
+        """Add felt pad lines (face contacts only)."""
+        self.psi = np.concatenate([self.psi, np.atleast_1d(np.asarray(psi, dtype=float))])
+        self.d = np.concatenate([self.d, np.atleast_1d(np.asarray(d, dtype=float))])
 
-    def tangent(self, psi: float) -> tuple[float, np.ndarray]:
-        """The model's tangent line for a pad with normal ψ: offset d and contact point."""
+    def tangent(self, psi: float) -> tuple[float, np.ndarray] | None:
+        """The predicted pad line offset d and contact point for a pad with normal ψ, or
+        None where nothing was felt within ``MODEL_REACH_DEG`` or the lines there span
+        less than ``MODEL_MIN_SPAN_DEG``."""
+        delta = np.remainder(self.psi - psi + math.pi, 2 * math.pi) - math.pi
+        near = np.abs(delta) <= math.radians(MODEL_REACH_DEG)
+        if np.count_nonzero(near) < 2 or np.ptp(delta[near]) < math.radians(MODEL_MIN_SPAN_DEG):
+            return None
+        if np.min(np.abs(delta[near])) > math.radians(MODEL_EXTRAPOLATE_DEG):
+            return None
+        deg = 2 if np.ptp(delta[near]) >= math.radians(2 * MODEL_MIN_SPAN_DEG) and np.count_nonzero(near) >= 3 else 1
+        weight = 1.0 / (1.0 + (delta[near] / math.radians(MODEL_WEIGHT_DEG)) ** 2)
+        coef = np.polynomial.polynomial.polyfit(delta[near], self.d[near], deg, w=weight)
         n = np.array([math.cos(psi), math.sin(psi)])
-        p = self.center - self.radius * n
-        return float(n @ p), p
+        dn = np.array([-math.sin(psi), math.cos(psi)])
+        return float(coef[0]), coef[0] * n + coef[1] * dn
 
     def edge(self, psi: float) -> float:
         """Offset of the line with normal ψ tangent to the workspace disk (outside it)."""
@@ -233,12 +246,15 @@ def nominal_psi(finger) -> float:
 
 
 def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings) -> bool:
-    """Every roll orientation around ψ puts the pad on the model's tangent line, with the
-    predicted contact on the pad, inside the joint limits, and also ``APPROACH_MARGIN_MM``
-    beyond it; the edge line is reachable."""
+    """Every roll orientation around ψ has a predicted tangent (:meth:`ObjectModel.tangent`)
+    that puts the pad on it, with the predicted contact on the pad, inside the joint
+    limits, and also ``APPROACH_MARGIN_MM`` beyond it; the edge line is reachable."""
     length = finger.pad.length_mm
     for a in roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]:
-        d, p = model.tangent(float(a))
+        predicted = model.tangent(float(a))
+        if predicted is None:
+            return False
+        d, p = predicted
         try:
             kin.ik_line(finger, float(a), d, contact=p, margin_rad=LIMIT_MARGIN_RAD)
             kin.ik_line(finger, float(a), d + APPROACH_MARGIN_MM, margin_rad=LIMIT_MARGIN_RAD)
@@ -262,7 +278,7 @@ def choose_psi(finger, model: ObjectModel, settings: ExploreSettings, used: list
     if not ok:
         return None
     if not used:
-        return min(ok, key=lambda a: abs(a - nominal))
+        return ok[len(ok) // 2]
     gap = [min(abs(a - u) for u in used) for a in ok]
     if max(gap) < math.radians(CANDIDATE_STEP_DEG) - 1e-9:
         return None  # every feasible orientation was touched already
@@ -281,20 +297,54 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
         yield from move_line(jaw, finger, a, model.edge(a), *TRANSIT_STEPS)
 
 
-def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, first: bool,
-                settings: ExploreSettings, touch_index: int, emit):
-    """Transit, then one rolling touch around ψ; returns the TouchResult."""
+def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings: ExploreSettings,
+                touch_index: int, emit):
+    """Transit, then one rolling touch around ψ from ``APPROACH_MARGIN_MM`` outside the
+    predicted tangent line; returns the TouchResult."""
     start = float(roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[0])
     yield from transit(jaw, finger, model, start)
-    edge = model.edge(start)
-    if first:
-        d_start, travel = edge, model.workspace_radius
-    else:
-        d_pred, _ = model.tangent(start)
-        d_start = max(edge, d_pred - APPROACH_MARGIN_MM)
-        travel = d_pred + APPROACH_MARGIN_MM - d_start
+    d_pred, _ = model.tangent(start)
+    d_start = max(model.edge(start), d_pred - APPROACH_MARGIN_MM)
+    travel = d_pred + APPROACH_MARGIN_MM - d_start
     return (yield from rolling_touch(jaw, finger, touch_index, psi, settings.roll_span_rad,
                                      settings.samples_per_touch, d_start, travel, on_event=emit))
+
+
+def probe_psis(finger, model: ObjectModel) -> list[float]:
+    """The probe orientations of a finger: its pad's normal at zero joint angles ±
+    ``PROBE_OFFSETS_DEG`` whose workspace-edge line is reachable, nearest that normal first."""
+    nominal = nominal_psi(finger)
+    out = []
+    for o in sorted(PROBE_OFFSETS_DEG, key=abs):
+        a = nominal + math.radians(o)
+        try:
+            kin.ik_line(finger, a, model.edge(a), margin_rad=LIMIT_MARGIN_RAD)
+        except kin.Unreachable:
+            continue
+        out.append(a)
+    return out
+
+
+def _probe_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, touch_index: int, emit):
+    """Transit, then a short rolling touch (``PROBE_SAMPLES`` over ``PROBE_SPAN_DEG``) from
+    the workspace edge across the whole workspace disk; returns the TouchResult."""
+    span = math.radians(PROBE_SPAN_DEG)
+    start = float(roll_angles(psi, span, PROBE_SAMPLES)[0])
+    yield from transit(jaw, finger, model, start)
+    return (yield from rolling_touch(jaw, finger, touch_index, psi, span, PROBE_SAMPLES, model.edge(start),
+                                     2.0 * model.workspace_radius, on_event=emit))
+
+
+def probe_face_contact(config, touch: TouchResult) -> float | None:
+    """Where a probe's last two samples touched along the pad (mm from its proximal
+    end) if that is ``PROBE_PAD_MARGIN`` of the pad's length from either end, else None."""
+    if len(touch.samples) < 2:
+        return None
+    _, u = contact_on_pad(config, touch.finger, touch.samples)
+    length = config.finger(touch.finger).pad.length_mm
+    if u is None or not PROBE_PAD_MARGIN * length <= u <= (1 - PROBE_PAD_MARGIN) * length:
+        return None
+    return u
 
 
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[list[dict]], Any],
@@ -309,24 +359,42 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
     ws = cfg.workspace
     model = ObjectModel(ws.center_mm, ws.radius_mm)
     out = Exploration()
+    t0 = jaw.robot_time()
+    index = 0
+    queues = {f.name: probe_psis(f, model) for f in cfg.fingers}
+    while any(queues.values()):
+        plans = {}
+        for name, queue in queues.items():
+            if queue:
+                plans[name] = _probe_plan(jaw, name, model, queue.pop(0), index + len(plans), emit)
+        results = run_together(jaw, plans)
+        for name in plans:
+            probe = results[name]
+            out.probes.append(probe)
+            index += 1
+            u = probe_face_contact(cfg, probe)
+            if u is not None:
+                model.add([s.psi_measured for s in probe.samples], [s.d for s in probe.samples])
+            say(f"probe {len(out.probes)}: {name} at psi {math.degrees(probe.psi_center):.1f} deg: "
+                + (f"pad face {u:.1f} mm from its proximal end" if u is not None else
+                   probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     good: list[dict] = []
-    t0 = jaw.robot_time()
     while len(out.touches) < settings.touches:
         plans = {}
         budget = settings.touches - len(out.touches)
         for f in cfg.fingers[:budget]:
             psi = choose_psi(f, model, settings, used[f.name])
             if psi is None:
-                message = f"{f.name}: no untouched reachable pad orientation left"
+                message = f"{f.name}: no untouched pad orientation left where the probes predict a face contact"
                 emit({"type": "event", "kind": "no_orientation", "message": message})
                 say(message)
                 continue
             used[f.name].append(psi)
-            plans[f.name] = _touch_plan(jaw, f.name, model, psi, len(used[f.name]) == 1, settings,
-                                        len(out.touches) + len(plans), emit)
+            plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit)
         if not plans:
             break
+        index += len(plans)
         out.rounds += 1
         results = run_together(jaw, plans)
         for name in plans:
@@ -336,7 +404,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
             if problem is None:
                 samples = touch_to_samples(cfg, touch)
                 good.append(samples)
-                model.add(samples["x"], samples["y"], samples["phi"])
+                model.add([s.psi_measured for s in touch.samples], [s.d for s in touch.samples])
             else:
                 if touch.outcome == "ok":
                     touch.outcome = "rejected"

@@ -354,7 +354,7 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
         for k, psi in enumerate(angles):
             psi = float(psi)
             if k > 0:
-                pivot, u = _pivot(jaw, finger, result.samples)
+                pivot, u = contact_on_pad(jaw.config, finger, result.samples)
                 length = jaw.config.finger(finger).pad.length_mm
                 if u is not None and not EDGE_MARGIN_MM <= u <= length - EDGE_MARGIN_MM:
                     result.outcome = "edge"
@@ -398,15 +398,15 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
     return result
 
 
-def _pivot(jaw: Jaw, finger: str, samples: list[Sample]) -> tuple[np.ndarray, float | None]:
+def contact_on_pad(config: JawConfig, finger: str, samples: list[Sample]) -> tuple[np.ndarray, float | None]:
     """Where the pad last touched and its coordinate along the pad (mm from the proximal
-    end): the intersection of the last two pad lines (their envelope point), or the pad's
+    end), from a touch's samples so far: the intersection of the last two pad lines (their envelope point), or the pad's
     middle and None after a single sample."""
-    last = kin.finger_pad_line_from_ticks(jaw.config, finger, samples[-1].ticks)
+    last = kin.finger_pad_line_from_ticks(config, finger, samples[-1].ticks)
     mid = 0.5 * (last.proximal + last.distal)
     if len(samples) < 2:
         return mid, None
-    prev = kin.finger_pad_line_from_ticks(jaw.config, finger, samples[-2].ticks)
+    prev = kin.finger_pad_line_from_ticks(config, finger, samples[-2].ticks)
     a = np.array([last.normal, prev.normal])
     if abs(np.linalg.det(a)) < 1e-9:
         return mid, None
