@@ -234,6 +234,11 @@ class Contacts:
                 self.sig_pos.tolist(), self.sig_phi.tolist(), self._whitener_rows())]
         return self._rows
 
+    @property
+    def exact(self) -> bool:
+        """No stated noise: zero κ/κ_s covariance and zero position and angle deviations."""
+        return not (np.any(self.cov) or np.any(self.sig_pos) or np.any(self.sig_phi))
+
     def cols(self) -> tuple[list, list, list, list, list]:
         """(x, y, φ, κ, κ_s) as lists of Python floats."""
         if self._cols is None:
@@ -412,9 +417,10 @@ class _Model:
     def solve(self, z0, max_iter=40, give_up=math.inf):
         """Levenberg–Marquardt from z0; stops early once the cost is negligible (exact data)
         or when after 4 iterations it is still above ``give_up`` (hopeless class); not at all
-        when even the class's ``floor`` is above it (same verdict) or when the start is
-        HOPELESS_START times above it (a wrong class: the right class's closed-form start
-        is within 1e-4 of ``give_up`` on exact data).
+        when even the class's ``floor`` is above it (same verdict) or, on exact data, when
+        the start is HOPELESS_START times above it (a wrong class: the right class's
+        closed-form start is within 1e-4 of ``give_up`` on exact data; with noise a start
+        that far off can still end consistent, so there the rule is off).
         Each iteration takes one SVD of the column-scaled Jacobian; every damping tried is
         then a product with it (the least-squares step of [J; √μ·I] x = [−r; 0]).
         Returns (z, cost, residuals, parts) (what ``jac`` needs at z)."""
@@ -424,7 +430,7 @@ class _Model:
             return z, math.inf, None, None
         r = np.array(r)
         mu = 1e-6
-        if cost > give_up and (cost > HOPELESS_START * give_up or self.floor() > give_up):
+        if cost > give_up and ((self.d.exact and cost > HOPELESS_START * give_up) or self.floor() > give_up):
             max_iter = 0
         for it in range(max_iter):
             if cost < 1e-12 or (it >= 4 and cost > give_up):
@@ -595,7 +601,7 @@ def _canonical(cls: str, params: dict, th: float, X: float, Y: float, t: np.ndar
 
 #: a start whose position-and-angle χ² per observation exceeds this (~1e5 σ) is not refined
 HOPELESS_PER_OBS = 1e10
-#: a start whose χ² exceeds this many times the give-up level is not iterated
+#: on exact data, a start whose χ² exceeds this many times the give-up level is not iterated
 HOPELESS_START = 1e6
 
 
