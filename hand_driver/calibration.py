@@ -428,9 +428,15 @@ APPROACH_TRAVEL_MM = 12.0
 LOCATE_GAP_MM = 6.0
 #: transit keeps the pads this far (mm) from the located disk (less than APPROACH_GAP_MM)
 TRANSIT_CLEARANCE_MM = 4.0
-#: suggested placements of the reference disk (hand frame, mm): the fit needs the disk
-#: seen from different sides by each finger, which one placement cannot give this jaw
-DEFAULT_PLACEMENTS = ((60.0, 0.0), (85.0, 10.0), (85.0, -10.0))
+#: suggested placements of the reference disk (hand frame, mm). A base joint's zero tick
+#: is fixed only through the disk centre's distance from each base (trilateration by the
+#: two fingers), and that distance trades against the proximal ``link_mm``, which face
+#: touches separate only through the spread of cos(q2) over the touches. Disks straight
+#: ahead give each finger a narrow q2 range (base zero ticks to ~0.6 tick standard error
+#: with (60,0), (85,±10)); a disk off to each side makes the finger on that side fold, and
+#: (60,0), (85,0), (70,±30) give ~0.25 tick with the same number of touches (Fisher
+#: information of the default plan, confirmed on the emulated bus).
+DEFAULT_PLACEMENTS = ((60.0, 0.0), (85.0, 0.0), (65.0, 30.0), (65.0, -30.0))
 
 
 def home_pose(finger) -> np.ndarray:
@@ -513,19 +519,33 @@ def _route(guard, finger: str, here, target, home) -> list | None:
 def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float, placement: int,
                     guard, out: list[Reading], skipped: list[str], gap: float = APPROACH_GAP_MM,
                     travel: float = APPROACH_TRAVEL_MM):
-    """One finger's motion through its planned touches (a generator for run_together)."""
+    """One finger's motion through its planned touches (a generator for run_together).
+    The waypoints since the finger last left its parking pose are kept (``trail``): when
+    no clear route leads from where it is to the next touch, it retraces them (segments
+    already found clear) to park and plans from there; it also retraces them at the end."""
     from hand_driver.motion import guarded_approach, move_to
 
     cfg = jaw.config
     f = cfg.finger(finger)
     home = home_pose(f)
     here = jaw.finger_q(jaw.last_state, finger)
+    trail = [here]
+
+    def retrace():
+        for q in trail[-2::-1]:
+            yield from move_to(jaw, finger, q)
+        return [trail[0]]
+
     for t in plan:
         pre = _pre_pose(cfg, t, center, r, gap)
         if pre is None:
             skipped.append(f"{finger} {t.kind}: unreachable")
             continue
         route = _route(guard, finger, here, pre, home)
+        if route is None and len(trail) > 1:
+            trail = yield from retrace()
+            here = trail[0]
+            route = _route(guard, finger, here, pre, home)
         if route is None:
             skipped.append(f"{finger} {t.kind}: no clear path")
             continue
@@ -533,10 +553,13 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
         for q in route:
             reached = (yield from move_to(jaw, finger, q)) and reached
         here = route[-1]
+        homed = [i for i, q in enumerate(route) if q is home]
+        trail = [home] + route[homed[-1] + 1:] if homed else trail + route
         if not reached:  # blocked on the way (the object is not where expected): park, skip
             skipped.append(f"{finger} {t.kind}: blocked on the way")
             yield from move_to(jaw, finger, home)
             here = home
+            trail = [home]
             continue
         if t.kind == "face":
             n = np.array([math.cos(t.psi), math.sin(t.psi)])
@@ -559,6 +582,8 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
         yield from move_to(jaw, finger, pre)
     if guard(finger, here, home):
         yield from move_to(jaw, finger, home)
+    elif len(trail) > 1:
+        yield from retrace()
 
 
 def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, corners: int = 6,
@@ -601,12 +626,18 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
     def reachable(g):
         return lambda name, q: _route(g, name, homes[name], q, homes[name]) is not None
 
-    by_finger = {}
     loc_plan = plan_touches(cfg, reference, guess, faces=15, corners=0, gap=loc_gap, accept=reachable(guard))
-    for f in cfg.fingers:  # spread over the orientations reachable by a clear path from parking
-        mine = sorted((t for t in loc_plan if t.finger == f.name and t.kind == "face"), key=lambda t: t.psi)
-        idx = np.round(np.linspace(0, len(mine) - 1, locate + 2)[1:-1]).astype(int) if mine else []
-        by_finger[f.name] = [mine[i] for i in sorted(set(idx))]
+    options = {f.name: sorted((t for t in loc_plan if t.finger == f.name and t.kind == "face"), key=lambda t: t.psi)
+               for f in cfg.fingers}
+    # `locate` per finger; what a finger cannot reach (a disk off to its side) the other takes
+    counts = {name: min(len(mine), locate) for name, mine in options.items()}
+    for name, mine in options.items():
+        spare = locate * len(options) - sum(counts.values())
+        counts[name] += min(spare, len(mine) - counts[name])
+    by_finger = {}
+    for name, mine in options.items():  # the middles of equal parts of the reachable orientations
+        n = counts[name]
+        by_finger[name] = [mine[min(len(mine) - 1, round((k + 0.5) * len(mine) / n - 0.5))] for k in range(n)]
     run_together(jaw, {name: _finger_touches(jaw, name, items, guess, r, placement, guard, readings, skipped,
                                              gap=loc_gap, travel=loc_travel) for name, items in by_finger.items()})
     faces_found = [rd for rd in readings if rd.kind == "face"]

@@ -56,14 +56,15 @@ def demo(config: Path, truth: Path, scene: str) -> dict:
     return json.loads(out.stdout)
 
 
-def errors(answer: dict, obj) -> str:
+def errors(answer: dict, obj) -> tuple[float, str]:
+    """(largest relative parameter error in %, inf for a wrong class; a description)."""
     if answer["class"] != obj.cls:
-        return f"wrong class ({answer['class']})"
-    rel = [abs(answer["params"][k] - v) / abs(v) for k, v in obj.params.items()]
+        return float("inf"), f"wrong class ({answer['class']})"
+    rel = 100 * max(abs(answer["params"][k] - v) / abs(v) for k, v in obj.params.items())
     p = answer["pose"]
-    return (f"max parameter error {100 * max(rel):.2f} %, pose offset "
-            f"{np.hypot(p['x'] - obj.pose.x, p['y'] - obj.pose.y):.2f} mm, "
-            f"theta {1e3 * abs(p['theta'] - obj.pose.theta):.1f} mrad")
+    return rel, (f"max parameter error {rel:.2f} %, pose offset "
+                 f"{np.hypot(p['x'] - obj.pose.x, p['y'] - obj.pose.y):.2f} mm, "
+                 f"theta {1e3 * abs(p['theta'] - obj.pose.theta):.1f} mrad")
 
 
 def main() -> int:
@@ -91,9 +92,18 @@ def main() -> int:
               f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm")
         for e, d in zip(result.estimates, err):
             print(f"  {e.name:28s} error {d:+7.3f}  (se {e.se:.3f}; nominal was off by {e.before - (e.after - d):+.3f})")
+        demo_err = []
         for label, path in (("perfect config", truth_path), ("before calibration", Path("config/jaw.yaml")),
                             ("after calibration", after_path)):
-            print(f"demo, {label:20s}: {errors(demo(path, truth_path, args.scene), obj)}")
+            rel, text = errors(demo(path, truth_path, args.scene), obj)
+            demo_err.append(rel)
+            print(f"demo, {label:20s}: {text}")
+    kinds = [e.kind for e in result.estimates]
+    worst_tick = max(abs(d) for d, k in zip(err, kinds) if k == "zero_tick")
+    worst_mm = max(abs(d) for d, k in zip(err, kinds) if k != "zero_tick")
+    print(f"summary: seed {args.seed}, worst zero tick {worst_tick:.2f} tick, worst length {worst_mm:.3f} mm, "
+          f"demo error perfect/before/after {demo_err[0]:.2f} / {demo_err[1]:.2f} / {demo_err[2]:.2f} %, "
+          f"after/perfect {demo_err[2] / demo_err[0]:.2f}")
     return 0
 
 
