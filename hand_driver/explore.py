@@ -36,7 +36,6 @@ from hand_driver.motion import (
     Jaw,
     Sample,
     TouchResult,
-    contact_on_pad,
     move_line,
     roll_angles,
     rolling_touch,
@@ -58,8 +57,8 @@ PLAN_PAD_MARGIN = 0.1
 #: and span (deg) of each probe's short roll, and the fraction of the pad's length from
 #: either end where its contact must lie to count as a face contact
 PROBE_OFFSETS_DEG = (-60.0, -40.0, -20.0, 0.0, 20.0, 40.0, 60.0)
-PROBE_SAMPLES = 3
-PROBE_SPAN_DEG = 4.0
+PROBE_SAMPLES = 4
+PROBE_SPAN_DEG = 6.0
 PROBE_PAD_MARGIN = 0.1
 #: the object model predicts a tangent for ψ from felt lines within MODEL_REACH_DEG that
 #: span at least MODEL_MIN_SPAN_DEG, the nearest at most MODEL_EXTRAPOLATE_DEG away
@@ -310,6 +309,19 @@ def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings:
                                      settings.samples_per_touch, d_start, travel, on_event=emit))
 
 
+def open_pose(config) -> np.ndarray:
+    """Joint angles (rad, config order) of the opened jaw: every pad at its normal at zero
+    joint angles, on the line tangent to the workspace disk (config ``workspace``) from
+    outside; where an exploration starts its probes."""
+    ws = config.workspace
+    model = ObjectModel(ws.center_mm, ws.radius_mm)
+    out = []
+    for f in config.fingers:
+        psi = nominal_psi(f)
+        out.append(kin.ik_line(f, psi, model.edge(psi), margin_rad=LIMIT_MARGIN_RAD))
+    return np.concatenate(out)
+
+
 def probe_psis(finger, model: ObjectModel) -> list[float]:
     """The probe orientations of a finger: its pad's normal at zero joint angles ±
     ``PROBE_OFFSETS_DEG`` whose workspace-edge line is reachable, nearest that normal first."""
@@ -336,15 +348,20 @@ def _probe_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, touch_ind
 
 
 def probe_face_contact(config, touch: TouchResult) -> float | None:
-    """Where a probe's last two samples touched along the pad (mm from its proximal
-    end) if that is ``PROBE_PAD_MARGIN`` of the pad's length from either end, else None."""
-    if len(touch.samples) < 2:
+    """Where a probe touched along the pad (mm from its proximal end, the middle sample's
+    envelope contact) if the probe passes :func:`touch_problem` (all samples, arc length
+    increasing: a pad end sliding on the boundary moves the envelope backwards) and every
+    contact is ``PROBE_PAD_MARGIN`` of the pad's length from either end; else None."""
+    if len(touch.samples) < PROBE_SAMPLES or touch_problem(config, touch, PROBE_SAMPLES) is not None:
         return None
-    _, u = contact_on_pad(config, touch.finger, touch.samples)
+    ticks = np.array([s.ticks for s in touch.samples], dtype=float)
+    c = kin.touch_from_ticks(config, touch.finger, ticks)
+    lines = kin.finger_pad_line_from_ticks(config, touch.finger, ticks[c.order])
+    u = lines.pad_coordinate(np.stack([c.x, c.y], axis=-1))
     length = config.finger(touch.finger).pad.length_mm
-    if u is None or not PROBE_PAD_MARGIN * length <= u <= (1 - PROBE_PAD_MARGIN) * length:
+    if np.any(u < PROBE_PAD_MARGIN * length) or np.any(u > (1 - PROBE_PAD_MARGIN) * length):
         return None
-    return u
+    return float(u[len(u) // 2])
 
 
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[list[dict]], Any],

@@ -4,7 +4,9 @@ The emulator (hand_driver.sim.server.EmulatedBus) runs in this process on a
 pseudo-terminal that the Dynamixel SDK opens like a USB adapter; the exploration talks
 Protocol 2.0 to it exactly as to a real jaw. The emulator runs in lockstep with the
 exploration's cycles (hand_driver.motion.LockstepClock): robot time is its simulated
-time, the same on any host, and wall time is only the computation.
+time, the same on any host, and wall time is only the computation. The emulated jaw starts
+opened (hand_driver.explore.open_pose: every pad outside the workspace disk); an object
+that overlaps those pads is refused (exit 2).
 """
 
 from __future__ import annotations
@@ -49,7 +51,11 @@ def truth_lines(recognition: dict, obj) -> list[str]:
 
 
 def run(args) -> int:
+    import numpy as np
+
+    from hand_driver import kinematics as kin
     from hand_driver.config import load_config
+    from hand_driver.explore import open_pose
     from hand_driver.motion import LockstepClock
     from hand_driver.sim.server import EmulatedBus
     from recognizer.errors import InputError
@@ -65,7 +71,13 @@ def run(args) -> int:
     say = progress_printer()
     sys.setswitchinterval(5e-4)  # the emulator thread answers sooner while the SDK polls
     say(f"emulated bus: {scene.object.cls} {scene.object.params} in scene {scene.name}")
-    with EmulatedBus(config, scene, truth_config=truth, time_scale=0.0) as sim:
+    q_open = open_pose(config)
+    ticks = np.concatenate([np.rint(kin.angles_to_ticks(f.joints, q_open[sl])) for f, sl in
+                            zip(config.fingers, config.joint_slices().values())]).astype(int)
+    with EmulatedBus(config, scene, truth_config=truth, time_scale=0.0, initial_ticks=[int(t) for t in ticks]) as sim:
+        if sim.world is not None and sim.world.penetrates(q_open):
+            raise InputError(f"{scene_path}: the object overlaps the opened jaw's pads (each on the workspace "
+                             f"disk's edge, config 'workspace'): place it inside the workspace")
         session = run_session(port=sim.port, config=config, scene_mapping=scene_mapping, profile=args.profile,
                               log_path=args.log, clock_factory=lambda: LockstepClock(sim),
                               bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say)
