@@ -28,7 +28,7 @@ from recognizer.localize import EPS_FLOOR, N_SHAPE, Contacts, fit_class
 from recognizer.result import Candidate, Recognition, RecognizeOptions
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request
 
-__all__ = ["recognize", "contacts_of", "DEFAULT_SAMPLES_NOISE"]
+__all__ = ["recognize", "contacts_of", "options_for", "DEFAULT_SAMPLES_NOISE"]
 
 #: φ and position deviations assumed for samples-touches when neither the request nor
 #: the scene gives a noise model (the jaw's encoder and pad-line resolution)
@@ -55,6 +55,23 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
     arr = [np.array(c, dtype=float) for c in cols[:5]]
     return Contacts(*arr, np.array(cols[5], dtype=float).reshape(-1, 2, 2), np.array(cols[6], float),
                     np.array(cols[7], float))
+
+
+def options_for(request: Request, overrides: dict | None = None) -> RecognizeOptions:
+    """RecognizeOptions of a request: ``overrides`` (e.g. command-line flags) > the request's
+    explicit options > the request's profile > the scene's profile
+    (recognizer.profiles.resolve_options); defaults for whatever none of them sets."""
+    from recognizer.errors import InputError
+    from recognizer.profiles import resolve_options
+
+    opts = resolve_options(request.options, request.scene)
+    opts.update(overrides or {})
+    alpha = float(opts.get("alpha", 1e-3))
+    if not 0.0 < alpha < 0.5:
+        raise InputError(f"alpha: must be in (0, 0.5), got {alpha}")
+    profile = opts.get("profile") or (request.scene.profile if request.scene is not None else None)
+    return RecognizeOptions(estimator=opts.get("estimator", "auto"), refine=bool(opts.get("refine", False)),
+                            alpha=alpha, noise=request.noise, profile=profile)
 
 
 def _pair_invariants(d: Contacts) -> dict:
@@ -124,6 +141,11 @@ def _candidate(fit, alpha: float) -> Candidate:
                      reason=None if chi2 <= limit else f"chi2 {chi2:.3g} > {limit:.3g} (dof {dof})")
 
 
+#: with refinement on, a class whose invariant-stage χ² is within this factor of its limit
+#: is refined and judged on the refined fit
+REFINE_WITHIN = 100.0
+
+
 def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: Contacts) -> str:
     parts = []
     if cands:
@@ -162,11 +184,16 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
             skipped[cls] = "its invariants give no solution within 1e5 sigma of the touches"
             continue
         cands.append(_candidate(fit, options.alpha))
-    consistent = [c for c in cands if c.consistent]
-    if options.refine and consistent:
+    if options.refine:
+        # every class the invariants solve near consistency is refined, and judged on the
+        # refined fit: stage 1's χ² on three touches can reject a right class (its κ_s is the
+        # least certain measurement) that all samples together fit within their noise
         from recognizer.refine import refine_candidates
 
-        consistent = [c for c in refine_candidates(consistent, request, options) if c.consistent]
+        near = [i for i, c in enumerate(cands) if c.chi2 <= REFINE_WITHIN * chi2_limit(options.alpha, c.dof)]
+        for i, c in zip(near, refine_candidates([cands[i] for i in near], request, options)):
+            cands[i] = c
+    consistent = [c for c in cands if c.consistent]
     ranking = sorted(cands, key=lambda c: (not c.consistent, c.bic))
     rank_json = [{"class": c.cls, "consistent": c.consistent, "chi2": c.chi2, "dof": c.dof, "bic": c.bic,
                   "p_value": c.p_value} for c in ranking]

@@ -251,14 +251,20 @@ class Contacts:
         return max(k, key=abs)
 
     def flipped(self) -> "Contacts":
-        """The same touches seen in the other direction (φ + π, −κ), with the same
-        whitener W (as before: the κ/κ_s covariance is not re-signed). Made once."""
+        """The same touches seen in the other direction (φ + π, −κ). With D = diag(−1, 1)
+        the covariance of (−κ, κ_s) is D·C·D (the κ/κ_s cross term changes sign) and
+        W·D whitens it: the κ column of W changes sign (the floors see |κ| and κ² only).
+        Made once."""
         if self._flip is None:
-            f = Contacts(self.x, self.y, self.phi + np.pi, -self.kappa, self.kappa_s, self.cov,
+            cov = self.cov.copy()
+            cov[:, 0, 1] *= -1.0
+            cov[:, 1, 0] *= -1.0
+            f = Contacts(self.x, self.y, self.phi + np.pi, -self.kappa, self.kappa_s, cov,
                          self.sig_pos, self.sig_phi)
             f._scale = self.scale
-            f._wl = self._whitener_rows()  # the floors see |κ| and κ² only: the same W
-            f._rows = [(x, y, p + np.pi, -k, *rest) for x, y, p, k, *rest in self.rows()]
+            f._wl = [(-w00, w01, -w10, w11) for w00, w01, w10, w11 in self._whitener_rows()]
+            f._rows = [(x, y, p + np.pi, -k, ks, sp, sf, -w00, w01, -w10, w11)
+                       for x, y, p, k, ks, sp, sf, w00, w01, w10, w11 in self.rows()]
             self._flip = f
         return self._flip
 

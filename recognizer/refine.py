@@ -407,7 +407,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
         return RefinedCandidate(**fields, cov=np.zeros((k, k)), sigma={"phi": sig_phi, "pos": sig_pos}, nfev=nfev)
     fields.update(params=params_c, pose=pose_c, t=t_touch, chi2=chi2, dof=dof, n_obs=n_obs, loglik=loglik,
                   bic=bic, p_value=p_value, consistent=bool(p_value >= alpha), uncertainty=unc)
-    if fields["consistent"] is False and not fields.get("reason"):
+    if fields["consistent"] is False:
         fields["reason"] = (f"{cls}: refined fit χ² = {chi2:.3g} on {dof} degrees of freedom "
                             f"(p = {p_value:.2g} < α = {alpha:g})")
     elif fields["consistent"]:

@@ -22,17 +22,12 @@ def add_arguments(parser) -> None:
 
 
 def _options(args, request):
-    from recognizer.errors import InputError
-    from recognizer.result import RecognizeOptions
+    """Explicit command-line options > the request's options > its profile > the scene's
+    profile (recognizer.classify.options_for)."""
+    from recognizer.classify import options_for
 
-    opts = dict(request.options)
-    alpha = args.alpha if args.alpha is not None else opts.get("alpha", 1e-3)
-    if not 0.0 < alpha < 0.5:
-        raise InputError(f"--alpha: must be in (0, 0.5), got {alpha}")
-    profile = opts.get("profile") or (request.scene.profile if request.scene is not None else None)
-    return RecognizeOptions(estimator=args.estimator or opts.get("estimator", "auto"),
-                            refine=bool(args.refine or opts.get("refine", False)), alpha=float(alpha),
-                            noise=request.noise, profile=profile)
+    cli = {"estimator": args.estimator, "alpha": args.alpha, "refine": True if args.refine else None}
+    return options_for(request, {k: v for k, v in cli.items() if v is not None})
 
 
 def _answer(obj, args, base_dir, source):
