@@ -296,12 +296,23 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
         yield from move_line(jaw, finger, a, model.edge(a), *TRANSIT_STEPS)
 
 
+def _transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
+    """:func:`transit`; why it could not go on (the path left the joint limits), or None."""
+    try:
+        yield from transit(jaw, finger, model, psi_to)
+    except kin.Unreachable as exc:
+        return f"{finger}: transit to psi={math.degrees(psi_to):.1f} deg: {exc}"
+    return None
+
+
 def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings: ExploreSettings,
                 touch_index: int, emit):
     """Transit, then one rolling touch around ψ from ``APPROACH_MARGIN_MM`` outside the
     predicted tangent line; returns the TouchResult."""
     start = float(roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[0])
-    yield from transit(jaw, finger, model, start)
+    problem = yield from _transit_or_problem(jaw, finger, model, start)
+    if problem is not None:
+        return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
     d_pred, _ = model.tangent(start)
     d_start = max(model.edge(start), d_pred - APPROACH_MARGIN_MM)
     travel = d_pred + APPROACH_MARGIN_MM - d_start
@@ -342,7 +353,9 @@ def _probe_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, touch_ind
     the workspace edge across the whole workspace disk; returns the TouchResult."""
     span = math.radians(PROBE_SPAN_DEG)
     start = float(roll_angles(psi, span, PROBE_SAMPLES)[0])
-    yield from transit(jaw, finger, model, start)
+    problem = yield from _transit_or_problem(jaw, finger, model, start)
+    if problem is not None:
+        return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
     return (yield from rolling_touch(jaw, finger, touch_index, psi, span, PROBE_SAMPLES, model.edge(start),
                                      2.0 * model.workspace_radius, on_event=emit))
 
@@ -436,7 +449,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
             if recognition.cls != "unclassified":
                 break
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
-    run_together(jaw, {name: transit(jaw, name, model, psi) for name, psi in here.items()})  # pads to the edge
+    run_together(jaw, {name: _transit_or_problem(jaw, name, model, psi) for name, psi in here.items()})  # to the edge
     if out.recognition is None and good:
         try:  # the budget is spent with fewer usable touches than planned: answer if possible
             out.recognition = recognize_touches(good)
