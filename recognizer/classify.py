@@ -24,7 +24,7 @@ import numpy as np
 from scipy import special, stats
 
 from recognizer import invariants as inv
-from recognizer.localize import EPS_FLOOR, N_SHAPE, Contacts, fit_class
+from recognizer.localize import EPS_FLOOR, N_SHAPE, Contacts, fit_class, fit_class_every_start
 from recognizer.result import Candidate, Recognition, RecognizeOptions
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request
 
@@ -146,6 +146,17 @@ def _candidate(fit, alpha: float) -> Candidate:
 REFINE_WITHIN = 100.0
 
 
+def _best_per_class(cands: list[Candidate]) -> list[Candidate]:
+    """One candidate per class (several starts of a cubic class): the consistent one of
+    lowest BIC, else the lowest χ²; in first-seen class order."""
+    best: dict[str, Candidate] = {}
+    for c in cands:
+        b = best.get(c.cls)
+        if b is None or (c.consistent, -c.bic, -c.chi2) > (b.consistent, -b.bic, -b.chi2):
+            best[c.cls] = c
+    return list(best.values())
+
+
 def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: Contacts) -> str:
     parts = []
     if cands:
@@ -179,20 +190,24 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
         dof = 5 * d.n - (d.n + {"line": 2, "circle": 3}.get(cls, 5))
         give_up = 1e4 * chi2_limit(options.alpha, max(dof, 1))
         limit = chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[cls] + d.n), 1))  # as in _candidate
-        fit = fit_class(cls, d, give_up=give_up, sigma_below=limit)
-        if fit is None:
+        if options.refine and cls in ("cubical_parabola", "semicubical_parabola"):
+            fits = fit_class_every_start(cls, d, give_up=give_up, sigma_below=limit)
+        else:
+            fits = [f for f in (fit_class(cls, d, give_up=give_up, sigma_below=limit),) if f is not None]
+        if not fits:
             skipped[cls] = "its invariants give no solution within 1e5 sigma of the touches"
             continue
-        cands.append(_candidate(fit, options.alpha))
+        cands += [_candidate(f, options.alpha) for f in fits]
     if options.refine:
-        # every class the invariants solve near consistency is refined, and judged on the
-        # refined fit: stage 1's χ² on three touches can reject a right class (its κ_s is the
-        # least certain measurement) that all samples together fit within their noise
+        # every class the invariants solve near consistency is refined (a cubic class from
+        # every slope root and branch), and judged on the refined fit: stage 1's χ² on three
+        # touches can reject a right class that all samples together fit within their noise
         from recognizer.refine import refine_candidates
 
         near = [i for i, c in enumerate(cands) if c.chi2 <= REFINE_WITHIN * chi2_limit(options.alpha, c.dof)]
         for i, c in zip(near, refine_candidates([cands[i] for i in near], request, options)):
             cands[i] = c
+    cands = _best_per_class(cands)
     consistent = [c for c in cands if c.consistent]
     ranking = sorted(cands, key=lambda c: (not c.consistent, c.bic))
     rank_json = [{"class": c.cls, "consistent": c.consistent, "chi2": c.chi2, "dof": c.dof, "bic": c.bic,

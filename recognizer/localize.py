@@ -38,7 +38,7 @@ from scipy.linalg.lapack import dgesdd
 from recognizer import invariants as inv
 from recognizer.curves import CURVES, Pose
 
-__all__ = ["Contacts", "Fit", "fit_class", "EPS_FLOOR", "N_SHAPE"]
+__all__ = ["Contacts", "Fit", "fit_class", "fit_class_every_start", "EPS_FLOOR", "N_SHAPE"]
 
 #: relative floor of every measurement's standard deviation (exact data, zero covariance)
 EPS_FLOOR = 1e-7
@@ -619,6 +619,20 @@ def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = ma
     (position-and-angle χ² > HOPELESS_PER_OBS per observation); ``give_up`` stops the iterations of a class
     whose χ² stays above it. The parameters' standard deviations (``Fit.sigma``) are
     computed only for a χ² ≤ ``sigma_below`` (a class that fails its test reports none)."""
+    fits = _fit_starts(cls, data, max_starts, give_up, sigma_below, every=False)
+    return fits[0] if fits else None
+
+
+def fit_class_every_start(cls: str, data: Contacts, give_up: float = math.inf,
+                          sigma_below: float = math.inf) -> list[Fit]:
+    """One fit per closed-form start (every slope root and branch of the cubic classes),
+    best first: the invariants' noisy start can sit on the wrong branch, and a later
+    refinement over every sample cannot jump branches, so each is offered to it."""
+    return _fit_starts(cls, data, 8, give_up, sigma_below, every=True)
+
+
+def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma_below: float,
+                every: bool) -> list[Fit]:
     sign = CURVES[cls].kappa_sign
     d = data
     if sign != 0:
@@ -642,20 +656,26 @@ def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = ma
         if cost < math.inf:
             starts.append((cost, (params, th, X, Y, t), params))
     if not starts:
-        return None
+        return []
     starts.sort(key=lambda s: s[0])
     if starts[0][0] > HOPELESS_PER_OBS * 3 * d.n:
-        return None
-    best = None
+        return []
+    solved = []
     for cost0, z0, p0 in starts[:max_starts]:
+        if every and cost0 > HOPELESS_PER_OBS * 3 * d.n:
+            continue
         z, cost, r, parts = model.solve(model.pack(*z0), give_up=give_up)
-        if best is None or cost < best[1]:
-            best = (z, cost, r, parts, p0)
-        if cost < give_up * 1e-3:
+        if np.isfinite(cost):
+            solved.append((cost, z, r, parts, p0))
+        if not every and cost < give_up * 1e-3:
             break
-    z, cost, r, parts, p0 = best
-    if not np.isfinite(cost):
-        return None
+    solved.sort(key=lambda s: s[0])
+    return [_finish(model, cls, d, z, cost, r, parts, p0, sigma_below)
+            for cost, z, r, parts, p0 in (solved if every else solved[:1])]
+
+
+def _finish(model: _Model, cls: str, d: Contacts, z, cost, r, parts, p0, sigma_below: float) -> Fit:
+    """The Fit at the solution z: parameters, σ's (χ² ≤ ``sigma_below``), canonical form."""
     params = model.params_of(z)
     th, X, Y = (float(v) for v in z[model.np: model.np + 3])
     t = z[model.np + 3:]
