@@ -60,6 +60,8 @@ PROBE_OFFSETS_DEG = (-60.0, -40.0, -20.0, 0.0, 20.0, 40.0, 60.0)
 PROBE_SAMPLES = 4
 PROBE_SPAN_DEG = 6.0
 PROBE_PAD_MARGIN = 0.1
+#: a finger stops probing once its face contacts span this many degrees of pad normal
+PROBE_ENOUGH_DEG = 40.0
 #: the object model predicts a tangent for ψ from felt lines within MODEL_REACH_DEG that
 #: span at least MODEL_MIN_SPAN_DEG, the nearest at most MODEL_EXTRAPOLATE_DEG away
 MODEL_REACH_DEG = 45.0
@@ -392,6 +394,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
     t0 = jaw.robot_time()
     index = 0
     queues = {f.name: probe_psis(f, model) for f in cfg.fingers}
+    faces: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     while any(queues.values()):
         plans = {}
         for name, queue in queues.items():
@@ -405,6 +408,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
             u = probe_face_contact(cfg, probe)
             if u is not None:
                 model.add([s.psi_measured for s in probe.samples], [s.d for s in probe.samples])
+                faces[name].append(probe.psi_center)
+                if np.ptp(faces[name]) >= math.radians(PROBE_ENOUGH_DEG) - 1e-9:
+                    queues[name] = []  # enough felt to plan this finger's touches
             say(f"probe {len(out.probes)}: {name} at psi {math.degrees(probe.psi_center):.1f} deg: "
                 + (f"pad face {u:.1f} mm from its proximal end" if u is not None else
                    probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
@@ -416,7 +422,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
         for f in cfg.fingers[:budget]:
             psi = choose_psi(f, model, settings, used[f.name])
             if psi is None:
-                message = f"{f.name}: no untouched pad orientation left where the probes predict a face contact"
+                message = (f"{f.name}: no untouched pad orientation left for which the felt lines predict a "
+                           f"{math.degrees(settings.roll_span_rad):g} deg roll on the pad's face")
                 emit({"type": "event", "kind": "no_orientation", "message": message})
                 say(message)
                 continue
@@ -450,6 +457,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
                 break
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
     run_together(jaw, {name: _transit_or_problem(jaw, name, model, psi) for name, psi in here.items()})  # to the edge
+    if not model.psi.size:
+        message = (f"no probe of {len(out.probes)} found a contact on a pad's face: within reach of the pads the "
+                   f"object offers no boundary they can roll on (flat, concave, or felt only by a pad end)")
+        emit({"type": "event", "kind": "no_face_contact", "message": message})
+        say(message)
     if out.recognition is None and good:
         try:  # the budget is spent with fewer usable touches than planned: answer if possible
             out.recognition = recognize_touches(good)
