@@ -77,7 +77,7 @@ def run(args) -> int:
     with EmulatedBus(config, scene, truth_config=truth, time_scale=0.0, initial_ticks=[int(t) for t in ticks]) as sim:
         if sim.world is not None and sim.world.penetrates(q_open):
             raise InputError(f"{scene_path}: the object overlaps the opened jaw's pads (each on the workspace "
-                             f"disk's edge, config 'workspace'): place it inside the workspace")
+                             f"disk's edge, config 'workspace'): place it clear of them")
         session = run_session(port=sim.port, config=config, scene_mapping=scene_mapping, profile=args.profile,
                               log_path=args.log, clock_factory=lambda: LockstepClock(sim),
                               bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say)
