@@ -44,7 +44,10 @@ SIGMA_FLOOR_PHI = 1e-9
 """rad: σ_φ used when the noise model says 0 (exact data)."""
 SIGMA_FLOOR_POS = 1e-9
 """mm: σ_pos used when the noise model says 0."""
-MAX_NFEV = 60
+MAX_NFEV = 40
+TOL = 1e-10
+"""least_squares' xtol, ftol, gtol: a relative χ² change of 1e-10 is far below any decision
+(1e-12 ran most wrong-class fits to the evaluation cap for nothing)."""
 MODEL_ALPHA = 1e-3
 """a class with one more parameter must lower χ² by at least the χ²₁ quantile at this
 level (10.8) to be preferred: per-parameter penalty max(ln n, that quantile)."""
@@ -352,7 +355,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
         z0 = problem.pack(params, candidate.pose, t0) if z is None else z
         method = "lm" if problem.n_rows * 3 + 2 * len(data.contact_rows) >= z0.size else "trf"
         res = optimize.least_squares(problem.residuals, z0, jac=problem.jacobian, method=method,
-                                     x_scale="jac", max_nfev=MAX_NFEV, xtol=1e-12, ftol=1e-12, gtol=1e-12)
+                                     x_scale="jac", max_nfev=MAX_NFEV, xtol=TOL, ftol=TOL, gtol=TOL)
         nfev += int(res.nfev)
         z = res.x
         if not known:

@@ -19,7 +19,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--shapes", type=int, default=None,
                         help="random shapes per class for the baseline and noise-free rows (default 100, quick 6)")
     parser.add_argument("--sweep-shapes", type=int, default=None,
-                        help="random shapes per class for every other sweep row (default 5, quick 2)")
+                        help="random shapes per class for every other sweep row (default 3, quick 2)")
     parser.add_argument("--table-shapes", type=int, default=None,
                         help="shapes (points) per class for the paper's Tables 1 and 3 (default 100, quick 10)")
     parser.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
     if unknown:
         raise InputError(f"--classes: unknown {', '.join(unknown)}; allowed: {', '.join(CURVES)}")
     shapes = _positive(args.shapes, 6 if args.quick else 100, "--shapes")
-    sweep = _positive(args.sweep_shapes, 2 if args.quick else 5, "--sweep-shapes")
+    sweep = _positive(args.sweep_shapes, 2 if args.quick else 3, "--sweep-shapes")
     table = _positive(args.table_shapes, 10 if args.quick else 100, "--table-shapes")
     jobs = _positive(args.jobs, bench.default_jobs(), "--jobs")
     out = Path(args.out)
