@@ -62,6 +62,8 @@ PROBE_SPAN_DEG = 6.0
 PROBE_PAD_MARGIN = 0.1
 #: a finger stops probing once its face contacts span this many degrees of pad normal
 PROBE_ENOUGH_DEG = 40.0
+#: a finger with a single face contact after the grid probes again this far (deg) either side
+PROBE_REFINE_DEG = 10.0
 #: the object model predicts a tangent for ψ from felt lines within MODEL_REACH_DEG that
 #: span at least MODEL_MIN_SPAN_DEG, the nearest at most MODEL_EXTRAPOLATE_DEG away
 MODEL_REACH_DEG = 45.0
@@ -395,7 +397,16 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
     index = 0
     queues = {f.name: probe_psis(f, model) for f in cfg.fingers}
     faces: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
-    while any(queues.values()):
+    refined = False
+    while True:
+        if not any(queues.values()):
+            if refined:
+                break
+            refined = True  # one more pass: around a finger's only face contact, PROBE_REFINE_DEG either side
+            queues = {f.name: [faces[f.name][0] + math.radians(sign * PROBE_REFINE_DEG) for sign in (-1, 1)]
+                      if len(faces[f.name]) == 1 else [] for f in cfg.fingers}
+            if not any(queues.values()):
+                break
         plans = {}
         for name, queue in queues.items():
             if queue:
