@@ -509,9 +509,17 @@ def _route(guard, finger: str, here, target, home) -> list | None:
     for a in (here, home):
         candidates += [[np.array([a[0], target[1]])], [np.array([target[0], a[1]])]]
     candidates += [[home, np.array([home[0], target[1]])], [home, np.array([target[0], home[1]])]]
+    checked: dict[bytes, bool] = {}  # candidates share segments: test each once
+
+    def clear(a, b) -> bool:
+        key = np.concatenate([np.asarray(a, dtype=float), np.asarray(b, dtype=float)]).tobytes()
+        if key not in checked:
+            checked[key] = guard(finger, a, b)
+        return checked[key]
+
     for via in candidates:
         points = [here] + via + [target]
-        if all(guard(finger, a, b) for a, b in zip(points[:-1], points[1:])):
+        if all(clear(a, b) for a, b in zip(points[:-1], points[1:])):
             return via + [target]
     return None
 

@@ -43,7 +43,7 @@ def calibrate(cfg, truth, rng, faces: int, corners: int):
     for k, (x, y) in enumerate(cal.DEFAULT_PLACEMENTS):
         placed = dataclasses.replace(disk, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
         with EmulatedBus(cfg, placed, truth_config=truth, time_scale=0.0) as sim, \
-                JointBus(sim.port, cfg.bus.baudrate, cfg.joints, handle_signals=False) as bus:
+                JointBus(sim.port, cfg.bus.baudrate, cfg.joints, handle_signals=False, timeout_s=0.5) as bus:
             got, _, _ = cal.touch_reference(Jaw(bus, cfg, clock=LockstepClock(sim)), disk, (x, y), placement=k,
                                             faces=faces, corners=corners)
         readings += got
