@@ -447,6 +447,13 @@ def home_pose(finger) -> np.ndarray:
     return np.clip(out, lo, hi)
 
 
+def park(jaw) -> None:
+    """Move both fingers to their parking poses (:func:`home_pose`) together."""
+    from hand_driver.motion import move_to, run_together
+
+    run_together(jaw, {f.name: move_to(jaw, f.name, home_pose(f)) for f in jaw.config.fingers})
+
+
 def _corner_approach(jaw, finger: str, center, r: float, direction, end: str, q_branch, gap0: float,
                      travel: float):
     """Guarded approach of a pad end toward the disk centre along −direction, from
@@ -601,7 +608,7 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
     geometry, least squares), then the full plan (:func:`plan_touches`) runs with both
     fingers at once. Returns the readings (locating touches included), the located
     centre and what was skipped."""
-    from hand_driver.motion import move_to, run_together
+    from hand_driver.motion import run_together
 
     cfg = jaw.config
     r = float(reference.params["r"])
@@ -625,7 +632,7 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
         return guard
 
     # 0. park both fingers (opening them moves the pads away from the workspace)
-    run_together(jaw, {f.name: move_to(jaw, f.name, home_pose(f)) for f in cfg.fingers})
+    park(jaw)
     # 1. locate: the pads start LOCATE_GAP_MM outside the expected disk
     loc_gap, loc_travel = LOCATE_GAP_MM, 2.0 * LOCATE_GAP_MM
     guard = make_guard(guess, loc_gap - 0.5)

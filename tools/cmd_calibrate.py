@@ -72,15 +72,17 @@ def run(args) -> int:
         raise InputError("--faces must be ≥ 2 and --corners ≥ 0")
     tolerances = {"zero_tick": args.max_se_ticks, "link_mm": args.max_se_mm, "offset_mm": args.max_se_mm}
     readings = []
+    ask = len(args.port) == 1 and len(places) > 1
     for k, guess in enumerate(places):
         port = args.port[k] if len(args.port) > 1 else args.port[0]
-        if len(args.port) == 1 and len(places) > 1:
-            sys.stderr.write(f"placement {k + 1}/{len(places)}: fix the disk near ({guess[0]:g}, {guess[1]:g}) mm "
-                             f"and press Enter\n")
-            sys.stderr.flush()
-            sys.stdin.readline()
         with JointBus(port, cfg.bus.baudrate, cfg.joints, retries=cfg.bus.retries) as bus:
             jaw = Jaw(bus, cfg, clock=WallClock(args.time_scale))
+            if ask:  # fingers parked (opened outward) first, so the disk can be placed between them
+                cal.park(jaw)
+                sys.stderr.write(f"placement {k + 1}/{len(places)}: fingers parked; fix the disk near "
+                                 f"({guess[0]:g}, {guess[1]:g}) mm and press Enter\n")
+                sys.stderr.flush()
+                sys.stdin.readline()
             got, center, skipped = cal.touch_reference(jaw, scene.object, guess, placement=k,
                                                        faces=args.faces, corners=args.corners)
         sys.stderr.write(f"placement {k + 1}: disk found at ({center[0]:.2f}, {center[1]:.2f}) mm, "
