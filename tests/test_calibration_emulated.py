@@ -6,7 +6,7 @@ placement off its suggested place by up to ±3 mm. Checked: every zero tick with
 and every link length and pad offset within 0.1 mm of the truth, every error within 3
 standard errors (honest uncertainties), the default tolerances accept the fit, and the
 residual RMS drops to the quantization level. A smaller plan than the command's default
-(6 face orientations and 4 pad-end touches per finger, branch and placement) keeps it fast."""
+(4 face orientations and 3 touches of each pad end per finger, branch and placement) keeps it fast."""
 
 from __future__ import annotations
 
@@ -50,7 +50,7 @@ def test_calibration_on_the_emulated_bus_meets_the_target(seed, tmp_path):
                 JointBus(sim.port, CFG.bus.baudrate, CFG.joints, handle_signals=False,
                          timeout_s=0.5) as bus:  # lockstep: a loaded host may answer slowly
             jaw = Jaw(bus, CFG, clock=LockstepClock(sim))
-            got, center, _ = cal.touch_reference(jaw, DISK, (x, y), placement=k, faces=6, corners=4)
+            got, center, _ = cal.touch_reference(jaw, DISK, (x, y), placement=k, faces=4, corners=3)
         assert np.hypot(center[0] - disk.pose.x, center[1] - disk.pose.y) < 5.0  # located (nominal geometry)
         readings += got
     result = cal.fit(CFG, DISK, readings)  # default tolerances: se ≤ 0.5 tick, ≤ 0.05 mm
