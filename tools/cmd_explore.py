@@ -115,8 +115,9 @@ def finish(session: Session, args, *, config, truth=None, extra_lines: list[str]
 
     ex = session.exploration
     if session.recognition is None:
-        raise DeviceFault(f"only {len(ex.request['touches'])} usable touches of {len(ex.touches)} tried, too few "
-                          f"to recognize (progress lines and the log's events say why)")
+        raise DeviceFault(f"only {len(ex.request['touches'])} usable touches of {len(ex.touches)} tried after "
+                          f"{len(ex.probes)} probes ({ex.robot_time_s:.1f} s robot time), too few to recognize "
+                          f"(progress lines and the log's events say why)")
     if args.plot:
         from tools.plot import plot_exploration
 
