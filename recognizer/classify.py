@@ -50,7 +50,11 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
 
             g = estimate_local(t, method=options.estimator, noise=noise, where=f"{request.source}.touches[{i}]")
             nz = noise or DEFAULT_SAMPLES_NOISE
-            rows.append((g.x, g.y, g.phi, g.kappa, g.kappa_s, np.asarray(g.cov, float), nz.pos, nz.phi))
+            # the contact sample's own φ, with its stated deviation: the estimator's smoothed
+            # φ carries a truncation error no covariance states (up to 1e-2 rad on noise-free
+            # hyperbola touches, judged at the 1e-7 floor: right classes were rejected)
+            phi_m = float(np.asarray(t.phi, float)[len(t.phi) // 2])
+            rows.append((g.x, g.y, phi_m, g.kappa, g.kappa_s, np.asarray(g.cov, float), nz.pos, nz.phi))
     cols = list(zip(*rows))
     arr = [np.array(c, dtype=float) for c in cols[:5]]
     return Contacts(*arr, np.array(cols[5], dtype=float).reshape(-1, 2, 2), np.array(cols[6], float),

@@ -239,6 +239,12 @@ class Contacts:
         """No stated noise: zero κ/κ_s covariance and zero position and angle deviations."""
         return not (np.any(self.cov) or np.any(self.sig_pos) or np.any(self.sig_phi))
 
+    @property
+    def eased(self) -> bool:
+        """Exact positions and angles (zero stated deviations) with uncertain κ, κ_s: the
+        case of noise-free samples, whose fits start from a widened problem."""
+        return bool(np.any(self.cov)) and not (np.any(self.sig_pos) or np.any(self.sig_phi))
+
     def cols(self) -> tuple[list, list, list, list, list]:
         """(x, y, φ, κ, κ_s) as lists of Python floats."""
         if self._cols is None:
@@ -615,8 +621,10 @@ def fit_class(cls: str, data: Contacts, max_starts: int = 2, give_up: float = ma
               sigma_below: float = math.inf) -> Fit | None:
     """Fit one class to every touch: closed-form start, then Levenberg–Marquardt.
 
-    Returns None when the class has no closed-form start or its best start is hopeless
-    (position-and-angle χ² > HOPELESS_PER_OBS per observation); ``give_up`` stops the iterations of a class
+    Returns None when the class has no closed-form start or, on exact data, its best start
+    is hopeless (position-and-angle χ² > HOPELESS_PER_OBS per observation; with exact
+    positions and angles but uncertain κ, κ_s such a start is first eased,
+    ``_eased_start``); ``give_up`` stops the iterations of a class
     whose χ² stays above it. The parameters' standard deviations (``Fit.sigma``) are
     computed only for a χ² ≤ ``sigma_below`` (a class that fails its test reports none)."""
     fits = _fit_starts(cls, data, max_starts, give_up, sigma_below, every=False)
@@ -658,13 +666,16 @@ def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma
     if not starts:
         return []
     starts.sort(key=lambda s: s[0])
-    if starts[0][0] > HOPELESS_PER_OBS * 3 * d.n:
+    if starts[0][0] > HOPELESS_PER_OBS * 3 * d.n and not d.eased:
         return []
     solved = []
     for cost0, z0, p0 in starts[:max_starts]:
-        if every and cost0 > HOPELESS_PER_OBS * 3 * d.n:
+        if every and cost0 > HOPELESS_PER_OBS * 3 * d.n and not d.eased:
             continue
-        z, cost, r, parts = model.solve(model.pack(*z0), give_up=give_up)
+        z = model.pack(*z0)
+        if cost0 > give_up and d.eased:
+            z = _eased_start(cls, d, z, cost0)
+        z, cost, r, parts = model.solve(z, give_up=give_up)
         if np.isfinite(cost):
             solved.append((cost, z, r, parts, p0))
         if not every and cost < give_up * 1e-3:
@@ -672,6 +683,21 @@ def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma
     solved.sort(key=lambda s: s[0])
     return [_finish(model, cls, d, z, cost, r, parts, p0, sigma_below)
             for cost, z, r, parts, p0 in (solved if every else solved[:1])]
+
+
+def _eased_start(cls: str, d: Contacts, z0: np.ndarray, cost0: float) -> np.ndarray:
+    """A start for touches whose positions and angles are far more certain than their κ, κ_s
+    (noise-free samples: exact positions, estimated curvatures). A closed-form start made
+    from poorly conditioned κ, κ_s can miss the positions by 1e5 of their σ, where the fit
+    gives up although the class is right. So first fit with the position and angle
+    deviations widened until the start is within about one of them and return that fit's
+    solution (the caller iterates from it with the stated deviations)."""
+    f = math.sqrt(cost0 / (3 * d.n))
+    rows = d.rows()
+    wide = Contacts(d.x, d.y, d.phi, d.kappa, d.kappa_s, d.cov,
+                    np.array([r[5] * f for r in rows]), np.array([r[6] * f for r in rows]))
+    z, cost, _, _ = _Model(cls, wide).solve(z0)
+    return z if math.isfinite(cost) else z0
 
 
 def _finish(model: _Model, cls: str, d: Contacts, z, cost, r, parts, p0, sigma_below: float) -> Fit:
