@@ -500,8 +500,10 @@ def _best_pair(k):
     return bi, bj
 
 
-def _starts(cls: str, d: Contacts):
-    """Closed-form (params, t) starting points for a class (data in canonical direction)."""
+def _starts(cls: str, d: Contacts, every_pair: bool = False):
+    """Closed-form (params, t) starting points for a class (data in canonical direction);
+    a cubic class's frame from the slope roots of the best-turning pair of touches, or
+    with ``every_pair`` of every pair (noisy κ_s can spoil one pair's roots)."""
     x, y, phi, k, ks = d.cols()
     if cls == "line":
         th = _circmean_s(phi)
@@ -561,13 +563,16 @@ def _starts(cls: str, d: Contacts):
     # cubic classes: canonical tangent angle from the slope equation of the best-turning pair
     kk = inv.K_CUBICAL if cls == "cubical_parabola" else inv.K_SEMICUBICAL
     n = d.n
-    i, j = max(((i, j) for i in range(n) for j in range(i + 1, n)), key=lambda q: abs(math.sin(phi[q[1]] - phi[q[0]])))
-    roots, _ = inv.slope_angles(k[i], ks[i], k[j], ks[j], phi[j] - phi[i], kk)
+    pairs = sorted(((i, j) for i in range(n) for j in range(i + 1, n)),
+                   key=lambda q: -abs(math.sin(phi[q[1]] - phi[q[0]])))
+    frames = []
+    for i, j in (pairs if every_pair else pairs[:1]):
+        roots, _ = inv.slope_angles(k[i], ks[i], k[j], ks[j], phi[j] - phi[i], kk)
+        frames += [phi[i] - psi for psi in roots]
     out = []
-    for psi in roots:
+    for th in frames:
         # λ = tan ψ is blind to a half turn of the frame: the branch (sign of t) of the
         # semicubical parabola follows from t = 2(λ − b)/(3a), so one turn per root
-        th = phi[i] - psi
         lam = [math.tan(_wrap_s(f - th)) for f in phi]
         dens = [ksi + 3.0 * li * ki * ki for li, ki, ksi in zip(lam, k, ks)]
         if cls == "cubical_parabola":
@@ -651,7 +656,7 @@ def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma
     kern = model.kern
     starts = []
     try:
-        closed_form = _starts(cls, d)
+        closed_form = _starts(cls, d, every_pair=every)
     except _NUMERIC_ERRORS:  # an overflow NumPy would have turned into a non-finite start
         closed_form = []
     for params, t in closed_form:
