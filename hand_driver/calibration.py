@@ -38,6 +38,10 @@ from hand_driver import kinematics as kin
 from hand_driver.config import JawConfig
 from recognizer.errors import InputError
 
+#: a reading whose residual exceeds this many quantization σ is not the modelled contact
+OUTLIER_Z = 4.0
+#: screening passes (reclassify pad-end contacts, drop unexplained readings, refit)
+SCREEN_PASSES = 4
 #: default standard-error tolerances: half the recovery targets (1 tick, 0.1 mm)
 TOLERANCES = {"zero_tick": 0.5, "link_mm": 0.05, "offset_mm": 0.05}
 #: what each parameter kind needs, for refusals
@@ -82,11 +86,15 @@ class CalibrationResult:
     rms_before_mm: float
     rms_after_mm: float
     max_after_mm: float
-    n_readings: int
+    n_readings: int  # readings used by the fit
+    n_reclassified: int = 0  # face readings found to be pad-end contacts (Model.screen)
+    n_dropped: int = 0  # readings the contact model cannot explain, left out
 
     def to_json(self) -> dict:
         return {
             "readings": self.n_readings,
+            "reclassified": self.n_reclassified,
+            "dropped": self.n_dropped,
             "rms_before_mm": self.rms_before_mm,
             "rms_after_mm": self.rms_after_mm,
             "max_residual_after_mm": self.max_after_mm,
@@ -145,12 +153,15 @@ class _Model:
         if self.placements != list(range(len(self.placements))):
             raise InputError(f"placements must be numbered 0, 1, ...; got {self.placements}")
         self.groups = []
+        self.members = []  # per group, the indices of its readings in ``readings``
         for pl in self.placements:
             for fi, f in enumerate(cfg.fingers):
                 for kind in ("face", "corner", "heel"):
-                    sel = [r for r in readings if r.finger == f.name and r.kind == kind and r.placement == pl]
+                    sel = [i for i, r in enumerate(readings)
+                           if r.finger == f.name and r.kind == kind and r.placement == pl]
                     if sel:
-                        self.groups.append((pl, fi, kind, np.array([r.ticks for r in sel], dtype=float)))
+                        self.groups.append((pl, fi, kind, np.array([readings[i].ticks for i in sel], dtype=float)))
+                        self.members.append(sel)
         unknown = {r.finger for r in readings} - set(names)
         if unknown:
             raise InputError(f"readings name unknown finger(s) {sorted(unknown)}; fingers are {names}")
@@ -208,6 +219,39 @@ class _Model:
                 w += [ang, float(np.mean(np.concatenate([ln.distal @ m for ln in lines])))]
         return np.array(w)
 
+    def screen(self, v, w, z, readings: list[Reading]) -> tuple[list[Reading], int, int]:
+        """Readings the contact model explains at (v, w): a disk face touch whose tangent
+        point lies off the pad was a pad-end contact and becomes 'heel'/'corner'; if none
+        does, the readings with a normalized residual |z| above OUTLIER_Z (quantization
+        alone gives ≤ √6 ≈ 2.45) and above half the largest |z| are dropped (the worst
+        first: one bad reading pulls the fit and so the others' residuals). Returns
+        (readings, reclassified, dropped)."""
+        kinds = [r.kind for r in readings]
+        keep = [True] * len(readings)
+        row = 0
+        reclassified = 0
+        limit = max(OUTLIER_Z, 0.5 * float(np.max(np.abs(z))))
+        worst = []
+        for (pl, fi, kind, ticks), members in zip(self.groups, self.members):
+            per = 2 if (self.cls == "line" and kind == "face") else 1
+            zg = np.abs(np.asarray(z[row:row + per * len(members)])).reshape(len(members), per).max(axis=1)
+            row += per * len(members)
+            if self.cls == "circle" and kind == "face":
+                line = self.lines(v, fi, ticks)
+                c = np.array([w[2 * pl], w[2 * pl + 1]])
+                u = line.pad_coordinate(c - self.r * line.normal)
+                length = self.cfg.fingers[fi].pad.length_mm
+                for i, uu in zip(members, np.atleast_1d(u)):
+                    if not 0.0 <= uu <= length:
+                        kinds[i] = "heel" if uu < 0.0 else "corner"
+                        reclassified += 1
+            worst += [i for i, zz in zip(members, zg) if zz > limit]
+        if not reclassified:
+            for i in worst:
+                keep[i] = False
+        out = [dataclasses.replace(r, kind=k) for r, k, ok in zip(readings, kinds, keep) if ok]
+        return out, reclassified, keep.count(False)
+
     def reading_sigmas(self, v, w) -> np.ndarray:
         """Per-residual standard deviation (mm) that encoder quantization alone produces:
         ±½ tick uniform per joint, σ² = Σ_joints (∂residual/∂tick)² / 12."""
@@ -237,24 +281,36 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     """Least-squares calibration (module docstring); :class:`CalibrationRefused` when a
     parameter is not determined to its tolerance."""
     tol = dict(TOLERANCES, **(tolerances or {}))
-    model = _Model(cfg, reference, readings)
     v0 = _pack(cfg)
     names = _param_names(cfg)
     nv = v0.size
-    n_pose = 2 * len(model.placements)
-    n_res = sum(len(t) * (2 if (model.cls == "line" and kind == "face") else 1) for _, _, kind, t in model.groups)
-    if n_res <= nv + n_pose:
-        raise CalibrationRefused(f"{n_res} residuals for {nv + n_pose} unknowns: more touches are needed "
-                                 f"(face and corner touches of both fingers on every placement)")
-    # before: nominal parameters, only the pose fitted
-    w0 = model.pose_start(v0)
-    before = least_squares(lambda w: model.residuals(v0, w), w0, method="lm")
-    x0 = np.concatenate([v0, before.x])
-    # weighted by each reading's quantization σ (at the nominal geometry), so that
-    # readings with long lever arms (coarse) count less than fine ones
-    sig = np.maximum(model.reading_sigmas(v0, before.x), 1e-4)
-    res = least_squares(lambda x: model.residuals(x[:nv], x[nv:]) / sig, x0, method="lm", x_scale="jac",
-                        xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
+    used, n_reclassified, n_dropped = list(readings), 0, 0
+    for attempt in range(SCREEN_PASSES + 1):
+        model = _Model(cfg, reference, used)
+        n_pose = 2 * len(model.placements)
+        n_res = sum(len(t) * (2 if (model.cls == "line" and kind == "face") else 1)
+                    for _, _, kind, t in model.groups)
+        if n_res <= nv + n_pose:
+            raise CalibrationRefused(f"{n_res} residuals for {nv + n_pose} unknowns: more touches are needed "
+                                     f"(face and corner touches of both fingers on every placement)")
+        # before: nominal parameters, only the pose fitted
+        w0 = model.pose_start(v0)
+        before = least_squares(lambda w: model.residuals(v0, w), w0, method="lm")
+        x0 = np.concatenate([v0, before.x])
+        # weighted by each reading's quantization σ (at the nominal geometry), so that
+        # readings with long lever arms (coarse) count less than fine ones
+        sig = np.maximum(model.reading_sigmas(v0, before.x), 1e-4)
+        res = least_squares(lambda x: model.residuals(x[:nv], x[nv:]) / sig, x0, method="lm", x_scale="jac",
+                            xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
+        sv = np.linalg.svd(res.jac, compute_uv=False)
+        col = np.linalg.norm(res.jac, axis=0)
+        unseen = np.any(col <= 1e-6 * np.max(col))  # a parameter the readings do not see
+        if attempt == SCREEN_PASSES or unseen or sv[-1] <= 1e-9 * sv[0]:  # rank deficient: refused below
+            break
+        screened, moved, dropped = model.screen(res.x[:nv], res.x[nv:], res.fun, used)
+        if not moved and not dropped:
+            break
+        used, n_reclassified, n_dropped = screened, n_reclassified + moved, n_dropped + dropped
     r = res.fun * sig  # mm
     m, p = r.size, x0.size
     jac = res.jac
@@ -284,7 +340,7 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     return CalibrationResult(config=apply_params(cfg, res.x[:nv]), estimates=estimates, reference_poses=poses,
                              rms_before_mm=float(np.sqrt(np.mean(before.fun**2))),
                              rms_after_mm=float(np.sqrt(np.mean(r**2))), max_after_mm=float(np.max(np.abs(r))),
-                             n_readings=len(readings))
+                             n_readings=len(used), n_reclassified=n_reclassified, n_dropped=n_dropped)
 
 
 # ----------------------------------------------------------------------------- plan
@@ -395,7 +451,8 @@ def _spread(finger: str, kind: str, items: list, count: int, meta, accept=None) 
 def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], quantize: bool = True,
                placement: int = 0) -> list[Reading]:
     """Readings a jaw with geometry ``truth`` would produce for a plan (tests and
-    benchmarks): the exact truth contact configuration on the same IK branch, as ticks
+    benchmarks): the exact truth contact configuration on the same IK branch (face touches
+    whose tangent point falls off the truth pad are left out: a pad end would touch), as ticks
     of the truth zero ticks, rounded to whole ticks as the encoders do (unless quantize=False)."""
     out = []
     r = float(reference.params["r"])
@@ -411,6 +468,10 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
         if not sols:
             continue
         q = min(sols, key=lambda s: float(np.sum(kin._wrap(s - np.asarray(t.q)) ** 2)))
+        if t.kind == "face":  # the tangent point off the truth pad: a pad end would touch instead
+            line = kin.finger_pad_line(f, q)
+            if not 0.0 <= float(line.pad_coordinate(c - r * line.normal)) <= f.pad.length_mm:
+                continue
         ticks = kin.angles_to_ticks(f.joints, q)
         if quantize:
             ticks = np.rint(ticks)

@@ -88,3 +88,29 @@ def test_too_few_readings_refused():
     with pytest.raises(cal.CalibrationRefused, match="unknowns") as info:
         cal.fit(CFG, DISK, readings_for(truth, rng)[:8])
     assert "\n" not in str(info.value)
+
+
+def test_pad_end_contacts_reported_as_face_touches_are_reclassified():
+    """A face approach whose tangent point lies off the pad makes the pad end touch (the
+    pad line then cuts the disk: residual ≫ quantization). Mislabel three end contacts as
+    'face': the screen must find them all, and the fit must be as good as with labels."""
+    truth, rng = perturbed(7)
+    readings = readings_for(truth, rng)
+    ends = [i for i, r in enumerate(readings) if r.kind in ("corner", "heel")][:6:2]
+    wrong = [dataclasses.replace(r, kind="face") if i in ends else r for i, r in enumerate(readings)]
+    result = cal.fit(CFG, DISK, wrong)
+    assert result.n_reclassified == 3 and result.n_dropped == 0
+    reference = cal.fit(CFG, DISK, readings)
+    assert cal._pack(result.config) == pytest.approx(cal._pack(reference.config), abs=1e-6)
+
+
+def test_a_reading_no_contact_explains_is_dropped():
+    truth, rng = perturbed(8)
+    readings = readings_for(truth, rng)
+    bad = readings[5]
+    readings[5] = dataclasses.replace(bad, ticks=(bad.ticks[0] + 30.0, bad.ticks[1]))
+    result = cal.fit(CFG, DISK, readings)
+    assert result.n_dropped == 1 and result.n_readings == len(readings) - 1
+    err = cal._pack(result.config) - cal._pack(truth)
+    for e, d in zip(result.estimates, err):
+        assert abs(d) <= (1.0 if e.kind == "zero_tick" else 0.1), f"{e.name}: error {d:+.3f}"
