@@ -50,14 +50,21 @@ def calibrate(cfg, truth, rng, faces: int, corners: int):
     return cal.fit(cfg, disk, readings, tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})
 
 
-def demo(config: Path, truth: Path, scene: str) -> dict:
+def demo(config: Path, truth: Path, scene: str) -> dict | str:
+    """``tactile demo``'s JSON answer, or why it failed (one line)."""
     out = subprocess.run([sys.executable, "-m", "tools.cli", "demo", "--config", str(config), "--truth-config",
-                          str(truth), "--scene", scene, "--json"], capture_output=True, text=True, check=True)
+                          str(truth), "--scene", scene, "--json"], capture_output=True, text=True)
+    if out.returncode != 0:
+        lines = out.stderr.strip().splitlines() or ["no message"]
+        return f"demo failed (exit {out.returncode}: {lines[-1]})"
     return json.loads(out.stdout)
 
 
-def errors(answer: dict, obj) -> tuple[float, str]:
-    """(largest relative parameter error in %, inf for a wrong class; a description)."""
+def errors(answer: dict | str, obj) -> tuple[float, str]:
+    """(largest relative parameter error in %, inf for a wrong class or a failed demo; a
+    description)."""
+    if isinstance(answer, str):
+        return float("inf"), answer
     if answer["class"] != obj.cls:
         return float("inf"), f"wrong class ({answer['class']})"
     rel = 100 * max(abs(answer["params"][k] - v) / abs(v) for k, v in obj.params.items())
@@ -84,12 +91,14 @@ def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
         truth_path, after_path = Path(tmp) / "truth.yaml", Path(tmp) / "calibrated.yaml"
         dump_config(truth, truth_path)
-        t0 = time.monotonic()
+        t0, c0 = time.monotonic(), time.process_time()
         result = calibrate(nominal, truth, rng, args.faces, args.corners)
         dump_config(result.config, after_path)
         err = cal._pack(result.config) - cal._pack(truth)
-        print(f"calibration: {result.n_readings} touches, {time.monotonic() - t0:.0f} s, residual RMS "
-              f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm")
+        print(f"calibration: {result.n_readings} touches used ({result.n_reclassified} face touches found to be "
+              f"pad-end contacts, {result.n_dropped} dropped), {time.monotonic() - t0:.0f} s wall, "
+              f"{time.process_time() - c0:.0f} s CPU, residual RMS {result.rms_before_mm:.3f} -> "
+              f"{result.rms_after_mm:.4f} mm")
         for e, d in zip(result.estimates, err):
             print(f"  {e.name:28s} error {d:+7.3f}  (se {e.se:.3f}; nominal was off by {e.before - (e.after - d):+.3f})")
         demo_err = []

@@ -95,8 +95,9 @@ def run(args) -> int:
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
     else:
-        print(f"touches: {result.n_readings}; residual RMS before {result.rms_before_mm:.3f} mm, "
-              f"after {result.rms_after_mm:.4f} mm (max {result.max_after_mm:.4f} mm)")
+        print(f"touches used: {result.n_readings} ({result.n_reclassified} face touches found to be pad-end "
+              f"contacts, {result.n_dropped} left out as unexplained); residual RMS before "
+              f"{result.rms_before_mm:.3f} mm, after {result.rms_after_mm:.4f} mm (max {result.max_after_mm:.4f} mm)")
         print(f"{'parameter':32s} {'before':>10s} {'after':>10s} {'± se':>8s}")
         for e in result.estimates:
             print(f"{e.name:32s} {e.before:10.3f} {e.after:10.3f} {e.se:8.3f}")
