@@ -665,7 +665,8 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
 def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, corners: int = 6,
                     locate: int = 2) -> tuple[list[Reading], np.ndarray, list[str]]:
     """Touch one placement of a disk reference with both fingers: ``locate`` face touches
-    per finger from LOCATE_GAP_MM outside the expected disk at ``guess`` find it (nominal
+    per finger (a finger that cannot reach enough face orientations leaves its share to the
+    other) from LOCATE_GAP_MM outside the expected disk at ``guess`` find it (nominal
     geometry, least squares), then the full plan (:func:`plan_touches`) runs with both
     fingers at once. Returns the readings (locating touches included), the located
     centre and what was skipped."""
