@@ -686,6 +686,12 @@ def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma
         if not every and cost < give_up * 1e-3:
             break
     solved.sort(key=lambda s: s[0])
+    if every:  # starts that converged to the same fit (several pairs give one frame) once
+        kept = []
+        for sol in solved:
+            if not any(np.allclose(sol[1], k[1], rtol=1e-6, atol=1e-9) for k in kept):
+                kept.append(sol)
+        solved = kept
     return [_finish(model, cls, d, z, cost, r, parts, p0, sigma_below)
             for cost, z, r, parts, p0 in (solved if every else solved[:1])]
 
