@@ -17,9 +17,11 @@ to the workspace edge and turns along it.
 
 After every round with at least ``settings.min_touches`` usable touches
 (:func:`touch_problem`) the recognizer runs on all of them; exploration stops as soon as
-it answers a class (its χ² tests found every touch consistent) or when the touch budget
-is spent; then the recognizer answers on the usable touches if they suffice for any
-class of the scene.
+its answer is decisive (:func:`indecision`: no class with more freedom fits significantly
+better, and the runner-up class is rejected, ``DECISIVE_BIC`` worse, or the answer is the
+same without the last touch) or when the touch budget is spent; then the answer on the
+usable touches is the class if decisive, else ``unclassified`` with the reason
+(:func:`final_answer`).
 """
 
 from __future__ import annotations
@@ -84,6 +86,9 @@ MIN_SAMPLES_PER_TOUCH = 7
 #: that are smooth along a touch (one polynomial of the pad lines), which the estimator's
 #: independent-noise model only covers with these deviations (README, section motion)
 TOUCH_NOISE = {"phi": 0.005, "pos": 1.0}
+#: a runner-up class this much worse in BIC (Kass & Raftery's "very strong" evidence) no
+#: longer keeps exploration going
+DECISIVE_BIC = 10.0
 
 
 @dataclass(frozen=True)
@@ -123,18 +128,79 @@ class ExploreSettings:
                    profile=obj.get("profile"), recognize=dict(obj.get("recognize") or {}))
 
 
-def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings) -> Callable[[list[dict]], Any]:
-    """touches → Recognition, with the scene (a mapping), ``TOUCH_NOISE`` and the
-    settings' recognizer options."""
+def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings,
+                    noise: dict[str, float] | None = None) -> Callable[[list[dict]], Any]:
+    """touches → Recognition, with the scene (a mapping), ``noise`` (default
+    ``TOUCH_NOISE``) and the settings' recognizer options."""
     from recognizer.classify import recognize
     from recognizer.result import RecognizeOptions
     from recognizer.touches import parse_request
 
+    stated = dict(noise or TOUCH_NOISE)
+
     def run(touches: list[dict]):
-        request = parse_request({"scene": scene, "touches": touches, "noise": TOUCH_NOISE}, source="exploration")
+        request = parse_request({"scene": scene, "touches": touches, "noise": stated}, source="exploration")
         return recognize(request, RecognizeOptions(noise=request.noise, **settings.recognize))
 
     return run
+
+
+def indecision(recognition, shorter, settings: ExploreSettings) -> str | None:
+    """Why a class answer is not yet decisive (the stopping rule, README section motion),
+    or None when it is. ``recognition`` is on every usable touch, ``shorter`` on all but the
+    last (None if too few). Decisive: (a) no consistent class with more free parameters
+    fits significantly better (likelihood ratio: Δχ² below the χ²_Δk limit at the
+    recognizer's alpha), and (b) the runner-up consistent class is either absent, or worse
+    by ``DECISIVE_BIC`` in BIC, or the answer is stable: the same class without the last
+    touch."""
+    from scipy import stats
+
+    ranked = [r for r in recognition.ranking if r.get("consistent")]
+    best = next(r for r in ranked if r["class"] == recognition.cls)
+    alpha = float(settings.recognize.get("alpha", 1e-3))
+    for r in ranked:
+        dk = best["dof"] - r["dof"]  # same observations: Δdof = Δ free parameters
+        if dk > 0 and best["chi2"] - r["chi2"] > stats.chi2.isf(alpha, dk):
+            return f"{r['class']} fits significantly better than {best['class']} (chi2 {r['chi2']:.3g} vs {best['chi2']:.3g})"
+    rivals = [r for r in ranked if r["class"] != recognition.cls]
+    if not rivals:
+        return None
+    runner = min(rivals, key=lambda r: r["bic"])
+    if runner["bic"] - best["bic"] >= DECISIVE_BIC:
+        return None
+    if shorter is not None and shorter.cls == recognition.cls:
+        return None
+    return (f"{best['class']} (BIC {best['bic']:.1f}) and {runner['class']} (BIC {runner['bic']:.1f}) both fit, "
+            f"less than {DECISIVE_BIC:g} apart, and the answer "
+            + ("changed with the last touch" if shorter is not None else "was not yet checked with one touch fewer"))
+
+
+def decide(recognize_touches: Callable[[list[dict]], Any], touches: list[dict], settings: ExploreSettings):
+    """(Recognition, why it is not decisive or None): :func:`indecision` on the recognizer's
+    answer on ``touches`` (and on all but the last, when it needs that)."""
+    recognition = recognize_touches(touches)
+    if recognition.cls == "unclassified":
+        return recognition, recognition.reason
+    shorter = None
+    if len(touches) > settings.min_touches:
+        try:
+            shorter = recognize_touches(touches[:-1])
+        except InputError:
+            shorter = None
+    return recognition, indecision(recognition, shorter, settings)
+
+
+def final_answer(recognize_touches: Callable[[list[dict]], Any], touches: list[dict], settings: ExploreSettings):
+    """The answer on the usable touches once exploration ends: the recognizer's class when
+    it is decisive (:func:`decide`), else ``unclassified`` with the reason; a wrong class
+    said confidently is worse than a refusal. Replay uses this on the logged touches."""
+    from recognizer.result import Recognition
+
+    recognition, why = decide(recognize_touches, touches, settings)
+    if recognition.cls == "unclassified" or why is None:
+        return recognition
+    return Recognition("unclassified", reason=f"not decisive after {len(touches)} usable touches: {why}",
+                       ranking=recognition.ranking, timing=recognition.timing)
 
 
 @dataclass
@@ -381,6 +447,19 @@ def probe_face_contact(config, touch: TouchResult) -> float | None:
     return float(u[len(u) // 2])
 
 
+def _memo(recognize_touches: Callable[[list[dict]], Any]) -> Callable[[list[dict]], Any]:
+    """``recognize_touches`` remembering its answers by the touches' identities."""
+    seen: dict[tuple[int, ...], Any] = {}
+
+    def run(touches: list[dict]):
+        key = tuple(id(t) for t in touches)
+        if key not in seen:
+            seen[key] = recognize_touches(touches)
+        return seen[key]
+
+    return run
+
+
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[list[dict]], Any],
             emit: Callable[[dict], None] | None = None,
             progress: Callable[[str], None] | None = None) -> Exploration:
@@ -389,6 +468,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
     one-line messages for people."""
     emit = emit or (lambda rec: None)
     say = progress or (lambda msg: None)
+    recognize_touches = _memo(recognize_touches)
     cfg = jaw.config
     ws = cfg.workspace
     model = ObjectModel(ws.center_mm, ws.radius_mm)
@@ -460,11 +540,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
             say(f"touch {len(out.touches)}/{settings.touches}: {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
                 f"{len(touch.samples)} samples, {'used' if problem is None else 'not used: ' + problem}")
         if len(good) >= settings.min_touches:
-            recognition = recognize_touches(good)
+            recognition, why = decide(recognize_touches, good, settings)
             out.recognition = recognition
             out.answers.append(recognition.cls)
-            say(f"after {len(good)} touches: {recognition.cls}")
-            if recognition.cls != "unclassified":
+            say(f"after {len(good)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
+            if why is None:
                 break
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
     run_together(jaw, {name: _transit_or_problem(jaw, name, model, psi) for name, psi in here.items()})  # to the edge
@@ -473,9 +553,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: Callable[[li
                    f"object offers no boundary they can roll on (flat, concave, or felt only by a pad end)")
         emit({"type": "event", "kind": "no_face_contact", "message": message})
         say(message)
-    if out.recognition is None and good:
-        try:  # the budget is spent with fewer usable touches than planned: answer if possible
-            out.recognition = recognize_touches(good)
+    if good:
+        try:  # the answer on every usable touch, a refusal unless decisive
+            out.recognition = final_answer(recognize_touches, good, settings)
             out.answers.append(out.recognition.cls)
         except InputError as exc:
             emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})

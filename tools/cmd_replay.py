@@ -22,7 +22,7 @@ def add_arguments(parser) -> None:
 
 def run(args) -> int:
     from hand_driver.config import parse_config
-    from hand_driver.explore import TOUCH_NOISE, ExploreSettings, logged_touches, make_recognizer
+    from hand_driver.explore import TOUCH_NOISE, ExploreSettings, final_answer, logged_touches, make_recognizer
     from hand_driver.log import read_log
     from recognizer.errors import InputError
     from tools.cmd_explore import describe
@@ -41,7 +41,8 @@ def run(args) -> int:
             json.dump(request, f)
     if not touches:
         raise InputError(f"{args.log}: no usable touch in the log ({len(contents.touches)} touches logged)")
-    recognition = make_recognizer(header.get("scene"), settings)(touches).to_json()
+    recognize_touches = make_recognizer(header.get("scene"), settings, header["settings"].get("noise", TOUCH_NOISE))
+    recognition = final_answer(recognize_touches, touches, settings).to_json()
     if args.json:
         sys.stdout.write(json.dumps(recognition, allow_nan=False) + "\n")
         return 0
