@@ -17,11 +17,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="a smoke run of about 20-60 s (few shapes); the committed numbers come from the default run")
     parser.add_argument("--out", default="docs/bench", help="output directory (default docs/bench)")
     parser.add_argument("--shapes", type=int, default=None,
-                        help="random shapes per class for the baseline and noise-free rows (default 100, quick 6)")
+                        help="random shapes per class for the baseline and noise-free rows (default 100, quick 3)")
     parser.add_argument("--sweep-shapes", type=int, default=None,
-                        help="random shapes per class for every other sweep row (default 3, quick 2)")
+                        help="random shapes per class for every other sweep row (default 3, quick 1)")
     parser.add_argument("--table-shapes", type=int, default=None,
-                        help="shapes (points) per class for the paper's Tables 1 and 3 (default 100, quick 10)")
+                        help="shapes (points) per class for the paper's Tables 1 and 3 (default 100, quick 4)")
     parser.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
     parser.add_argument("--classes", nargs="+", default=None, metavar="CLASS",
                         help="classes to draw and answer among (default: all of CONTRACTS §1)")
@@ -44,9 +44,9 @@ def run(args: argparse.Namespace) -> int:
     unknown = [c for c in classes if c not in CURVES]
     if unknown:
         raise InputError(f"--classes: unknown {', '.join(unknown)}; allowed: {', '.join(CURVES)}")
-    shapes = _positive(args.shapes, 6 if args.quick else 100, "--shapes")
-    sweep = _positive(args.sweep_shapes, 2 if args.quick else 3, "--sweep-shapes")
-    table = _positive(args.table_shapes, 10 if args.quick else 100, "--table-shapes")
+    shapes = _positive(args.shapes, 3 if args.quick else 100, "--shapes")
+    sweep = _positive(args.sweep_shapes, 1 if args.quick else 3, "--sweep-shapes")
+    table = _positive(args.table_shapes, 4 if args.quick else 100, "--table-shapes")
     jobs = _positive(args.jobs, bench.default_jobs(), "--jobs")
     out = Path(args.out)
     try:
