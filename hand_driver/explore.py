@@ -18,8 +18,8 @@ to the workspace edge and turns along it.
 After every round with at least ``settings.min_touches`` usable touches
 (:func:`touch_problem`) the recognizer runs on all of them; exploration stops as soon as
 its answer is decisive (:func:`indecision`: no class with more freedom fits significantly
-better, and the runner-up class is rejected, ``DECISIVE_BIC`` worse, or the answer is the
-same without the last touch) or when the touch budget is spent; then the answer on the
+better, and every other class is rejected, ``DECISIVE_CHI2`` worse in χ², or the answer is
+the same without the last touch) or when the touch budget is spent; then the answer on the
 usable touches is the class if decisive, else ``unclassified`` with the reason
 (:func:`final_answer`).
 """
@@ -82,13 +82,19 @@ MIN_ROLL_SPAN_DEG = 30.0
 #: the fewest samples per rolling touch that recognize on the default jaw (7 and 9 over
 #: 30° do, 5 does not: README, section motion)
 MIN_SAMPLES_PER_TOUCH = 7
-#: per-sample noise the explorer states in its requests: envelope samples carry errors
-#: that are smooth along a touch (one polynomial of the pad lines), which the estimator's
-#: independent-noise model only covers with these deviations (README, section motion)
-TOUCH_NOISE = {"phi": 0.005, "pos": 1.0}
-#: a runner-up class this much worse in BIC (Kass & Raftery's "very strong" evidence) no
-#: longer keeps exploration going
-DECISIVE_BIC = 10.0
+#: per-sample noise the explorer states in its requests (README, section motion): φ is the
+#: pad's angle q1 + q2, each joint quantized to a tick (uniform, σ = tick/√12), so
+#: σ_φ = √2 · (2π/4096)/√12 = 6.3e-4 rad; the position deviation is calibrated on emulated
+#: touches of known shapes (tools/bench_explore.py --chi2): envelope contacts are 0.07 mm
+#: from the curve but up to 1.2 mm along it, correlated within a touch; with 0.3 mm the
+#: true class's χ² tail probability was ≥ 0.07 on every emulated set measured, while the
+#: wrong classes stayed rejected (with 1.0 mm a parabola passed on ellipse touches)
+TOUCH_NOISE = {"phi": math.sqrt(2.0) * (2.0 * math.pi / 4096.0) / math.sqrt(12.0), "pos": 0.3}
+#: a consistent rival class whose χ² exceeds the answer's by this much (likelihood ratio
+#: e^-5, "very strong" evidence on Kass & Raftery's scale) no longer keeps exploration going
+DECISIVE_CHI2 = 10.0
+#: (answer, rival): the answer is an exact special case of the rival
+SUBMODELS = frozenset({("circle", "ellipse")})
 
 
 @dataclass(frozen=True)
@@ -150,9 +156,12 @@ def indecision(recognition, shorter, settings: ExploreSettings) -> str | None:
     or None when it is. ``recognition`` is on every usable touch, ``shorter`` on all but the
     last (None if too few). Decisive: (a) no consistent class with more free parameters
     fits significantly better (likelihood ratio: Δχ² below the χ²_Δk limit at the
-    recognizer's alpha), and (b) the runner-up consistent class is either absent, or worse
-    by ``DECISIVE_BIC`` in BIC, or the answer is stable: the same class without the last
-    touch."""
+    recognizer's alpha); (b) every other consistent class is ruled out by the data, its χ²
+    ``DECISIVE_CHI2`` above the answer's, except a class the answer is an exact special
+    case of (``SUBMODELS``: a circle is an ellipse with a = b), for which (a) decides once
+    the answer is stable, the same class without the last touch. A class the answer is
+    only a limit of (a parabola of long ellipses and hyperbolas) or that fits as well is
+    no evidence either way: BIC's parameter penalty alone would always pick the limit."""
     from scipy import stats
 
     ranked = [r for r in recognition.ranking if r.get("consistent")]
@@ -162,17 +171,16 @@ def indecision(recognition, shorter, settings: ExploreSettings) -> str | None:
         dk = best["dof"] - r["dof"]  # same observations: Δdof = Δ free parameters
         if dk > 0 and best["chi2"] - r["chi2"] > stats.chi2.isf(alpha, dk):
             return f"{r['class']} fits significantly better than {best['class']} (chi2 {r['chi2']:.3g} vs {best['chi2']:.3g})"
-    rivals = [r for r in ranked if r["class"] != recognition.cls]
-    if not rivals:
-        return None
-    runner = min(rivals, key=lambda r: r["bic"])
-    if runner["bic"] - best["bic"] >= DECISIVE_BIC:
-        return None
-    if shorter is not None and shorter.cls == recognition.cls:
-        return None
-    return (f"{best['class']} (BIC {best['bic']:.1f}) and {runner['class']} (BIC {runner['bic']:.1f}) both fit, "
-            f"less than {DECISIVE_BIC:g} apart, and the answer "
-            + ("changed with the last touch" if shorter is not None else "was not yet checked with one touch fewer"))
+    rivals = [r for r in ranked if r["class"] != recognition.cls and r["chi2"] - best["chi2"] < DECISIVE_CHI2]
+    others = [r for r in rivals if (recognition.cls, r["class"]) not in SUBMODELS]
+    if others:
+        runner = min(others, key=lambda r: r["chi2"])
+        return (f"{best['class']} (chi2 {best['chi2']:.1f}) and {runner['class']} (chi2 {runner['chi2']:.1f}) both "
+                f"fit, less than {DECISIVE_CHI2:g} apart: the touches cannot tell them apart")
+    if rivals and (shorter is None or shorter.cls != recognition.cls):
+        return (f"{best['class']} and {rivals[0]['class']} both fit and the answer "
+                + ("changed with the last touch" if shorter is not None else "was not yet checked with one touch fewer"))
+    return None
 
 
 def decide(recognize_touches: Callable[[list[dict]], Any], touches: list[dict], settings: ExploreSettings):

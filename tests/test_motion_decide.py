@@ -6,7 +6,7 @@ import math
 
 from scipy import stats
 
-from hand_driver.explore import DECISIVE_BIC, ExploreSettings, final_answer, indecision
+from hand_driver.explore import DECISIVE_CHI2, ExploreSettings, final_answer, indecision
 from recognizer.result import Recognition
 
 SETTINGS = ExploreSettings(touches=8, samples_per_touch=9, roll_span_rad=math.radians(30), min_touches=3,
@@ -25,36 +25,47 @@ def test_runner_up_rejected_is_decisive():
     assert indecision(r, None, SETTINGS) is None
 
 
-def test_close_runner_up_needs_a_stable_answer():
-    r = rec("parabola", ("parabola", True, 12.0, 12, 30.0), ("ellipse", True, 9.0, 10, 33.0))
-    why = indecision(r, None, SETTINGS)
+def test_close_runner_up_is_not_decisive_even_when_stable():
+    # e1 emulated (ellipse 35 x 12 felt near a vertex): parabola and ellipse fit alike, stably
+    r = rec("parabola", ("parabola", True, 25.6, 68, 458.7), ("ellipse", True, 26.4, 67, 470.4))
+    why = indecision(r, rec("parabola", ("parabola", True, 21.2, 50, 356.8)), SETTINGS)
     assert why is not None and "parabola" in why and "ellipse" in why
+
+
+def test_a_special_case_needs_a_stable_answer():
+    r = rec("circle", ("circle", True, 30.0, 69, 450.0), ("ellipse", True, 28.0, 67, 470.0))
+    assert indecision(r, None, SETTINGS) is not None
     assert indecision(r, rec("ellipse", ("ellipse", True, 5.0, 6, 20.0)), SETTINGS) is not None  # changed
-    assert indecision(r, rec("parabola", ("parabola", True, 5.0, 7, 18.0)), SETTINGS) is None  # stable
+    assert indecision(r, rec("circle", ("circle", True, 20.0, 51, 340.0)), SETTINGS) is None  # stable
 
 
-def test_runner_up_bic_margin():
-    base = 30.0
-    just = rec("circle", ("circle", True, 10.0, 14, base), ("ellipse", True, 9.0, 12, base + DECISIVE_BIC))
-    below = rec("circle", ("circle", True, 10.0, 14, base), ("ellipse", True, 9.0, 12, base + DECISIVE_BIC - 0.1))
+def test_runner_up_chi2_margin():
+    just = rec("ellipse", ("ellipse", True, 10.0, 12, 30.0), ("hyperbola", True, 10.0 + DECISIVE_CHI2, 12, 40.0))
+    below = rec("ellipse", ("ellipse", True, 10.0, 12, 30.0), ("hyperbola", True, 9.9 + DECISIVE_CHI2, 12, 39.9))
     assert indecision(just, None, SETTINGS) is None
     assert indecision(below, None, SETTINGS) is not None
+
+
+def test_a_bic_margin_of_penalty_only_is_not_decisive():
+    # e2 emulated: parabola and hyperbola fit equally (Δχ² 0.07); BIC 10.9 apart by the penalty alone
+    r = rec("parabola", ("parabola", True, 10.21, 50, 345.87), ("hyperbola", True, 10.28, 49, 356.77))
+    assert indecision(r, r, SETTINGS) is not None
 
 
 def test_more_freedom_significantly_better_is_not_decisive():
     limit = stats.chi2.isf(1e-3, 2)  # the χ²_2 limit the likelihood-ratio test uses
     better = rec("circle", ("circle", True, 10.0 + limit + 0.5, 14, 20.0), ("ellipse", True, 10.0, 12, 40.0))
-    assert "significantly better" in indecision(better, None, SETTINGS)
+    assert "significantly better" in indecision(better, rec("circle", ("circle", True, 5.0, 10, 15.0)), SETTINGS)
     fine = rec("circle", ("circle", True, 10.0 + limit - 0.5, 14, 20.0), ("ellipse", True, 10.0, 12, 40.0))
-    assert indecision(fine, None, SETTINGS) is None
+    assert indecision(fine, rec("circle", ("circle", True, 5.0, 10, 15.0)), SETTINGS) is None
 
 
 def test_final_answer_refuses_an_undecided_class():
-    answers = {4: rec("parabola", ("parabola", True, 12.0, 12, 30.0), ("ellipse", True, 9.0, 10, 33.0)),
-               3: rec("ellipse", ("ellipse", True, 5.0, 6, 20.0), ("parabola", True, 6.0, 7, 24.0))}
+    answers = {4: rec("circle", ("circle", True, 12.0, 12, 30.0), ("ellipse", True, 9.0, 10, 33.0)),
+               3: rec("ellipse", ("ellipse", True, 5.0, 6, 20.0), ("circle", True, 6.0, 7, 24.0))}
     out = final_answer(lambda touches: answers[len(touches)], [{}] * 4, SETTINGS)
     assert out.cls == "unclassified" and out.params == {}
-    assert out.reason.startswith("not decisive after 4 usable touches") and "parabola" in out.reason
+    assert out.reason.startswith("not decisive after 4 usable touches") and "circle" in out.reason
     assert out.ranking == answers[4].ranking
-    answers[3] = rec("parabola", ("parabola", True, 5.0, 7, 18.0))
-    assert final_answer(lambda touches: answers[len(touches)], [{}] * 4, SETTINGS).cls == "parabola"
+    answers[3] = rec("circle", ("circle", True, 5.0, 7, 18.0))
+    assert final_answer(lambda touches: answers[len(touches)], [{}] * 4, SETTINGS).cls == "circle"
