@@ -10,7 +10,7 @@ residuals  per sample: (x − X(t))/σ_pos, (y − Y(t))/σ_pos and the wrapped 
            additionally (κ − κ(t))/σ_κ and (κ_s − κ_s(t))/σ_κs from its covariance.
 
 Solved by ``scipy.optimize.least_squares`` with an analytic Jacobian for t and the pose
-(dX/dt = speed·(cos Φ, sin Φ), dΦ/dt = κ·speed) and central differences for the ≤ 2
+(dX/dt = speed·(cos Φ, sin Φ), dΦ/dt = κ·speed) and forward differences for the ≤ 2
 shape parameters. Gauge freedoms are removed: a circle's θ is held (its t's absorb a
 rotation); a line's pose moves only across the line.
 
@@ -45,6 +45,8 @@ SIGMA_FLOOR_PHI = 1e-9
 SIGMA_FLOOR_POS = 1e-9
 """mm: σ_pos used when the noise model says 0."""
 MAX_NFEV = 40
+FD_STEP = 1.5e-8
+"""relative forward-difference step for the shape parameters' Jacobian columns (√ε)."""
 TOL = 1e-10
 """least_squares' xtol, ftol, gtol: a relative χ² change of 1e-10 is far below any decision
 (1e-12 ran most wrong-class fits to the evaluation cap for nothing)."""
@@ -155,6 +157,16 @@ class _Problem:
         # pose unknowns: circle (x, y); line (θ, d across the line); others (θ, x, y)
         self.n_pose = {"circle": 2, "line": 2}.get(cls, 3)
         self.n_glob = k + self.n_pose
+        self._memo: tuple[bytes, tuple] | None = None
+
+    def _model_at(self, z: np.ndarray):
+        """``unpack`` and ``_model`` at z, memoized for the last z (least_squares asks for the
+        Jacobian at the point whose residuals it just evaluated)."""
+        key = z.tobytes()
+        if self._memo is None or self._memo[0] != key:
+            params, pose, t = self.unpack(z.copy())
+            self._memo = (key, (params, pose, t, *self._model(params, pose, t)))
+        return self._memo[1]
 
     # -- packing ------------------------------------------------------------------------
     def pack(self, params: dict, pose: Pose, t: np.ndarray) -> np.ndarray:
@@ -196,8 +208,7 @@ class _Problem:
         return curve, np.asarray(hx, float), np.asarray(hy, float), phi, extra
 
     def residuals(self, z: np.ndarray) -> np.ndarray:
-        params, pose, t = self.unpack(z)
-        _, hx, hy, phi, extra = self._model(params, pose, t)
+        _, _, _, _, hx, hy, phi, extra = self._model_at(z)
         d = self.data
         parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, _wrap(d.phi - phi) / self.sig_phi]
         if extra is not None:
@@ -211,8 +222,7 @@ class _Problem:
             return self._jacobian(z)
 
     def _jacobian(self, z: np.ndarray) -> np.ndarray:
-        params, pose, t = self.unpack(z)
-        curve, hx, hy, phi, _ = self._model(params, pose, t)
+        _, pose, t, curve, hx, hy, phi, _ = self._model_at(z)
         n = self.n_rows
         nc = len(self.data.contact_rows)
         rows = 3 * n + 2 * nc
@@ -220,7 +230,7 @@ class _Problem:
         with np.errstate(all="ignore"):
             speed = np.asarray(curve.speed(t), float)
             kap = np.asarray(curve.kappa(t), float)
-            ang = np.asarray(curve.tangent_angle(t), float) + pose.theta
+            ang = phi - (np.pi if self.direction < 0 else 0.0)
         idx = np.arange(n)
         col_t = self.n_glob + idx
         jac[idx, col_t] = -speed * np.cos(ang) / self.sig_pos
@@ -248,13 +258,15 @@ class _Problem:
             jac[2 * n : 3 * n, k] = -1.0 / self.sig_phi
             jac[:n, k + 1] = -1.0 / self.sig_pos
             jac[n : 2 * n, k + 2] = -1.0 / self.sig_pos
-        # shape parameters and contact rows' t: central differences
+        # shape parameters: forward differences from the memoized model (step √ε·max(|z|, 1));
+        # contact rows' t: central differences
+        base = self._raw_from(hx, hy, phi, self._memo[1][7])
         for i in range(k):
-            h = 1e-6 * max(abs(z[i]), 1.0)
-            zp, zm = z.copy(), z.copy()
+            h = FD_STEP * max(abs(z[i]), 1.0)
+            zp = z.copy()
             zp[i] += h
-            zm[i] -= h
-            jac[:, i] = (self._raw(zp) - self._raw(zm)) / (2 * h)
+            h = zp[i] - z[i]
+            jac[:, i] = (self._raw(zp) - base) / h
         if nc:
             for j, r in enumerate(self.data.contact_rows):
                 c = self.n_glob + r
@@ -269,6 +281,9 @@ class _Problem:
         """Residuals without the angle wrap's discontinuity (for differences)."""
         params, pose, t = self.unpack(z)
         _, hx, hy, phi, extra = self._model(params, pose, t)
+        return self._raw_from(hx, hy, phi, extra)
+
+    def _raw_from(self, hx: np.ndarray, hy: np.ndarray, phi: np.ndarray, extra) -> np.ndarray:
         d = self.data
         parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, (d.phi - phi) / self.sig_phi]
         if extra is not None:
