@@ -157,6 +157,7 @@ class _Problem:
         # pose unknowns: circle (x, y); line (θ, d across the line); others (θ, x, y)
         self.n_pose = {"circle": 2, "line": 2}.get(cls, 3)
         self.n_glob = k + self.n_pose
+        self.n_res = 3 * self.n_rows + 2 * len(data.contact_rows)
         self._memo: tuple[bytes, tuple] | None = None
 
     def _model_at(self, z: np.ndarray):
@@ -275,7 +276,8 @@ class _Problem:
                 zp[c] += h
                 zm[c] -= h
                 jac[3 * n :, c] = ((self._raw(zp) - self._raw(zm)) / (2 * h))[3 * n :]
-        return np.where(np.isfinite(jac), jac, 0.0)
+        jac[~np.isfinite(jac)] = 0.0
+        return jac
 
     def _raw(self, z: np.ndarray) -> np.ndarray:
         """Residuals without the angle wrap's discontinuity (for differences)."""
@@ -285,11 +287,19 @@ class _Problem:
 
     def _raw_from(self, hx: np.ndarray, hy: np.ndarray, phi: np.ndarray, extra) -> np.ndarray:
         d = self.data
-        parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, (d.phi - phi) / self.sig_phi]
+        n = self.n_rows
+        r = np.empty(self.n_res)
+        np.subtract(d.x, hx, out=r[:n])
+        np.subtract(d.y, hy, out=r[n : 2 * n])
+        r[: 2 * n] *= 1.0 / self.sig_pos
+        np.subtract(d.phi, phi, out=r[2 * n : 3 * n])
+        r[2 * n : 3 * n] *= 1.0 / self.sig_phi
         if extra is not None:
-            parts += [(d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s]
-        r = np.concatenate(parts)
-        return np.where(np.isfinite(r), r, 0.0)
+            r[3 * n :] = np.concatenate(((d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s))
+        bad = ~np.isfinite(r)
+        if bad.any():
+            r[bad] = 0.0
+        return r
 
 
 def _direction(cls: str, params: dict, pose: Pose, t_contacts: np.ndarray, data: _Data) -> int:
