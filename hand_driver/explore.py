@@ -1,25 +1,18 @@
 """Exploration: rolling touches with both fingers at once until the recognizer is sure.
 
-Each round, every finger makes one rolling touch (hand_driver.motion.rolling_touch) in
-the same bus cycles. Where to touch comes from a working model of the object, a circle
-(centre c, radius R): the workspace disk's centre and half its radius before any
-contact; then the least-squares circle through every contact found so far once their
-tangents point at least 90° apart (before that, the points' mean distance from c).
-A finger's candidate pad orientations ψ lie within ±75° of its pad's normal at zero
-joint angles, 2.5° apart, such that for both ends of the roll inverse kinematics puts
-the pad on the model's tangent line (and ``APPROACH_MARGIN_MM`` beyond it) with the
-predicted contact ``PLAN_PAD_MARGIN`` of the pad's length away from either pad end. The
-first touch of a finger takes the candidate nearest that normal and approaches from the
-workspace edge; later ones take the candidate farthest (in ψ) from the finger's earlier
-touches, so the touches see other parts (and curvatures) of the boundary, and approach
-from ``APPROACH_MARGIN_MM`` outside the model's tangent. Between touches a pad retreats
-to the workspace edge and turns along it.
+Probes (guarded approaches with a short roll from several pad orientations) first locate
+the boundary; the pad lines of face contacts sample the object's support function, which
+:class:`ObjectModel` fits locally to predict tangents. Each round, every finger makes one
+rolling touch (hand_driver.motion.rolling_touch) in the same bus cycles, at a feasible
+orientation (:func:`feasible`) farthest from its earlier touches (:func:`choose_psi`),
+starting ``APPROACH_MARGIN_MM`` outside the predicted tangent. Between touches a pad
+retreats to the workspace edge and turns along it. README, section motion.
 
 After every round with at least ``settings.min_touches`` usable touches
 (:func:`touch_problem`) the recognizer runs on all of them; exploration stops as soon as
 its answer is decisive (:func:`indecision`: no class with more freedom fits significantly
-better, and every other class is rejected, ``DECISIVE_CHI2`` worse in χ², or the answer is
-the same without the last touch) or when the touch budget is spent; then the answer on the
+better, and every other consistent class is ``DECISIVE_CHI2`` worse in χ², except the
+ellipse for a circle answer that stays the same without the last touch) or when the touch budget is spent; then the answer on the
 usable touches is the class if decisive, else ``unclassified`` with the reason
 (:func:`final_answer`).
 """
