@@ -1,0 +1,72 @@
+"""recognizer.refine: the Jacobian handed to least_squares (analytic t and pose columns,
+forward differences for the shape parameters, memoized model) against central
+differences of the residuals themselves."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from recognizer import synth
+from recognizer.curves import CURVES, Pose
+from recognizer.refine import _collect, _initial_t, _Problem
+
+
+def _problem(cls: str, seed: int, direction: int):
+    rng = np.random.default_rng(seed)
+    shape = synth.random_shape(cls, rng)
+    ts = synth.contact_ts(shape, 3, rng, margin=0.1)
+    sn = synth.SynthNoise(1.5e-3, 1e-3 * shape.size)
+    touches, tt = synth.sample_shape(shape, ts, 9, 0.02 * shape.size, direction, sn, rng, with_s=False)
+    data = _collect(touches)
+    # a start off the optimum, so that no residual is ~0 and every column matters
+    params = {k: v * 1.02 for k, v in shape.params.items()}
+    pose = Pose(shape.pose.theta + 0.01, shape.pose.x + 0.004 * shape.size, shape.pose.y)
+    t_contacts = np.array([t[4] for t in tt]) + 0.005
+    t0 = _initial_t(cls, params, pose, t_contacts, data, direction)
+    problem = _Problem(cls, data, pose, direction, 1.5e-3, 1e-3 * shape.size)
+    return problem, problem.pack(params, pose, t0)
+
+
+def _central(problem: _Problem, z: np.ndarray) -> np.ndarray:
+    cols = []
+    for i in range(z.size):
+        h = 1e-6 * max(abs(z[i]), 1.0)
+        zp, zm = z.copy(), z.copy()
+        zp[i] += h
+        zm[i] -= h
+        cols.append((problem._raw(zp) - problem._raw(zm)) / (2 * h))
+    return np.stack(cols, axis=1)
+
+
+@pytest.mark.parametrize("cls", list(CURVES))
+@pytest.mark.parametrize("direction", [1, -1])
+def test_jacobian_matches_central_differences(cls, direction):
+    problem, z = _problem(cls, 11, direction)
+    problem.residuals(z)  # fills the memo, as least_squares does before asking for J
+    jac = problem.jacobian(z)
+    ref = _central(problem, z)
+    scale = np.linalg.norm(ref, axis=0) + 1e-12
+    err = np.linalg.norm(jac - ref, axis=0) / scale
+    assert err.max() < 1e-4, (cls, err.argmax(), err.max())
+
+
+def test_memo_follows_z():
+    """Residuals and Jacobian at a new z never reuse the previous z's model."""
+    problem, z = _problem("ellipse", 3, 1)
+    r0 = problem.residuals(z)
+    j0 = problem.jacobian(z)
+    z2 = z.copy()
+    z2[0] += 0.05
+    z2[problem.n_glob :] += 0.01
+    r2 = problem.residuals(z2)
+    j2 = problem.jacobian(z2)
+    fresh = _Problem(problem.cls, problem.data, Pose(problem.theta0, *problem.anchor), problem.direction,
+                     problem.sig_phi, problem.sig_pos)
+    assert np.array_equal(r2, fresh.residuals(z2)) and np.array_equal(j2, fresh.jacobian(z2))
+    assert not np.allclose(r0, r2) and not np.allclose(j0, j2)
+    # z mutated in place after a call must not leak into the memo
+    z3 = z.copy()
+    r3 = problem.residuals(z3)
+    z3 += 0.1
+    assert np.array_equal(problem.residuals(z), r3)
