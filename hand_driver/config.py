@@ -24,6 +24,7 @@ from typing import Any
 import yaml
 
 from recognizer.errors import InputError
+from recognizer.yamlfile import read_yaml
 
 TICKS_PER_REV = 4096
 _FALLBACK_MODELS = ("XM430-W350", "XM430-W210", "XM540-W270", "XM540-W150",
@@ -329,17 +330,7 @@ def parse_config(obj: Any, source: str = "<memory>") -> JawConfig:
 
 def load_config(path: str | Path) -> JawConfig:
     """Read and validate a jaw YAML file; :class:`InputError` (one line) if it is bad."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read jaw config ({exc.strerror or exc})") from None
-    try:
-        obj = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}" if mark is not None else ""
-        raise InputError(f"{path}: not valid YAML{where}") from None
+    obj = read_yaml(path, "jaw config")
     return parse_config(obj, str(path))
 
 

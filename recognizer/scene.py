@@ -11,11 +11,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Mapping
 
-import yaml
-
 from recognizer.curves import CURVES, DEFAULT_SIDE, Pose, validate_params
 from recognizer.errors import InputError
 from recognizer.touches import NoiseModel, parse_noise
+from recognizer.yamlfile import read_yaml
 
 __all__ = ["Scene", "SceneObject", "load_scene", "ALL_CLASSES"]
 
@@ -116,16 +115,7 @@ def load_scene(path_or_mapping, base_dir=None) -> Scene:
         if not path.is_absolute() and not path.exists() and base_dir is not None:
             path = Path(base_dir) / path
         source, stem = str(path), path.stem
-        try:
-            text = path.read_text(encoding="utf-8")
-        except OSError as exc:
-            raise InputError(f"{path_or_mapping}: cannot read scene ({exc.strerror or exc})") from None
-        try:
-            raw = yaml.safe_load(text)
-        except yaml.YAMLError as exc:
-            line = getattr(getattr(exc, "problem_mark", None), "line", None)
-            at = f" at line {line + 1}" if line is not None else ""
-            raise InputError(f"{source}: not valid YAML{at}") from None
+        raw = read_yaml(path, "scene")
         if not isinstance(raw, Mapping):
             raise InputError(f"{source}: a scene must be a mapping with classes (and optionally object)")
     else:

@@ -50,16 +50,10 @@ class Session:
 
 
 def read_yaml_mapping(path: str, what: str) -> dict[str, Any]:
-    import yaml
-
     from recognizer.errors import InputError
+    from recognizer.yamlfile import read_yaml
 
-    try:
-        obj = yaml.safe_load(Path(path).read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read {what} ({exc.strerror or exc})") from None
-    except yaml.YAMLError:
-        raise InputError(f"{path}: {what} is not valid YAML") from None
+    obj = read_yaml(path, what)
     if not isinstance(obj, dict):
         raise InputError(f"{path}: {what} must be a YAML mapping")
     return obj
