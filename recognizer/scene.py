@@ -103,13 +103,14 @@ def _check_profile(profile, where: str) -> str | None:
     return profile
 
 
-def load_scene(path_or_mapping, base_dir=None) -> Scene:
+def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Scene:
     """Load and validate a scene from a YAML path or an inline mapping.
 
     A relative path is tried against the current directory first, then ``base_dir``.
+    ``source`` names where an inline mapping came from, for error messages.
     """
     if isinstance(path_or_mapping, Mapping):
-        raw, source, stem = path_or_mapping, "scene", "inline"
+        raw, source, stem = path_or_mapping, source or "scene", "inline"
     elif isinstance(path_or_mapping, (str, Path)):
         path = Path(path_or_mapping)
         if not path.is_absolute() and not path.exists() and base_dir is not None:

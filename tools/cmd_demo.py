@@ -63,7 +63,7 @@ def run(args) -> int:
 
     scene_path = default_path(args.scene)
     scene_mapping = read_yaml_mapping(scene_path, "scene")
-    scene = load_scene(scene_mapping)
+    scene = load_scene(scene_mapping, source=scene_path)
     if scene.object is None:
         raise InputError(f"{scene_path}: the scene has no object for the emulator to show (key 'object')")
     config = load_config(args.config or default_path("config/jaw.yaml"))

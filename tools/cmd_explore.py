@@ -163,7 +163,7 @@ def run(args) -> int:
     if scene_mapping is not None:
         from recognizer.scene import load_scene
 
-        load_scene(scene_mapping)  # validate before the jaw moves
+        load_scene(scene_mapping, source=args.scene)  # validate before the jaw moves
     session = run_session(port=args.port or config.bus.port, config=config, scene_mapping=scene_mapping,
                           profile=args.profile, log_path=args.log or default_log_path(),
                           clock_factory=WallClock, bus_timeout_s=config.bus.timeout_s,
