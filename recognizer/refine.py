@@ -412,10 +412,11 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     norms = np.linalg.norm(jac, axis=0)
     norms = np.where(norms > 0, norms, 1.0)
     pj = np.linalg.pinv(jac / norms, rcond=1e-10)
-    cov_z = (pj @ pj.T) / np.outer(norms, norms)
     k = problem.k
     dq = np.array([params_f[nm] if nm in problem.pos_names else 1.0 for nm in problem.names])
-    cov_p = cov_z[:k, :k] * np.outer(dq, dq)
+    with np.errstate(over="ignore", invalid="ignore"):  # a degenerate fit's covariance may overflow;
+        cov_z = (pj @ pj.T) / np.outer(norms, norms)  # non-finite values reach JSON as null
+        cov_p = cov_z[:k, :k] * np.outer(dq, dq)
     params_c, pose_c, t_c, perm = _canonical(cls, params_f, pose_f, t_f)
     cov_p = cov_p[np.ix_(perm, perm)]
     names_c = CURVES[cls].param_names
