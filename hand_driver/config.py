@@ -17,7 +17,7 @@ the key and the allowed range.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -332,6 +332,21 @@ def load_config(path: str | Path) -> JawConfig:
     """Read and validate a jaw YAML file; :class:`InputError` (one line) if it is bad."""
     obj = read_yaml(path, "jaw config")
     return parse_config(obj, str(path))
+
+
+def perturbed(cfg: JawConfig, rng, zero_tick: float = 20.0, link_mm: float = 1.0,
+              pad_mm: float = 0.5) -> JawConfig:
+    """A jaw that differs from ``cfg`` as a real one does: every joint's ``zero_tick`` and
+    ``link_mm`` and every pad's ``offset_mm`` off by uniform errors within ± the given
+    bounds, drawn from the numpy Generator ``rng`` (for ``tactile sim --truth-config``
+    experiments, the calibration tests and benchmark)."""
+    fingers = []
+    for f in cfg.fingers:
+        joints = tuple(replace(j, zero_tick=j.zero_tick + rng.uniform(-zero_tick, zero_tick),
+                               link_mm=j.link_mm + rng.uniform(-link_mm, link_mm)) for j in f.joints)
+        pad = replace(f.pad, offset_mm=f.pad.offset_mm + rng.uniform(-pad_mm, pad_mm))
+        fingers.append(replace(f, joints=joints, pad=pad))
+    return replace(cfg, fingers=tuple(fingers))
 
 
 def _num(v: float) -> float | int:

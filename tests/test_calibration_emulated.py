@@ -17,7 +17,7 @@ import pytest
 
 from hand_driver import calibration as cal
 from hand_driver.bus import JointBus
-from hand_driver.config import dump_config, load_config
+from hand_driver.config import dump_config, load_config, perturbed as perturbed_config
 from hand_driver.motion import Jaw, LockstepClock
 from hand_driver.sim.server import EmulatedBus
 from recognizer.curves import Pose
@@ -28,13 +28,7 @@ DISK = load_scene("config/scenes/calibration.yaml").object
 
 
 def truth_config(rng):
-    fingers = []
-    for f in CFG.fingers:
-        joints = tuple(dataclasses.replace(j, zero_tick=j.zero_tick + rng.uniform(-20, 20),
-                                           link_mm=j.link_mm + rng.uniform(-1, 1)) for j in f.joints)
-        pad = dataclasses.replace(f.pad, offset_mm=f.pad.offset_mm + rng.uniform(-0.5, 0.5))
-        fingers.append(dataclasses.replace(f, joints=joints, pad=pad))
-    return dataclasses.replace(CFG, fingers=tuple(fingers))
+    return perturbed_config(CFG, rng)
 
 
 @pytest.mark.parametrize("seed", [11, 12])

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from hand_driver import calibration as cal
-from hand_driver.config import load_config
+from hand_driver.config import load_config, perturbed as perturbed_config
 from recognizer.curves import Pose
 from recognizer.scene import SceneObject
 
@@ -20,13 +20,7 @@ DISK = SceneObject("circle", {"r": 20.0}, Pose(0.0, 0.0, 0.0), "left")
 
 def perturbed(seed: int):
     rng = np.random.default_rng(seed)
-    fingers = []
-    for f in CFG.fingers:
-        joints = tuple(dataclasses.replace(j, zero_tick=j.zero_tick + rng.uniform(-20, 20),
-                                           link_mm=j.link_mm + rng.uniform(-1, 1)) for j in f.joints)
-        pad = dataclasses.replace(f.pad, offset_mm=f.pad.offset_mm + rng.uniform(-0.5, 0.5))
-        fingers.append(dataclasses.replace(f, joints=joints, pad=pad))
-    return dataclasses.replace(CFG, fingers=tuple(fingers)), rng
+    return perturbed_config(CFG, rng), rng
 
 
 @functools.cache

@@ -20,14 +20,10 @@ import numpy as np
 
 
 def perturbed(cfg, seed: int):
+    from hand_driver.config import perturbed as perturbed_config
+
     rng = np.random.default_rng(seed)
-    fingers = []
-    for f in cfg.fingers:
-        joints = tuple(dataclasses.replace(j, zero_tick=j.zero_tick + rng.uniform(-20, 20),
-                                           link_mm=j.link_mm + rng.uniform(-1, 1)) for j in f.joints)
-        pad = dataclasses.replace(f.pad, offset_mm=f.pad.offset_mm + rng.uniform(-0.5, 0.5))
-        fingers.append(dataclasses.replace(f, joints=joints, pad=pad))
-    return dataclasses.replace(cfg, fingers=tuple(fingers)), rng
+    return perturbed_config(cfg, rng), rng
 
 
 def calibrate(cfg, truth, rng, faces: int, corners: int):
