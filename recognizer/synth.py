@@ -24,6 +24,7 @@ import numpy as np
 from scipy import optimize
 
 from recognizer.curves import CURVES, Curve, Pose
+from recognizer.touches import SamplesTouch
 
 
 @dataclass(frozen=True)
@@ -33,22 +34,6 @@ class SynthNoise:
     phi: float = 0.0
     pos: float = 0.0
     s: float = 0.0
-
-
-@dataclass(frozen=True)
-class Samples:
-    """A samples-touch (CONTRACTS §2): arrays phi, x, y and optional s."""
-
-    phi: np.ndarray
-    x: np.ndarray
-    y: np.ndarray
-    s: np.ndarray | None = None
-
-    def to_json(self) -> dict:
-        out = {"phi": self.phi.tolist(), "x": self.x.tolist(), "y": self.y.tolist()}
-        if self.s is not None:
-            out["s"] = self.s.tolist()
-        return out
 
 
 @dataclass(frozen=True)
@@ -93,7 +78,7 @@ def t_at_arc(curve: Curve, t0: float, s: np.ndarray) -> np.ndarray:
 
 def sample_touch(curve: Curve, pose: Pose, t_c: float, n: int, ds: float, direction: int = 1,
                  noise: SynthNoise | None = None, rng: np.random.Generator | None = None,
-                 with_s: bool = True) -> tuple[Samples, np.ndarray]:
+                 with_s: bool = True) -> tuple[SamplesTouch, np.ndarray]:
     """A touch of ``n`` samples spaced ``ds`` (mm of arc) around t_c; returns the touch and
     the exact parameters t of its samples."""
     m = n // 2
@@ -112,7 +97,7 @@ def sample_touch(curve: Curve, pose: Pose, t_c: float, n: int, ds: float, direct
             hy = hy + rng.normal(0.0, noise.pos, n)
         if noise.s > 0:
             s = s + np.concatenate(([0.0], rng.normal(0.0, noise.s, n - 1)))
-    return Samples(phi, hx, hy, s if with_s else None), ts
+    return SamplesTouch(phi, hx, hy, s if with_s else None), ts
 
 
 def _uniform(rng: np.random.Generator, lo: float, hi: float) -> float:
@@ -172,7 +157,7 @@ def contact_ts(shape: Shape, k: int, rng: np.random.Generator, margin: float = 0
 
 def sample_shape(shape: Shape, ts: Sequence[float], n: int, ds: float, direction: int = 1,
                  noise: SynthNoise | None = None, rng: np.random.Generator | None = None,
-                 with_s: bool = True) -> tuple[list[Samples], list[np.ndarray]]:
+                 with_s: bool = True) -> tuple[list[SamplesTouch], list[np.ndarray]]:
     """One touch per contact parameter (in the order of traversal for ``direction``)."""
     order = list(ts) if direction > 0 else list(ts)[::-1]
     touches, sample_ts = [], []

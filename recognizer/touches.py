@@ -59,6 +59,13 @@ class SamplesTouch:
     def contact_index(self) -> int:
         return len(self.phi) // 2
 
+    def to_json(self) -> dict:
+        """The touch in the CONTRACTS §2 samples form."""
+        out = {"phi": self.phi.tolist(), "x": self.x.tolist(), "y": self.y.tolist()}
+        if self.s is not None:
+            out["s"] = self.s.tolist()
+        return out
+
 
 @dataclass(frozen=True)
 class ContactTouch:

@@ -12,6 +12,7 @@ from recognizer import synth
 from recognizer.curves import CURVES, Pose
 from recognizer.errors import InputError
 from recognizer.estimate import LocalGeometry, estimate_local
+from recognizer.touches import SamplesTouch
 
 # one contact per class, away from cusps and inflections (t, params)
 CASES = {
@@ -75,7 +76,7 @@ def test_poly_converges_faster_than_central(cls):
 def test_direction_and_wraparound():
     """Reversed traversal flips κ; tangent angles crossing ±π unwrap."""
     touch, k, ks = _touch("circle", 9, 0.5, direction=-1, pose=Pose(-0.4 - np.pi / 2, 0.0, 0.0))
-    wrapped = synth.Samples((touch.phi + np.pi) % (2 * np.pi) - np.pi, touch.x, touch.y, touch.s)
+    wrapped = SamplesTouch((touch.phi + np.pi) % (2 * np.pi) - np.pi, touch.x, touch.y, touch.s)
     assert np.ptp(wrapped.phi) > np.pi  # really wraps
     g = estimate_local(wrapped, "poly", EXACT)
     assert k < 0 and abs(g.kappa - k) < 1e-9 * abs(k)
