@@ -8,9 +8,14 @@ tangent angle, κ, κ_s of every touch): the invariants' consistency across ever
 touches is what this tests, with each measurement's propagated uncertainty (a contact's
 κ/κ_s covariance, the noise model's φ and position deviations). With zero covariance
 (exact data) the floor localize.EPS_FLOOR (1e-7 relative) stands in for the deviations.
-Consistent classes are ranked by BIC = χ² + k·ln(n_obs) (k: shape parameters and pose
-degrees of freedom), so a circle (κ_s = 0, constant κ) beats an ellipse with a ≈ b and
-a line (κ = 0) beats a flat conic. No consistent class: ``unclassified`` with the
+Consistent classes are ranked by BIC = −2 ln L + k·ln(n_obs) (k: fitted unknowns), and
+the best is kept unless a simpler class of which it is a limit (``LIMIT_OF``: a line of
+every curved class, a circle of the ellipse, a parabola of the ellipse and hyperbola) is
+also consistent and the richer class does not pass a likelihood-ratio test against it
+(−2Δln L above the χ² quantile at ``MODEL_ALPHA`` for the extra parameters): so a
+circle beats an ellipse with a ≈ b and a line beats a flat conic unless the data say
+otherwise with confidence 1 − MODEL_ALPHA, while classes that are not limits of each
+other (a parabola and a semicubical parabola) are compared by BIC alone. No consistent class: ``unclassified`` with the
 invariant and the measurement that disagreed most, against their uncertainty.
 """
 
@@ -33,6 +38,12 @@ __all__ = ["recognize", "contacts_of", "options_for", "DEFAULT_SAMPLES_NOISE"]
 #: φ and position deviations assumed for samples-touches when neither the request nor
 #: the scene gives a noise model (the jaw's encoder and pad-line resolution)
 DEFAULT_SAMPLES_NOISE = NoiseModel(phi=1e-3, pos=0.05)
+#: the classes each class is a limit of (nested models: the richer one fits at least as well)
+LIMIT_OF = {"line": frozenset({"circle", "ellipse", "parabola", "hyperbola", "cubical_parabola",
+                               "semicubical_parabola"}),
+            "circle": frozenset({"ellipse"}), "parabola": frozenset({"ellipse", "hyperbola"})}
+#: level of the likelihood-ratio test a class must pass against a simpler class it contains
+MODEL_ALPHA = 1e-3
 _MEAS = ("x", "y", "phi", "kappa", "kappa_s")
 
 
@@ -161,6 +172,18 @@ def _best_per_class(cands: list[Candidate]) -> list[Candidate]:
     return list(best.values())
 
 
+def choose(consistent: list[Candidate]) -> Candidate:
+    """The consistent candidate of lowest BIC, replaced by a simpler class it is a limit of
+    (``LIMIT_OF``) while the richer one fails the likelihood-ratio test against it."""
+    best = min(consistent, key=lambda c: c.bic)
+    while True:
+        simpler = [c for c in consistent if best.cls in LIMIT_OF.get(c.cls, ())
+                   and 2.0 * (best.loglik - c.loglik) <= chi2_limit(MODEL_ALPHA, N_SHAPE[best.cls] - N_SHAPE[c.cls])]
+        if not simpler:
+            return best
+        best = min(simpler, key=lambda c: c.bic)
+
+
 def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: Contacts) -> str:
     parts = []
     if cands:
@@ -223,7 +246,7 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
         timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
                            {}, reason, rank_json, timing)
-    best = min(consistent, key=lambda c: c.bic)
+    best = choose(consistent)
     pairs = _pair_invariants(d) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, d, pairs),

@@ -9,16 +9,19 @@ sign), mapped to the hand frame by a pose. Noise (all Gaussian, independent):
 arc length (the first stays 0).
 
 Random shapes (:func:`random_shape`) have a size L (mm, the extent of the part of the
-boundary that is touched) drawn from ``size_range``; each class's parameters are drawn
-so that the touched region spans about L, with random aspect (ellipse b/a in
-[0.35, 0.9], hyperbola b/a in [0.4, 2.0], cubic coefficients of either sign, the
-cubics' second coefficient (c, b) of magnitude in [0.3, 1]).
+boundary that is touched: its largest chord) drawn from ``size_range``; each class's
+shape is drawn at unit size and scaled so that the touched region spans exactly L, with
+random aspect (ellipse b/a in [0.35, 0.9], hyperbola b/a in [0.4, 2.0], cubic
+coefficients of either sign, the cubics' second coefficient (c, b) of magnitude in
+[0.3, 1]).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from typing import Sequence
+
+import math
 
 import numpy as np
 from scipy import optimize
@@ -110,32 +113,51 @@ def _signed(rng: np.random.Generator, lo: float, hi: float) -> float:
     return float(rng.choice([-1.0, 1.0]) * rng.uniform(lo, hi))
 
 
+def extent(curve: Curve, t_range: tuple[float, float], n: int = 400) -> float:
+    """Largest distance between two points of the curve over ``t_range`` (mm)."""
+    x, y = curve.point(np.linspace(*t_range, n))
+    return float(np.sqrt(np.max((x[:, None] - x[None, :]) ** 2 + (y[:, None] - y[None, :]) ** 2)))
+
+
+def _scaled(cls: str, params: dict[str, float], t_range: tuple[float, float], k: float):
+    """The same shape enlarged k times: parameters and contact range of t."""
+    lo, hi = t_range
+    if cls in ("circle", "ellipse", "parabola", "hyperbola"):
+        return {n: v * k for n, v in params.items()}, t_range
+    if cls == "cubical_parabola":  # (t, a t³ + c t) → (kt, k a t³ + k c t): t' = kt, a' = a/k²
+        return {"a": params["a"] / k**2, "c": params["c"]}, (lo * k, hi * k)
+    if cls == "semicubical_parabola":  # (t², a t³ + b t²) × k: t' = √k t, a' = a/√k
+        return {"a": params["a"] / math.sqrt(k), "b": params["b"]}, (lo * math.sqrt(k), hi * math.sqrt(k))
+    return params, (lo * k, hi * k)  # line
+
+
 def random_shape(cls: str, rng: np.random.Generator, size_range: tuple[float, float] = (30.0, 120.0),
                  pose_range: float = 150.0) -> Shape:
-    """A random shape of class ``cls`` of size L ∈ size_range mm in a random pose."""
+    """A random shape of class ``cls`` in a random pose whose touched region (``t_range``)
+    has extent (largest chord) L ∈ size_range mm: the class's shape parameters are drawn
+    at unit size, then the curve is scaled so that its touched region spans exactly L."""
     L = _uniform(rng, *size_range)
     if cls == "line":
-        params, t_range = {}, (-L / 2, L / 2)
+        params, t_range = {}, (-0.5, 0.5)
     elif cls == "circle":
-        params, t_range = {"r": L / 2}, (-np.pi, np.pi)
+        params, t_range = {"r": 0.5}, (-np.pi, np.pi)
     elif cls == "ellipse":
-        a = L / 2
-        params, t_range = {"a": a, "b": a * _uniform(rng, 0.35, 0.9)}, (-np.pi, np.pi)
+        params, t_range = {"a": 0.5, "b": 0.5 * _uniform(rng, 0.35, 0.9)}, (-np.pi, np.pi)
     elif cls == "parabola":
-        params, t_range = {"a": L / 6 * _uniform(rng, 0.7, 1.4)}, (-1.5, 1.5)
+        params, t_range = {"a": 1.0}, (-1.5, 1.5)
     elif cls == "hyperbola":
-        a = L / 4 * _uniform(rng, 0.5, 1.5)
-        params, t_range = {"a": a, "b": a * _uniform(rng, 0.4, 2.0)}, (-1.2, 1.2)
+        params, t_range = {"a": 1.0, "b": _uniform(rng, 0.4, 2.0)}, (-1.2, 1.2)
     elif cls == "cubical_parabola":
-        a = rng.choice([-1.0, 1.0]) * (L / 4) * _uniform(rng, 0.5, 1.5) / (L / 2) ** 3
-        params, t_range = {"a": float(a), "c": _signed(rng, 0.3, 1.0)}, (-L / 2, L / 2)
+        # the slope runs from c at the inflection to 3a + c at the ends t = ±1, |a| in [0.25, 0.75]
+        params, t_range = {"a": float(rng.choice([-1.0, 1.0]) * _uniform(rng, 0.25, 0.75)),
+                           "c": _signed(rng, 0.3, 1.0)}, (-1.0, 1.0)
     elif cls == "semicubical_parabola":
-        # scale-free form u = a·t: (u², u³ + b u²)/a²; contacts at u ∈ [0.65, 1.6] (extent
-        # about 2.56/a² = L), at least 0.16 L of arc from the cusp so touches stay smooth
-        a = 1.6 / np.sqrt(L) * _uniform(rng, 0.8, 1.25)
-        params, t_range = {"a": float(a), "b": _signed(rng, 0.3, 1.0)}, (0.65 / a, 1.6 / a)
+        # (t², t³ + b t²) with contacts at t ∈ [0.65, 1.6]: from about a sixth of the touched
+        # extent away from the cusp (touches stay smooth) to its far end
+        params, t_range = {"a": 1.0, "b": _signed(rng, 0.3, 1.0)}, (0.65, 1.6)
     else:
         raise ValueError(f"unknown class {cls!r}")
+    params, t_range = _scaled(cls, params, t_range, L / extent(CURVES[cls](params), t_range))
     pose = Pose(_uniform(rng, -np.pi, np.pi), _uniform(rng, -pose_range, pose_range) * 0.2 + pose_range,
                 _uniform(rng, -pose_range, pose_range) * 0.2)
     return Shape(cls, params, pose, L, t_range, CURVES[cls](params))
