@@ -33,7 +33,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize
 from scipy.linalg.lapack import dgesdd
 
 from recognizer import invariants as inv
@@ -538,7 +537,10 @@ def _conic_start(cls: str, d: Contacts) -> list[tuple[dict, list]]:
     else:
         if det >= 0:
             return []
-        i = int(np.flatnonzero(-Fc * lam > 0)[0])  # the transverse axis: x'²/a² − y'²/b² = 1
+        transverse = np.flatnonzero(-Fc * lam > 0)  # x'²/a² − y'²/b² = 1; none: a pair of lines
+        if transverse.size != 1:
+            return []
+        i = int(transverse[0])
         a, b = math.sqrt(-Fc / lam[i]) * L, math.sqrt(Fc / lam[1 - i]) * L
     ex = vec[:, i]
     th = math.atan2(ex[1], ex[0])
@@ -559,8 +561,8 @@ def _conic_start(cls: str, d: Contacts) -> list[tuple[dict, list]]:
 
 #: the semicubical scan: shape b on an asinh grid over ±SCAN_B, the first touch's
 #: scale-free coordinate |v| = |a·t| on a log grid over SCAN_V (times max(1, |b|))
-SCAN_B, SCAN_NB = 60.0, 97
-SCAN_V, SCAN_NV = (1e-3, 1e3), 121
+SCAN_B, SCAN_NB = 20.0, 75
+SCAN_V, SCAN_NV = (1e-2, 1e2), 81
 
 
 def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
@@ -609,8 +611,8 @@ def _semicubical_scan(d: Contacts, n_best: int = 4) -> list[tuple[dict, list]]:
     tan ψᵢ = (3vᵢ + 2b)/2; the scale 1/a² and the translation follow from the positions by
     linear least squares, and the point is scored by the χ² of the positions and of
     κ = a²κ̃(v), κ_s = a⁴κ̃_s(v) (eq. 18–19's quantities) under their stated deviations.
-    The best ``n_best`` separated scan points, each polished by Nelder–Mead in
-    (asinh b, ln|v₀|), are returned."""
+    The best ``n_best`` separated scan points are returned (a start needs only to lie in
+    the right basin: the contact fit that follows polishes it)."""
     bs = np.sinh(np.linspace(-math.asinh(SCAN_B), math.asinh(SCAN_B), SCAN_NB))
     g = np.geomspace(*SCAN_V, SCAN_NV)
     found = []
@@ -625,18 +627,10 @@ def _semicubical_scan(d: Contacts, n_best: int = 4) -> list[tuple[dict, list]]:
                 found.append((float(cost[i, j]), sg, int(i), int(j), float(v0[i, j])))
     found.sort()
     starts = []
-    for _, sg, i, _, v0 in found[:n_best]:
-        def f(z, sg=sg):
-            return float(_scan_cost(d, np.array(math.sinh(z[0])), np.array(sg * math.exp(z[1])), sg)[0])
-
-        res = optimize.minimize(f, [math.asinh(bs[i]), math.log(abs(v0))], method="Nelder-Mead",
-                                options={"xatol": 1e-6, "fatol": 1e-9, "maxfev": 300})
-        b, v0 = math.sinh(res.x[0]), sg * math.exp(res.x[1])
-        cost, v, scale = _scan_cost(d, np.array(b), np.array(v0), sg)
-        if not np.isfinite(cost):
-            continue
+    for _, sg, i, j, v0 in found[:n_best]:
+        _, v, scale = _scan_cost(d, np.array(bs[i]), np.array(v0), sg)
         root = math.sqrt(float(scale))
-        starts.append(({"a": 1.0 / root, "b": b}, [float(vi) * root for vi in v]))
+        starts.append(({"a": 1.0 / root, "b": float(bs[i])}, [float(vi) * root for vi in v]))
     return starts
 
 

@@ -48,9 +48,11 @@ FD_STEP = 1.5e-8
 TOL = 1e-10
 """least_squares' xtol, ftol, gtol: a relative χ² change of 1e-10 is far below any decision
 (1e-12 ran most wrong-class fits to the evaluation cap for nothing)."""
-RESIDUAL_CAP = 1e100
-"""whitened residuals are capped at this (σ's), so that χ² = Σr² cannot overflow (a wild
-start of a cubic class); exact data (σ = 1e-9) puts a fair start at 1e8 σ and more."""
+RESIDUAL_CAP = 1e30
+"""whitened residuals are capped at this (σ's) and Jacobian entries at JACOBIAN_CAP, so that
+χ² = Σr², JᵀJ and Jᵀr cannot overflow (a wild start of a cubic class); exact data
+(σ = 1e-9) puts a fair start at 1e8–1e12 σ, far below the cap."""
+JACOBIAN_CAP = 1e120
 
 
 _POSITIVE = {"circle": ("r",), "ellipse": ("a", "b"), "parabola": ("a",), "hyperbola": ("a", "b"),
@@ -271,7 +273,7 @@ class _Problem:
                 zm[c] -= h
                 jac[3 * n :, c] = ((self._raw(zp) - self._raw(zm)) / (2 * h))[3 * n :]
         jac[~np.isfinite(jac)] = 0.0
-        return jac
+        return np.clip(jac, -JACOBIAN_CAP, JACOBIAN_CAP, out=jac)
 
     def _raw(self, z: np.ndarray) -> np.ndarray:
         """Residuals without the angle wrap's discontinuity (for differences)."""
@@ -415,8 +417,9 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     p_value = float(stats.chi2.sf(chi2, dof)) if dof > 0 else 1.0
     # covariance of the unknowns, then the shape parameters and pose in their own units
     jac = problem.jacobian(z)
-    norms = np.linalg.norm(jac, axis=0)
-    norms = np.where(norms > 0, norms, 1.0)
+    with np.errstate(over="ignore"):  # a column beyond 1e154 (a diverged wrong class): inf, as below
+        norms = np.linalg.norm(jac, axis=0)
+    norms = np.where((norms > 0) & np.isfinite(norms), norms, 1.0)
     pj = np.linalg.pinv(jac / norms, rcond=1e-10)
     k = problem.k
     dq = np.array([params_f[nm] if nm in problem.pos_names else 1.0 for nm in problem.names])
