@@ -11,8 +11,9 @@ retreats to the workspace edge and turns along it. README, section motion.
 After every round with at least ``settings.min_touches`` usable touches
 (:func:`touch_problem`) the recognizer runs on all of them; exploration stops as soon as
 its answer is decisive (:func:`indecision`: no class with more freedom fits significantly
-better, and every other consistent class is ``DECISIVE_CHI2`` worse in χ², except the
-ellipse for a circle answer that stays the same without the last touch) or when the touch budget is spent; then the answer on the
+better, every other consistent class is ``DECISIVE_CHI2`` worse in χ², except the
+ellipse for a circle answer that stays the same without the last touch, and every shape
+parameter is known to ``DECISIVE_REL_SIGMA``) or when the touch budget is spent; then the answer on the
 usable touches is the class if decisive, else ``unclassified`` with the reason
 (:func:`final_answer`).
 """
@@ -88,6 +89,10 @@ TOUCH_NOISE = {"phi": math.sqrt(2.0) * (2.0 * math.pi / 4096.0) / math.sqrt(12.0
 DECISIVE_CHI2 = 10.0
 #: (answer, rival): the answer is an exact special case of the rival
 SUBMODELS = frozenset({("circle", "ellipse")})
+#: an answer is decisive only once every shape parameter's standard deviation is at most
+#: this fraction of its magnitude (of max(|p|, 1) for the dimensionless ``DIMENSIONLESS``)
+DECISIVE_REL_SIGMA = 0.02
+DIMENSIONLESS = frozenset({("cubical_parabola", "c"), ("semicubical_parabola", "b")})
 
 
 @dataclass(frozen=True)
@@ -152,9 +157,10 @@ def indecision(recognition, shorter, settings: ExploreSettings) -> str | None:
     recognizer's alpha); (b) every other consistent class is ruled out by the data, its χ²
     ``DECISIVE_CHI2`` above the answer's, except a class the answer is an exact special
     case of (``SUBMODELS``: a circle is an ellipse with a = b), for which (a) decides once
-    the answer is stable, the same class without the last touch. A class the answer is
-    only a limit of (a parabola of long ellipses and hyperbolas) or that fits as well is
-    no evidence either way: BIC's parameter penalty alone would always pick the limit."""
+    the answer is stable, the same class without the last touch; (c) its shape parameters
+    are determined (:func:`imprecision`). A class the answer is only a limit of (a
+    parabola of long ellipses and hyperbolas) or that fits as well is no evidence either
+    way: BIC's parameter penalty alone would always pick the limit."""
     from scipy import stats
 
     ranked = [r for r in recognition.ranking if r.get("consistent")]
@@ -173,6 +179,25 @@ def indecision(recognition, shorter, settings: ExploreSettings) -> str | None:
     if rivals and (shorter is None or shorter.cls != recognition.cls):
         return (f"{best['class']} and {rivals[0]['class']} both fit and the answer "
                 + ("changed with the last touch" if shorter is not None else "was not yet checked with one touch fewer"))
+    return imprecision(recognition)
+
+
+def imprecision(recognition) -> str | None:
+    """Why the answer's shape parameters are not yet determined (a standard deviation above
+    ``DECISIVE_REL_SIGMA`` of the parameter's magnitude), or None. Touches that all see one
+    short arc fit one class decisively yet leave its parameters loose (an ellipse from 30°
+    of its boundary: a ±4 %, b ±9 %), and their errors along the pad are correlated, so such
+    an answer can be off by far more than its stated deviation: explore on instead."""
+    loose = []
+    for name, value in recognition.params.items():
+        sd = recognition.uncertainty.get(name)
+        if sd is None:
+            continue
+        ref = max(abs(value), 1.0) if (recognition.cls, name) in DIMENSIONLESS else abs(value)
+        if not (math.isfinite(sd) and sd <= DECISIVE_REL_SIGMA * ref):
+            loose.append(f"{name} ±{100.0 * sd / ref:.2g} %" if ref > 0 and math.isfinite(sd) else f"{name} undetermined")
+    if loose:
+        return f"{recognition.cls} parameters not yet within {100 * DECISIVE_REL_SIGMA:g} %: {', '.join(loose)}"
     return None
 
 

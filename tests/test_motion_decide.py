@@ -69,3 +69,26 @@ def test_final_answer_refuses_an_undecided_class():
     assert out.ranking == answers[4].ranking
     answers[3] = rec("circle", ("circle", True, 5.0, 7, 18.0))
     assert final_answer(lambda touches: answers[len(touches)], [{}] * 4, SETTINGS).cls == "circle"
+
+
+def test_loose_parameters_are_not_decisive():
+    """A class that wins decisively on one short arc can leave its parameters loose
+    (emulated: an ellipse a 28, b 17 felt over 30° answered a 18.7 ± 0.73, b 7.4 ± 0.65):
+    exploration goes on while a shape parameter's deviation exceeds 2 % of it, and the
+    final answer is then a refusal naming the parameters."""
+    rows = (("ellipse", True, 44.1, 49, 184.7), ("parabola", False, 241.1, 50, 377.3))
+    loose = Recognition("ellipse", {"a": 18.7, "b": 7.4}, uncertainty={"a": 0.73, "b": 0.65}, ranking=[
+        {"class": c, "consistent": ok, "chi2": chi2, "dof": dof, "bic": bic, "p_value": 0.5}
+        for c, ok, chi2, dof, bic in rows])
+    why = indecision(loose, None, SETTINGS)
+    assert why is not None and "a ±3.9 %" in why and "b ±8.8 %" in why
+    tight = Recognition("ellipse", {"a": 28.1, "b": 17.0}, uncertainty={"a": 0.12, "b": 0.063},
+                        ranking=loose.ranking)
+    assert indecision(tight, None, SETTINGS) is None
+    # a dimensionless parameter near 0 is judged against 1, not against itself
+    cubic = Recognition("cubical_parabola", {"a": 1e-3, "c": 1e-4}, uncertainty={"a": 1e-5, "c": 0.01},
+                        ranking=[{"class": "cubical_parabola", "consistent": True, "chi2": 40.0, "dof": 49,
+                                  "bic": 180.0, "p_value": 0.5}])
+    assert indecision(cubic, None, SETTINGS) is None
+    refused = final_answer(lambda touches: loose, [{}] * 3, SETTINGS)
+    assert refused.cls == "unclassified" and "not yet within 2 %" in refused.reason
