@@ -656,10 +656,11 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
         else:
             out.append(Reading(finger, t.kind, (float(ticks[0]), float(ticks[1])), placement))
         yield from move_to(jaw, finger, pre)
-    if guard(finger, here, home):
-        yield from move_to(jaw, finger, home)
-    elif len(trail) > 1:
-        yield from retrace()
+    if len(trail) > 1 and not guard(finger, here, home):
+        trail = yield from retrace()
+        here = trail[0]
+    for q in _route(guard, finger, here, home, home) or []:  # direct, or round the disk
+        yield from move_to(jaw, finger, q)
 
 
 def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, corners: int = 6,

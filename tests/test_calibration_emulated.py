@@ -56,3 +56,41 @@ def test_calibration_on_the_emulated_bus_meets_the_target(seed, tmp_path):
     out = tmp_path / "calibrated.yaml"
     dump_config(result.config, out)
     assert load_config(out) == result.config
+
+
+def test_single_port_interactive_flow():
+    """``tactile calibrate`` with one port: before every placement the fingers park and the
+    user is asked to fix the disk; the emulated user moves the emulated disk there (the bus
+    shows no object until the first prompt). Checked: one prompt per placement, in order,
+    with no pad within 5 mm of where the disk goes; every placement found; the fit from
+    the readings of all placements recovers the truth jaw (a smaller plan: 3 faces, 2
+    pad-end touches per finger, branch and placement)."""
+    from hand_driver import kinematics as kin
+    from hand_driver.sim.physics import ContactWorld
+    from tools.cmd_calibrate import touch_placements
+
+    rng = np.random.default_rng(21)
+    truth = truth_config(rng)
+    places = list(cal.DEFAULT_PLACEMENTS)
+    disks = [dataclasses.replace(DISK, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
+             for x, y in places]
+    asked, lines = [], []
+    with EmulatedBus(CFG, None, truth_config=truth, time_scale=0.0) as sim:
+        def wait_for_user(k, guess):
+            ticks = np.array([sim.servos[int(j.id)].pos for j in sim.joints], float)
+            q = np.concatenate([kin.ticks_to_angles(f.joints, ticks[sl])
+                                for f, sl in zip(truth.fingers, truth.joint_slices().values())])
+            margin = dataclasses.replace(disks[k], params={"r": DISK.params["r"] + 5.0})
+            assert not ContactWorld(truth, margin).penetrates(q), f"a pad is in the way of placement {k}"
+            asked.append((k, tuple(guess)))
+            sim.place(disks[k])
+
+        readings = touch_placements(CFG, DISK, places, [sim.port], faces=3, corners=2,
+                                    clock_for=lambda: LockstepClock(sim), wait_for_user=wait_for_user,
+                                    say=lines.append, bus_options={"handle_signals": False, "timeout_s": 0.5})
+    assert asked == [(k, tuple(p)) for k, p in enumerate(places)]
+    assert len(lines) == len(places) and all(f"placement {k + 1}: disk found" in line for k, line in enumerate(lines))
+    result = cal.fit(CFG, DISK, readings, tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})
+    err = cal._pack(result.config) - cal._pack(truth)
+    for e, d in zip(result.estimates, err):
+        assert abs(d) <= (1.0 if e.kind == "zero_tick" else 0.1), f"{e.name}: error {d:+.3f} (se {e.se:.3f})"

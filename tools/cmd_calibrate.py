@@ -48,11 +48,36 @@ def _placements(args) -> list[tuple[float, float]]:
     return out
 
 
-def run(args) -> int:
+def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, clock_for, wait_for_user,
+                     say, bus_options: dict | None = None) -> list:
+    """Calibration readings from every placement of the reference disk. With one port for
+    several placements the fingers are parked (opened outward) before each one and
+    ``wait_for_user(k, guess)`` returns once the disk is fixed near ``guess``; with one
+    port per placement each bus shows its own. ``clock_for()`` makes each Jaw's clock."""
     from hand_driver import calibration as cal
     from hand_driver.bus import JointBus
+    from hand_driver.motion import Jaw
+
+    readings = []
+    ask = len(ports) == 1 and len(places) > 1
+    for k, guess in enumerate(places):
+        port = ports[k] if len(ports) > 1 else ports[0]
+        with JointBus(port, cfg.bus.baudrate, cfg.joints, retries=cfg.bus.retries, **(bus_options or {})) as bus:
+            jaw = Jaw(bus, cfg, clock=clock_for())
+            if ask:
+                cal.park(jaw)
+                wait_for_user(k, guess)
+            got, center, skipped = cal.touch_reference(jaw, disk, guess, placement=k, faces=faces, corners=corners)
+        say(f"placement {k + 1}: disk found at ({center[0]:.2f}, {center[1]:.2f}) mm, "
+            f"{len(got)} touches, {len(skipped)} planned touches skipped")
+        readings += got
+    return readings
+
+
+def run(args) -> int:
+    from hand_driver import calibration as cal
     from hand_driver.config import dump_config, load_config
-    from hand_driver.motion import Jaw, WallClock
+    from hand_driver.motion import WallClock
     from recognizer.scene import load_scene
 
     src, out = Path(args.config), Path(args.out)
@@ -71,23 +96,18 @@ def run(args) -> int:
     if args.faces < 2 or args.corners < 0:
         raise InputError("--faces must be ≥ 2 and --corners ≥ 0")
     tolerances = {"zero_tick": args.max_se_ticks, "link_mm": args.max_se_mm, "offset_mm": args.max_se_mm}
-    readings = []
-    ask = len(args.port) == 1 and len(places) > 1
-    for k, guess in enumerate(places):
-        port = args.port[k] if len(args.port) > 1 else args.port[0]
-        with JointBus(port, cfg.bus.baudrate, cfg.joints, retries=cfg.bus.retries) as bus:
-            jaw = Jaw(bus, cfg, clock=WallClock(args.time_scale))
-            if ask:  # fingers parked (opened outward) first, so the disk can be placed between them
-                cal.park(jaw)
-                sys.stderr.write(f"placement {k + 1}/{len(places)}: fingers parked; fix the disk near "
-                                 f"({guess[0]:g}, {guess[1]:g}) mm and press Enter\n")
-                sys.stderr.flush()
-                sys.stdin.readline()
-            got, center, skipped = cal.touch_reference(jaw, scene.object, guess, placement=k,
-                                                       faces=args.faces, corners=args.corners)
-        sys.stderr.write(f"placement {k + 1}: disk found at ({center[0]:.2f}, {center[1]:.2f}) mm, "
-                         f"{len(got)} touches, {len(skipped)} planned touches skipped\n")
-        readings += got
+
+    def say(line: str) -> None:
+        sys.stderr.write(line + "\n")
+        sys.stderr.flush()
+
+    def wait_for_user(k: int, guess) -> None:
+        say(f"placement {k + 1}/{len(places)}: fingers parked; fix the disk near ({guess[0]:g}, {guess[1]:g}) mm "
+            f"and press Enter")
+        sys.stdin.readline()
+
+    readings = touch_placements(cfg, scene.object, places, args.port, faces=args.faces, corners=args.corners,
+                                clock_for=lambda: WallClock(args.time_scale), wait_for_user=wait_for_user, say=say)
     result = cal.fit(cfg, scene.object, readings, tolerances)
     dump_config(result.config, out, header=f"calibrated by tactile calibrate from {src} "
                                            f"({result.n_readings} touches, residual RMS "

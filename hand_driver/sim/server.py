@@ -83,6 +83,7 @@ class EmulatedBus:
         self._order = [int(j.id) for j in self.joints]
         self._zero = np.array([float(getattr(j, "zero_tick", 2048)) for j in self.truth_joints])
         self._dir = np.array([float(getattr(j, "direction", 1)) for j in self.truth_joints])
+        self._truth = truth
         self.world = _contact_world(truth, scene) if scene is not None else None
         self.lock = threading.RLock()
         self.sim_time = 0.0
@@ -117,6 +118,12 @@ class EmulatedBus:
                 except OSError:
                     pass
         self._master = self._slave = None
+
+    def place(self, scene) -> None:
+        """Put an object (a scene or a SceneObject) in front of the jaw, or take it away
+        (None): what a person does between calibration placements."""
+        with self.lock:
+            self.world = _contact_world(self._truth, scene) if scene is not None else None
 
     def vanish(self) -> None:
         """The adapter disappears: the pty is closed, the port path stops existing."""
