@@ -78,12 +78,15 @@ MIN_ROLL_SPAN_DEG = 30.0
 MIN_SAMPLES_PER_TOUCH = 7
 #: per-sample noise the explorer states in its requests (README, section motion): φ is the
 #: pad's angle q1 + q2, each joint quantized to a tick (uniform, σ = tick/√12), so
-#: σ_φ = √2 · (2π/4096)/√12 = 6.3e-4 rad; the position deviation is calibrated on emulated
-#: touches of known shapes (tools/bench_explore.py --chi2): envelope contacts are 0.07 mm
-#: from the curve but up to 1.2 mm along it, correlated within a touch; with 0.3 mm the
-#: true class's χ² tail probability was ≥ 0.07 on every emulated set measured, while the
-#: wrong classes stayed rejected (with 1.0 mm a parabola passed on ellipse touches)
-TOUCH_NOISE = {"phi": math.sqrt(2.0) * (2.0 * math.pi / 4096.0) / math.sqrt(12.0), "pos": 0.3}
+#: σ_φ = √2 · (2π/4096)/√12 = 6.3e-4 rad. Positions: a contact point lies on its pad line,
+#: which the encoders fix to ~0.03 mm, but where along the line comes from the envelope of
+#: neighbouring lines (a difference of quantized readings): at the true shape, emulated
+#: touches of the default ellipse miss it by 0.029–0.031 mm RMS across the tangent and
+#: 0.32–0.53 mm along it (perfect and calibrated configs). Stated: 0.06 mm across
+#: (``pos``) and 0.6 mm along (``pos_along``); one isotropic 0.3 mm made calibrated
+#: configs fail the χ² test (168 on 103 dof at the true shape) and weighted the along-track
+#: errors like the shape information across the tangent
+TOUCH_NOISE = {"phi": math.sqrt(2.0) * (2.0 * math.pi / 4096.0) / math.sqrt(12.0), "pos": 0.06, "pos_along": 0.6}
 #: a consistent rival class whose χ² exceeds the answer's by this much (likelihood ratio
 #: e^-5, "very strong" evidence on Kass & Raftery's scale) no longer keeps exploration going
 DECISIVE_CHI2 = 10.0

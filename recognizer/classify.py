@@ -55,7 +55,7 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
     for i, t in enumerate(request.touches):
         if isinstance(t, ContactTouch):
             nz = noise or NoiseModel()
-            rows.append((t.x, t.y, t.phi, t.kappa, t.kappa_s, t.cov, nz.pos, nz.phi))
+            rows.append((t.x, t.y, t.phi, t.kappa, t.kappa_s, t.cov, max(nz.pos, nz.along), nz.phi))
         else:
             from recognizer.estimate import estimate_local
 
@@ -65,7 +65,10 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
             # φ carries a truncation error no covariance states (up to 1e-2 rad on noise-free
             # hyperbola touches, judged at the 1e-7 floor: right classes were rejected)
             phi_m = float(np.asarray(t.phi, float)[len(t.phi) // 2])
-            rows.append((g.x, g.y, phi_m, g.kappa, g.kappa_s, np.asarray(g.cov, float), nz.pos, nz.phi))
+            # one isotropic deviation per contact position here (the larger); refinement
+            # weighs every sample across and along its tangent separately
+            rows.append((g.x, g.y, phi_m, g.kappa, g.kappa_s, np.asarray(g.cov, float), max(nz.pos, nz.along),
+                         nz.phi))
     cols = list(zip(*rows))
     arr = [np.array(c, dtype=float) for c in cols[:5]]
     return Contacts(*arr, np.array(cols[5], dtype=float).reshape(-1, 2, 2), np.array(cols[6], float),

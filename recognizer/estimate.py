@@ -371,7 +371,8 @@ def estimate_local(touch: Any, method: str = "auto", noise: Any = None, where: s
     if method == "auto":
         method = "central" if n < 4 else "poly"
     sig_phi = float(getattr(noise, "phi", 0.0) or 0.0) if noise is not None else None
-    sig_pos = float(getattr(noise, "pos", 0.0) or 0.0) if noise is not None else 0.0
+    # arc lengths come from the positions' along-track components: their deviation counts
+    sig_pos = float(getattr(noise, "along", getattr(noise, "pos", 0.0)) or 0.0) if noise is not None else 0.0
     sig_s = float(getattr(noise, "s", 0.0) or 0.0) if noise is not None else 0.0
     rphi = phi - phi[m]
     if method == "central":

@@ -137,7 +137,8 @@ def _wrap(a: np.ndarray) -> np.ndarray:
 class _Problem:
     """Packs unknowns, evaluates residuals and the Jacobian for one class."""
 
-    def __init__(self, cls: str, data: _Data, pose: Pose, direction: int, sig_phi: float, sig_pos: float):
+    def __init__(self, cls: str, data: _Data, pose: Pose, direction: int, sig_phi: float, sig_pos: float,
+                 sig_along: float | None = None):
         self.cls = cls
         self.names = CURVES[cls].param_names
         self.pos_names = _POSITIVE.get(cls, ())
@@ -145,6 +146,11 @@ class _Problem:
         self.direction = direction
         self.sig_phi = sig_phi
         self.sig_pos = sig_pos
+        # anisotropic positions: rows (x, y) become (across, along) the measured tangent
+        self.aniso = sig_along is not None and sig_along != sig_pos
+        if self.aniso:
+            self._cos, self._sin = np.cos(data.phi), np.sin(data.phi)
+            self._ratio = sig_pos / sig_along
         self.theta0 = pose.theta
         self.anchor = np.array([pose.x, pose.y])
         self.n_rows = data.x.size
@@ -212,7 +218,18 @@ class _Problem:
             if extra is not None:
                 parts += [(d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s]
             r = np.concatenate(parts)
+            if self.aniso:
+                self._across_along(r)
         return np.where(np.isfinite(r), np.clip(r, -RESIDUAL_CAP, RESIDUAL_CAP), 1e8)
+
+    def _across_along(self, a: np.ndarray) -> None:
+        """In place: position rows (x, y)/σ_pos of residuals or Jacobian → (across the
+        measured tangent)/σ_pos and (along it)/σ_along."""
+        n = self.n_rows
+        c, s = (self._cos, self._sin) if a.ndim == 1 else (self._cos[:, None], self._sin[:, None])
+        x, y = a[:n].copy(), a[n : 2 * n].copy()
+        a[:n] = c * y - s * x
+        a[n : 2 * n] = (c * x + s * y) * self._ratio
 
     def jacobian(self, z: np.ndarray) -> np.ndarray:
         with np.errstate(all="ignore"):
@@ -273,6 +290,8 @@ class _Problem:
                 zm[c] -= h
                 jac[3 * n :, c] = ((self._raw(zp) - self._raw(zm)) / (2 * h))[3 * n :]
         jac[~np.isfinite(jac)] = 0.0
+        if self.aniso:
+            self._across_along(jac)
         return np.clip(jac, -JACOBIAN_CAP, JACOBIAN_CAP, out=jac)
 
     def _raw(self, z: np.ndarray) -> np.ndarray:
@@ -378,6 +397,8 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     t0 = _initial_t(cls, params, candidate.pose, t_contacts, data, direction)
     sig_phi, sig_pos = _sigmas(noise)
     known = sig_phi is not None
+    pos_along = getattr(noise, "pos_along", None) if known else None
+    sig_along = None if pos_along is None else max(float(pos_along), SIGMA_FLOOR_POS)
     scale = max(float(np.ptp(data.x)), float(np.ptp(data.y)), 1.0)
     if not known:
         sig_phi, sig_pos = 1e-3, 1e-3 * scale
@@ -389,7 +410,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     res = None
     problem = None
     for _round in range(1 if known else 3):
-        problem = _Problem(cls, data, candidate.pose, direction, sig_phi, sig_pos)
+        problem = _Problem(cls, data, candidate.pose, direction, sig_phi, sig_pos, sig_along)
         z0 = problem.pack(params, candidate.pose, t0) if z is None else z
         method = "lm" if problem.n_rows * 3 + 2 * len(data.contact_rows) >= z0.size else "trf"
         res = optimize.least_squares(problem.residuals, z0, jac=problem.jacobian, method=method,

@@ -37,13 +37,25 @@ ESTIMATORS = ("auto", "central", "poly")
 
 @dataclass(frozen=True)
 class NoiseModel:
-    """Measurement noise: standard deviation of a tangent angle (rad) and of a position (mm)."""
+    """Measurement noise: standard deviation of a tangent angle (rad) and of a position (mm);
+    optionally ``pos_along``, the deviation of a sample's position along the boundary's
+    tangent when it differs from across it (``pos``): a flat pad fixes the tangent line
+    well but the contact point along it only from neighbouring readings."""
 
     phi: float = 0.0
     pos: float = 0.0
+    pos_along: float | None = None
+
+    @property
+    def along(self) -> float:
+        """σ of a position along the tangent (``pos_along``, else ``pos``)."""
+        return self.pos if self.pos_along is None else self.pos_along
 
     def to_json(self) -> dict:
-        return {"phi": self.phi, "pos": self.pos}
+        out = {"phi": self.phi, "pos": self.pos}
+        if self.pos_along is not None:
+            out["pos_along"] = self.pos_along
+        return out
 
 
 @dataclass(frozen=True)
@@ -105,11 +117,13 @@ def _vec(v, where: str) -> np.ndarray:
 
 def parse_noise(raw, where: str = "noise") -> NoiseModel:
     if not isinstance(raw, Mapping):
-        raise InputError(f"{where}: must be a mapping {{phi: rad, pos: mm}}")
-    extra = sorted(map(str, set(raw) - {"phi", "pos"}))
+        raise InputError(f"{where}: must be a mapping {{phi: rad, pos: mm, pos_along: mm (optional)}}")
+    extra = sorted(map(str, set(raw) - {"phi", "pos", "pos_along"}))
     if extra:
-        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: phi, pos")
+        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: phi, pos, pos_along")
     vals = {k: _num(raw.get(k, 0.0), f"{where}.{k}") for k in ("phi", "pos")}
+    if raw.get("pos_along") is not None:
+        vals["pos_along"] = _num(raw["pos_along"], f"{where}.pos_along")
     for k, v in vals.items():
         if v < 0:
             raise InputError(f"{where}.{k}: must be >= 0, got {v}")

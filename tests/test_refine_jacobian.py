@@ -70,3 +70,31 @@ def test_memo_follows_z():
     r3 = problem.residuals(z3)
     z3 += 0.1
     assert np.array_equal(problem.residuals(z), r3)
+
+
+@pytest.mark.parametrize("cls", ["ellipse", "cubical_parabola"])
+def test_jacobian_across_and_along(cls):
+    """With a position deviation along the tangent (``pos_along``) different from across it,
+    the position rows are turned into the measured tangent's frame: the Jacobian still
+    matches central differences of the residuals."""
+    problem, z = _problem(cls, 5, 1)
+    aniso = _Problem(problem.cls, problem.data, Pose(problem.theta0, *problem.anchor), problem.direction,
+                     problem.sig_phi, problem.sig_pos, sig_along=20 * problem.sig_pos)
+    assert aniso.aniso
+    aniso.residuals(z)
+    jac = aniso.jacobian(z)
+    cols = []
+    for i in range(z.size):
+        h = 1e-6 * max(abs(z[i]), 1.0)
+        zp, zm = z.copy(), z.copy()
+        zp[i] += h
+        zm[i] -= h
+        cols.append((aniso.residuals(zp) - aniso.residuals(zm)) / (2 * h))
+    ref = np.stack(cols, axis=1)
+    err = np.linalg.norm(jac - ref, axis=0) / (np.linalg.norm(ref, axis=0) + 1e-12)
+    assert err.max() < 1e-4, (err.argmax(), err.max())
+    # the rows are a rotation and a rescaling of the isotropic ones: across rows keep their norm
+    n = aniso.n_rows
+    r_iso, r_an = problem.residuals(z), aniso.residuals(z)
+    assert np.allclose(r_iso[:n] ** 2 + r_iso[n:2 * n] ** 2,
+                       r_an[:n] ** 2 + (20 * r_an[n:2 * n]) ** 2, rtol=1e-9)
