@@ -33,6 +33,7 @@ from hand_driver.motion import (
     Sample,
     TouchResult,
     move_line,
+    move_to,
     roll_angles,
     rolling_touch,
     run_together,
@@ -384,10 +385,20 @@ def choose_psi(finger, model: ObjectModel, settings: ExploreSettings, used: list
 
 
 def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
-    """Retreat to the workspace edge along the pad normal, then turn along the edge to ψ."""
+    """Retreat to the workspace edge along the pad normal, then turn along the edge to ψ.
+    Where the edge is out of the joints' reach along this normal (a pad turned far past its
+    nominal direction), the pad retreats as far as it can and the finger swings open in
+    joint space to its edge pose at the nominal ψ, and turns from there: without this, one
+    such pose made every later transit of the finger fail and spent the touch budget."""
     line = jaw.pad_line(jaw.last_state, finger)
     psi_from = float(line.psi)
-    yield from move_line(jaw, finger, psi_from, min(float(line.d), model.edge(psi_from)), *TRANSIT_STEPS)
+    try:
+        yield from move_line(jaw, finger, psi_from, min(float(line.d), model.edge(psi_from)), *TRANSIT_STEPS)
+    except kin.Unreachable:
+        f = jaw.config.finger(finger)
+        psi_from = nominal_psi(f)
+        q_open = kin.ik_line(f, psi_from, model.edge(psi_from), margin_rad=LIMIT_MARGIN_RAD)
+        yield from move_to(jaw, finger, q_open)
     delta = math.remainder(psi_to - psi_from, 2 * math.pi)
     steps = max(1, math.ceil(abs(math.degrees(delta)) / EDGE_TURN_STEP_DEG))
     for k in range(1, steps + 1):
