@@ -165,14 +165,14 @@ def indecision(recognition, shorter, settings: ExploreSettings) -> str | None:
     are determined (:func:`imprecision`). A class the answer is only a limit of (a
     parabola of long ellipses and hyperbolas) or that fits as well is no evidence either
     way: BIC's parameter penalty alone would always pick the limit."""
-    from scipy import stats
+    from recognizer.classify import chi2_limit
 
     ranked = [r for r in recognition.ranking if r.get("consistent")]
     best = next(r for r in ranked if r["class"] == recognition.cls)
     alpha = float(settings.recognize.get("alpha", 1e-3))
     for r in ranked:
         dk = best["dof"] - r["dof"]  # same observations: Δdof = Δ free parameters
-        if dk > 0 and best["chi2"] - r["chi2"] > stats.chi2.isf(alpha, dk):
+        if dk > 0 and best["chi2"] - r["chi2"] > chi2_limit(alpha, dk):
             return f"{r['class']} fits significantly better than {best['class']} (chi2 {r['chi2']:.3g} vs {best['chi2']:.3g})"
     rivals = [r for r in ranked if r["class"] != recognition.cls and r["chi2"] - best["chi2"] < DECISIVE_CHI2]
     others = [r for r in rivals if (recognition.cls, r["class"]) not in SUBMODELS]

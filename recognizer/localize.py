@@ -572,7 +572,7 @@ def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
     x, y, phi, k, ks = (np.asarray(c, float) for c in d.cols())
     rows = d.rows()
     w_pos = np.array([1.0 / r[5] ** 2 for r in rows])
-    W = np.array([r[7:11] for r in rows]).reshape(-1, 2, 2)
+    W = d.whitener()
     b = b[..., None]
     th = phi[0] - np.arctan2(sg * (3 * v0 + 2 * b[..., 0]), 2 * sg)
     psi = _wrap(phi - th[..., None])
@@ -635,9 +635,9 @@ def _semicubical_scan(d: Contacts, n_best: int = 4) -> list[tuple[dict, list]]:
 
 
 def _starts(cls: str, d: Contacts, every_pair: bool = False):
-    """Closed-form (params, t) starting points for a class (data in canonical direction);
-    a cubic class's frame from the slope roots of the best-turning pair of touches, or
-    with ``every_pair`` of every pair (noisy κ_s can spoil one pair's roots)."""
+    """Closed-form (params, t) starting points for a class (data in canonical direction):
+    ellipse and hyperbola from the invariants and from the conic through the touches
+    (``_conic_start``); the cubic classes by ``_cubic_starts``."""
     x, y, phi, k, ks = d.cols()
     if cls == "line":
         th = _circmean_s(phi)

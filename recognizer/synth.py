@@ -18,10 +18,9 @@ coefficients of either sign, the cubics' second coefficient (c, b) of magnitude 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Sequence
-
-import math
 
 import numpy as np
 from scipy import optimize

@@ -78,8 +78,7 @@ def test_single_port_interactive_flow():
     with EmulatedBus(CFG, None, truth_config=truth, time_scale=0.0) as sim:
         def wait_for_user(k, guess):
             ticks = np.array([sim.servos[int(j.id)].pos for j in sim.joints], float)
-            q = np.concatenate([kin.ticks_to_angles(f.joints, ticks[sl])
-                                for f, sl in zip(truth.fingers, truth.joint_slices().values())])
+            q = kin.ticks_to_angles(truth.joints, ticks)
             margin = dataclasses.replace(disks[k], params={"r": DISK.params["r"] + 5.0})
             assert not ContactWorld(truth, margin).penetrates(q), f"a pad is in the way of placement {k}"
             asked.append((k, tuple(guess)))

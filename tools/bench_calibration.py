@@ -64,8 +64,9 @@ def placed_scenes(scene_path: str, k: int, tmp: Path) -> list[tuple[Path, object
     import yaml
 
     from recognizer.scene import load_scene
+    from recognizer.yamlfile import read_yaml
 
-    raw = yaml.safe_load(Path(scene_path).read_text())
+    raw = read_yaml(scene_path, "scene")
     out = []
     for i, (dx, dy, dth) in enumerate(PLACEMENT_OFFSETS[:k]):
         pose = dict(raw["object"]["pose"])

@@ -23,7 +23,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--out", required=True, help="where to write the calibrated config")
     parser.add_argument("--place", action="append", metavar="X,Y",
                         help="expected disk centre (mm, hand frame) of one placement; repeat per placement "
-                             "(default: 60,0 85,0 70,30 70,-30)")
+                             "(default: 60,0 85,0 65,30 65,-30)")
     parser.add_argument("--faces", type=int, default=10, help="face touches per finger, IK branch and placement")
     parser.add_argument("--corners", type=int, default=6, help="touches of each pad end per finger, branch, placement")
     parser.add_argument("--max-se-ticks", type=float, default=0.5, help="refuse if a zero_tick's standard error exceeds this")

@@ -72,9 +72,8 @@ def run(args) -> int:
     sys.setswitchinterval(5e-4)  # the emulator thread answers sooner while the SDK polls
     say(f"emulated bus: {scene.object.cls} {scene.object.params} in scene {scene.name}")
     q_open = open_pose(config)
-    ticks = np.concatenate([np.rint(kin.angles_to_ticks(f.joints, q_open[sl])) for f, sl in
-                            zip(config.fingers, config.joint_slices().values())]).astype(int)
-    with EmulatedBus(config, scene, truth_config=truth, time_scale=0.0, initial_ticks=[int(t) for t in ticks]) as sim:
+    ticks = np.rint(kin.angles_to_ticks(config.joints, q_open)).astype(int)
+    with EmulatedBus(config, scene, truth_config=truth, time_scale=0.0, initial_ticks=ticks.tolist()) as sim:
         if sim.world is not None and sim.world.penetrates(q_open):
             raise InputError(f"{scene_path}: the object overlaps the opened jaw's pads (each on the workspace "
                              f"disk's edge, config 'workspace'): place it clear of them")

@@ -258,19 +258,6 @@ class ContactWorld:
                 out[sl] = q_from[sl] + self._blocked_fraction(q_from, dq, i, float(sweep)) * dq[sl]
         return out
 
-    def path_clear(self, q_from, q_to, step_mm: float = 3.0) -> bool:
-        """Is the straight joint-space path free of penetration, checked every ``step_mm``
-        of pad travel (a planning test: no bisection)?"""
-        q_from = np.asarray(q_from, dtype=float)
-        dq = np.asarray(q_to, dtype=float) - q_from
-        sweeps = (np.abs(dq) * self._arms).reshape(len(self._fingers), 2).sum(axis=1)
-        clear = self._pad_clearances(self._pads(q_from))
-        active = [i for i, sw in enumerate(sweeps) if sw > 0.0 and sw >= clear[i]]
-        if not active:
-            return True
-        n = max(1, math.ceil(max(sweeps[i] for i in active) / step_mm))
-        return not any(self.penetrates(q_from + (k / n) * dq, active) for k in range(1, n + 1))
-
     def _blocked_fraction(self, q_from: np.ndarray, dq: np.ndarray, pad: int, sweep: float) -> float:
         """Largest fraction of finger ``pad``'s step without penetration (bisection)."""
         step = np.zeros_like(dq)

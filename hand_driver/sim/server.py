@@ -84,8 +84,9 @@ class EmulatedBus:
         self._zero = np.array([float(getattr(j, "zero_tick", 2048)) for j in self.truth_joints])
         self._dir = np.array([float(getattr(j, "direction", 1)) for j in self.truth_joints])
         self._truth = truth
-        self.world = _contact_world(truth, scene) if scene is not None else None
         self.lock = threading.RLock()
+        self.world = None
+        self.place(scene)
         self.sim_time = 0.0
         self.bytes_in = 0
         self.bytes_out = 0
@@ -148,8 +149,7 @@ class EmulatedBus:
         self.wait_idle()
         with self.lock:
             self.advance_to_now()
-            self._offset += dt
-            self._integrate(dt)
+            self.advance(dt)
 
     def advance(self, dt: float) -> None:
         """Jump simulated time dt seconds ahead of the clock, integrating motion, without
