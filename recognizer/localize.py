@@ -568,7 +568,8 @@ SCAN_V, SCAN_NV = (1e-2, 1e2), 81
 def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
     """The semicubical scan's score at shapes b and first-touch coordinates v0 on branch
     sg (broadcast arrays): χ² of positions, κ and κ_s with φ fitted exactly; returns
-    (cost, v per touch, scale 1/a²), cost inf where the point is not on the branch."""
+    (cost, v per touch, scale 1/a²), cost inf where a touch's v is not on the branch its
+    tangent angle points to (the other touches may lie on either branch)."""
     x, y, phi, k, ks = (np.asarray(c, float) for c in d.cols())
     rows = d.rows()
     w_pos = np.array([1.0 / r[5] ** 2 for r in rows])
@@ -578,7 +579,8 @@ def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
     psi = _wrap(phi - th[..., None])
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         v = (2 * np.tan(psi) - 2 * b) / 3
-        ok = np.all((np.abs(psi) < _PI / 2) == (sg > 0), axis=-1) & np.all(sg * v > 0, axis=-1)
+        # each touch on the branch its tangent points to: ψ within ±π/2 on v > 0, beyond on v < 0
+        ok = np.all((np.abs(psi) < _PI / 2) == (v > 0), axis=-1)
         px, py = v * v, v**3 + b * v * v
         c, s_ = np.cos(th)[..., None], np.sin(th)[..., None]
         qx, qy = c * px - s_ * py, s_ * px + c * py
@@ -608,7 +610,8 @@ def _semicubical_scan(d: Contacts, n_best: int = 4) -> list[tuple[dict, list]]:
     curve shrunk by a²) is scanned over its shape b and the first touch's v on both
     branches: the tangent angle ψ(v) = atan2(σ(3v + 2b), 2σ) (σ = sign v) is monotonic on
     a branch, so φ₀ fixes the frame θ = φ₀ − ψ(v₀) and every other touch's v from
-    tan ψᵢ = (3vᵢ + 2b)/2; the scale 1/a² and the translation follow from the positions by
+    tan ψᵢ = (3vᵢ + 2b)/2, on the branch (either: touches around the cusp's tip) that ψᵢ
+    points to; the scale 1/a² and the translation follow from the positions by
     linear least squares, and the point is scored by the χ² of the positions and of
     κ = a²κ̃(v), κ_s = a⁴κ̃_s(v) (eq. 18–19's quantities) under their stated deviations.
     The best ``n_best`` separated scan points are returned (a start needs only to lie in

@@ -13,7 +13,8 @@ boundary that is touched: its largest chord) drawn from ``size_range``; each cla
 shape is drawn at unit size and scaled so that the touched region spans exactly L, with
 random aspect (ellipse b/a in [0.35, 0.9], hyperbola b/a in [0.4, 2.0], cubic
 coefficients of either sign, the cubics' second coefficient (c, b) of magnitude in
-[0.3, 1]).
+[0.3, 1]). The semicubical parabola is touched on both branches around its cusp
+(:func:`region`).
 """
 
 from __future__ import annotations
@@ -112,9 +113,18 @@ def _signed(rng: np.random.Generator, lo: float, hi: float) -> float:
     return float(rng.choice([-1.0, 1.0]) * rng.uniform(lo, hi))
 
 
-def extent(curve: Curve, t_range: tuple[float, float], n: int = 400) -> float:
-    """Largest distance between two points of the curve over ``t_range`` (mm)."""
-    x, y = curve.point(np.linspace(*t_range, n))
+def region(cls: str, t_range: tuple[float, float], n: int = 400) -> np.ndarray:
+    """Parameters t of a class's touched region: ``n`` over ``t_range``, and for the
+    semicubical parabola as many over its mirror −t_range too (its other branch: an
+    object's boundary runs along both branches into the cusp's tip, and touches fall on
+    either side of it, as they fall on both sides of a parabola's vertex)."""
+    t = np.linspace(*t_range, n)
+    return np.concatenate((-t[::-1], t)) if cls == "semicubical_parabola" else t
+
+
+def extent(curve: Curve, t: np.ndarray) -> float:
+    """Largest distance between two points of the curve at parameters ``t`` (mm)."""
+    x, y = curve.point(np.asarray(t, dtype=float))
     return float(np.sqrt(np.max((x[:, None] - x[None, :]) ** 2 + (y[:, None] - y[None, :]) ** 2)))
 
 
@@ -151,12 +161,12 @@ def random_shape(cls: str, rng: np.random.Generator, size_range: tuple[float, fl
         params, t_range = {"a": float(rng.choice([-1.0, 1.0]) * _uniform(rng, 0.25, 0.75)),
                            "c": _signed(rng, 0.3, 1.0)}, (-1.0, 1.0)
     elif cls == "semicubical_parabola":
-        # (t², t³ + b t²) with contacts at t ∈ [0.65, 1.6]: from about a sixth of the touched
-        # extent away from the cusp (touches stay smooth) to its far end
-        params, t_range = {"a": 1.0, "b": _signed(rng, 0.3, 1.0)}, (0.65, 1.6)
+        # (t², t³ + b t²) with contacts at |t| ∈ [0.8, 1.6] on either branch: from 8–16 % of
+        # the touched extent away from the cusp (no touch reaches across it) to the far ends
+        params, t_range = {"a": 1.0, "b": _signed(rng, 0.3, 1.0)}, (0.8, 1.6)
     else:
         raise ValueError(f"unknown class {cls!r}")
-    params, t_range = _scaled(cls, params, t_range, L / extent(CURVES[cls](params), t_range))
+    params, t_range = _scaled(cls, params, t_range, L / extent(CURVES[cls](params), region(cls, t_range)))
     pose = Pose(_uniform(rng, -np.pi, np.pi), _uniform(rng, -pose_range, pose_range) * 0.2 + pose_range,
                 _uniform(rng, -pose_range, pose_range) * 0.2)
     return Shape(cls, params, pose, L, t_range, CURVES[cls](params))
@@ -165,14 +175,14 @@ def random_shape(cls: str, rng: np.random.Generator, size_range: tuple[float, fl
 def contact_ts(shape: Shape, k: int, rng: np.random.Generator, margin: float = 0.0) -> np.ndarray:
     """``k`` contact parameters spread over the shape's t-range: one uniformly drawn in
     each of k equal slices (inner ``margin`` fraction of every slice excluded), so the
-    touches see different parts of the boundary. The semicubical parabola's branch
-    (t > 0 or t < 0) is drawn at random."""
+    touches see different parts of the boundary. The semicubical parabola's touches each
+    fall on a branch (t > 0 or t < 0) drawn at random (``region``); increasing t."""
     lo, hi = shape.t_range
     edges = np.linspace(lo, hi, k + 1)
     w = edges[1] - edges[0]
     ts = np.array([_uniform(rng, e + margin * w, e + (1 - margin) * w) for e in edges[:-1]])
-    if shape.cls == "semicubical_parabola" and rng.random() < 0.5:
-        ts = -ts[::-1]
+    if shape.cls == "semicubical_parabola":
+        ts = np.sort(ts * rng.choice([-1.0, 1.0], size=k))
     return ts
 
 
