@@ -47,6 +47,12 @@ MODEL_ALPHA = 1e-3
 _MEAS = ("x", "y", "phi", "kappa", "kappa_s")
 
 
+def _pos_sd(nz: NoiseModel) -> float:
+    """One isotropic deviation per contact position (the larger of across and along the
+    tangent); refinement weighs every sample across and along its tangent separately."""
+    return max(nz.pos, nz.along)
+
+
 def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
     """Local geometry of every touch: contacts as given (covariance from the request or
     zero); samples-touches through recognizer.estimate.estimate_local."""
@@ -55,7 +61,7 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
     for i, t in enumerate(request.touches):
         if isinstance(t, ContactTouch):
             nz = noise or NoiseModel()
-            rows.append((t.x, t.y, t.phi, t.kappa, t.kappa_s, t.cov, max(nz.pos, nz.along), nz.phi))
+            rows.append((t.x, t.y, t.phi, t.kappa, t.kappa_s, t.cov, _pos_sd(nz), nz.phi))
         else:
             from recognizer.estimate import estimate_local
 
@@ -65,10 +71,7 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
             # φ carries a truncation error no covariance states (up to 1e-2 rad on noise-free
             # hyperbola touches, judged at the 1e-7 floor: right classes were rejected)
             phi_m = float(np.asarray(t.phi, float)[len(t.phi) // 2])
-            # one isotropic deviation per contact position here (the larger); refinement
-            # weighs every sample across and along its tangent separately
-            rows.append((g.x, g.y, phi_m, g.kappa, g.kappa_s, np.asarray(g.cov, float), max(nz.pos, nz.along),
-                         nz.phi))
+            rows.append((g.x, g.y, phi_m, g.kappa, g.kappa_s, np.asarray(g.cov, float), _pos_sd(nz), nz.phi))
     cols = list(zip(*rows))
     arr = [np.array(c, dtype=float) for c in cols[:5]]
     return Contacts(*arr, np.array(cols[5], dtype=float).reshape(-1, 2, 2), np.array(cols[6], float),
@@ -217,9 +220,8 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
         if d.n < MIN_TOUCHES[cls]:
             skipped[cls] = f"needs {MIN_TOUCHES[cls]} touches, got {d.n}"
             continue
-        dof = 5 * d.n - (d.n + {"line": 2, "circle": 3}.get(cls, 5))
-        give_up = 1e4 * chi2_limit(options.alpha, max(dof, 1))
         limit = chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[cls] + d.n), 1))  # as in _candidate
+        give_up = 1e4 * limit
         if options.refine and cls in ("cubical_parabola", "semicubical_parabola"):
             fits = fit_class_every_start(cls, d, give_up=give_up, sigma_below=limit)
         else:

@@ -10,21 +10,24 @@ residual RMS drops to the quantization level. A smaller plan than the command's 
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 
 import numpy as np
 import pytest
 
 from hand_driver import calibration as cal
-from hand_driver.bus import JointBus
 from hand_driver.config import dump_config, load_config, perturbed as perturbed_config
-from hand_driver.motion import Jaw, LockstepClock
+from hand_driver.motion import LockstepClock
 from hand_driver.sim.server import EmulatedBus
 from recognizer.curves import Pose
 from recognizer.scene import load_scene
+from tools.cmd_calibrate import touch_placements
 
 CFG = load_config("config/jaw.yaml")
 DISK = load_scene("config/scenes/calibration.yaml").object
+#: lockstep: a loaded host may answer slowly
+BUS_OPTIONS = {"handle_signals": False, "timeout_s": 0.5}
 
 
 def truth_config(rng):
@@ -37,16 +40,16 @@ def test_calibration_on_the_emulated_bus_meets_the_target(seed, tmp_path):
     truth = truth_config(rng)
     nominal_err = cal._pack(CFG) - cal._pack(truth)
     assert np.max(np.abs(nominal_err[[0, 1, 5, 6]])) > 5.0  # the nominal config is far off
-    readings = []
-    for k, (x, y) in enumerate(cal.DEFAULT_PLACEMENTS):
-        disk = dataclasses.replace(DISK, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
-        with EmulatedBus(CFG, disk, truth_config=truth, time_scale=0.0) as sim, \
-                JointBus(sim.port, CFG.bus.baudrate, CFG.joints, handle_signals=False,
-                         timeout_s=0.5) as bus:  # lockstep: a loaded host may answer slowly
-            jaw = Jaw(bus, CFG, clock=LockstepClock(sim))
-            got, center, _ = cal.touch_reference(jaw, DISK, (x, y), placement=k, faces=4, corners=3)
-        assert np.hypot(center[0] - disk.pose.x, center[1] - disk.pose.y) < 5.0  # located (nominal geometry)
-        readings += got
+    places = list(cal.DEFAULT_PLACEMENTS)
+    disks = [dataclasses.replace(DISK, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
+             for x, y in places]
+    with contextlib.ExitStack() as stack:  # one emulated bus per placement, as with one port each
+        sims = [stack.enter_context(EmulatedBus(CFG, d, truth_config=truth, time_scale=0.0)) for d in disks]
+        readings, centres = touch_placements(CFG, DISK, places, [s.port for s in sims], faces=4, corners=3,
+                                             clock_for=lambda k: LockstepClock(sims[k]), say=lambda line: None,
+                                             bus_options=BUS_OPTIONS)
+    for d, (cx, cy) in zip(disks, centres):
+        assert np.hypot(cx - d.pose.x, cy - d.pose.y) < 5.0  # located (nominal geometry)
     result = cal.fit(CFG, DISK, readings)  # default tolerances: se ≤ 0.5 tick, ≤ 0.05 mm
     err = cal._pack(result.config) - cal._pack(truth)
     for e, d in zip(result.estimates, err):
@@ -67,7 +70,6 @@ def test_single_port_interactive_flow():
     pad-end touches per finger, branch and placement)."""
     from hand_driver import kinematics as kin
     from hand_driver.sim.physics import ContactWorld
-    from tools.cmd_calibrate import touch_placements
 
     rng = np.random.default_rng(21)
     truth = truth_config(rng)
@@ -84,9 +86,9 @@ def test_single_port_interactive_flow():
             asked.append((k, tuple(guess)))
             sim.place(disks[k])
 
-        readings = touch_placements(CFG, DISK, places, [sim.port], faces=3, corners=2,
-                                    clock_for=lambda: LockstepClock(sim), wait_for_user=wait_for_user,
-                                    say=lines.append, bus_options={"handle_signals": False, "timeout_s": 0.5})
+        readings, _ = touch_placements(CFG, DISK, places, [sim.port], faces=3, corners=2,
+                                       clock_for=lambda k: LockstepClock(sim), say=lines.append,
+                                       wait_for_user=wait_for_user, bus_options=BUS_OPTIONS)
     assert asked == [(k, tuple(p)) for k, p in enumerate(places)]
     assert len(lines) == len(places) and all(f"placement {k + 1}: disk found" in line for k, line in enumerate(lines))
     result = cal.fit(CFG, DISK, readings, tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})

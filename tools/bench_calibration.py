@@ -15,6 +15,7 @@ Run: ``python -m tools.bench_calibration [--seed N] [--placements K]``."""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import dataclasses
 import json
 import math
@@ -35,22 +36,24 @@ def perturbed(cfg, seed: int):
 
 
 def calibrate(cfg, truth, rng, faces: int, corners: int):
+    """``tactile calibrate``'s touches (one emulated bus per suggested placement, the disk
+    off it by up to ±3 mm) and fit."""
     from hand_driver import calibration as cal
-    from hand_driver.bus import JointBus
-    from hand_driver.motion import Jaw, LockstepClock
+    from hand_driver.motion import LockstepClock
     from hand_driver.sim.server import EmulatedBus
     from recognizer.curves import Pose
     from recognizer.scene import load_scene
+    from tools.cmd_calibrate import touch_placements
 
     disk = load_scene("config/scenes/calibration.yaml").object
-    readings = []
-    for k, (x, y) in enumerate(cal.DEFAULT_PLACEMENTS):
-        placed = dataclasses.replace(disk, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
-        with EmulatedBus(cfg, placed, truth_config=truth, time_scale=0.0) as sim, \
-                JointBus(sim.port, cfg.bus.baudrate, cfg.joints, handle_signals=False, timeout_s=0.5) as bus:
-            got, _, _ = cal.touch_reference(Jaw(bus, cfg, clock=LockstepClock(sim)), disk, (x, y), placement=k,
-                                            faces=faces, corners=corners)
-        readings += got
+    places = list(cal.DEFAULT_PLACEMENTS)
+    placed = [dataclasses.replace(disk, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
+              for x, y in places]
+    with contextlib.ExitStack() as stack:
+        sims = [stack.enter_context(EmulatedBus(cfg, d, truth_config=truth, time_scale=0.0)) for d in placed]
+        readings, _ = touch_placements(cfg, disk, places, [s.port for s in sims], faces=faces, corners=corners,
+                                       clock_for=lambda k: LockstepClock(sims[k]), say=lambda line: None,
+                                       bus_options={"handle_signals": False, "timeout_s": 0.5})
     return cal.fit(cfg, disk, readings, tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})
 
 

@@ -115,7 +115,7 @@ def main(argv: list[str] | None = None) -> int:
         scenes.append((path, obj))
     with ThreadPoolExecutor(args.jobs) as pool:
         results = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), args.profile), scenes))
-    print(f"| # | object | answer | right | parameter error | touches used/tried | robot time | wall time |"
+    print("| # | object | answer | right | parameter error | touches used/tried | robot time | wall time |"
           + "".join(f" p(χ²) pos {p:g} |" for p in args.chi2))
     print("|---" * (8 + len(args.chi2)) + "|")
     right = 0

@@ -48,22 +48,25 @@ def _placements(args) -> list[tuple[float, float]]:
     return out
 
 
-def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, clock_for, wait_for_user,
-                     say, bus_options: dict | None = None) -> list:
-    """Calibration readings from every placement of the reference disk. With one port for
-    several placements the fingers are parked (opened outward) before each one and
-    ``wait_for_user(k, guess)`` returns once the disk is fixed near ``guess``; with one
-    port per placement each bus shows its own. ``clock_for()`` makes each Jaw's clock."""
+def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, clock_for, say,
+                     wait_for_user=None, bus_options: dict | None = None) -> tuple[list, list]:
+    """Calibration readings from every placement of the reference disk, and the disk's
+    centre as each placement located it. With one port for several placements the fingers
+    are parked (opened outward) before each one and ``wait_for_user(k, guess)`` returns
+    once the disk is fixed near ``guess``; with one port per placement each bus shows its
+    own. ``clock_for(k)`` makes the Jaw's clock for placement k."""
     from hand_driver import calibration as cal
     from hand_driver.bus import JointBus
     from hand_driver.motion import Jaw
 
-    readings = []
     ask = len(ports) == 1 and len(places) > 1
+    if ask and wait_for_user is None:
+        raise ValueError("one port for several placements needs wait_for_user")
+    readings, centres = [], []
     for k, guess in enumerate(places):
         port = ports[k] if len(ports) > 1 else ports[0]
         with JointBus(port, cfg.bus.baudrate, cfg.joints, retries=cfg.bus.retries, **(bus_options or {})) as bus:
-            jaw = Jaw(bus, cfg, clock=clock_for())
+            jaw = Jaw(bus, cfg, clock=clock_for(k))
             if ask:
                 cal.park(jaw)
                 wait_for_user(k, guess)
@@ -71,7 +74,8 @@ def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, cloc
         say(f"placement {k + 1}: disk found at ({center[0]:.2f}, {center[1]:.2f}) mm, "
             f"{len(got)} touches, {len(skipped)} planned touches skipped")
         readings += got
-    return readings
+        centres.append(center)
+    return readings, centres
 
 
 def run(args) -> int:
@@ -106,8 +110,9 @@ def run(args) -> int:
             f"and press Enter")
         sys.stdin.readline()
 
-    readings = touch_placements(cfg, scene.object, places, args.port, faces=args.faces, corners=args.corners,
-                                clock_for=lambda: WallClock(args.time_scale), wait_for_user=wait_for_user, say=say)
+    readings, _ = touch_placements(cfg, scene.object, places, args.port, faces=args.faces, corners=args.corners,
+                                   clock_for=lambda k: WallClock(args.time_scale), say=say,
+                                   wait_for_user=wait_for_user)
     result = cal.fit(cfg, scene.object, readings, tolerances)
     dump_config(result.config, out, header=f"calibrated by tactile calibrate from {src} "
                                            f"({result.n_readings} touches, residual RMS "
