@@ -20,6 +20,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="random shapes per class for the baseline and noise-free rows (default 100, quick 3)")
     parser.add_argument("--sweep-shapes", type=int, default=None,
                         help="random shapes per class for every other sweep row (default 3, quick 1)")
+    parser.add_argument("--profile-shapes", type=int, default=None,
+                        help="random shapes per class for the profile rows (default: as --sweep-shapes)")
     parser.add_argument("--table-shapes", type=int, default=None,
                         help="shapes (points) per class for the paper's Tables 1 and 3 (default 100, quick 4)")
     parser.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
@@ -47,6 +49,7 @@ def run(args: argparse.Namespace) -> int:
     shapes = _positive(args.shapes, 3 if args.quick else 100, "--shapes")
     sweep = _positive(args.sweep_shapes, 1 if args.quick else 3, "--sweep-shapes")
     table = _positive(args.table_shapes, 4 if args.quick else 100, "--table-shapes")
+    profile = _positive(args.profile_shapes, sweep, "--profile-shapes")
     jobs = _positive(args.jobs, bench.default_jobs(), "--jobs")
     out = Path(args.out)
     try:
@@ -59,10 +62,12 @@ def run(args: argparse.Namespace) -> int:
         sys.stderr.flush()
 
     t0 = time.perf_counter()
-    result = bench.run_bench(bench.default_configs(), classes, shapes, sweep, args.seed, jobs, table, progress)
+    result = bench.run_bench(bench.default_configs(), classes, shapes, sweep, args.seed, jobs, table, progress,
+                             profile_shapes=profile)
     command = "tactile bench" + (" --quick" if args.quick else "") + \
         (f" --shapes {args.shapes}" if args.shapes else "") + \
         (f" --sweep-shapes {args.sweep_shapes}" if args.sweep_shapes else "") + \
+        (f" --profile-shapes {args.profile_shapes}" if args.profile_shapes else "") + \
         (f" --table-shapes {args.table_shapes}" if args.table_shapes else "") + \
         (f" --seed {args.seed}" if args.seed != 1 else "") + \
         (f" --classes {' '.join(args.classes)}" if args.classes else "")
