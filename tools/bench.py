@@ -42,7 +42,7 @@ from typing import Callable, Iterable
 import numpy as np
 
 from recognizer import synth
-from recognizer.curves import CURVES, Curve, Pose
+from recognizer.curves import CURVES, Pose
 from recognizer.profiles import PROFILES, robot_time_s
 
 CLASSES = tuple(CURVES)
@@ -239,12 +239,6 @@ PAPER_TABLE3 = {"ellipse": (0.02, 7.99, 0.40), "hyperbola": (0.10, 9.71, 1.15), 
                 "cubical_parabola": (0.02, 7.49, 0.83), "semicubical_parabola": (0.04, 8.09, 1.23)}
 
 
-def _size(curve: Curve, t_range: tuple[float, float]) -> float:
-    t = np.linspace(*t_range, 400)
-    x, y = curve.point(t)
-    return float(max(np.ptp(x), np.ptp(y)))
-
-
 def table1_trial(task: tuple) -> dict:
     """One invariant value per estimator from random contact points of a fixed shape."""
     from recognizer import invariants as inv
@@ -253,7 +247,7 @@ def table1_trial(task: tuple) -> dict:
     name, i, seed = task
     cls, params, t_range, _ = TABLE1_SHAPES[name]
     curve = CURVES[cls](params)
-    size = _size(curve, t_range)
+    size = synth.extent(curve, np.linspace(*t_range, 400))  # the touched range's largest chord, as synth's L
     rng = _rng(seed, 99, list(TABLE1_SHAPES).index(name), i)
     npts = 2 if name.startswith("I_c1") else 1
     lo, hi = t_range
