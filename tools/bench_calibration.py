@@ -110,6 +110,18 @@ def errors(answer: dict | str, obj) -> tuple[float, str]:
                  f"theta {1e3 * abs(math.remainder(p['theta'] - obj.pose.theta, period)):.1f} mrad")
 
 
+def _mean_se(errs: list[float]) -> tuple[float, str]:
+    """Mean of the answered demos' errors (%), and it as text with its standard error and
+    the number of failed demos (wrong class, refusal, fault)."""
+    ok = np.array([e for e in errs if math.isfinite(e)])
+    if ok.size == 0:
+        return math.inf, "no answer"
+    mean = float(ok.mean())
+    text = f"{mean:.2f} %" + (f" ± {ok.std(ddof=1) / math.sqrt(ok.size):.2f}" if ok.size > 1 else "")
+    failed = len(errs) - ok.size
+    return (mean if not failed else math.inf), text + (f" ({failed} failed)" if failed else "")
+
+
 def main() -> int:
     from hand_driver import calibration as cal
     from hand_driver.config import dump_config, load_config
@@ -151,13 +163,12 @@ def main() -> int:
     kinds = [e.kind for e in result.estimates]
     worst_tick = max(abs(d) for d, k in zip(err, kinds) if k == "zero_tick")
     worst_mm = max(abs(d) for d, k in zip(err, kinds) if k != "zero_tick")
-    perfect, before, after = (float(np.mean(v)) for v in demo_err.values())
-    se = {label: float(np.std(v, ddof=1) / math.sqrt(len(v))) if len(v) > 1 else float("nan")
-          for label, v in demo_err.items()}
+    stats = {label: _mean_se(v) for label, v in demo_err.items()}
+    perfect, after = stats["perfect config"][0], stats["after calibration"][0]
     print(f"summary: seed {args.seed}, worst zero tick {worst_tick:.2f} tick, worst length {worst_mm:.3f} mm, "
           f"demo mean error over {args.placements} placements perfect/before/after "
-          f"{perfect:.2f} / {before:.2f} / {after:.2f} % (standard errors {' / '.join(f'{v:.2f}' for v in se.values())}), "
-          f"after/perfect {after / perfect:.2f}")
+          f"{' / '.join(text for *_, text in stats.values())}, after/perfect "
+          f"{f'{after / perfect:.2f}' if math.isfinite(perfect) else 'n/a (a perfect-config demo failed)'}")
     return 0
 
 
