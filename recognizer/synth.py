@@ -172,12 +172,32 @@ def random_shape(cls: str, rng: np.random.Generator, size_range: tuple[float, fl
     return Shape(cls, params, pose, L, t_range, CURVES[cls](params))
 
 
-def contact_ts(shape: Shape, k: int, rng: np.random.Generator, margin: float = 0.0) -> np.ndarray:
+def _clear_of_cusp(curve: Curve, reach: float, t_hi: float) -> float:
+    """Smallest |t| of the semicubical parabola beyond which both branches are at least
+    ``reach`` (mm) of arc from the cusp (with b ≠ 0 they differ): a touch reaching
+    ``reach`` either side of its contact stays on its branch (a pad cannot roll through
+    a cusp)."""
+    def f(u: float) -> float:
+        return min(float(curve.arc_length(0.0, u)), float(curve.arc_length(-u, 0.0))) - reach
+
+    while f(t_hi) < 0:
+        t_hi *= 2.0
+    return float(optimize.brentq(f, 0.0, t_hi, xtol=1e-12))
+
+
+def contact_ts(shape: Shape, k: int, rng: np.random.Generator, margin: float = 0.0,
+               reach: float = 0.0) -> np.ndarray:
     """``k`` contact parameters spread over the shape's t-range: one uniformly drawn in
     each of k equal slices (inner ``margin`` fraction of every slice excluded), so the
     touches see different parts of the boundary. The semicubical parabola's touches each
-    fall on a branch (t > 0 or t < 0) drawn at random (``region``); increasing t."""
+    fall on a branch (t > 0 or t < 0) drawn at random (``region``), and where a touch
+    sampling ``reach`` mm of arc either side of its contact could cross the cusp, the
+    range is moved out (same width) until none can; increasing t."""
     lo, hi = shape.t_range
+    if shape.cls == "semicubical_parabola" and reach > 0:
+        shift = _clear_of_cusp(shape.curve, 1.02 * reach, hi) - (lo + margin * (hi - lo) / k)
+        if shift > 0:
+            lo, hi = lo + shift, hi + shift
     edges = np.linspace(lo, hi, k + 1)
     w = edges[1] - edges[0]
     ts = np.array([_uniform(rng, e + margin * w, e + (1 - margin) * w) for e in edges[:-1]])

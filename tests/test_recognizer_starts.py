@@ -154,3 +154,22 @@ def test_semicubical_touched_on_both_branches(seed):
     assert out.cls == "semicubical_parabola"
     for k, v in shape.params.items():
         assert out.params[k] == pytest.approx(v, rel=0.05)
+
+
+def test_semicubical_touches_never_cross_the_cusp():
+    """A pad cannot roll through a cusp: with ``reach`` (mm of arc either side of the
+    contact) the semicubical's contacts are moved out until no sample of a long touch
+    (15 samples 4 % of L apart: 28 % of L either side) lands on the other branch; without
+    it some do."""
+    crossed = {0: 0, 1: 0}
+    for seed in range(40):
+        for with_reach in (0, 1):
+            rng = np.random.default_rng([17, seed])
+            shape = synth.random_shape("semicubical_parabola", rng)
+            reach = 7 * 0.04 * shape.size
+            ts = synth.contact_ts(shape, 3, rng, margin=0.1, reach=reach * with_reach)
+            for t in ts:
+                ends = synth.t_at_arc(shape.curve, float(t), np.array([-reach, reach]))
+                crossed[with_reach] += int(np.sign(ends[0]) != np.sign(ends[1]))
+    assert crossed[1] == 0
+    assert crossed[0] > 0
