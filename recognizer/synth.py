@@ -162,7 +162,8 @@ def random_shape(cls: str, rng: np.random.Generator, size_range: tuple[float, fl
                            "c": _signed(rng, 0.3, 1.0)}, (-1.0, 1.0)
     elif cls == "semicubical_parabola":
         # (t², t³ + b t²) with contacts at |t| ∈ [0.8, 1.6] on either branch: from 8–16 % of
-        # the touched extent away from the cusp (no touch reaches across it) to the far ends
+        # the touched extent away from the cusp (no touch of 9 samples 2 % of L apart reaches
+        # across it; longer touches: contact_ts(reach=...)) to the far ends
         params, t_range = {"a": 1.0, "b": _signed(rng, 0.3, 1.0)}, (0.8, 1.6)
     else:
         raise ValueError(f"unknown class {cls!r}")
