@@ -621,20 +621,17 @@ def _semicubical_scan(d: Contacts, n_best: int = 4) -> list[tuple[dict, list]]:
     found = []
     for sg in (1.0, -1.0):
         v0 = sg * g[None, :] * np.maximum(1.0, np.abs(bs))[:, None]
-        cost = _scan_cost(d, bs[:, None], v0, sg)[0]
+        cost, v, scale = _scan_cost(d, bs[:, None], v0, sg)
         for flat in np.argsort(cost, axis=None)[: 50 * n_best]:
             i, j = np.unravel_index(flat, cost.shape)
             if not np.isfinite(cost[i, j]):
                 break
             if not any(s == sg and abs(i - ii) <= 4 and abs(j - jj) <= 6 for _, s, ii, jj, _ in found):
-                found.append((float(cost[i, j]), sg, int(i), int(j), float(v0[i, j])))
-    found.sort()
-    starts = []
-    for _, sg, i, j, v0 in found[:n_best]:
-        _, v, scale = _scan_cost(d, np.array(bs[i]), np.array(v0), sg)
-        root = math.sqrt(float(scale))
-        starts.append(({"a": 1.0 / root, "b": float(bs[i])}, [float(vi) * root for vi in v]))
-    return starts
+                root = math.sqrt(float(scale[i, j]))
+                found.append((float(cost[i, j]), sg, int(i), int(j),
+                              ({"a": 1.0 / root, "b": float(bs[i])}, [float(vi) * root for vi in v[i, j]])))
+    found.sort(key=lambda f: f[:4])
+    return [start for *_, start in found[:n_best]]
 
 
 def _starts(cls: str, d: Contacts, every_pair: bool = False):
