@@ -79,6 +79,12 @@ def t_at_arc(curve: Curve, t0: float, s: np.ndarray) -> np.ndarray:
     return out
 
 
+def touch_reach(n: int, ds: float) -> float:
+    """Arc length (mm) a touch of ``n`` samples ``ds`` apart reaches from its contact, on
+    its longer side (:func:`sample_touch`'s layout: the contact is sample n // 2)."""
+    return max(n // 2, n - 1 - n // 2) * ds
+
+
 def sample_touch(curve: Curve, pose: Pose, t_c: float, n: int, ds: float, direction: int = 1,
                  noise: SynthNoise | None = None, rng: np.random.Generator | None = None,
                  with_s: bool = True) -> tuple[SamplesTouch, np.ndarray]:
@@ -192,8 +198,8 @@ def contact_ts(shape: Shape, k: int, rng: np.random.Generator, margin: float = 0
     each of k equal slices (inner ``margin`` fraction of every slice excluded), so the
     touches see different parts of the boundary. The semicubical parabola's touches each
     fall on a branch (t > 0 or t < 0) drawn at random (``region``), and where a touch
-    sampling ``reach`` mm of arc either side of its contact could cross the cusp, the
-    range is moved out (same width) until none can; increasing t."""
+    reaching ``reach`` mm of arc either side of its contact (:func:`touch_reach`) could
+    cross the cusp, the range is moved out (same width) until none can; increasing t."""
     lo, hi = shape.t_range
     if shape.cls == "semicubical_parabola" and reach > 0:
         shift = _clear_of_cusp(shape.curve, 1.02 * reach, hi) - (lo + margin * (hi - lo) / k)

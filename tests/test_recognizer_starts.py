@@ -161,12 +161,13 @@ def test_semicubical_touches_never_cross_the_cusp():
     contact) the semicubical's contacts are moved out until no sample of a long touch
     (15 samples 4 % of L apart: 28 % of L either side) lands on the other branch; without
     it some do."""
+    assert synth.touch_reach(15, 0.04) == pytest.approx(0.28)
     crossed = {0: 0, 1: 0}
     for seed in range(40):
         for with_reach in (0, 1):
             rng = np.random.default_rng([17, seed])
             shape = synth.random_shape("semicubical_parabola", rng)
-            reach = 7 * 0.04 * shape.size
+            reach = synth.touch_reach(15, 0.04) * shape.size
             ts = synth.contact_ts(shape, 3, rng, margin=0.1, reach=reach * with_reach)
             for t in ts:
                 ends = synth.t_at_arc(shape.curve, float(t), np.array([-reach, reach]))

@@ -106,8 +106,8 @@ def _shape_and_touches(cls: str, i: int, seed: int, cfg: Config, with_s: bool | 
     ci = CLASSES.index(cls)
     rs = _rng(seed, ci, i, cfg.touches)
     shape = synth.random_shape(cls, rs)
-    reach = max(cfg.samples // 2, cfg.samples - 1 - cfg.samples // 2) * cfg.spacing * shape.size
-    ts = synth.contact_ts(shape, cfg.touches, rs, margin=0.1, reach=reach)
+    ts = synth.contact_ts(shape, cfg.touches, rs, margin=0.1,
+                          reach=synth.touch_reach(cfg.samples, cfg.spacing) * shape.size)
     direction = int(rs.choice([-1, 1]))
     rn = _rng(seed, ci, i, cfg.touches, 1)
     noise = synth.SynthNoise(cfg.noise * SPEC_PHI, cfg.noise * SPEC_POS_FRAC * shape.size)
