@@ -50,7 +50,7 @@ from hand_driver.errors import (
     ServoHardwareError,
     ServoStatusError,
 )
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 log = logging.getLogger(__name__)
 

@@ -36,7 +36,7 @@ from scipy.optimize import least_squares
 
 from hand_driver import kinematics as kin
 from hand_driver.config import JawConfig
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 #: a reading whose residual exceeds this many quantization σ is not the modelled contact
 OUTLIER_Z = 4.0

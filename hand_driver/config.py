@@ -23,8 +23,8 @@ from typing import Any
 
 import yaml
 
-from recognizer.errors import InputError
-from recognizer.yamlfile import read_yaml
+from tactile_common.errors import InputError
+from tactile_common.yamlfile import read_yaml
 
 TICKS_PER_REV = 4096
 _FALLBACK_MODELS = ("XM430-W350", "XM430-W210", "XM540-W270", "XM540-W150",

@@ -1,13 +1,13 @@
 """Typed errors of the servo bus.
 
-Run-time faults derive from :class:`recognizer.errors.DeviceFault` (the CLI exits 1 with
+Run-time faults derive from :class:`tactile_common.errors.DeviceFault` (the CLI exits 1 with
 the message); mistakes a person fixes in a config or a call derive from
-:class:`recognizer.errors.InputError` (exit 2). Every message is one line.
+:class:`tactile_common.errors.InputError` (exit 2). Every message is one line.
 """
 
 from __future__ import annotations
 
-from recognizer.errors import DeviceFault, InputError
+from tactile_common.errors import DeviceFault, InputError
 
 
 class BusError(DeviceFault):

@@ -38,7 +38,7 @@ from hand_driver.motion import (
     rolling_touch,
     run_together,
 )
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 APPROACH_MARGIN_MM = 10.0
 CANDIDATE_SPREAD_DEG = 75.0

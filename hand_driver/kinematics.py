@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hand_driver.config import TICKS_PER_REV, FingerConfig, JawConfig, JointConfig
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 RAD_PER_TICK = 2.0 * math.pi / TICKS_PER_REV
 HALF_TICK_RAD = 0.5 * RAD_PER_TICK

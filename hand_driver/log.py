@@ -38,7 +38,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any, Iterable
 
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 LOG_FORMAT = "tactile-jaw-log"
 LOG_VERSION = 1

@@ -82,7 +82,7 @@ def options_for(request: Request, overrides: dict | None = None) -> RecognizeOpt
     """RecognizeOptions of a request: ``overrides`` (e.g. command-line flags) > the request's
     explicit options > the request's profile > the scene's profile
     (recognizer.profiles.resolve_options); defaults for whatever none of them sets."""
-    from recognizer.errors import InputError
+    from tactile_common.errors import InputError
     from recognizer.profiles import resolve_options
 
     opts = resolve_options(request.options, request.scene)

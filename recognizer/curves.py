@@ -19,7 +19,7 @@ from typing import ClassVar, Mapping
 import numpy as np
 from scipy import integrate, optimize, special
 
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 __all__ = ["CURVES", "Curve", "Pose", "validate_params", "DEFAULT_SIDE"]
 

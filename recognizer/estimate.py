@@ -47,7 +47,7 @@ import numpy as np
 
 from scipy import stats
 
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 SIGMA_PHI_FLOOR = 1e-10
 """rad: the smallest φ noise assumed when it is estimated from residuals."""

@@ -28,7 +28,7 @@ import math
 from dataclasses import dataclass
 from typing import Any, Mapping
 
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 ESTIMATORS = ("auto", "central", "poly")
 

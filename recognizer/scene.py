@@ -12,9 +12,9 @@ from pathlib import Path
 from typing import Mapping
 
 from recognizer.curves import CURVES, DEFAULT_SIDE, Pose, validate_params
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 from recognizer.touches import NoiseModel, parse_noise
-from recognizer.yamlfile import read_yaml
+from tactile_common.yamlfile import read_yaml
 
 __all__ = ["Scene", "SceneObject", "load_scene", "ALL_CLASSES"]
 

@@ -17,7 +17,7 @@ from typing import Mapping
 
 import numpy as np
 
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 __all__ = ["NoiseModel", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
            "MIN_TOUCHES"]

@@ -71,7 +71,7 @@ def placed_scenes(scene_path: str, k: int, tmp: Path) -> list[tuple[Path, object
     import yaml
 
     from recognizer.scene import load_scene
-    from recognizer.yamlfile import read_yaml
+    from tactile_common.yamlfile import read_yaml
 
     raw = read_yaml(scene_path, "scene")
     out = []

@@ -15,7 +15,7 @@ import argparse
 import importlib
 import sys
 
-from recognizer.errors import DeviceFault, InputError
+from tactile_common.errors import DeviceFault, InputError
 
 COMMANDS = {
     "demo": "tools.cmd_demo",

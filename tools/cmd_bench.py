@@ -7,7 +7,7 @@ import sys
 import time
 from pathlib import Path
 
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 HELP = "measures the speed–accuracy trade (noise, samples, span, touches, estimator, refinement) and writes a table and a plot"
 

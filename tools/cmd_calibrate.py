@@ -7,7 +7,7 @@ import json
 import sys
 from pathlib import Path
 
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 HELP = "fit the jaw's zero ticks, link lengths and pad offsets from touches on a reference disk; write a new config"
 

@@ -58,7 +58,7 @@ def run(args) -> int:
     from hand_driver.explore import open_pose
     from hand_driver.motion import LockstepClock
     from hand_driver.sim.server import EmulatedBus
-    from recognizer.errors import InputError
+    from tactile_common.errors import InputError
     from recognizer.scene import load_scene
 
     scene_path = default_path(args.scene)

@@ -50,8 +50,8 @@ class Session:
 
 
 def read_yaml_mapping(path: str, what: str) -> dict[str, Any]:
-    from recognizer.errors import InputError
-    from recognizer.yamlfile import read_yaml
+    from tactile_common.errors import InputError
+    from tactile_common.yamlfile import read_yaml
 
     obj = read_yaml(path, what)
     if not isinstance(obj, dict):
@@ -105,7 +105,7 @@ def describe(recognition: dict[str, Any]) -> str:
 
 def finish(session: Session, args, *, config, truth=None, extra_lines: list[str] = ()) -> int:
     """Print the session (JSON or for people), write the plot; exit status."""
-    from recognizer.errors import DeviceFault
+    from tactile_common.errors import DeviceFault
 
     ex = session.exploration
     if session.recognition is None:

@@ -39,7 +39,7 @@ def _answer(obj, args, base_dir, source):
 
 
 def _decode(text: str, source: str):
-    from recognizer.errors import InputError
+    from tactile_common.errors import InputError
 
     try:
         return json.loads(text)
@@ -50,7 +50,7 @@ def _decode(text: str, source: str):
 
 
 def run(args) -> int:
-    from recognizer.errors import InputError
+    from tactile_common.errors import InputError
 
     if args.alpha is not None and not 0.0 < args.alpha < 0.5:
         raise InputError(f"--alpha: must be in (0, 0.5), got {args.alpha}")

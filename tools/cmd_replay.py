@@ -24,7 +24,7 @@ def run(args) -> int:
     from hand_driver.config import parse_config
     from hand_driver.explore import TOUCH_NOISE, ExploreSettings, final_answer, logged_touches, make_recognizer
     from hand_driver.log import read_log
-    from recognizer.errors import InputError
+    from tactile_common.errors import InputError
     from tools.cmd_explore import describe
 
     contents = read_log(args.log)

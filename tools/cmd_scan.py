@@ -7,7 +7,7 @@ HELP = "list the Dynamixel servos answering on a port: id, model, firmware"
 
 def parse_ids(text: str) -> list[int]:
     """'1-5,8' → [1, 2, 3, 4, 5, 8]; ids 0..252."""
-    from recognizer.errors import InputError
+    from tactile_common.errors import InputError
 
     ids: list[int] = []
     for part in text.split(","):
@@ -34,7 +34,7 @@ def run(args) -> int:
     import json
 
     from hand_driver.bus import scan
-    from recognizer.errors import InputError
+    from tactile_common.errors import InputError
 
     try:
         bauds = [int(b) for b in args.baud.split(",")]

@@ -22,7 +22,7 @@ def run(args) -> int:
 
     from hand_driver.config import load_config
     from hand_driver.sim.server import EmulatedBus
-    from recognizer.errors import InputError
+    from tactile_common.errors import InputError
     from recognizer.scene import load_scene
 
     if not args.time_scale > 0:

@@ -172,7 +172,7 @@ def test_noise_across_and_along_the_tangent():
 
 
 def test_noise_pos_along_is_parsed_and_checked():
-    from recognizer.errors import InputError
+    from tactile_common.errors import InputError
     from recognizer.touches import parse_noise
 
     nm = parse_noise({"phi": 1e-3, "pos": 0.05, "pos_along": 0.5})

@@ -1,6 +1,6 @@
 """Reading the project's YAML files (scenes, jaw configs, logs' settings) in one place.
 
-Every failure is an :class:`~recognizer.errors.InputError` of one line that names the
+Every failure is an :class:`~tactile_common.errors.InputError` of one line that names the
 file, what it was meant to be, and (for a syntax error) the line.
 """
 
@@ -11,7 +11,7 @@ from typing import Any
 
 import yaml
 
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 
 def read_yaml(path: str | Path, what: str) -> Any:

@@ -9,7 +9,7 @@ import sympy as sp
 from scipy import integrate
 
 from recognizer.curves import CURVES, Pose, validate_params
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 T = sp.symbols("t", real=True)
 P = {n: sp.symbols(n, real=True) for n in ("a", "b", "c", "r")}

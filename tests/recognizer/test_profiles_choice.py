@@ -7,7 +7,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 from recognizer.profiles import (DEFAULT_PROFILE, DEFAULT_TIME_MODEL, PROFILES, Profile, get_profile,
                                  resolve_options, robot_time_s)
 from recognizer.result import RecognizeOptions

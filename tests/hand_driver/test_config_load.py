@@ -8,7 +8,7 @@ import pytest
 import yaml
 
 from hand_driver.config import dump_config, load_config, parse_config
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 from tools.cli import main
 
 DEFAULT = "config/jaw.yaml"

@@ -4,10 +4,10 @@ from pathlib import Path
 import pytest
 
 from recognizer.curves import CURVES, DEFAULT_SIDE
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 from recognizer.scene import load_scene
 
-SCENES = Path(__file__).resolve().parents[1] / "config" / "scenes"
+SCENES = Path(__file__).resolve().parents[2] / "config" / "scenes"
 MINE = ["conics", "ellipse", "circle", "parabola", "hyperbola", "cubics", "all"]
 
 

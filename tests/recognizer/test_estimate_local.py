@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 
 from recognizer import synth
 from recognizer.curves import CURVES, Pose
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 from recognizer.estimate import LocalGeometry, estimate_local
 from recognizer.touches import SamplesTouch
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import pytest
 
 from hand_driver.log import RunLog, read_log
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 
 
 @dataclass

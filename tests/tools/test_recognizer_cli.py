@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 
 from recognizer.curves import Pose
-from recognizer.errors import InputError
+from tactile_common.errors import InputError
 from recognizer.touches import ContactTouch, SamplesTouch, parse_request
 from tools.bench_recognizer import exact_request
 from tools.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 GOOD = exact_request("ellipse", {"a": 28.6, "b": 17.3}, [0.36, 1.86, 4.23], Pose(0.3, 120.0, 15.0), False)
 
 
