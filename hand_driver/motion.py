@@ -231,10 +231,19 @@ class Sample:
     reading: int
     psi: float  # commanded pad normal angle (rad)
     ticks: np.ndarray  # the finger's ticks at contact
-    psi_measured: float  # the pad's normal angle at contact (rad)
-    d: float  # measured pad line offset (mm)
+    line: kin.PadLine  # the pad at contact, from those ticks
     current_ma: float | None
     robot_time: float
+
+    @property
+    def psi_measured(self) -> float:
+        """The pad's outward normal angle at contact (rad)."""
+        return float(self.line.psi)
+
+    @property
+    def d(self) -> float:
+        """The measured pad line's offset (mm)."""
+        return float(self.line.d)
 
 
 @dataclass
@@ -307,8 +316,7 @@ def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_m
                    and history[-1] - history[-3] < 0.2 * step)
         felt = current is not None and current >= m.contact_current_ma
         if felt or stalled:
-            sample = Sample(reading=i, psi=psi, ticks=jaw.finger_ticks(state, finger),
-                            psi_measured=float(line.psi), d=float(line.d),
+            sample = Sample(reading=i, psi=psi, ticks=jaw.finger_ticks(state, finger), line=line,
                             current_ma=current, robot_time=jaw.robot_time())
             return ApproachResult(sample, d_meas - d_start, "current" if felt else "stall")
         if d_goal - d_start >= travel_mm:
@@ -354,7 +362,7 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
         for k, psi in enumerate(angles):
             psi = float(psi)
             if k > 0:
-                pivot, u = contact_on_pad(jaw.config, finger, result.samples)
+                pivot, u = contact_on_pad(result.samples)
                 length = jaw.config.finger(finger).pad.length_mm
                 if u is not None and not EDGE_MARGIN_MM <= u <= length - EDGE_MARGIN_MM:
                     result.outcome = "edge"
@@ -398,15 +406,15 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
     return result
 
 
-def contact_on_pad(config: JawConfig, finger: str, samples: list[Sample]) -> tuple[np.ndarray, float | None]:
+def contact_on_pad(samples: list[Sample]) -> tuple[np.ndarray, float | None]:
     """Where the pad last touched and its coordinate along the pad (mm from the proximal
     end), from a touch's samples so far: the intersection of the last two pad lines (their envelope point), or the pad's
     middle and None after a single sample."""
-    last = kin.finger_pad_line_from_ticks(config, finger, samples[-1].ticks)
+    last = samples[-1].line
     mid = 0.5 * (last.proximal + last.distal)
     if len(samples) < 2:
         return mid, None
-    prev = kin.finger_pad_line_from_ticks(config, finger, samples[-2].ticks)
+    prev = samples[-2].line
     a = np.array([last.normal, prev.normal])
     if abs(np.linalg.det(a)) < 1e-9:
         return mid, None

@@ -30,7 +30,7 @@ from scipy import special, stats
 
 from recognizer import invariants as inv
 from recognizer.localize import EPS_FLOOR, N_SHAPE, Contacts, fit_class, fit_class_every_start
-from recognizer.result import Candidate, Recognition, RecognizeOptions
+from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request
 
 __all__ = ["recognize", "contacts_of", "options_for", "DEFAULT_SAMPLES_NOISE"]
@@ -242,17 +242,16 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
     cands = _best_per_class(cands)
     consistent = [c for c in cands if c.consistent]
     ranking = sorted(cands, key=lambda c: (not c.consistent, c.bic))
-    rank_json = [{"class": c.cls, "consistent": c.consistent, "chi2": c.chi2, "dof": c.dof, "bic": c.bic,
-                  "p_value": c.p_value} for c in ranking]
+    ranked = [Ranked(c.cls, c.consistent, c.chi2, c.dof, c.bic, c.p_value) for c in ranking]
     timing = {"estimate_ms": 1e3 * (t_est - t0), "total_ms": 1e3 * (time.perf_counter() - t0)}
     if not consistent:
         pairs = _pair_invariants(d)
         reason = _unclassified_reason(cands, skipped, pairs, d)
         timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
-                           {}, reason, rank_json, timing)
+                           {}, reason, ranked, timing)
     best = choose(consistent)
     pairs = _pair_invariants(d) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, d, pairs),
-                       dict(best.uncertainty), None, rank_json, timing)
+                       dict(best.uncertainty), None, ranked, timing)

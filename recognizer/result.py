@@ -10,7 +10,7 @@ import numpy as np
 from recognizer.curves import CURVES, Pose
 from recognizer.touches import NoiseModel
 
-__all__ = ["Recognition", "Candidate", "RecognizeOptions"]
+__all__ = ["Recognition", "Ranked", "Candidate", "RecognizeOptions"]
 
 
 @dataclass
@@ -74,6 +74,23 @@ def _clean(value):
     return value
 
 
+@dataclass(frozen=True)
+class Ranked:
+    """One class's row of a recognition's ranking: its best fit's χ², degrees of freedom,
+    BIC, χ² tail probability, and whether it passed the consistency test."""
+
+    cls: str
+    consistent: bool
+    chi2: float
+    dof: int
+    bic: float
+    p_value: float
+
+    def to_json(self) -> dict:
+        return {"class": self.cls, "consistent": self.consistent, "chi2": self.chi2, "dof": self.dof,
+                "bic": self.bic, "p_value": self.p_value}
+
+
 @dataclass
 class Recognition:
     """The recognizer's answer (CONTRACTS §3); ``ranking`` and ``timing`` are extras."""
@@ -85,7 +102,7 @@ class Recognition:
     invariants: dict = field(default_factory=dict)
     uncertainty: dict = field(default_factory=dict)
     reason: str | None = None
-    ranking: list = field(default_factory=list)
+    ranking: list[Ranked] = field(default_factory=list)  # every fitted class, best first
     timing: dict = field(default_factory=dict)
 
     def to_json(self) -> dict:
@@ -98,7 +115,7 @@ class Recognition:
             "uncertainty": _clean(self.uncertainty),
             "reason": self.reason,
         }
-        out["ranking"] = _clean(self.ranking)
+        out["ranking"] = _clean([r.to_json() for r in self.ranking])
         if self.timing:
             out["timing"] = _clean(self.timing)
         return out

@@ -20,7 +20,7 @@ import numpy as np
 from tactile_common.errors import InputError
 
 __all__ = ["NoiseModel", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
-           "MIN_TOUCHES"]
+           "MIN_TOUCHES", "check_touch_count"]
 
 #: touches a class needs before its invariants can be cross-checked (>= 2 pairs for the
 #: two-parameter and cubic classes, >= 1 pair for the others)
@@ -206,6 +206,13 @@ def _parse_options(raw, where: str = "options") -> dict:
     return out
 
 
+def check_touch_count(n: int, classes, source: str = "request") -> None:
+    """InputError unless ``n`` touches suffice for at least one of ``classes`` (MIN_TOUCHES)."""
+    need = min(MIN_TOUCHES[c] for c in classes)
+    if n < need:
+        raise InputError(f"{source}: {n} touch(es); the scene's classes need at least {need}")
+
+
 def parse_request(obj, base_dir=None, source: str = "request") -> Request:
     """Validate a decoded JSON request; ``base_dir`` resolves a relative scene path
     after the current directory."""
@@ -238,9 +245,7 @@ def parse_request(obj, base_dir=None, source: str = "request") -> Request:
             touches.append(_parse_contact(t["contact"], f"{where}.contact"))
         else:
             touches.append(_parse_samples(t, where))
-    need = min(MIN_TOUCHES[c] for c in classes)
-    if len(touches) < need:
-        raise InputError(f"{source}: {len(touches)} touch(es); the scene's classes need at least {need}")
+    check_touch_count(len(touches), classes, source)
     noise = parse_noise(obj["noise"], f"{source}.noise") if obj.get("noise") is not None else None
     if noise is None and scene is not None:
         noise = scene.noise

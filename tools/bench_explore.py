@@ -64,8 +64,9 @@ def param_error(obj: dict, rec: dict) -> str:
 def true_chi2(log: Path, obj: dict, pos_values: list[float]) -> list[float | None]:
     """The true class's χ² tail probability on the log's usable touches, per stated pos σ."""
     from hand_driver.config import parse_config
-    from hand_driver.explore import TOUCH_NOISE, ExploreSettings, logged_touches, make_recognizer
     from hand_driver.log import read_log
+    from tactile_jaw.pipeline import logged_touches, make_recognizer
+    from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
 
     contents = read_log(str(log))
     header = contents.header
@@ -79,7 +80,7 @@ def true_chi2(log: Path, obj: dict, pos_values: list[float]) -> list[float | Non
             continue
         scene = {**header["scene"], "classes": [obj["class"]]}
         rec = make_recognizer(scene, settings, {"phi": TOUCH_NOISE["phi"], "pos": pos})(touches)
-        out.append(rec.ranking[0]["p_value"] if rec.ranking else None)
+        out.append(rec.ranking[0].p_value if rec.ranking else None)
     return out
 
 
@@ -94,9 +95,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--keep", default=None, help="directory for the scenes and logs (default: a temporary one)")
     args = ap.parse_args(argv)
     from hand_driver.config import load_config
-    from hand_driver.explore import open_pose
     from hand_driver.sim.physics import ContactWorld
     from recognizer.scene import load_scene
+    from tactile_jaw.plan import open_pose
 
     rng = np.random.default_rng(args.seed)
     work = Path(args.keep or tempfile.mkdtemp(prefix="bench_explore_"))

@@ -5,7 +5,7 @@ pseudo-terminal that the Dynamixel SDK opens like a USB adapter; the exploration
 Protocol 2.0 to it exactly as to a real jaw. The emulator runs in lockstep with the
 exploration's cycles (hand_driver.motion.LockstepClock): robot time is its simulated
 time, the same on any host, and wall time is only the computation. The emulated jaw starts
-opened (hand_driver.explore.open_pose: every pad outside the workspace disk); an object
+opened (tactile_jaw.plan.open_pose: every pad outside the workspace disk); an object
 that overlaps those pads is refused (exit 2).
 """
 
@@ -55,11 +55,11 @@ def run(args) -> int:
 
     from hand_driver import kinematics as kin
     from hand_driver.config import load_config
-    from hand_driver.explore import open_pose
     from hand_driver.motion import LockstepClock
     from hand_driver.sim.server import EmulatedBus
     from tactile_common.errors import InputError
     from recognizer.scene import load_scene
+    from tactile_jaw.plan import open_pose
 
     scene_path = default_path(args.scene)
     scene_mapping = read_yaml_mapping(scene_path, "scene")

@@ -64,9 +64,11 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     """Open the bus, explore, log everything; returns the :class:`Session`."""
     from hand_driver.bus import JointBus
     from hand_driver.config import config_to_mapping
-    from hand_driver.explore import TOUCH_NOISE, ExploreSettings, explore, make_recognizer
     from hand_driver.log import RunLog
     from hand_driver.motion import Jaw
+    from tactile_jaw.explore import explore
+    from tactile_jaw.pipeline import make_recognizer
+    from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
 
     settings = ExploreSettings.from_profile(profile)
     recognize_touches = make_recognizer(scene_mapping, settings)
@@ -89,7 +91,7 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
         recognition = exploration.recognition.to_json() if exploration.recognition is not None else None
         if log is not None:
             log.write({"type": "result", "recognition": recognition, "robot_time_s": exploration.robot_time_s,
-                       "touches_used": len(exploration.request["touches"]),
+                       "touches_used": len(exploration.used),
                        "touches_tried": len(exploration.touches)})
     return Session(exploration, recognition, settings, time.monotonic() - t0, log_path)
 
@@ -109,20 +111,21 @@ def finish(session: Session, args, *, config, truth=None, extra_lines: list[str]
 
     ex = session.exploration
     if session.recognition is None:
-        raise DeviceFault(f"only {len(ex.request['touches'])} usable touches of {len(ex.touches)} tried after "
+        raise DeviceFault(f"only {len(ex.used)} usable touches of {len(ex.touches)} tried after "
                           f"{len(ex.probes)} probes ({ex.robot_time_s:.1f} s robot time), too few to recognize "
                           f"(progress lines and the log's events say why)")
     if args.plot:
         from tools.plot import plot_exploration
 
-        plot_exploration(args.plot, touches=ex.request["touches"], pad_segments=pad_segments(config, ex),
+        plot_exploration(args.plot, touches=ex.request["touches"],
+                         pad_segments=[seg for felt in ex.touches for seg in felt.pad_segments()],
                          recognition=session.recognition, truth=truth,
                          workspace=(config.workspace.center_mm, config.workspace.radius_mm),
                          title=f"tactile {args.command}: {session.recognition['class']}")
     if args.json:
         sys.stdout.write(json.dumps(session.recognition, allow_nan=False) + "\n")
         return 0
-    used = len(ex.request["touches"])
+    used = len(ex.used)
     lines = [f"recognized: {describe(session.recognition)}", *extra_lines,
              f"touches: {used} used of {len(ex.touches)} tried ({session.settings.samples_per_touch} samples each), "
              f"{ex.rounds} rounds; robot time {ex.robot_time_s:.1f} s; wall time {session.wall_time_s:.1f} s"]
@@ -132,18 +135,6 @@ def finish(session: Session, args, *, config, truth=None, extra_lines: list[str]
         lines.append(f"plot: {args.plot}")
     sys.stdout.write("\n".join(lines) + "\n")
     return 0
-
-
-def pad_segments(config, exploration) -> list[dict[str, Any]]:
-    """The pad, as a segment, at every in-contact sample of every touch."""
-    from hand_driver import kinematics as kin
-
-    out = []
-    for touch in exploration.touches:
-        for s in touch.samples:
-            line = kin.finger_pad_line_from_ticks(config, touch.finger, s.ticks)
-            out.append({"finger": touch.finger, "p0": tuple(line.proximal), "p1": tuple(line.distal)})
-    return out
 
 
 def progress_printer(quiet: bool = False) -> Callable[[str], None]:

@@ -1,7 +1,7 @@
 """``tactile replay LOG``: the recognition of a recorded run, without hardware.
 
 The touches are rebuilt from the log's joint readings and touch boundaries with the
-jaw config and settings of the log's header (hand_driver.explore.logged_touches), then
+jaw config and settings of the log's header (tactile_jaw.pipeline.logged_touches), then
 recognized exactly as during the run.
 """
 
@@ -22,9 +22,11 @@ def add_arguments(parser) -> None:
 
 def run(args) -> int:
     from hand_driver.config import parse_config
-    from hand_driver.explore import TOUCH_NOISE, ExploreSettings, final_answer, logged_touches, make_recognizer
     from hand_driver.log import read_log
     from tactile_common.errors import InputError
+    from tactile_jaw.decide import final_answer
+    from tactile_jaw.pipeline import logged_touches, make_recognizer
+    from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
     from tools.cmd_explore import describe
 
     contents = read_log(args.log)
@@ -36,7 +38,7 @@ def run(args) -> int:
         raise InputError(f"{args.log}: line 1: header settings lack touches/samples_per_touch/roll_span_deg") from None
     touches = logged_touches(config, contents, settings)
     if args.touches:
-        request = {"scene": header.get("scene"), "touches": touches, "noise": header["settings"].get("noise", TOUCH_NOISE)}
+        request = {"scene": header.get("scene"), "touches": [t.to_json() for t in touches], "noise": header["settings"].get("noise", TOUCH_NOISE)}
         with open(args.touches, "w", encoding="utf-8") as f:
             json.dump(request, f)
     if not touches:

@@ -1,4 +1,4 @@
-"""The exploration's stopping rule (hand_driver.explore.indecision / final_answer) on
+"""The exploration's stopping rule (tactile_jaw.decide.indecision / final_answer) on
 hand-made rankings: which answers are decisive, and that an undecided one becomes a
 reasoned refusal rather than a class."""
 
@@ -6,8 +6,9 @@ import math
 
 from scipy import stats
 
-from hand_driver.explore import DECISIVE_CHI2, ExploreSettings, final_answer, indecision
-from recognizer.result import Recognition
+from recognizer.result import Ranked, Recognition
+from tactile_jaw.decide import DECISIVE_CHI2, final_answer, indecision
+from tactile_jaw.settings import ExploreSettings
 
 SETTINGS = ExploreSettings(touches=8, samples_per_touch=9, roll_span_rad=math.radians(30), min_touches=3,
                            recognize={"alpha": 1e-3})
@@ -15,8 +16,7 @@ SETTINGS = ExploreSettings(touches=8, samples_per_touch=9, roll_span_rad=math.ra
 
 def rec(cls, *rows):
     """Recognition answering ``cls`` with ranking rows (class, consistent, chi2, dof, bic)."""
-    ranking = [{"class": c, "consistent": ok, "chi2": chi2, "dof": dof, "bic": bic, "p_value": 0.5}
-               for c, ok, chi2, dof, bic in rows]
+    ranking = [Ranked(c, ok, chi2, dof, bic, 0.5) for c, ok, chi2, dof, bic in rows]
     return Recognition(cls, {"a": 1.0} if cls != "unclassified" else {}, ranking=ranking)
 
 
@@ -78,8 +78,7 @@ def test_loose_parameters_are_not_decisive():
     final answer is then a refusal naming the parameters."""
     rows = (("ellipse", True, 44.1, 49, 184.7), ("parabola", False, 241.1, 50, 377.3))
     loose = Recognition("ellipse", {"a": 18.7, "b": 7.4}, uncertainty={"a": 0.73, "b": 0.65}, ranking=[
-        {"class": c, "consistent": ok, "chi2": chi2, "dof": dof, "bic": bic, "p_value": 0.5}
-        for c, ok, chi2, dof, bic in rows])
+        Ranked(c, ok, chi2, dof, bic, 0.5) for c, ok, chi2, dof, bic in rows])
     why = indecision(loose, None, SETTINGS)
     assert why is not None and "a ±3.9 %" in why and "b ±8.8 %" in why
     tight = Recognition("ellipse", {"a": 28.1, "b": 17.0}, uncertainty={"a": 0.12, "b": 0.063},
@@ -87,8 +86,7 @@ def test_loose_parameters_are_not_decisive():
     assert indecision(tight, None, SETTINGS) is None
     # a dimensionless parameter near 0 is judged against 1, not against itself
     cubic = Recognition("cubical_parabola", {"a": 1e-3, "c": 1e-4}, uncertainty={"a": 1e-5, "c": 0.01},
-                        ranking=[{"class": "cubical_parabola", "consistent": True, "chi2": 40.0, "dof": 49,
-                                  "bic": 180.0, "p_value": 0.5}])
+                        ranking=[Ranked("cubical_parabola", True, 40.0, 49, 180.0, 0.5)])
     assert indecision(cubic, None, SETTINGS) is None
     refused = final_answer(lambda touches: loose, [{}] * 3, SETTINGS)
     assert refused.cls == "unclassified" and "not yet within 2 %" in refused.reason

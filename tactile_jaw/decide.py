@@ -1,0 +1,101 @@
+"""The exploration's stopping rule: is the recognizer's answer on the touches so far
+decisive (:func:`indecision`), and the answer once exploration ends (:func:`final_answer`:
+the class when decisive, else ``unclassified`` with the reason). docs/exploration.md."""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Callable, Sequence
+
+from recognizer.classify import chi2_limit
+from recognizer.result import Recognition
+from tactile_common.errors import InputError
+from tactile_jaw.settings import ExploreSettings
+
+#: a consistent rival class whose χ² exceeds the answer's by this much (likelihood ratio
+#: e^-5, "very strong" evidence on Kass & Raftery's scale) no longer keeps exploration going
+DECISIVE_CHI2 = 10.0
+#: (answer, rival): the answer is an exact special case of the rival
+SUBMODELS = frozenset({("circle", "ellipse")})
+#: an answer is decisive only once every shape parameter's standard deviation is at most
+#: this fraction of its magnitude (of max(|p|, 1) for the dimensionless ``DIMENSIONLESS``)
+DECISIVE_REL_SIGMA = 0.02
+DIMENSIONLESS = frozenset({("cubical_parabola", "c"), ("semicubical_parabola", "b")})
+
+RecognizeTouches = Callable[[Sequence[Any]], Recognition]
+
+
+def indecision(recognition: Recognition, shorter: Recognition | None, settings: ExploreSettings) -> str | None:
+    """Why a class answer is not yet decisive, or None when it is. ``recognition`` is on
+    every usable touch, ``shorter`` on all but the last (None if too few). Decisive: (a) no
+    consistent class with more free parameters fits significantly better (likelihood ratio:
+    Δχ² below the χ²_Δk limit at the recognizer's alpha); (b) every other consistent class
+    is ruled out by the data, its χ² ``DECISIVE_CHI2`` above the answer's, except a class
+    the answer is an exact special case of (``SUBMODELS``: a circle is an ellipse with
+    a = b), for which (a) decides once the answer is stable, the same class without the
+    last touch; (c) its shape parameters are determined (:func:`imprecision`). A class the
+    answer is only a limit of (a parabola of long ellipses and hyperbolas) or that fits as
+    well is no evidence either way: BIC's parameter penalty alone would always pick the
+    limit."""
+    ranked = [r for r in recognition.ranking if r.consistent]
+    best = next(r for r in ranked if r.cls == recognition.cls)
+    alpha = float(settings.recognize.get("alpha", 1e-3))
+    for r in ranked:
+        dk = best.dof - r.dof  # same observations: Δdof = Δ free parameters
+        if dk > 0 and best.chi2 - r.chi2 > chi2_limit(alpha, dk):
+            return f"{r.cls} fits significantly better than {best.cls} (chi2 {r.chi2:.3g} vs {best.chi2:.3g})"
+    rivals = [r for r in ranked if r.cls != recognition.cls and r.chi2 - best.chi2 < DECISIVE_CHI2]
+    others = [r for r in rivals if (recognition.cls, r.cls) not in SUBMODELS]
+    if others:
+        runner = min(others, key=lambda r: r.chi2)
+        return (f"{best.cls} (chi2 {best.chi2:.1f}) and {runner.cls} (chi2 {runner.chi2:.1f}) both "
+                f"fit, less than {DECISIVE_CHI2:g} apart: the touches cannot tell them apart")
+    if rivals and (shorter is None or shorter.cls != recognition.cls):
+        return (f"{best.cls} and {rivals[0].cls} both fit and the answer "
+                + ("changed with the last touch" if shorter is not None else "was not yet checked with one touch fewer"))
+    return imprecision(recognition)
+
+
+def imprecision(recognition: Recognition) -> str | None:
+    """Why the answer's shape parameters are not yet determined (a standard deviation above
+    ``DECISIVE_REL_SIGMA`` of the parameter's magnitude), or None. Touches that all see one
+    short arc fit one class decisively yet leave its parameters loose (an ellipse from 30°
+    of its boundary: a ±4 %, b ±9 %), and their errors along the pad are correlated, so such
+    an answer can be off by far more than its stated deviation: explore on instead."""
+    loose = []
+    for name, value in recognition.params.items():
+        sd = recognition.uncertainty.get(name)
+        if sd is None:
+            continue
+        ref = max(abs(value), 1.0) if (recognition.cls, name) in DIMENSIONLESS else abs(value)
+        if not (math.isfinite(sd) and sd <= DECISIVE_REL_SIGMA * ref):
+            loose.append(f"{name} ±{100.0 * sd / ref:.2g} %" if ref > 0 and math.isfinite(sd) else f"{name} undetermined")
+    if loose:
+        return f"{recognition.cls} parameters not yet within {100 * DECISIVE_REL_SIGMA:g} %: {', '.join(loose)}"
+    return None
+
+
+def decide(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings):
+    """(Recognition, why it is not decisive or None): :func:`indecision` on the recognizer's
+    answer on ``touches`` (and on all but the last, when it needs that)."""
+    recognition = recognize_touches(touches)
+    if recognition.cls == "unclassified":
+        return recognition, recognition.reason
+    shorter = None
+    if len(touches) > settings.min_touches:
+        try:
+            shorter = recognize_touches(touches[:-1])
+        except InputError:
+            shorter = None
+    return recognition, indecision(recognition, shorter, settings)
+
+
+def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings) -> Recognition:
+    """The answer on the usable touches once exploration ends: the recognizer's class when
+    it is decisive (:func:`decide`), else ``unclassified`` with the reason; a wrong class
+    said confidently is worse than a refusal. Replay uses this on the logged touches."""
+    recognition, why = decide(recognize_touches, touches, settings)
+    if recognition.cls == "unclassified" or why is None:
+        return recognition
+    return Recognition("unclassified", reason=f"not decisive after {len(touches)} usable touches: {why}",
+                       ranking=recognition.ranking, timing=recognition.timing)

@@ -1,0 +1,240 @@
+"""Exploration: rolling touches with both fingers at once until the recognizer is sure.
+
+Probes first locate the boundary (tactile_jaw.plan). Each round, every finger makes one
+rolling touch (hand_driver.motion.rolling_touch) in the same bus cycles, at the
+orientation tactile_jaw.plan.choose_psi picks, starting ``APPROACH_MARGIN_MM`` outside the
+predicted tangent. Between touches a pad retreats to the workspace edge and turns along
+it (:func:`transit`). Every touch is felt once (tactile_jaw.pipeline.feel).
+
+After every round with at least ``settings.min_touches`` usable touches the recognizer
+runs on all of them; exploration stops as soon as its answer is decisive
+(tactile_jaw.decide) or when the touch budget is spent; then the answer on the usable
+touches is the class if decisive, else ``unclassified`` with the reason. docs/exploration.md.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from hand_driver import kinematics as kin
+from hand_driver.motion import LIMIT_MARGIN_RAD, Jaw, TouchResult, move_line, move_to, roll_angles, rolling_touch, run_together
+from recognizer.result import Recognition
+from tactile_common.errors import InputError
+from tactile_jaw.decide import RecognizeTouches, decide, final_answer
+from tactile_jaw.pipeline import FeltTouch, feel
+from tactile_jaw.plan import (
+    APPROACH_MARGIN_MM,
+    PROBE_ENOUGH_DEG,
+    PROBE_REFINE_DEG,
+    PROBE_SAMPLES,
+    PROBE_SPAN_DEG,
+    ObjectModel,
+    choose_psi,
+    nominal_psi,
+    probe_face_contact,
+    probe_psis,
+)
+from tactile_jaw.settings import ExploreSettings
+
+#: a transit turns along the workspace edge in steps of at most this many degrees
+EDGE_TURN_STEP_DEG = 15.0
+#: largest turn (rad) and shift (mm) per cycle of a transit outside the workspace disk
+TRANSIT_STEPS = (math.radians(5.0), 3.0)
+
+
+@dataclass
+class Exploration:
+    """What an exploration did and found."""
+
+    probes: list[FeltTouch] = field(default_factory=list)  # every probe, in order
+    touches: list[FeltTouch] = field(default_factory=list)  # every touch attempted, in order
+    used: list[FeltTouch] = field(default_factory=list)  # the usable touches, recognized
+    recognition: Recognition | None = None
+    rounds: int = 0
+    robot_time_s: float = 0.0
+    answers: list[str] = field(default_factory=list)  # class after each recognition
+
+    @property
+    def request(self) -> dict[str, Any]:
+        """CONTRACTS §2 request of the usable touches."""
+        return {"touches": [t.to_json() for t in self.used]}
+
+
+
+def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
+    """Retreat to the workspace edge along the pad normal, then turn along the edge to ψ.
+    Where the edge is out of the joints' reach along this normal (a pad turned far past its
+    nominal direction), the pad retreats as far as it can and the finger swings open in
+    joint space to its edge pose at the nominal ψ, and turns from there: without this, one
+    such pose made every later transit of the finger fail and spent the touch budget."""
+    line = jaw.pad_line(jaw.last_state, finger)
+    psi_from = float(line.psi)
+    try:
+        yield from move_line(jaw, finger, psi_from, min(float(line.d), model.edge(psi_from)), *TRANSIT_STEPS)
+    except kin.Unreachable:
+        f = jaw.config.finger(finger)
+        psi_from = nominal_psi(f)
+        q_open = kin.ik_line(f, psi_from, model.edge(psi_from), margin_rad=LIMIT_MARGIN_RAD)
+        yield from move_to(jaw, finger, q_open)
+    delta = math.remainder(psi_to - psi_from, 2 * math.pi)
+    steps = max(1, math.ceil(abs(math.degrees(delta)) / EDGE_TURN_STEP_DEG))
+    for k in range(1, steps + 1):
+        a = psi_from + delta * k / steps
+        yield from move_line(jaw, finger, a, model.edge(a), *TRANSIT_STEPS)
+
+
+def _transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
+    """:func:`transit`; why it could not go on (the path left the joint limits), or None."""
+    try:
+        yield from transit(jaw, finger, model, psi_to)
+    except kin.Unreachable as exc:
+        return f"{finger}: transit to psi={math.degrees(psi_to):.1f} deg: {exc}"
+    return None
+
+
+def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings: ExploreSettings,
+                touch_index: int, emit):
+    """Transit, then one rolling touch around ψ from ``APPROACH_MARGIN_MM`` outside the
+    predicted tangent line; returns the TouchResult."""
+    start = float(roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[0])
+    problem = yield from _transit_or_problem(jaw, finger, model, start)
+    if problem is not None:
+        return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
+    d_pred, _ = model.tangent(start)
+    d_start = max(model.edge(start), d_pred - APPROACH_MARGIN_MM)
+    travel = d_pred + APPROACH_MARGIN_MM - d_start
+    return (yield from rolling_touch(jaw, finger, touch_index, psi, settings.roll_span_rad,
+                                     settings.samples_per_touch, d_start, travel, on_event=emit))
+
+
+def _probe_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, touch_index: int, emit):
+    """Transit, then a short rolling touch (``PROBE_SAMPLES`` over ``PROBE_SPAN_DEG``) from
+    the workspace edge across the whole workspace disk; returns the TouchResult."""
+    span = math.radians(PROBE_SPAN_DEG)
+    start = float(roll_angles(psi, span, PROBE_SAMPLES)[0])
+    problem = yield from _transit_or_problem(jaw, finger, model, start)
+    if problem is not None:
+        return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
+    return (yield from rolling_touch(jaw, finger, touch_index, psi, span, PROBE_SAMPLES, model.edge(start),
+                                     2.0 * model.workspace_radius, on_event=emit))
+
+
+def _memo(recognize_touches: RecognizeTouches) -> RecognizeTouches:
+    """``recognize_touches`` remembering its answers by the touches' identities."""
+    seen: dict[tuple[int, ...], Any] = {}
+
+    def run(touches):
+        key = tuple(id(t) for t in touches)
+        if key not in seen:
+            seen[key] = recognize_touches(touches)
+        return seen[key]
+
+    return run
+
+
+def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTouches,
+            emit: Callable[[dict], None] | None = None,
+            progress: Callable[[str], None] | None = None) -> Exploration:
+    """Explore with both fingers (module docstring). ``recognize_touches`` maps a list of
+    usable felt touches to a Recognition (tactile_jaw.pipeline.make_recognizer); ``emit``
+    receives log records; ``progress`` one-line messages for people."""
+    emit = emit or (lambda rec: None)
+    say = progress or (lambda msg: None)
+    recognize_touches = _memo(recognize_touches)
+    cfg = jaw.config
+    ws = cfg.workspace
+    model = ObjectModel(ws.center_mm, ws.radius_mm)
+    out = Exploration()
+    t0 = jaw.robot_time()
+    index = 0
+    queues = {f.name: probe_psis(f, model) for f in cfg.fingers}
+    faces: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
+    refined = False
+    while True:
+        if not any(queues.values()):
+            if refined:
+                break
+            refined = True  # one more pass: around a finger's only face contact, PROBE_REFINE_DEG either side
+            queues = {f.name: [faces[f.name][0] + math.radians(sign * PROBE_REFINE_DEG) for sign in (-1, 1)]
+                      if len(faces[f.name]) == 1 else [] for f in cfg.fingers}
+            if not any(queues.values()):
+                break
+        plans = {}
+        for name, queue in queues.items():
+            if queue:
+                plans[name] = _probe_plan(jaw, name, model, queue.pop(0), index + len(plans), emit)
+        results = run_together(jaw, plans)
+        for name in plans:
+            felt = feel(cfg, results[name], PROBE_SAMPLES)
+            probe = felt.touch
+            out.probes.append(felt)
+            index += 1
+            u = probe_face_contact(cfg, felt)
+            if u is not None:
+                model.add([s.psi_measured for s in probe.samples], [s.d for s in probe.samples])
+                faces[name].append(probe.psi_center)
+                if np.ptp(faces[name]) >= math.radians(PROBE_ENOUGH_DEG) - 1e-9:
+                    queues[name] = []  # enough felt to plan this finger's touches
+            say(f"probe {len(out.probes)}: {name} at psi {math.degrees(probe.psi_center):.1f} deg: "
+                + (f"pad face {u:.1f} mm from its proximal end" if u is not None else
+                   probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
+    used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
+    while len(out.touches) < settings.touches:
+        plans = {}
+        budget = settings.touches - len(out.touches)
+        for f in cfg.fingers[:budget]:
+            psi = choose_psi(f, model, settings, used[f.name])
+            if psi is None:
+                message = (f"{f.name}: no untouched pad orientation left for which the felt lines predict a "
+                           f"{math.degrees(settings.roll_span_rad):g} deg roll on the pad's face")
+                emit({"type": "event", "kind": "no_orientation", "message": message})
+                say(message)
+                continue
+            used[f.name].append(psi)
+            plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit)
+        if not plans:
+            break
+        index += len(plans)
+        out.rounds += 1
+        results = run_together(jaw, plans)
+        for name in plans:
+            felt = feel(cfg, results[name], settings.samples_per_touch)
+            touch, problem = felt.touch, felt.problem
+            out.touches.append(felt)
+            if problem is None:
+                out.used.append(felt)
+                model.add([s.psi_measured for s in touch.samples], [s.d for s in touch.samples])
+                emit({"type": "event", "kind": "touch_used", "message": f"{name}: touch {touch.touch} used",
+                      "touch": touch.touch, "samples": felt.to_json()})
+            else:
+                if touch.outcome == "ok":
+                    touch.outcome = "rejected"
+                emit({"type": "event", "kind": "touch_rejected", "message": problem, "touch": touch.touch})
+            say(f"touch {len(out.touches)}/{settings.touches}: {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
+                f"{len(touch.samples)} samples, {'used' if problem is None else 'not used: ' + problem}")
+        if len(out.used) >= settings.min_touches:
+            recognition, why = decide(recognize_touches, out.used, settings)
+            out.recognition = recognition
+            out.answers.append(recognition.cls)
+            say(f"after {len(out.used)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
+            if why is None:
+                break
+    here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
+    run_together(jaw, {name: _transit_or_problem(jaw, name, model, psi) for name, psi in here.items()})  # to the edge
+    if not model.psi.size:
+        message = (f"no probe of {len(out.probes)} found a contact on a pad's face: within reach of the pads the "
+                   f"object offers no boundary they can roll on (flat, concave, or felt only by a pad end)")
+        emit({"type": "event", "kind": "no_face_contact", "message": message})
+        say(message)
+    if out.used:
+        try:  # the answer on every usable touch, a refusal unless decisive
+            out.recognition = final_answer(recognize_touches, out.used, settings)
+            out.answers.append(out.recognition.cls)
+        except InputError as exc:
+            emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})
+    out.robot_time_s = jaw.robot_time() - t0
+    return out

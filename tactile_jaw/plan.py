@@ -1,0 +1,175 @@
+"""Where to touch: the object model built from felt pad lines, and the pad orientations
+of probes and rolling touches.
+
+Probes (guarded approaches with a short roll from several pad orientations,
+:func:`probe_psis`) first locate the boundary; the pad lines of face contacts
+(:func:`probe_face_contact`) sample the object's support function, which
+:class:`ObjectModel` fits locally to predict tangents. A rolling touch goes to a feasible
+orientation (:func:`feasible`) farthest from the finger's earlier touches
+(:func:`choose_psi`). docs/exploration.md.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from hand_driver import kinematics as kin
+from hand_driver.motion import LIMIT_MARGIN_RAD, roll_angles
+from tactile_jaw.pipeline import FeltTouch
+from tactile_jaw.settings import ExploreSettings
+
+#: a rolling touch starts this far (mm) outside the predicted tangent line
+APPROACH_MARGIN_MM = 10.0
+#: rolling touches are planned at pad normals within ± CANDIDATE_SPREAD_DEG of the pad's
+#: normal at zero joint angles, every CANDIDATE_STEP_DEG
+CANDIDATE_SPREAD_DEG = 75.0
+CANDIDATE_STEP_DEG = 2.5
+#: planning keeps the predicted contact this fraction of the pad's length from either end
+PLAN_PAD_MARGIN = 0.1
+#: probes: pad normals (deg) relative to the pad's normal at zero joint angles, samples
+#: and span (deg) of each probe's short roll, and the fraction of the pad's length from
+#: either end where its contact must lie to count as a face contact
+PROBE_OFFSETS_DEG = (-60.0, -40.0, -20.0, 0.0, 20.0, 40.0, 60.0)
+PROBE_SAMPLES = 4
+PROBE_SPAN_DEG = 6.0
+PROBE_PAD_MARGIN = 0.1
+#: a finger stops probing once its face contacts span this many degrees of pad normal
+PROBE_ENOUGH_DEG = 40.0
+#: a finger with a single face contact after the grid probes again this far (deg) either side
+PROBE_REFINE_DEG = 10.0
+#: the object model predicts a tangent for ψ from felt lines within MODEL_REACH_DEG that
+#: span at least MODEL_MIN_SPAN_DEG, the nearest at most MODEL_EXTRAPOLATE_DEG away
+MODEL_REACH_DEG = 45.0
+MODEL_MIN_SPAN_DEG = 3.0
+MODEL_EXTRAPOLATE_DEG = 30.0
+#: ... weighting each line by 1 / (1 + (Δψ / MODEL_WEIGHT_DEG)²), Δψ its distance from ψ
+MODEL_WEIGHT_DEG = 10.0
+
+
+class ObjectModel:
+    """What the pads felt (module docstring): the in-contact pad lines ψ, d of face
+    contacts. The object's support function d(ψ) (the first line of normal ψ that meets
+    it) is fitted near ψ by a quadratic; its tangent point is d·n(ψ) + d'(ψ)·n'(ψ)."""
+
+    def __init__(self, center, workspace_radius: float):
+        self.workspace_center = np.asarray(center, dtype=float)
+        self.workspace_radius = workspace_radius
+        self.psi = np.zeros(0)
+        self.d = np.zeros(0)
+
+    def add(self, psi, d) -> None:
+        """Add felt pad lines (face contacts only)."""
+        self.psi = np.concatenate([self.psi, np.atleast_1d(np.asarray(psi, dtype=float))])
+        self.d = np.concatenate([self.d, np.atleast_1d(np.asarray(d, dtype=float))])
+
+    def tangent(self, psi: float) -> tuple[float, np.ndarray] | None:
+        """The predicted pad line offset d and contact point for a pad with normal ψ, or
+        None where nothing was felt within ``MODEL_REACH_DEG`` or the lines there span
+        less than ``MODEL_MIN_SPAN_DEG``."""
+        delta = np.remainder(self.psi - psi + math.pi, 2 * math.pi) - math.pi
+        near = np.abs(delta) <= math.radians(MODEL_REACH_DEG)
+        if np.count_nonzero(near) < 2 or np.ptp(delta[near]) < math.radians(MODEL_MIN_SPAN_DEG):
+            return None
+        if np.min(np.abs(delta[near])) > math.radians(MODEL_EXTRAPOLATE_DEG):
+            return None
+        deg = 2 if np.ptp(delta[near]) >= math.radians(2 * MODEL_MIN_SPAN_DEG) and np.count_nonzero(near) >= 3 else 1
+        weight = 1.0 / (1.0 + (delta[near] / math.radians(MODEL_WEIGHT_DEG)) ** 2)
+        coef = np.polynomial.polynomial.polyfit(delta[near], self.d[near], deg, w=weight)
+        n = np.array([math.cos(psi), math.sin(psi)])
+        dn = np.array([-math.sin(psi), math.cos(psi)])
+        return float(coef[0]), coef[0] * n + coef[1] * dn
+
+    def edge(self, psi: float) -> float:
+        """Offset of the line with normal ψ tangent to the workspace disk (outside it)."""
+        n = np.array([math.cos(psi), math.sin(psi)])
+        return float(n @ self.workspace_center) - self.workspace_radius
+
+
+def nominal_psi(finger) -> float:
+    """The pad's outward normal angle at zero joint angles."""
+    return finger.base.angle + finger.pad.side_sign * math.pi / 2
+
+
+def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings) -> bool:
+    """Every roll orientation around ψ has a predicted tangent (:meth:`ObjectModel.tangent`)
+    that puts the pad on it, with the predicted contact on the pad, inside the joint
+    limits, and also ``APPROACH_MARGIN_MM`` beyond it; the edge line is reachable."""
+    length = finger.pad.length_mm
+    for a in roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]:
+        predicted = model.tangent(float(a))
+        if predicted is None:
+            return False
+        d, p = predicted
+        try:
+            kin.ik_line(finger, float(a), d, contact=p, margin_rad=LIMIT_MARGIN_RAD)
+            kin.ik_line(finger, float(a), d + APPROACH_MARGIN_MM, margin_rad=LIMIT_MARGIN_RAD)
+            kin.ik_line(finger, float(a), model.edge(float(a)), margin_rad=LIMIT_MARGIN_RAD)
+        except kin.Unreachable:
+            return False
+        u = [float(kin.finger_pad_line(finger, q).pad_coordinate(p))
+             for q in kin.ik_line_solutions(finger, float(a), d)
+             if kin.within_limits(finger.joints, q, LIMIT_MARGIN_RAD)]
+        if not any(PLAN_PAD_MARGIN * length <= v <= (1 - PLAN_PAD_MARGIN) * length for v in u):
+            return False
+    return True
+
+
+def choose_psi(finger, model: ObjectModel, settings: ExploreSettings, used: list[float]) -> float | None:
+    """Next pad orientation for ``finger`` (module docstring), None if none is feasible."""
+    nominal = nominal_psi(finger)
+    offsets = np.arange(-CANDIDATE_SPREAD_DEG, CANDIDATE_SPREAD_DEG + 1e-9, CANDIDATE_STEP_DEG)
+    cands = [nominal + math.radians(o) for o in offsets]
+    ok = [a for a in cands if feasible(finger, model, a, settings)]
+    if not ok:
+        return None
+    if not used:
+        return ok[len(ok) // 2]
+    gap = [min(abs(a - u) for u in used) for a in ok]
+    if max(gap) < math.radians(CANDIDATE_STEP_DEG) - 1e-9:
+        return None  # every feasible orientation was touched already
+    return ok[int(np.argmax(gap))]
+
+
+def open_pose(config) -> np.ndarray:
+    """Joint angles (rad, config order) of the opened jaw: every pad at its normal at zero
+    joint angles, on the line tangent to the workspace disk (config ``workspace``) from
+    outside; where an exploration starts its probes."""
+    ws = config.workspace
+    model = ObjectModel(ws.center_mm, ws.radius_mm)
+    out = []
+    for f in config.fingers:
+        psi = nominal_psi(f)
+        out.append(kin.ik_line(f, psi, model.edge(psi), margin_rad=LIMIT_MARGIN_RAD))
+    return np.concatenate(out)
+
+
+def probe_psis(finger, model: ObjectModel) -> list[float]:
+    """The probe orientations of a finger: its pad's normal at zero joint angles ±
+    ``PROBE_OFFSETS_DEG`` whose workspace-edge line is reachable, nearest that normal first."""
+    nominal = nominal_psi(finger)
+    out = []
+    for o in sorted(PROBE_OFFSETS_DEG, key=abs):
+        a = nominal + math.radians(o)
+        try:
+            kin.ik_line(finger, a, model.edge(a), margin_rad=LIMIT_MARGIN_RAD)
+        except kin.Unreachable:
+            continue
+        out.append(a)
+    return out
+
+
+def probe_face_contact(config, felt: FeltTouch) -> float | None:
+    """Where a probe touched along the pad (mm from its proximal end, the middle sample's
+    envelope contact) if the probe is usable (tactile_jaw.pipeline.feel with
+    ``PROBE_SAMPLES``: all samples, arc length increasing: a pad end sliding on the boundary
+    moves the envelope backwards) and every contact is ``PROBE_PAD_MARGIN`` of the pad's
+    length from either end; else None."""
+    if len(felt.touch.samples) < PROBE_SAMPLES or felt.problem is not None:
+        return None
+    u = felt.pad_u
+    length = config.finger(felt.finger).pad.length_mm
+    if np.any(u < PROBE_PAD_MARGIN * length) or np.any(u > (1 - PROBE_PAD_MARGIN) * length):
+        return None
+    return float(u[len(u) // 2])

@@ -1,0 +1,64 @@
+"""How much an exploration touches: :class:`ExploreSettings`, from a recognizer profile,
+and the per-sample noise the exploration states in its requests (docs/exploration.md)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from recognizer.profiles import get_profile
+
+#: the roll span (deg) below which κ_s drowns in encoder quantization on the default jaw:
+#: exact ellipse touches through 4096-tick encoders are recognized with 30° and 9 samples,
+#: not with 16° or 18° (docs/exploration.md)
+MIN_ROLL_SPAN_DEG = 30.0
+#: the fewest samples per rolling touch that recognize on the default jaw (7 and 9 over
+#: 30° do, 5 does not: docs/exploration.md)
+MIN_SAMPLES_PER_TOUCH = 7
+#: per-sample noise the explorer states in its requests (docs/exploration.md): φ is the
+#: pad's angle q1 + q2, each joint quantized to a tick (uniform, σ = tick/√12), so
+#: σ_φ = √2 · (2π/4096)/√12 = 6.3e-4 rad. Positions: a contact point lies on its pad line,
+#: which the encoders fix to ~0.03 mm, but where along the line comes from the envelope of
+#: neighbouring lines (a difference of quantized readings): at the true shape, emulated
+#: touches of the default ellipse miss it by 0.029–0.031 mm RMS across the tangent and
+#: 0.32–0.53 mm along it (perfect and calibrated configs). Stated: 0.06 mm across
+#: (``pos``) and 0.6 mm along (``pos_along``); one isotropic 0.3 mm made calibrated
+#: configs fail the χ² test (168 on 103 dof at the true shape) and weighted the along-track
+#: errors like the shape information across the tangent
+TOUCH_NOISE = {"phi": math.sqrt(2.0) * (2.0 * math.pi / 4096.0) / math.sqrt(12.0), "pos": 0.06, "pos_along": 0.6}
+
+
+@dataclass(frozen=True)
+class ExploreSettings:
+    """How much to touch: a budget of touches (both fingers together, rejected ones
+    included), samples per rolling touch, the roll's total span, the fewest usable
+    touches before recognizing, and the recognizer options."""
+
+    touches: int
+    samples_per_touch: int
+    roll_span_rad: float
+    min_touches: int = 3
+    profile: str | None = None
+    recognize: dict[str, Any] = field(default_factory=dict)  # RecognizeOptions keywords
+
+    @classmethod
+    def from_profile(cls, name: str) -> "ExploreSettings":
+        """Settings of a recognizer.profiles profile: its samples per touch raised to
+        ``MIN_SAMPLES_PER_TOUCH``, its roll span raised to ``MIN_ROLL_SPAN_DEG``, a budget
+        of twice its touches plus two, its recognizer options."""
+        p = get_profile(name, "--profile")
+        return cls(touches=2 * p.touches + 2, samples_per_touch=max(p.samples_per_touch, MIN_SAMPLES_PER_TOUCH),
+                   roll_span_rad=math.radians(max(p.roll_span_deg, MIN_ROLL_SPAN_DEG)),
+                   min_touches=p.touches, profile=p.name, recognize=p.options())
+
+    def to_json(self) -> dict[str, Any]:
+        return {"touches": self.touches, "samples_per_touch": self.samples_per_touch,
+                "roll_span_deg": math.degrees(self.roll_span_rad), "min_touches": self.min_touches,
+                "profile": self.profile, "recognize": self.recognize}
+
+    @classmethod
+    def from_json(cls, obj: dict[str, Any]) -> "ExploreSettings":
+        return cls(touches=int(obj["touches"]), samples_per_touch=int(obj["samples_per_touch"]),
+                   roll_span_rad=math.radians(float(obj["roll_span_deg"])), min_touches=int(obj["min_touches"]),
+                   profile=obj.get("profile"), recognize=dict(obj.get("recognize") or {}))
