@@ -2,6 +2,14 @@
 
 ``load_scene(path_or_mapping, base_dir=None) -> Scene`` validates everything in one place;
 bad input raises a one-line :class:`InputError` naming the file and key.
+
+A finite object (CONTRACTS §4) is the curve over ``extent`` = [t0, t1] closed by straight
+segments from its end P(t1) through the ``closure`` corners (canonical frame, in order)
+back to its start P(t0), or by the single chord P(t1) → P(t0). The closed boundary must be
+simple: a closing segment that crosses or touches the curve or another segment is refused
+(checked on the curve sampled at ``OUTLINE_SAMPLES`` points; the canonical curves never
+cross themselves). The solid is the region the boundary encloses, so its ``side`` follows
+from the boundary's orientation; a ``side`` that contradicts it is refused.
 """
 
 from __future__ import annotations
@@ -10,6 +18,8 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Mapping
+
+import numpy as np
 
 from recognizer.curves import CURVES, DEFAULT_SIDE, Pose, validate_params
 from tactile_common.errors import InputError
@@ -20,22 +30,49 @@ __all__ = ["Scene", "SceneObject", "load_scene", "ALL_CLASSES"]
 
 ALL_CLASSES: tuple[str, ...] = tuple(CURVES)
 _TOP_KEYS = {"name", "classes", "object", "profile", "noise", "description"}
-_OBJECT_KEYS = {"class", "params", "pose", "side"}
+_OBJECT_KEYS = {"class", "params", "pose", "side", "extent", "closure"}
+#: curve samples of a finite object's outline (the self-crossing check and plots)
+OUTLINE_SAMPLES = 1025
 _POSE_KEYS = {"theta", "theta_deg", "x", "y"}
 
 
 @dataclass(frozen=True)
 class SceneObject:
     """The object in front of the jaw: a canonical curve placed by ``pose``; the solid
-    lies on ``side`` ('left' or 'right') of the curve traversed in increasing t."""
+    lies on ``side`` ('left' or 'right') of the curve traversed in increasing t. A finite
+    object has ``extent`` (t0, t1) and optionally ``closure`` corners (canonical frame)."""
 
     cls: str
     params: dict
     pose: Pose
     side: str
+    extent: tuple[float, float] | None = None
+    closure: tuple[tuple[float, float], ...] | None = None
 
     def curve(self):
         return CURVES[self.cls](self.params)
+
+    @property
+    def finite(self) -> bool:
+        return self.extent is not None
+
+    def corners(self) -> np.ndarray:
+        """Canonical corners of a finite object's closing path, (k + 2, 2): P(t1), the
+        closure points in order, P(t0)."""
+        curve = self.curve()
+        t0, t1 = self.extent
+        ends = np.array(curve.point(np.array([t1, t0]))).T
+        return np.vstack([ends[:1], np.array(self.closure or np.zeros((0, 2)), dtype=float).reshape(-1, 2), ends[1:]])
+
+    def outline(self, samples: int = OUTLINE_SAMPLES, frame: str = "hand") -> tuple[np.ndarray, np.ndarray]:
+        """The whole boundary of a finite object as a closed polyline (x, y): the curve
+        from t0 to t1 at ``samples`` points, then the closing corners back to P(t0)."""
+        if not self.finite:
+            raise ValueError("outline: the object is unbounded (no extent)")
+        x, y = self.curve().point(np.linspace(self.extent[0], self.extent[1], samples))
+        c = self.corners()
+        x, y = np.r_[x, c[1:, 0]], np.r_[y, c[1:, 1]]
+        return self.pose.apply(x, y) if frame == "hand" else (x, y)
 
 
 @dataclass(frozen=True)
@@ -86,7 +123,105 @@ def _parse_object(raw, where: str) -> SceneObject:
     side = raw.get("side", DEFAULT_SIDE[cls])
     if side not in ("left", "right"):
         raise InputError(f"{where}.side: must be 'left' or 'right', got {side!r}")
-    return SceneObject(cls, params, _parse_pose(raw.get("pose"), f"{where}.pose"), side)
+    pose = _parse_pose(raw.get("pose"), f"{where}.pose")
+    extent, closure = _parse_bounds(raw, cls, where)
+    if extent is None:
+        return SceneObject(cls, params, pose, side)
+    obj = SceneObject(cls, params, pose, side, extent, closure)
+    enclosed = _check_simple(obj, where)
+    if "side" in raw and side != enclosed:
+        raise InputError(f"{where}.side: the closed boundary puts the solid on the {enclosed} of the curve "
+                         f"(increasing t), not the {side}; drop side or set it to {enclosed}")
+    return SceneObject(cls, params, pose, enclosed, extent, closure)
+
+
+def _parse_bounds(raw, cls: str, where: str):
+    """``extent`` (t0 < t1) and ``closure`` (a list of [x, y]) of an object, or None."""
+    if CURVES[cls].t_period is not None:
+        for key in ("extent", "closure"):
+            if key in raw:
+                raise InputError(f"{where}.{key}: a {cls} is whole (a closed curve); remove {key}")
+        return None, None
+    if raw.get("extent") is None:
+        if raw.get("closure") is not None:
+            raise InputError(f"{where}.closure: needs extent (the curve's parameter range [t0, t1])")
+        return None, None
+    ext = raw["extent"]
+    if isinstance(ext, (str, Mapping)) or not isinstance(ext, (list, tuple)) or len(ext) != 2:
+        raise InputError(f"{where}.extent: must be [t0, t1], the curve's parameter range, got {ext!r}")
+    t0, t1 = (_num(v, f"{where}.extent") for v in ext)
+    if not t0 < t1:
+        raise InputError(f"{where}.extent: needs t0 < t1, got [{t0:g}, {t1:g}] (a reversed or empty range)")
+    closure = raw.get("closure")
+    if closure is None:
+        if cls == "line":
+            raise InputError(f"{where}.closure: a line needs closure corners (a chord would lie on the line itself)")
+        return (t0, t1), None
+    if isinstance(closure, (str, Mapping)) or not isinstance(closure, (list, tuple)) or not closure:
+        raise InputError(f"{where}.closure: must be a non-empty list of [x, y] corners (omit it for the chord)")
+    pts = []
+    for k, p in enumerate(closure):
+        if isinstance(p, (str, Mapping)) or not isinstance(p, (list, tuple)) or len(p) != 2:
+            raise InputError(f"{where}.closure[{k}]: must be [x, y] (mm, canonical frame), got {p!r}")
+        pts.append((_num(p[0], f"{where}.closure[{k}]"), _num(p[1], f"{where}.closure[{k}]")))
+    return (t0, t1), tuple(pts)
+
+
+def _check_simple(obj: SceneObject, where: str) -> str:
+    """Refuse a finite object's boundary that crosses or touches itself or encloses no
+    area; return the side ('left'/'right' of increasing t) on which it encloses the solid."""
+    key = f"{where}.closure" if obj.closure else f"{where}.extent"
+    x, y = obj.outline(frame="canonical")
+    pts = np.stack([x, y], axis=-1)[:-1]  # the outline repeats P(t0) at its end
+    scale = float(np.max(np.abs(pts - pts.mean(axis=0))))
+    if not np.all(np.isfinite(pts)) or scale > 1e9:
+        raise InputError(f"{where}.extent: the curve over the extent is too long to be an object")
+    n_curve = OUTLINE_SAMPLES - 1  # curve polyline segments; the closing ones follow
+    a, b = pts, np.roll(pts, -1, axis=0)  # segment i runs from pts[i] to pts[i + 1] (cyclic)
+    length = np.hypot(*(b - a).T)
+    eps = 1e-9 * scale
+    for i in range(n_curve, len(a)):
+        if length[i] <= eps:
+            raise InputError(f"{key}: a closing segment has zero length (a corner repeats its neighbour)")
+    area = 0.5 * float(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]))
+    if abs(area) <= 1e-6 * scale * scale:
+        raise InputError(f"{key}: the boundary encloses no area")
+    n = len(a)
+    for i in range(n_curve, n):  # each closing segment against every segment
+        j = np.arange(n)
+        hit = _segments_meet(a[i], b[i], a[j], b[j], eps)
+        adjacent = (j == (i - 1) % n) | (j == (i + 1) % n)
+        before = (j == (i - 1) % n)[:, None]  # directions away from the shared vertex
+        d_i = np.where(before, b[i] - a[i], a[i] - b[i])
+        d_j = np.where(before, a[j] - b[j], b[j] - a[j])
+        fold = (np.abs(d_i[:, 0] * d_j[:, 1] - d_i[:, 1] * d_j[:, 0]) <= 1e-9 * np.hypot(*d_i.T) * np.hypot(*d_j.T)
+                ) & (np.sum(d_i * d_j, axis=1) > 0)
+        bad = np.where(adjacent, fold, hit) & (j != i)
+        if bad.any():
+            raise InputError(f"{key}: the boundary crosses itself (closing segment {i - n_curve + 1} meets "
+                             f"{'the curve' if int(np.argmax(bad)) < n_curve else 'another closing segment'}); "
+                             f"the solid must be bounded by one simple closed line")
+    return "left" if area > 0 else "right"
+
+
+def _segments_meet(p, q, a, b, eps: float) -> np.ndarray:
+    """Do segment p–q and each segment a[k]–b[k] share a point (touching or overlapping)?"""
+    def orient(o, u, v):
+        return (u[..., 0] - o[..., 0]) * (v[..., 1] - o[..., 1]) - (u[..., 1] - o[..., 1]) * (v[..., 0] - o[..., 0])
+
+    p, q = np.broadcast_to(p, a.shape), np.broadcast_to(q, a.shape)
+    d1, d2 = orient(a, b, p), orient(a, b, q)
+    d3, d4 = orient(p, q, a), orient(p, q, b)
+    tol = eps * (np.hypot(*(b - a).T) + np.hypot(*(q - p).T))
+    proper = (d1 * d2 <= 0) & (d3 * d4 <= 0) & ~((np.abs(d1) <= tol) & (np.abs(d2) <= tol))
+    colinear = (np.abs(d1) <= tol) & (np.abs(d2) <= tol)
+    axis = np.where((np.abs(b[:, 0] - a[:, 0]) + np.abs(q[:, 0] - p[:, 0]))
+                    >= (np.abs(b[:, 1] - a[:, 1]) + np.abs(q[:, 1] - p[:, 1])), 0, 1)
+    k = np.arange(len(a))
+    lo1, hi1 = np.minimum(a[k, axis], b[k, axis]), np.maximum(a[k, axis], b[k, axis])
+    lo2, hi2 = np.minimum(p[k, axis], q[k, axis]), np.maximum(p[k, axis], q[k, axis])
+    overlap = colinear & (np.maximum(lo1, lo2) <= np.minimum(hi1, hi2) + eps)
+    return proper | overlap
 
 
 def _check_profile(profile, where: str) -> str | None:

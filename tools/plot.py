@@ -1,5 +1,7 @@
 """Plot of one exploration: pad lines in contact, touch samples, recognized (and true) curve.
 
+A finite true object (CONTRACTS §4) is drawn whole: its solid shaded, the curved part over
+its extent as a dashed line, the straight closing segments dotted, the corners marked.
 Written with matplotlib's Agg backend (no screen needed) to a PNG file.
 """
 
@@ -29,6 +31,18 @@ def curve_points(cls: str, params: dict, pose: Pose, t_contacts: Sequence[float]
     return pose.apply(*curve.point(t))
 
 
+def _draw_finite(ax, truth) -> None:
+    """The whole finite object: solid, curved part, closing segments, corners."""
+    x, y = truth.outline()
+    ax.fill(x, y, color="0.85", zorder=0, label=f"true object ({truth.cls} over t in "
+                                                 f"[{truth.extent[0]:g}, {truth.extent[1]:g}])")
+    n = len(x) - len(truth.corners()) + 1  # the curve's samples come first
+    ax.plot(x[:n], y[:n], color="0.3", lw=1.0, ls="--", label=f"true {truth.cls}")
+    ax.plot(x[n - 1:], y[n - 1:], color="0.3", lw=1.0, ls=":", label="closing segments")
+    cx, cy = truth.pose.apply(*truth.corners().T)
+    ax.plot(cx, cy, "s", color="0.3", ms=3, label="corners")
+
+
 def plot_exploration(path: str | Path, *, touches: Sequence[dict[str, Any]], pad_segments: Sequence[dict[str, Any]],
                      recognition: dict[str, Any] | None, truth: Any | None, workspace: tuple[tuple[float, float], float],
                      title: str = "") -> Path:
@@ -53,7 +67,9 @@ def plot_exploration(path: str | Path, *, touches: Sequence[dict[str, Any]], pad
         f = touch.get("finger", "")
         ax.plot(touch["x"], touch["y"], ".", ms=4, color=color[f], label=f"{f} touches" if k == [
             t.get("finger", "") for t in touches].index(f) else None)
-    if truth is not None:
+    if truth is not None and getattr(truth, "extent", None) is not None:
+        _draw_finite(ax, truth)
+    elif truth is not None:
         x, y = curve_points(truth.cls, truth.params, truth.pose, [], reach)
         ax.plot(x, y, color="0.3", lw=1.0, ls="--", label=f"true {truth.cls}")
     if recognition is not None and recognition.get("class") not in (None, "unclassified") and recognition.get("pose"):

@@ -1,13 +1,13 @@
 """Contact physics of the emulated jaw: flat pads meeting the scene's object.
 
 Only the pads are modelled (zero-thickness segments from hand_driver.kinematics), not the
-links, and only the scene's one object: a canonical curve of CONTRACTS §1 placed by its
-pose, the solid on its ``side``. A pad penetrates the solid when one of its end points is
-inside the solid or when the boundary crosses the segment transversally. The crossings
-are exact: the boundary meets the pad's line where ``n·P(t) = d``, which is closed form for
-every class (trigonometric for circle and ellipse, a quadratic for line/parabola and for
-e^t on the hyperbola, a cubic for the cubical and semicubical parabolas); a pad tangent to
-the boundary (a double root) touches without penetrating.
+links, and only the scene's one object, seen through :class:`hand_driver.sim.boundary.Boundary`
+(an unbounded curve with the solid on its ``side``, or a finite object: the curve over its
+extent, the straight closing segments and their corners). A pad penetrates the solid when
+one of its end points is inside the solid or when the boundary crosses the segment
+transversally (exact crossings, closed form). A pad tangent to the curve, lying flat on a
+closing segment or resting on a corner touches without penetrating, so a pad rolled on a
+corner pivots about it.
 
 :meth:`ContactWorld.constrain` moves along a straight joint-space step and stops at the
 last configuration without penetration (bisection to ``tol_rad``); far from the object a
@@ -23,11 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hand_driver.config import JawConfig
-from recognizer.curves import CURVES
-
-# Which side of the increasing-t traversal each class's "region" lies on (see _inside).
-_REGION_SIDE = {"line": "left", "circle": "left", "ellipse": "left", "parabola": "right",
-                "hyperbola": "right", "cubical_parabola": "left", "semicubical_parabola": "right"}
+from hand_driver.sim.boundary import Boundary
 
 
 @dataclass(frozen=True)
@@ -50,12 +46,7 @@ class ContactWorld:
         self.obj = scene_object
         self.tol_rad = tol_rad
         self.max_sweep_mm = max_sweep_mm
-        self.curve = CURVES[scene_object.cls](scene_object.params)
-        self._p = {k: float(v) for k, v in self.curve.params.items()}
-        pose = scene_object.pose
-        self._c, self._s = math.cos(pose.theta), math.sin(pose.theta)
-        self._ox, self._oy = pose.x, pose.y
-        self._solid_is_region = scene_object.side == _REGION_SIDE[scene_object.cls]
+        self.boundary = Boundary(scene_object)
         self._fingers = []
         for f in truth_config.fingers:
             j1, j2 = f.joints
@@ -66,10 +57,6 @@ class ContactWorld:
         self._build_chunks()
 
     # ------------------------------------------------------------------ geometry helpers
-    def _to_canon(self, x: float, y: float) -> tuple[float, float]:
-        dx, dy = x - self._ox, y - self._oy
-        return self._c * dx + self._s * dy, -self._s * dx + self._c * dy
-
     def _pads(self, q) -> list[tuple[float, float, float, float]]:
         """Pad segments (x0, y0, x1, y1) per finger, proximal → distal."""
         out, k = [], 0
@@ -94,11 +81,7 @@ class ContactWorld:
 
     def _build_chunks(self) -> None:
         """Bounding circles of the boundary within reach of the pads."""
-        t = self._t_samples()
-        x, y = self.obj.pose.apply(*self.curve.point(t))
-        pts = np.stack([x, y], axis=-1)
-        keep = np.hypot(x, y) <= self._reach + 20.0
-        pts = pts[keep] if keep.any() else pts[:0]
+        pts = self.boundary.points((0.0, 0.0), self._reach + 20.0)
         self._pts = pts
         centers, radii = [], []
         spacing = float(np.max(np.hypot(*np.diff(pts, axis=0).T))) if len(pts) > 1 else 0.0
@@ -116,19 +99,6 @@ class ContactWorld:
         else:
             self._outer = (0.0, 0.0, -math.inf)
 
-    def _t_samples(self) -> np.ndarray:
-        if self.curve.t_period is not None:
-            lo, hi = self.curve.t_period
-            return np.linspace(lo, hi, 4096)
-        span = 1.0
-        for _ in range(60):  # grow until both ends are out of reach
-            x, y = self.obj.pose.apply(*self.curve.point(np.array([-span, span])))
-            if np.all(np.hypot(x, y) > self._reach + 20.0):
-                break
-            span *= 1.5
-        u = np.linspace(-1.0, 1.0, 8001)
-        return span * np.sign(u) * np.abs(u) ** 2 if self.obj.cls != "line" else span * u
-
     def _pad_clearances(self, pads) -> list[float]:
         """Per pad, a lower bound (mm) on its distance to the boundary."""
         if not len(self._radii):
@@ -144,82 +114,10 @@ class ContactWorld:
         return min(self._pad_clearances(self._pads(q)))
 
     # ------------------------------------------------------------------ exact predicate
-    def _inside(self, x: float, y: float) -> bool:
-        """Is the hand-frame point strictly inside the solid?"""
-        u, v = self._to_canon(x, y)
-        p, cls = self._p, self.obj.cls
-        if cls == "line":
-            region = v > 0
-        elif cls == "circle":
-            region = u * u + v * v < p["r"] ** 2
-        elif cls == "ellipse":
-            region = (u / p["a"]) ** 2 + (v / p["b"]) ** 2 < 1.0
-        elif cls == "parabola":
-            region = v * v < 4.0 * p["a"] * u
-        elif cls == "hyperbola":
-            region = u > 0 and (u / p["a"]) ** 2 - (v / p["b"]) ** 2 > 1.0
-        elif cls == "cubical_parabola":
-            region = v > p["a"] * u**3 + p["c"] * u
-        else:  # semicubical_parabola, a > 0: between the branches
-            region = u > 0 and abs(v - p["b"] * u) < p["a"] * u**1.5
-        return region if self._solid_is_region else not region
-
-    def _point(self, t: float) -> tuple[float, float]:
-        """Canonical point at t (CONTRACTS §1), scalar and fast."""
-        p, cls = self._p, self.obj.cls
-        if cls == "line":
-            return t, 0.0
-        if cls == "circle":
-            return p["r"] * math.cos(t), p["r"] * math.sin(t)
-        if cls == "ellipse":
-            return p["a"] * math.cos(t), p["b"] * math.sin(t)
-        if cls == "parabola":
-            return p["a"] * t * t, 2.0 * p["a"] * t
-        if cls == "hyperbola":
-            return p["a"] * math.cosh(t), p["b"] * math.sinh(t)
-        if cls == "cubical_parabola":
-            return t, p["a"] * t**3 + p["c"] * t
-        return t * t, p["a"] * t**3 + p["b"] * t * t
-
-    def _line_hits(self, nx: float, ny: float, d: float) -> list[float]:
-        """Parameters t where the boundary crosses the line n·p = d (canonical frame),
-        transversal crossings only."""
-        p, cls = self._p, self.obj.cls
-        if cls == "line":
-            return [d / nx] if nx != 0.0 else []
-        if cls in ("circle", "ellipse"):
-            a, b = (p["r"], p["r"]) if cls == "circle" else (p["a"], p["b"])
-            big = math.hypot(a * nx, b * ny)
-            if big == 0.0 or abs(d) >= big:
-                return []
-            delta, w = math.atan2(b * ny, a * nx), math.acos(d / big)
-            return [delta - w, delta + w]
-        if cls == "parabola":
-            return _real_roots([nx * p["a"], 2.0 * ny * p["a"], -d])
-        if cls == "hyperbola":
-            aa, bb = p["a"] * nx, p["b"] * ny
-            return [math.log(w) for w in _real_roots([aa + bb, -2.0 * d, aa - bb]) if w > 0.0]
-        if cls == "cubical_parabola":
-            return _real_roots([ny * p["a"], 0.0, nx + ny * p["c"], -d])
-        return _real_roots([ny * p["a"], nx + ny * p["b"], 0.0, -d])
-
     def _pad_penetrates(self, seg: tuple[float, float, float, float]) -> bool:
         x0, y0, x1, y1 = seg
-        if self._inside(x0, y0) or self._inside(x1, y1):
-            return True
-        length = math.hypot(x1 - x0, y1 - y0)
-        tx, ty = (x1 - x0) / length, (y1 - y0) / length
-        # the pad's line in the canonical frame: n·p = d
-        ntx, nty = self._c * tx + self._s * ty, -self._s * tx + self._c * ty
-        nx, ny = -nty, ntx
-        u0, v0 = self._to_canon(x0, y0)
-        d = nx * u0 + ny * v0
-        for t in self._line_hits(nx, ny, d):
-            px, py = self._point(t)
-            along = ntx * (px - u0) + nty * (py - v0)
-            if 0.0 < along < length:
-                return True
-        return False
+        b = self.boundary
+        return b.inside(x0, y0) or b.inside(x1, y1) or b.crosses(x0, y0, x1, y1)
 
     def penetrates(self, q, pads: list[int] | None = None) -> bool:
         """Does any pad (or any of the listed pads) penetrate the solid at joint angles q
@@ -310,24 +208,3 @@ class ContactWorld:
         """Finger name → is its pad within ``touch_mm`` of the boundary (or in it)?"""
         return {c.finger: c.penetrating or c.gap_mm <= touch_mm for c in self.contact_info(q)}
 
-
-def _real_roots(coeffs: list[float]) -> list[float]:
-    """Real simple roots of a polynomial (highest power first); leading zeros dropped."""
-    c = list(coeffs)
-    while c and abs(c[0]) < 1e-300:
-        c.pop(0)
-    if len(c) <= 1:
-        return []
-    if len(c) == 2:
-        return [-c[1] / c[0]]
-    if len(c) == 3:
-        a, b, cc = c
-        disc = b * b - 4 * a * cc
-        if disc <= 0.0:
-            return []
-        r = math.sqrt(disc)
-        q = -0.5 * (b + math.copysign(r, b))
-        return [q / a, cc / q] if q != 0.0 else [0.0]
-    roots = np.roots(c)
-    real = roots[np.abs(roots.imag) <= 1e-12 * np.maximum(1.0, np.abs(roots.real))].real
-    return [float(r) for r in real]

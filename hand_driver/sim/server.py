@@ -8,7 +8,8 @@ read, bulk write; status errors; no status for broadcast writes; servos answer o
 the baud rate their Baud Rate register selects). Motion is integrated on demand in
 simulated time (``time_scale`` × wall clock) before each packet is served; when the
 scene has an object and ``hand_driver.sim.physics.ContactWorld`` is available, every
-step is constrained so that no pad penetrates the object (joint angles from ticks use
+step is constrained so that no pad penetrates the object (unbounded or finite: curve,
+closing segments and corners) (joint angles from ticks use
 the *truth* config: zero_tick, direction), and a blocked servo's current rises.
 """
 

@@ -1,6 +1,7 @@
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from recognizer.curves import CURVES, DEFAULT_SIDE
@@ -8,6 +9,7 @@ from tactile_common.errors import InputError
 from recognizer.scene import load_scene
 
 SCENES = Path(__file__).resolve().parents[2] / "config" / "scenes"
+PARABOLA = {"class": "parabola", "params": {"a": 8.0}, "pose": {"x": 85.0}}
 MINE = ["conics", "ellipse", "circle", "parabola", "hyperbola", "cubics", "all"]
 
 
@@ -45,6 +47,26 @@ def test_relative_path_uses_base_dir(tmp_path):
     ({"object": {"class": "circle", "params": {"r": 1}, "pose": {"x": float("inf")}}}, "finite"),
     ({"noise": {"phi": -1}}, ">= 0"),
     ({"profile": 3}, "profile"),
+    ({"object": {**PARABOLA, "extent": [1.4, -1.4]}}, r"object\.extent: needs t0 < t1"),
+    ({"object": {**PARABOLA, "extent": [0.5]}}, r"object\.extent: must be \[t0, t1\]"),
+    ({"object": {**PARABOLA, "extent": [0, float("nan")]}}, r"object\.extent: must be a finite number"),
+    ({"object": {"class": "circle", "params": {"r": 1}, "extent": [0, 1]}}, r"object\.extent: a circle is whole"),
+    ({"object": {"class": "ellipse", "params": {"a": 2, "b": 1}, "closure": [[0, 0]]}},
+     r"object\.closure: a ellipse is whole"),
+    ({"object": {"class": "line", "extent": [-10, 10]}}, r"object\.closure: a line needs closure"),
+    ({"object": {**PARABOLA, "closure": [[40, 30]]}}, r"object\.closure: needs extent"),
+    ({"object": {**PARABOLA, "extent": [-1.4, 1.4], "closure": []}}, r"object\.closure: must be a non-empty list"),
+    ({"object": {**PARABOLA, "extent": [-1.4, 1.4], "closure": [[40, 30, 1]]}}, r"object\.closure\[0\]: must be \[x, y\]"),
+    # corners in the wrong order: the two closing segments cross each other
+    ({"object": {**PARABOLA, "extent": [-1.4, 1.4], "closure": [[40, -30], [40, 30]]}},
+     r"object\.closure: the boundary crosses itself \(closing segment 1 meets another closing segment\)"),
+    # a closing segment cut through the curved part
+    ({"object": {**PARABOLA, "extent": [-1.4, 1.4], "closure": [[5, 30], [5, -30]]}},
+     r"object\.closure: the boundary crosses itself \(closing segment 2 meets the curve\)"),
+    ({"object": {"class": "line", "extent": [-10, 10], "closure": [[5, 0], [0, -5]]}}, "crosses itself"),
+    ({"object": {"class": "line", "extent": [-10, 10], "closure": [[0, 0]]}}, "encloses no area"),
+    ({"object": {"class": "line", "extent": [-10, 10], "closure": [[10, 5], [10, 5], [-10, 5]]}}, "zero length"),
+    ({"object": {**PARABOLA, "extent": [-1.4, 1.4], "side": "left"}}, r"object\.side: the closed boundary puts the solid on the right"),
 ])
 def test_bad_scenes_one_line(raw, msg):
     with pytest.raises(InputError, match=msg) as e:
@@ -59,3 +81,15 @@ def test_bad_file(tmp_path):
         load_scene(p)
     with pytest.raises(InputError, match="cannot read"):
         load_scene(tmp_path / "nope.yaml")
+
+
+def test_finite_objects():
+    chord = load_scene({"object": {**PARABOLA, "extent": [-1.4, 1.4]}}).object
+    assert chord.finite and chord.extent == (-1.4, 1.4) and chord.closure is None and chord.side == "right"
+    assert np.allclose(chord.corners(), [[15.68, 22.4], [15.68, -22.4]])
+    box = load_scene({"object": {"class": "line", "extent": [-10, 10], "closure": [[10, 5], [-10, 5]],
+                                 "pose": {"x": 100.0, "y": 1.0}}}).object
+    assert box.side == "left"  # the solid above the line: on the left of increasing t
+    x, y = box.outline(samples=3)
+    assert np.allclose(np.stack([x, y], axis=-1), [(90, 1), (100, 1), (110, 1), (110, 6), (90, 6), (90, 1)])
+    assert not load_scene({"object": PARABOLA}).object.finite  # unbounded, as before
