@@ -2,12 +2,12 @@
 
 For every class the scene allows (and the touches suffice for, touches.MIN_TOUCHES) the
 class is fitted to every touch (recognizer.localize: the invariants' closed-form
-solution, then the exact contact equations by Levenberg–Marquardt). Its consistency test
+solution, then the exact contact equations by least squares). Its consistency test
 is a χ² test at level ``alpha`` on the whitened residuals of every measurement (position,
 tangent angle, κ, κ_s of every touch): the invariants' consistency across every pair of
 touches is what this tests, with each measurement's propagated uncertainty (a contact's
 κ/κ_s covariance, the noise model's φ and position deviations). With zero covariance
-(exact data) the floor localize.EPS_FLOOR (1e-7 relative) stands in for the deviations.
+(exact data) the floor contacts.EPS_FLOOR (1e-7 relative) stands in for the deviations.
 Consistent classes are ranked by BIC = −2 ln L + k·ln(n_obs) (k: fitted unknowns), and
 the best is kept unless a simpler class of which it is a limit (``LIMIT_OF``: a line of
 every curved class, a circle of the ellipse, a parabola of the ellipse and hyperbola) is
@@ -29,7 +29,8 @@ import numpy as np
 from scipy import special, stats
 
 from recognizer import invariants as inv
-from recognizer.localize import EPS_FLOOR, N_SHAPE, Contacts, fit_class, fit_class_every_start
+from recognizer.contacts import EPS_FLOOR, Contacts
+from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start
 from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request
 

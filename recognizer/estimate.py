@@ -36,6 +36,9 @@ Covariance of (κ, κ_s)
 - ``"central"`` adds its difference to the quartic through the 5 middle samples as
   truncation term; on 3 or 4 samples it has no spare sample and its covariance is the
   noise's (or the floor's) propagation only — document your noise model for them.
+
+Length (~410 lines): one job, κ and κ_s with their covariance; the methods share the
+arc-length, Taylor-basis and propagation helpers below.
 """
 
 from __future__ import annotations

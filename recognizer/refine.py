@@ -24,6 +24,11 @@ recognizer.classify adds a likelihood-ratio test between nested classes),
 ``p_value`` (χ² upper tail), ``consistent`` (p ≥ alpha), ``uncertainty`` (standard
 deviations of parameters and pose from (JᵀJ)⁻¹) and ``cov`` (the parameter covariance).
 Canonical conventions hold on output (ellipse a ≥ b: axes swapped with θ += π/2).
+
+Length (~500 lines, above the ~400 of the guide): one job, the fit over every sample; the
+problem (packing with gauges, residuals, Jacobian, across/along weighting), the σ's
+estimated from residuals and the candidate's statistics all read the same packing of
+unknowns, and splitting them would spread that packing over modules.
 """
 
 from __future__ import annotations

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from recognizer import invariants as inv
-from recognizer import localize as L
+from recognizer import contacts as L
+from recognizer import solver as S
 from recognizer.classify import recognize
 from recognizer.curves import CURVES
 from recognizer.result import RecognizeOptions
@@ -28,7 +29,7 @@ def test_kernels_match_curves(cls):
     t = np.array(TS)
     x, y, phi, k, ks = c.frame(t)
     want = np.stack([x, y, phi, k, ks, c.speed(t)], 1)
-    got = np.array([L._KERNELS[cls](p, ti) for ti in TS])
+    got = np.array([S.KERNELS[cls](p, ti) for ti in TS])
     assert np.allclose(got, want, rtol=1e-13, atol=1e-13)
 
 
@@ -73,7 +74,7 @@ def test_jacobian_matches_central_differences(cls):
     x, y, phi, k, ks = c.frame(t)
     d = L.Contacts(x + 0.01, y - 0.02, phi + 0.003, k * 1.01, ks + 0.01, np.zeros((3, 2, 2)),
                    np.full(3, 1e-2), np.full(3, 1e-2))
-    m = L._Model(cls, d)
+    m = S.ContactModel(cls, d)
     z = m.pack(PARAMS[cls], 0.0, 0.0, 0.0, t)
     r, _, parts = m.eval(z)
     J = m.jac(z, np.array(r), parts)
@@ -90,7 +91,7 @@ def test_jacobian_matches_central_differences(cls):
 def test_cost_floor_is_a_lower_bound(cls):
     d = _contacts(seed=2)
     d = d.flipped() if cls == "circle" and d.dominant_kappa() < 0 else d
-    m = L._Model(cls, d)
+    m = S.ContactModel(cls, d)
     floor = m.floor()
     assert floor > 0
     rng = np.random.default_rng(5)

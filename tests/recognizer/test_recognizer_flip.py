@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from recognizer import localize as L
+from recognizer.contacts import Contacts
 from recognizer.curves import CURVES, Pose
 
 
@@ -20,7 +21,7 @@ def test_flipped_whitener_whitens_resigned_covariance():
     rng = np.random.default_rng(3)
     n = 4
     cov = _cov(n, 0.9, rng)
-    d = L.Contacts(rng.normal(size=n), rng.normal(size=n), rng.uniform(-3, 3, n), rng.normal(size=n),
+    d = Contacts(rng.normal(size=n), rng.normal(size=n), rng.uniform(-3, 3, n), rng.normal(size=n),
                    rng.normal(size=n), cov, np.full(n, 1e-3), np.full(n, 1e-3))
     f = d.flipped()
     D = np.diag([-1.0, 1.0])
@@ -45,11 +46,11 @@ def test_correlated_covariance_same_chi2_both_directions(rho):
     cov = _cov(3, rho, rng)
     e = np.array([rng.multivariate_normal([0, 0], cc) for cc in cov])
     sp = np.full(3, 1e-3)
-    fwd = L.Contacts(x, y, phi, k + e[:, 0], ks + e[:, 1], cov, sp, sp)
+    fwd = Contacts(x, y, phi, k + e[:, 0], ks + e[:, 1], cov, sp, sp)
     rc = cov.copy()
     rc[:, 0, 1] *= -1
     rc[:, 1, 0] *= -1
-    rev = L.Contacts(x[::-1], y[::-1], (phi + np.pi)[::-1], -(k + e[:, 0])[::-1], (ks + e[:, 1])[::-1],
+    rev = Contacts(x[::-1], y[::-1], (phi + np.pi)[::-1], -(k + e[:, 0])[::-1], (ks + e[:, 1])[::-1],
                      rc[::-1], sp, sp)
     f1, f2 = L.fit_class("ellipse", fwd), L.fit_class("ellipse", rev)
     assert f1.chi2 < 30  # a consistent fit with 3·5 − 8 = 7 degrees of freedom

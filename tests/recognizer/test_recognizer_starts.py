@@ -9,7 +9,8 @@ import pytest
 from recognizer import synth
 from recognizer.classify import LIMIT_OF, choose
 from recognizer.curves import CURVES, Pose
-from recognizer.localize import Contacts, _conic_start, _semicubical_scan
+from recognizer.contacts import Contacts
+from recognizer.starts import conic_start, semicubical_scan
 from recognizer.result import Candidate
 
 
@@ -38,7 +39,7 @@ def test_conic_start_is_exact_on_exact_contacts(cls, params, ts):
     """Six linear equations (three points, three tangents) hold for the true conic: its
     null vector gives a, b, and every touch's t to rounding."""
     pose = Pose(0.7, 110.0, -20.0)
-    starts = _conic_start(cls, _contacts(cls, params, ts, pose))
+    starts = conic_start(cls, _contacts(cls, params, ts, pose))
     assert len(starts) == 1
     got, t = starts[0]
     for k, v in params.items():
@@ -52,8 +53,8 @@ def test_conic_start_is_exact_on_exact_contacts(cls, params, ts):
 
 def test_conic_start_refuses_the_other_type():
     pose = Pose(0.0, 0.0, 0.0)
-    assert _conic_start("hyperbola", _contacts("ellipse", {"a": 4.0, "b": 2.0}, [-1.0, 0.2, 1.3], pose)) == []
-    assert _conic_start("ellipse", _contacts("hyperbola", {"a": 4.0, "b": 2.0}, [-1.0, 0.2, 1.3], pose)) == []
+    assert conic_start("hyperbola", _contacts("ellipse", {"a": 4.0, "b": 2.0}, [-1.0, 0.2, 1.3], pose)) == []
+    assert conic_start("ellipse", _contacts("hyperbola", {"a": 4.0, "b": 2.0}, [-1.0, 0.2, 1.3], pose)) == []
 
 
 @pytest.mark.parametrize("b,vs", [(-0.9, [0.7, 1.1, 1.5]), (0.35, [0.66, 0.9, 1.55]), (3.0, [0.5, 2.0, 4.0]),
@@ -64,14 +65,15 @@ def test_semicubical_scan_starts_reach_the_truth(b, vs, monkeypatch):
     converges to the true shape, on the right branch of every touch (the last two cases
     touch both branches, around the cusp)."""
     import recognizer.localize as loc
+    import recognizer.starts as st
 
     a = 0.2
     ts = np.asarray(vs) / a
     d = _contacts("semicubical_parabola", {"a": a, "b": b}, ts, Pose(-1.0, 90.0, 10.0), sig_pos=0.05,
                   sig_phi=1.5e-3, sig_k=1e-2)
-    starts = _semicubical_scan(d)
+    starts = semicubical_scan(d)
     assert 1 <= len(starts) <= 4
-    monkeypatch.setattr(loc, "_cubic_starts", lambda cls, data, every: _semicubical_scan(data))
+    monkeypatch.setattr(st, "_cubic_starts", lambda cls, data, every: semicubical_scan(data))
     fits = loc.fit_class_every_start("semicubical_parabola", d)
     assert fits and fits[0].chi2 < 1e-8
     assert fits[0].params["a"] == pytest.approx(a, rel=1e-6)

@@ -1,0 +1,138 @@
+"""The touches' local geometry as the contact fit sees it: position, tangent angle, κ, κ_s
+of every touch with their standard deviations, floors for exact data, the whitener of
+each touch's (κ, κ_s) covariance and the same touches seen in the other direction."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Contacts", "EPS_FLOOR"]
+
+#: relative floor of every measurement's standard deviation (exact data, zero covariance)
+EPS_FLOOR = 1e-7
+
+
+@dataclass
+class Contacts:
+    """The local geometry of every touch, with standard deviations (floors applied)."""
+
+    x: np.ndarray
+    y: np.ndarray
+    phi: np.ndarray
+    kappa: np.ndarray
+    kappa_s: np.ndarray
+    cov: np.ndarray  # (n, 2, 2) covariance of (κ, κ_s)
+    sig_pos: np.ndarray
+    sig_phi: np.ndarray
+
+    @property
+    def n(self) -> int:
+        return len(self.x)
+
+    def __post_init__(self):
+        self._scale = None
+        self._white = None
+        self._wl = None
+        self._rows = None
+        self._cols = None
+        self._flip = None
+
+    @property
+    def scale(self) -> float:
+        """L: the touches' extent (largest distance between two contacts), mm."""
+        if self._scale is None:
+            self._scale = self._extent()
+        return self._scale
+
+    def _extent(self) -> float:
+        x, y = self.x.tolist(), self.y.tolist()
+        span = max((math.hypot(x[i] - x[j], y[i] - y[j]) for i in range(len(x)) for j in range(i + 1, len(x))),
+                   default=0.0)
+        if span > 0:
+            return span
+        k = float(np.max(np.abs(self.kappa)))
+        return 1.0 / k if k > 0 else 1.0
+
+    def whitener(self) -> np.ndarray:
+        """(n, 2, 2) W with W·(δκ, δκ_s) standardized; floors EPS_FLOOR·(|κ| + 1/L) and
+        EPS_FLOOR·(|κ_s| + κ² + |κ|/L + 1/L²) added to the variances (κ² is κ_s's natural
+        scale: at a sharp vertex κ_s swings by ~κ² over a roundoff-sized step)."""
+        if self._white is None:
+            self._white = np.array(self._whitener_rows(), dtype=float).reshape(-1, 2, 2)
+        return self._white
+
+    def _whitener_rows(self) -> list[tuple]:
+        """(W₀₀, W₀₁, W₁₀, W₁₁) per touch: inv(cholesky(C)) of each 2×2 C in closed form,
+        C = L·Lᵀ, L = [[l₀₀, 0], [l₁₀, l₁₁]]."""
+        if self._wl is not None:
+            return self._wl
+        L = self.scale
+        out = []
+        for k, ks, ((c00, c01), (c10, c11)) in zip(self.kappa.tolist(), self.kappa_s.tolist(), self.cov.tolist()):
+            fk = EPS_FLOOR * (abs(k) + 1.0 / L)
+            fks = EPS_FLOOR * (abs(ks) + k * k + abs(k) / L + 1.0 / L**2)
+            c00, c11 = c00 + fk * fk, c11 + fks * fks
+            if not c00 > 0:
+                raise np.linalg.LinAlgError("Matrix is not positive definite")
+            l00 = math.sqrt(c00)
+            l10 = c10 / l00
+            d = c11 - l10 * l10
+            if not d > 0:
+                raise np.linalg.LinAlgError("Matrix is not positive definite")
+            l11 = math.sqrt(d)
+            out.append((1.0 / l00, 0.0, -l10 / (l00 * l11), 1.0 / l11))
+        self._wl = out
+        return out
+
+    def rows(self) -> list[tuple]:
+        """Per touch, as Python floats: (x, y, φ, κ, κ_s, σ_pos, σ_φ, W₀₀, W₀₁, W₁₀, W₁₁),
+        the deviations with their floors EPS_FLOOR·L and EPS_FLOOR."""
+        if self._rows is None:
+            lo = EPS_FLOOR * self.scale
+            self._rows = [(x, y, f, k, ks, max(sp, lo), max(sf, EPS_FLOOR), *w) for x, y, f, k, ks, sp, sf, w in zip(
+                self.x.tolist(), self.y.tolist(), self.phi.tolist(), self.kappa.tolist(), self.kappa_s.tolist(),
+                self.sig_pos.tolist(), self.sig_phi.tolist(), self._whitener_rows())]
+        return self._rows
+
+    @property
+    def exact(self) -> bool:
+        """No stated noise: zero κ/κ_s covariance and zero position and angle deviations."""
+        return not (np.any(self.cov) or np.any(self.sig_pos) or np.any(self.sig_phi))
+
+    @property
+    def eased(self) -> bool:
+        """Exact positions and angles (zero stated deviations) with uncertain κ, κ_s: the
+        case of noise-free samples, whose fits start from a widened problem."""
+        return bool(np.any(self.cov)) and not (np.any(self.sig_pos) or np.any(self.sig_phi))
+
+    def cols(self) -> tuple[list, list, list, list, list]:
+        """(x, y, φ, κ, κ_s) as lists of Python floats."""
+        if self._cols is None:
+            self._cols = tuple(list(c) for c in zip(*(r[:5] for r in self.rows())))
+        return self._cols
+
+    def dominant_kappa(self) -> float:
+        """The κ of largest magnitude (the first of equals): its sign is the direction."""
+        k = self.cols()[3]
+        return max(k, key=abs)
+
+    def flipped(self) -> "Contacts":
+        """The same touches seen in the other direction (φ + π, −κ). With D = diag(−1, 1)
+        the covariance of (−κ, κ_s) is D·C·D (the κ/κ_s cross term changes sign) and
+        W·D whitens it: the κ column of W changes sign (the floors see |κ| and κ² only).
+        Made once."""
+        if self._flip is None:
+            cov = self.cov.copy()
+            cov[:, 0, 1] *= -1.0
+            cov[:, 1, 0] *= -1.0
+            f = Contacts(self.x, self.y, self.phi + np.pi, -self.kappa, self.kappa_s, cov,
+                         self.sig_pos, self.sig_phi)
+            f._scale = self.scale
+            f._wl = [(-w00, w01, -w10, w11) for w00, w01, w10, w11 in self._whitener_rows()]
+            f._rows = [(x, y, p + np.pi, -k, ks, sp, sf, -w00, w01, -w10, w11)
+                       for x, y, p, k, ks, sp, sf, w00, w01, w10, w11 in self.rows()]
+            self._flip = f
+        return self._flip

@@ -1,0 +1,290 @@
+"""The contact fit of one class: the exact contact equations of every touch, solved by
+Levenberg–Marquardt.
+
+Unknowns z: the shape parameters (positive ones as logarithms), the pose (θ, x, y) and
+one contact parameter t per touch. Residuals, per touch: position (x, y)/σ_pos, wrapped
+tangent angle φ/σ_φ, and (κ, κ_s) whitened by the touch's covariance
+(recognizer.contacts). Jacobian: analytic in pose and t (dp/dt = speed·(cos φ, sin φ),
+dφ/dt = κ·speed, dκ/dt = κ_s·speed, dκ_s/dt a central difference), forward differences
+in the ≤ 2 shape parameters.
+
+Why a solver of its own and scalar closed forms beside recognizer.curves (measured on
+56 balanced requests, 8 per class, seed 1, CPU time per recognition, same machine and
+load): this module as it is, 93 ms; the same Levenberg–Marquardt evaluating
+recognizer.curves' vectorized forms, 150 ms; scipy.optimize.least_squares (refine's
+engine) on those forms, 167 ms, MINPACK through scipy.optimize.leastsq 135 ms with one
+semicubical answer in a worse minimum (1.1 % → 85 % error). A fit sees 3–5 touches and
+is evaluated ~10⁴ times per recognition: NumPy's per-call cost on 3-element arrays
+(~1 µs a call, ~50 µs per evaluation) outweighs the arithmetic, and least_squares adds
+its own wrapper per call. So the kernels below restate the closed forms of
+recognizer.curves on Python floats (checked against them to 1e-13 in
+tests/recognizer/test_recognizer_fast.py); refinement over every sample (dozens of rows)
+keeps least_squares.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.linalg.lapack import dgesdd
+
+from recognizer.contacts import Contacts
+from recognizer.curves import CURVES
+
+__all__ = ["ContactModel", "KERNELS", "HOPELESS_START", "svd"]
+
+_LOG = {"line": (), "circle": (True,), "ellipse": (True, True), "parabola": (True,), "hyperbola": (True, True),
+        "cubical_parabola": (False, False), "semicubical_parabola": (True, False)}
+_PI, _TAU = math.pi, 2.0 * math.pi
+_NUMERIC_ERRORS = (ArithmeticError, ValueError)  # math raises where NumPy gives inf/nan
+#: on exact data, a start whose χ² exceeds this many times the give-up level is not iterated
+HOPELESS_START = 1e6
+
+
+def svd(a: np.ndarray):
+    """Thin SVD (u, s, vᵀ) by LAPACK gesdd, as np.linalg.svd computes it, without that
+    wrapper's per-call cost (a third of the time on a 25×10 Jacobian)."""
+    u, s, vt, info = dgesdd(a, compute_uv=1, full_matrices=0)
+    if info != 0:  # not converged: NumPy's own path raises LinAlgError
+        return np.linalg.svd(a, full_matrices=False)
+    return u, s, vt
+
+
+# kernel(p, t) -> (x, y, φ, κ, κ_s, speed) at one t; p the shape parameters in param_names
+# order. Python floats: a NumPy call costs more than these few operations.
+
+def _k_line(p, t):
+    return t, 0.0, 0.0, 0.0, 0.0, 1.0
+
+
+def _k_circle(p, t):
+    r = p[0]
+    return r * math.cos(t), r * math.sin(t), t + _PI / 2, 1.0 / r, 0.0, r
+
+
+def _k_ellipse(p, t):
+    a, b = p
+    s, c = math.sin(t), math.cos(t)
+    s2 = (a * s) ** 2 + (b * c) ** 2
+    return (a * c, b * s, math.atan2(b * c, -a * s), a * b / s2**1.5,
+            -3 * a * b * (a - b) * (a + b) * s * c / s2**3, math.hypot(a * s, b * c))
+
+
+def _k_parabola(p, t):
+    a = p[0]
+    h = math.hypot(1.0, t)
+    return a * t * t, 2 * a * t, math.atan2(1.0, t), -1.0 / (2 * a * h**3), 3 * t / (4 * a * a * h**6), 2 * a * h
+
+
+def _k_hyperbola(p, t):
+    a, b = p
+    ch, sh = math.cosh(t), math.sinh(t)
+    sp = math.hypot(a * sh, b * ch)
+    return (a * ch, b * sh, math.atan2(b * ch, a * sh), -a * b / sp**3,
+            3 * a * b * (a * a + b * b) * sh * ch / sp**6, sp)
+
+
+def _k_cubical(p, t):
+    a, c = p
+    lam = 3 * a * t * t + c
+    q = 1.0 + lam * lam
+    sp = math.hypot(1.0, lam)
+    return t, a * t**3 + c * t, math.atan(lam), 6 * a * t / sp**3, (6 * a * q - 108 * a * a * t * t * lam) / q**3, sp
+
+
+def _k_semicubical(p, t):
+    a, b = p
+    u = 3 * a * t + 2 * b
+    sg = -1.0 if t < 0 else 1.0
+    hu = math.hypot(2.0, u)
+    q = 4.0 + u * u
+    return (t * t, a * t**3 + b * t * t, math.atan2(sg * u, sg * 2.0), 6 * a / (abs(t) * hu**3),
+            -6 * a * (q + 9 * a * u * t) / (t**3 * q**3), abs(t) * hu)
+
+
+KERNELS = {"line": _k_line, "circle": _k_circle, "ellipse": _k_ellipse, "parabola": _k_parabola,
+            "hyperbola": _k_hyperbola, "cubical_parabola": _k_cubical, "semicubical_parabola": _k_semicubical}
+
+
+
+class ContactModel:
+    def __init__(self, cls: str, data: Contacts):
+        self.cls, self.d = cls, data
+        self.names = CURVES[cls].param_names
+        self.log = _LOG[cls]
+        self.np = len(self.names)
+        self.kern = KERNELS[cls]
+        self.rows = data.rows()
+        L = data.scale
+        self.tscale = L if cls in ("line", "cubical_parabola") else math.sqrt(L) if cls == "semicubical_parabola" else 1.0
+
+    def floor(self) -> float:
+        """A lower bound of the cost over every parameter value: the line's κ, κ_s are 0
+        and the circle's κ_s 0 and κ one value 1/r (the best common κ, by weighted least
+        squares); 0 for other classes."""
+        if self.cls == "line":
+            return sum((w00 * k + w01 * ks) ** 2 + (w10 * k + w11 * ks) ** 2
+                       for _, _, _, k, ks, _, _, w00, w01, w10, w11 in self.rows)
+        if self.cls != "circle":
+            return 0.0
+        # rows κ̂·W[:, 0] − W·(κ, κ_s) are linear in the common κ̂
+        ab = [(w0, -w0 * k - w1 * ks) for _, _, _, k, ks, _, _, w00, w01, w10, w11 in self.rows
+              for w0, w1 in ((w00, w01), (w10, w11))]
+        saa = sum(a * a for a, _ in ab)
+        c = -sum(a * b for a, b in ab) / saa if saa > 0 else 0.0
+        return sum((a * c + b) ** 2 for a, b in ab)
+
+    def params_of(self, z) -> dict:
+        p = z[: self.np]
+        return {k: (math.exp(v) if lg else float(v)) for k, v, lg in zip(self.names, p, self.log)}
+
+    def pack(self, params: dict, theta, X, Y, t) -> np.ndarray:
+        p = [math.log(params[k]) if lg else params[k] for k, lg in zip(self.names, self.log)]
+        return np.array(p + [theta, X, Y] + list(t), dtype=float)
+
+    def eval(self, z):
+        """Whitened residuals of every touch (a flat list x, y, φ, κ, κ_s, ...), their sum
+        of squares (inf when not finite) and the pieces the Jacobian needs; (None, inf,
+        None) where the curve is not defined."""
+        zl = z.tolist() if isinstance(z, np.ndarray) else z
+        o = self.np
+        th, X, Y = zl[o: o + 3]
+        kern = self.kern
+        r = []
+        fr = []
+        try:
+            p = tuple(math.exp(v) if lg else v for v, lg in zip(zl[:o], self.log))
+            ct, st = math.cos(th), math.sin(th)
+            for t, (x, y, phi, k, ks, sp, sf, w00, w01, w10, w11) in zip(zl[o + 3:], self.rows):
+                f = kern(p, t)
+                px, py = f[0], f[1]
+                e0, e1 = f[3] - k, f[4] - ks
+                r += ((ct * px - st * py + X - x) / sp, (st * px + ct * py + Y - y) / sp,
+                      ((f[2] + th - phi + _PI) % _TAU - _PI) / sf, w00 * e0 + w01 * e1, w10 * e0 + w11 * e1)
+                fr.append(f)
+        except _NUMERIC_ERRORS:
+            return None, math.inf, None
+        cost = sum(v * v for v in r)
+        return r, (cost if math.isfinite(cost) else math.inf), (p, ct, st, fr)
+
+    def jac(self, z, r, parts):
+        """Jacobian (5n, m) of the residuals: forward differences in the shape parameters,
+        analytic in pose and t (dp/dt = speed·(cos φ, sin φ), dφ/dt = κ·speed,
+        dκ/dt = κ_s·speed, dκ_s/dt a central difference). Built in Python floats, one
+        NumPy conversion at the end (an element-wise NumPy fill costs more than the math)."""
+        p, ct, st, fr = parts
+        n = len(fr)
+        o = self.np
+        m = o + 3 + n
+        zl = z.tolist()
+        th, X, Y = zl[o: o + 3]
+        ts = zl[o + 3:]
+        rl = r.tolist() if isinstance(r, np.ndarray) else r
+        kern, tscale, rows = self.kern, self.tscale, self.rows
+        # shape columns: the residuals at a forward step of one shape parameter (as eval)
+        shape = []
+        for j in range(o):
+            if self.log[j]:
+                h = 1e-7
+            elif self.cls == "cubical_parabola" and j == 0:  # a, 1/mm², never 0
+                h = 1e-7 * abs(zl[j])
+            else:  # dimensionless slopes c, b
+                h = 1e-7 * max(abs(zl[j]), 1.0)
+            zj = zl[j] + h
+            pj = p[:j] + (math.exp(zj) if self.log[j] else zj,) + p[j + 1:]
+            col = []
+            try:
+                for t, (x, y, phi, k, ks, sp, sf, w00, w01, w10, w11) in zip(ts, rows):
+                    f = kern(pj, t)
+                    px, py = f[0], f[1]
+                    e0, e1 = f[3] - k, f[4] - ks
+                    col += ((ct * px - st * py + X - x) / sp, (st * px + ct * py + Y - y) / sp,
+                            ((f[2] + th - phi + _PI) % _TAU - _PI) / sf, w00 * e0 + w01 * e1, w10 * e0 + w11 * e1)
+                col = [(a - b) / h for a, b in zip(col, rl)]
+            except _NUMERIC_ERRORS:
+                col = [math.nan] * (5 * n)
+            shape.append(col)
+        out = []
+        for i, (t, f, row) in enumerate(zip(ts, fr, rows)):
+            px, py, ph, kc, ksc, spd = f
+            sp, sf, w00, w01, w10, w11 = row[5:]
+            h = 1e-6 * max(abs(t), tscale)
+            try:
+                kss = (kern(p, t + h)[4] - kern(p, t - h)[4]) / (2 * h)
+            except _NUMERIC_ERRORS:
+                kss = math.nan
+            ang = ph + th
+            e0 = ksc * spd
+            before, after = [0.0] * i, [0.0] * (n - 1 - i)
+            b = 5 * i
+            out += [c[b] for c in shape]
+            out += ((-st * px - ct * py) / sp, 1.0 / sp, 0.0)
+            out += before
+            out.append(spd * math.cos(ang) / sp)
+            out += after
+            out += [c[b + 1] for c in shape]
+            out += ((ct * px - st * py) / sp, 0.0, 1.0 / sp)
+            out += before
+            out.append(spd * math.sin(ang) / sp)
+            out += after
+            out += [c[b + 2] for c in shape]
+            out += (1.0 / sf, 0.0, 0.0)
+            out += before
+            out.append(kc * spd / sf)
+            out += after
+            out += [c[b + 3] for c in shape]
+            out += (0.0, 0.0, 0.0)
+            out += before
+            out.append(w00 * e0 + w01 * kss)
+            out += after
+            out += [c[b + 4] for c in shape]
+            out += (0.0, 0.0, 0.0)
+            out += before
+            out.append(w10 * e0 + w11 * kss)
+            out += after
+        return np.fromiter(out, float, 5 * n * m).reshape(5 * n, m)
+
+    def solve(self, z0, max_iter=40, give_up=math.inf):
+        """Levenberg–Marquardt from z0; stops early once the cost is negligible (exact data)
+        or when after 4 iterations it is still above ``give_up`` (hopeless class); not at all
+        when even the class's ``floor`` is above it (same verdict) or, on exact data, when
+        the start is HOPELESS_START times above it (a wrong class: the right class's
+        closed-form start is within 1e-4 of ``give_up`` on exact data; with noise a start
+        that far off can still end consistent, so there the rule is off).
+        Each iteration takes one SVD of the column-scaled Jacobian; every damping tried is
+        then a product with it (the least-squares step of [J; √μ·I] x = [−r; 0]).
+        Returns (z, cost, residuals, parts) (what ``jac`` needs at z)."""
+        z = np.asarray(z0, float).copy()
+        r, cost, parts = self.eval(z)
+        if r is None or not cost < math.inf:
+            return z, math.inf, None, None
+        r = np.array(r)
+        mu = 1e-6
+        if cost > give_up and ((self.d.exact and cost > HOPELESS_START * give_up) or self.floor() > give_up):
+            max_iter = 0
+        for it in range(max_iter):
+            if cost < 1e-12 or (it >= 4 and cost > give_up):
+                break
+            J = self.jac(z, r, parts)
+            if not np.all(np.isfinite(J)):
+                break
+            cn = np.sqrt(np.einsum("ij,ij->j", J, J))
+            cn[cn == 0] = 1.0
+            U, s, Vt = svd(J / cn)
+            g = s * (U.T @ -r)
+            s2 = s * s
+            improved = False
+            for _ in range(8):
+                zn = z + (Vt.T @ (g / (s2 + mu))) / cn
+                rn, cn_cost, pn = self.eval(zn)
+                if cn_cost < cost:
+                    improved = True
+                    small = cost - cn_cost <= 1e-14 * cost + 1e-24
+                    z, r, parts, cost = zn, np.array(rn), pn, cn_cost
+                    mu = max(mu / 10, 1e-12)
+                    break
+                mu *= 10
+            if not improved or small:
+                break
+        return z, cost, r, parts

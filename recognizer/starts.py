@@ -1,0 +1,341 @@
+"""Closed-form starting points of the contact fit, per class (paper §§2–4, ERRATA).
+
+For one class and the touches' local geometry (data in the class's canonical direction,
+recognizer.localize flips them first), each start is (params, t per touch):
+
+- line: the mean tangent direction; circle: r = 1/mean κ and the centre;
+- ellipse, hyperbola: a, b from I_c1, I_c2 (eqs. 9, 10) of the best-conditioned pair, with
+  sin²t = ((ab/κ)^{2/3} − b²)/(a² − b²) (quadrant from sign(sin t cos t) = −sign κ_s and
+  the half-turn from the tangent), sinh²t = ((ab/|κ|)^{2/3} − b²)/(a² + b²),
+  sign t = sign κ_s; and the conic through the touches' positions and tangents
+  (``conic_start``), which does not lean on κ_s;
+- parabola: a from I_p, t = κ_s/(3κ²);
+- cubical and semicubical parabolas: the canonical tangent angle ψ from
+  ``invariants.slope_angles`` (both roots; for the semicubical both branches t ≷ 0), then
+  a, c (a, b) from I_cp1/I_cp2 (I_scp1/I_scp2), t = κ(1+λ²)^{3/2}/(6a) (resp.
+  2(λ − b)/(3a)); for the semicubical also a scan of its shape and location that leans
+  on positions and tangents first (``semicubical_scan``).
+
+``pose_from`` places a start: θ the circular mean of φ_i − φ(t_i), (x, y) the mean of
+p_i − R(θ)·p(t_i), and scores it by the position-and-angle χ².
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from recognizer import invariants as inv
+from recognizer.contacts import Contacts
+from recognizer.curves import CURVES
+from recognizer.solver import KERNELS
+
+__all__ = ["starts", "pose_from", "conic_start", "semicubical_scan"]
+
+_PI = math.pi
+
+
+def _wrap(a):
+    return np.remainder(np.asarray(a, float) + np.pi, 2 * np.pi) - np.pi
+
+
+def _wrap_s(a: float) -> float:
+    return (a + _PI) % (2.0 * _PI) - _PI
+
+
+def _circmean_s(a) -> float:
+    return math.atan2(math.fsum(map(math.sin, a)), math.fsum(map(math.cos, a)))
+
+
+def _mean(a) -> float:
+    return math.fsum(a) / len(a)
+
+
+def _median(a) -> float:
+    """np.median of a short list: nan when any value is nan."""
+    if any(v != v for v in a):
+        return math.nan
+    s = sorted(a)
+    h = len(s) // 2
+    return s[h] if len(s) % 2 else (s[h - 1] + s[h]) / 2
+
+
+def _div(a: float, b: float) -> float:
+    """a / b with IEEE results (±inf, nan) where Python raises."""
+    try:
+        return a / b
+    except ZeroDivisionError:
+        return math.nan if a == 0 or a != a else math.copysign(math.inf, a) * math.copysign(1.0, b)
+
+
+def pose_from(cls: str, params: dict, t, d: Contacts) -> tuple[float, float, float, float]:
+    """Pose putting the curve points at t onto the touches (θ the circular mean of the angle
+    differences, (x, y) the mean offset) and its position-and-angle χ² (inf when not finite)."""
+    kern = KERNELS[cls]
+    p = tuple(params[k] for k in CURVES[cls].param_names)
+    fr = [kern(p, ti) for ti in t]
+    rows = d.rows()
+    dph = [row[2] - f[2] for row, f in zip(rows, fr)]
+    th = _circmean_s(dph)
+    ct, st = math.cos(th), math.sin(th)
+    ex = [row[0] - (ct * f[0] - st * f[1]) for row, f in zip(rows, fr)]
+    ey = [row[1] - (st * f[0] + ct * f[1]) for row, f in zip(rows, fr)]
+    X, Y = _mean(ex), _mean(ey)
+    cost = sum(((X - a) ** 2 + (Y - b) ** 2) / row[5] ** 2 + (_wrap_s(th - c) / row[6]) ** 2
+               for a, b, c, row in zip(ex, ey, dph, rows))
+    return th, X, Y, (cost if math.isfinite(cost) else math.inf)
+
+
+def _best_pair(k):
+    n = len(k)
+    best, bi, bj = -1.0, 0, 1
+    for i in range(n):
+        for j in range(i + 1, n):
+            q = inv.pair_condition_s(k[i], k[j])
+            if q > best:
+                best, bi, bj = q, i, j
+    return bi, bj
+
+
+def conic_start(cls: str, d: Contacts) -> list[tuple[dict, list]]:
+    """An ellipse or hyperbola start from the touches' positions and tangents alone.
+
+    The invariants I_c1, I_c2 (eqs. 9, 10) lean on κ_s, the worst-measured quantity: under
+    noise they can give no start or one in the wrong basin. A conic Q = Ax² + Bxy + Cy² +
+    Dx + Ey + F through every contact point (Q(p) = 0) and tangent to its pad there
+    (∇Q(p)·(cos φ, sin φ) = 0) is linear in (A…F): with three touches, six equations for
+    five ratios, solved by the SVD in coordinates centred and scaled by L. Its centre,
+    axes and discriminant give a, b, the frame and t per touch (none when the conic is of
+    the other type)."""
+    x, y, phi = (np.asarray(c, float) for c in d.cols()[:3])
+    if d.n < 3:
+        return []
+    L = d.scale
+    mx, my = x.mean(), y.mean()
+    u, w = (x - mx) / L, (y - my) / L
+    c, s = np.cos(phi), np.sin(phi)
+    rows = np.vstack([np.stack([u * u, u * w, w * w, u, w, np.ones_like(u)], axis=1),
+                      np.stack([2 * u * c, w * c + u * s, 2 * w * s, c, s, np.zeros_like(u)], axis=1)])
+    if not np.all(np.isfinite(rows)):
+        return []
+    A, B, C, D, E, F = np.linalg.svd(rows)[2][-1]
+    M = np.array([[A, B / 2], [B / 2, C]])
+    det = A * C - B * B / 4
+    if abs(det) < 1e-12 * (A * A + B * B + C * C):
+        return []
+    centre = -np.linalg.solve(M, [D / 2, E / 2])
+    Fc = F + 0.5 * (D * centre[0] + E * centre[1])
+    lam, vec = np.linalg.eigh(M)
+    if cls == "ellipse":
+        if det <= 0 or not np.all(-Fc / lam > 0):
+            return []
+        i = int(np.argmin(np.abs(lam)))  # the major axis: the eigenvalue of smaller magnitude
+        a, b = math.sqrt(-Fc / lam[i]) * L, math.sqrt(-Fc / lam[1 - i]) * L
+    else:
+        if det >= 0:
+            return []
+        transverse = np.flatnonzero(-Fc * lam > 0)  # x'²/a² − y'²/b² = 1; none: a pair of lines
+        if transverse.size != 1:
+            return []
+        i = int(transverse[0])
+        a, b = math.sqrt(-Fc / lam[i]) * L, math.sqrt(Fc / lam[1 - i]) * L
+    ex = vec[:, i]
+    th = math.atan2(ex[1], ex[0])
+    cx, cy = mx + centre[0] * L, my + centre[1] * L
+    ct, st = math.cos(th), math.sin(th)
+    xp = (x - cx) * ct + (y - cy) * st
+    yp = -(x - cx) * st + (y - cy) * ct
+    if cls == "ellipse":
+        t = np.arctan2(yp / b, xp / a)
+    else:
+        if np.mean(xp) < 0:  # contacts on the other branch: turn the frame by π
+            xp, yp = -xp, -yp
+        t = np.arcsinh(yp / b)
+    if not (math.isfinite(a) and math.isfinite(b) and np.all(np.isfinite(t))):
+        return []
+    return [({"a": a, "b": b}, t.tolist())]
+
+
+#: the semicubical scan: shape b on an asinh grid over ±SCAN_B, the first touch's
+#: scale-free coordinate |v| = |a·t| on a log grid over SCAN_V (times max(1, |b|))
+SCAN_B, SCAN_NB = 20.0, 75
+SCAN_V, SCAN_NV = (1e-2, 1e2), 81
+
+
+def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
+    """The semicubical scan's score at shapes b and first-touch coordinates v0 on branch
+    sg (broadcast arrays): χ² of positions, κ and κ_s with φ fitted exactly; returns
+    (cost, v per touch, scale 1/a²), cost inf where a touch's v is not on the branch its
+    tangent angle points to (the other touches may lie on either branch)."""
+    x, y, phi, k, ks = (np.asarray(c, float) for c in d.cols())
+    rows = d.rows()
+    w_pos = np.array([1.0 / r[5] ** 2 for r in rows])
+    W = d.whitener()
+    b = b[..., None]
+    th = phi[0] - np.arctan2(sg * (3 * v0 + 2 * b[..., 0]), 2 * sg)
+    psi = _wrap(phi - th[..., None])
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        v = (2 * np.tan(psi) - 2 * b) / 3
+        # each touch on the branch its tangent points to: ψ within ±π/2 on v > 0, beyond on v < 0
+        ok = np.all((np.abs(psi) < _PI / 2) == (v > 0), axis=-1)
+        px, py = v * v, v**3 + b * v * v
+        c, s_ = np.cos(th)[..., None], np.sin(th)[..., None]
+        qx, qy = c * px - s_ * py, s_ * px + c * py
+        wsum = w_pos.sum()
+        dx, dy = x - (w_pos * x).sum() / wsum, y - (w_pos * y).sum() / wsum
+        dqx = qx - (w_pos * qx).sum(-1, keepdims=True) / wsum
+        dqy = qy - (w_pos * qy).sum(-1, keepdims=True) / wsum
+        scale = (w_pos * (dx * dqx + dy * dqy)).sum(-1) / (w_pos * (dqx**2 + dqy**2)).sum(-1)
+        ok &= scale > 0
+        sc = scale[..., None]
+        cost = (w_pos * ((dx - sc * dqx) ** 2 + (dy - sc * dqy) ** 2)).sum(-1)
+        u = 3 * v + 2 * b
+        q = 4.0 + u * u
+        rk = k - 6.0 / (np.abs(v) * q**1.5) / sc
+        rks = ks + 6.0 * (q + 9 * u * v) / (v**3 * q**3) / (sc * sc)
+        r0 = W[:, 0, 0] * rk + W[:, 0, 1] * rks
+        r1 = W[:, 1, 0] * rk + W[:, 1, 1] * rks
+        cost = cost + (r0 * r0 + r1 * r1).sum(-1)
+    return np.where(ok & np.isfinite(cost), cost, np.inf), v, scale
+
+
+def semicubical_scan(d: Contacts, n_best: int = 4) -> list[tuple[dict, list]]:
+    """Starts for the semicubical parabola from the tangent angles and positions first.
+
+    Under noise κ_s is the worst-measured quantity, and the slope equation built on it can
+    miss the right frame entirely. Here the scale-free curve (v², v³ + b v²) (v = a t, the
+    curve shrunk by a²) is scanned over its shape b and the first touch's v on both
+    branches: the tangent angle ψ(v) = atan2(σ(3v + 2b), 2σ) (σ = sign v) is monotonic on
+    a branch, so φ₀ fixes the frame θ = φ₀ − ψ(v₀) and every other touch's v from
+    tan ψᵢ = (3vᵢ + 2b)/2, on the branch (either: touches around the cusp's tip) that ψᵢ
+    points to; the scale 1/a² and the translation follow from the positions by
+    linear least squares, and the point is scored by the χ² of the positions and of
+    κ = a²κ̃(v), κ_s = a⁴κ̃_s(v) (eq. 18–19's quantities) under their stated deviations.
+    The best ``n_best`` separated scan points are returned (a start needs only to lie in
+    the right basin: the contact fit that follows polishes it)."""
+    bs = np.sinh(np.linspace(-math.asinh(SCAN_B), math.asinh(SCAN_B), SCAN_NB))
+    g = np.geomspace(*SCAN_V, SCAN_NV)
+    found = []
+    for sg in (1.0, -1.0):
+        v0 = sg * g[None, :] * np.maximum(1.0, np.abs(bs))[:, None]
+        cost, v, scale = _scan_cost(d, bs[:, None], v0, sg)
+        for flat in np.argsort(cost, axis=None)[: 50 * n_best]:
+            i, j = np.unravel_index(flat, cost.shape)
+            if not np.isfinite(cost[i, j]):
+                break
+            if not any(s == sg and abs(i - ii) <= 4 and abs(j - jj) <= 6 for _, s, ii, jj, _ in found):
+                root = math.sqrt(float(scale[i, j]))
+                found.append((float(cost[i, j]), sg, int(i), int(j),
+                              ({"a": 1.0 / root, "b": float(bs[i])}, [float(vi) * root for vi in v[i, j]])))
+    found.sort(key=lambda f: f[:4])
+    return [start for *_, start in found[:n_best]]
+
+
+def starts(cls: str, d: Contacts, every_pair: bool = False) -> list[tuple[dict, list]]:
+    """Closed-form (params, t) starting points for a class (data in canonical direction):
+    ellipse and hyperbola from the invariants and from the conic through the touches
+    (``conic_start``); the cubic classes by ``_cubic_starts``."""
+    x, y, phi, k, ks = d.cols()
+    if cls == "line":
+        th = _circmean_s(phi)
+        c, s = math.cos(th), math.sin(th)
+        mx, my = _mean(x), _mean(y)
+        return [({}, [(xi - mx) * c + (yi - my) * s for xi, yi in zip(x, y)])]
+    if cls == "circle":
+        mk = _mean(k)
+        if not mk > 0:
+            return []
+        r = 1.0 / mk
+        cx = _mean([xi - r * math.sin(f) for xi, f in zip(x, phi)])
+        cy = _mean([yi + r * math.cos(f) for yi, f in zip(y, phi)])
+        return [({"r": r}, [math.atan2(yi - cy, xi - cx) for xi, yi in zip(x, y)])]
+    if cls in ("ellipse", "hyperbola"):  # the invariants divide by κ; the conic through the touches does not
+        return (_conic_invariant_starts(cls, d) if 0.0 not in k else []) + conic_start(cls, d)
+    if cls == "parabola":
+        if 0.0 in k:  # I_p divides by κ: no start
+            return []
+        a = _median([1.0 / (2.0 * inv.I_p_s(ki, ksi) ** 1.5) for ki, ksi in zip(k, ks)])
+        return [({"a": a}, [ksi / (3.0 * ki * ki) for ki, ksi in zip(k, ks)])] if a > 0 and math.isfinite(a) else []
+    return _cubic_starts(cls, d, every_pair)
+
+
+def _conic_invariant_starts(cls: str, d: Contacts) -> list[tuple[dict, list]]:
+    """Ellipse or hyperbola a, b from I_c1, I_c2 (eqs. 9, 10) of the best-conditioned pair, t per touch."""
+    _, _, phi, k, ks = d.cols()
+    i, j = _best_pair(k)
+    c1, c2 = inv.I_c12_s(k[i], ks[i], k[j], ks[j])
+    if not (math.isfinite(c1) and math.isfinite(c2)):
+        return []
+    if cls == "ellipse":
+        if c1 <= 0:
+            return []
+        P = c1**-1.5  # ab
+        S = c2 * P ** (4.0 / 3.0)  # a² + b²
+        disc = max(S * S - 4 * P * P, 0.0)
+        a2 = (S + math.sqrt(disc)) / 2
+        a = math.sqrt(a2)
+        b = P / a
+        if a <= b * (1 + 1e-9):
+            b = a / (1 + 1e-6)
+        t0 = []
+        for ki, ksi in zip(k, ks):
+            w = (a * b / abs(ki)) ** (2.0 / 3.0)
+            s2 = min(max((w - b * b) / ((a - b) * (a + b)), 0.0), 1.0)
+            t0.append(math.atan2(math.sqrt(s2), math.sqrt(1.0 - s2)) * (-1.0 if ksi > 0 else 1.0))
+        psi = [KERNELS["ellipse"]((a, b), t)[2] for t in t0]
+        th = phi[0] - psi[0]
+        return [({"a": a, "b": b}, [t + _PI if abs(_wrap_s(p + th - f)) > _PI / 2 else t
+                                    for t, p, f in zip(t0, psi, phi)])]
+    if c1 >= 0:
+        return []
+    P = (-c1) ** -1.5
+    D = c2 * P ** (4.0 / 3.0)  # a² − b²
+    a2 = (D + math.hypot(D, 2 * P)) / 2
+    a = math.sqrt(a2)
+    b = P / a
+    t = []
+    for ki, ksi in zip(k, ks):
+        w = (a * b / abs(ki)) ** (2.0 / 3.0)
+        sh = math.sqrt(max((w - b * b) / (a * a + b * b), 0.0))
+        t.append(math.asinh(sh) * (0.0 if ksi == 0 else math.copysign(1.0, ksi)))
+    return [({"a": a, "b": b}, t)]
+
+
+def _cubic_starts(cls: str, d: Contacts, every_pair: bool) -> list[tuple[dict, list]]:
+    """Cubical / semicubical parabola starts: the canonical tangent angle from the slope
+    equation of the best-turning pair (every pair with ``every_pair``), then a, c (a, b)
+    from I_cp1/I_cp2 (I_scp1/I_scp2); for the semicubical with ``every_pair`` also the scan
+    of its shape and location (``semicubical_scan``)."""
+    _, _, phi, k, ks = d.cols()
+    # cubic classes: canonical tangent angle from the slope equation of the best-turning pair
+    kk = inv.K_CUBICAL if cls == "cubical_parabola" else inv.K_SEMICUBICAL
+    n = d.n
+    pairs = sorted(((i, j) for i in range(n) for j in range(i + 1, n)),
+                   key=lambda q: -abs(math.sin(phi[q[1]] - phi[q[0]])))
+    frames = []
+    for i, j in (pairs if every_pair else pairs[:1]):
+        roots, _ = inv.slope_angles(k[i], ks[i], k[j], ks[j], phi[j] - phi[i], kk)
+        frames += [phi[i] - psi for psi in roots]
+    out = []
+    for th in frames:
+        # λ = tan ψ is blind to a half turn of the frame: the branch (sign of t) of the
+        # semicubical parabola follows from t = 2(λ − b)/(3a), so one turn per root
+        lam = [math.tan(_wrap_s(f - th)) for f in phi]
+        dens = [ksi + 3.0 * li * ki * ki for li, ki, ksi in zip(lam, k, ks)]
+        if cls == "cubical_parabola":
+            a = _median([de * (1.0 + li * li) ** 2 / 6.0 for li, de in zip(lam, dens)])
+            c = _median([li - _div(ki * ki * (1.0 + li * li), 2.0 * de) for li, ki, de in zip(lam, k, dens)])
+            if not (math.isfinite(a) and math.isfinite(c)) or a == 0:
+                continue
+            out.append(({"a": a, "c": c}, [ki * (1 + li * li) ** 1.5 / (6 * a) for li, ki in zip(lam, k)]))
+        else:
+            a = _median([math.sqrt(abs(_div(-8.0 * ki**3 * (1.0 + li * li) ** 2.5, 9.0 * de)))
+                         for li, ki, de in zip(lam, k, dens)])
+            b = _median([li + _div(ki * ki * (1.0 + li * li), de) for li, ki, de in zip(lam, k, dens)])
+            if not (math.isfinite(a) and math.isfinite(b)) or a <= 0:
+                continue
+            out.append(({"a": a, "b": b}, [2 * (li - b) / (3 * a) for li in lam]))
+    if cls == "semicubical_parabola" and every_pair and d.n >= 2:
+        out += semicubical_scan(d)
+    return out
