@@ -1,4 +1,4 @@
-"""Jaw configuration: YAML → typed dataclasses, validated once (CONTRACTS §5).
+"""Jaw configuration: YAML → typed dataclasses, validated once (docs/formats.md, jaw config).
 
 A jaw is a bus plus fingers; a finger is a planar chain of revolute joints fixed at a
 base pose in the hand frame, with a flat pad on the side of its distal link that ends at

@@ -22,7 +22,7 @@ touch so the polynomial only has to follow the boundary's own shape.
 Accuracy: the only data error is encoder quantization, ±½ tick = ±π/4096 rad per joint.
 :func:`quantization_bound` propagates it to first order (worst case over all joints,
 Σ_j |∂output/∂q_j|·π/4096) for every output of :func:`touch_from_pad_lines`; the
-tests check the errors on exact curves against it (README, section kinematics).
+tests check the errors on exact curves against it (docs/kinematics.md).
 """
 
 from __future__ import annotations
@@ -229,7 +229,7 @@ class Contacts:
     order: np.ndarray  # indices of the input readings in output order
 
     def to_touch(self) -> dict:
-        """CONTRACTS §2 samples touch."""
+        """The samples touch of the input format (docs/formats.md)."""
         return {"phi": [float(v) for v in self.phi], "x": [float(v) for v in self.x],
                 "y": [float(v) for v in self.y], "s": [float(v) for v in self.s]}
 

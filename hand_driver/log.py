@@ -17,7 +17,7 @@ happened:
 - ``{"type": "touch_end", "touch": k, "finger": name, "reading": i, "samples": m, "outcome": str}``
 - ``{"type": "event", "kind": str, "message": str, ...}`` — faults, retries, no-contact
   results, progress.
-- ``{"type": "result", "recognition": {CONTRACTS §3}, "robot_time_s": s}``
+- ``{"type": "result", "recognition": {the answer, docs/formats.md}, "robot_time_s": s}``
 
 Each record is flushed and fsync'd before :meth:`RunLog.write` returns, so a killed
 process, a crash or a pulled cable loses nothing already logged (measured cost of one

@@ -1,4 +1,4 @@
-"""Exact canonical curves of CONTRACTS §1, vectorized, in closed form.
+"""Exact canonical curves (docs/formats.md), vectorized, in closed form.
 
 Every class gives the point, tangent angle φ, speed |dp/dt|, curvature κ = dφ/ds
 (eq. 1, the curve traversed in increasing t) and its arc-length derivative κ_s
@@ -7,7 +7,7 @@ elliptic integral of the second kind for the ellipse) except for the hyperbola a
 cubical parabola, whose arc length is adaptive quadrature to ~1e-13 relative.
 
 Formulas: parabola eqs. (3)-(4), ellipse eqs. (6)-(7), cubical parabola eqs. (12)-(13)
-with the ERRATA fix (λ − c); the others are derived the same way and checked against
+with the errata's fix (λ − c), docs/recognition.md; the others are derived the same way and checked against
 sympy in tests/test_recognizer_curves.py.
 """
 
@@ -275,7 +275,7 @@ class Hyperbola(Curve):
 
 
 class CubicalParabola(Curve):
-    """(t, a t³ + c t), λ = 3at² + c; κ = 6at/(1+λ²)^{3/2}, κ_s eq. (13) (ERRATA)."""
+    """(t, a t³ + c t), λ = 3at² + c; κ = 6at/(1+λ²)^{3/2}, κ_s eq. (13) (errata, docs/recognition.md)."""
 
     name = "cubical_parabola"
     param_names = ("a", "c")
@@ -368,7 +368,7 @@ DEFAULT_SIDE: dict[str, str] = {
 
 
 def validate_params(cls: str, params: Mapping[str, object], where: str = "params") -> dict[str, float]:
-    """Check a class's parameters against CONTRACTS §1; one-line InputError otherwise."""
+    """Check a class's parameters against the canonical forms (docs/formats.md); one-line InputError otherwise."""
     if cls not in CURVES:
         raise InputError(f"{where}: unknown class {cls!r}; allowed: {', '.join(CURVES)}")
     if not isinstance(params, Mapping):

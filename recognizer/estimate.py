@@ -1,6 +1,6 @@
 """Local geometry (κ, κ_s) at the contact of a samples-touch, with its covariance.
 
-A samples-touch (CONTRACTS §2) is one local rolling move: tangent angles φ_i and contact
+A samples-touch (docs/formats.md, touches) is one local rolling move: tangent angles φ_i and contact
 points (x_i, y_i), optionally arc lengths s_i. Its contact is the middle sample
 m = n // 2. κ = dφ/ds and κ_s = d²φ/ds² there (paper eqs. 1–2).
 

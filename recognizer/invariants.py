@@ -1,6 +1,6 @@
 """The paper's invariants in numerically stable forms (eqs. 5, 9, 10, 14, 15, 18, 19).
 
-κ^{2/3} is |κ|^{2/3} (ERRATA). Stable rewrites:
+κ^{2/3} is |κ|^{2/3} (errata, docs/recognition.md). Stable rewrites:
 
 - I_p = |κ|^{2/3} + κ_s² / (9 |κ|^{10/3})                                  (eq. 5)
 - with d = |κ₁|^{2/3} − |κ₂|^{2/3} = (|κ₁| − |κ₂|)(x + y)/(x² + xy + y²), x, y = |κ|^{1/3}
@@ -12,11 +12,11 @@
   pair carries no information and ``pair_condition`` says how close to that it is.
 - Cubical parabola, λ = tan ψ, ψ the tangent angle in the canonical frame:
   I_cp1 = (κ_s + 3λκ²)(1+λ²)²/6 = a, I_cp2 = λ − κ²(1+λ²)/(2(κ_s + 3λκ²)) = c.
-- Semicubical parabola: I_scp1 = √|−8κ³(1+λ²)^{5/2} / (9(κ_s + 3λκ²))| = a (ERRATA:
+- Semicubical parabola: I_scp1 = √|−8κ³(1+λ²)^{5/2} / (9(κ_s + 3λκ²))| = a (errata, docs/recognition.md:
   the radicand is −a² on the branch t < 0), I_scp2 = λ + κ²(1+λ²)/(κ_s + 3λκ²) = b.
 - The unknown canonical rotation: ``slope_angles`` solves I_cp2 (or I_scp2) equal at two
   touches whose tangent turns by Δ. The paper's quartic in λ₁ is (1+λ₁²) × a quadratic
-  (ERRATA); we solve that quadratic as a quadratic form in (sin ψ₁, cos ψ₁), so a
+  (errata, docs/recognition.md); we solve that quadratic as a quadratic form in (sin ψ₁, cos ψ₁), so a
   vertical canonical tangent (λ → ∞) is no special case. Coefficients from a sympy
   derivation (checked in tests/test_recognizer_invariants.py).
 """
@@ -121,7 +121,7 @@ def I_cp2(lam, k, ks):
 
 
 def I_scp1(lam, k, ks):
-    """Eq. (18) with the ERRATA fix: a = √|radicand| (> 0)."""
+    """Eq. (18) with the errata's fix (docs/recognition.md): a = √|radicand| (> 0)."""
     lam = np.asarray(lam, float)
     k = np.asarray(k, float)
     return np.sqrt(np.abs(-8.0 * k**3 * (1.0 + lam * lam) ** 2.5 / (9.0 * _den(lam, k, ks))))

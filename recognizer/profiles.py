@@ -11,8 +11,8 @@ A profile says how much to touch and how hard to compute:
 - ``refine``: least squares over every sample after the invariants (recognizer.refine);
 - ``alpha``: false-rejection rate of each χ² consistency test.
 
-The numbers come from ``tactile bench`` (docs/bench/bench.md): see README, section
-"Estimation, refinement and profiles", for which to pick.
+The numbers come from ``tactile bench`` (docs/bench/bench.md): see docs/estimation.md
+("Profiles") for which to pick.
 
 Robot time (:class:`TimeModel`, :func:`robot_time_s`): per touch a guarded approach and a
 back-off, a transfer to the next touch, and one small guarded rolling move per sample;

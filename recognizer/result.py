@@ -1,4 +1,4 @@
-"""Recognition results: the CONTRACTS §3 answer, the per-class candidate, the options."""
+"""Recognition results: the answer (docs/formats.md), the per-class candidate, the options."""
 
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ class RecognizeOptions:
     """How to recognize: ``estimator`` for samples-touches (see recognizer.estimate),
     ``refine`` (least squares over every sample, recognizer.refine), ``alpha`` the
     false-rejection rate of each χ² consistency test, ``noise`` the measurement noise
-    (None: exact contacts; a default for samples-touches, README), ``profile`` a name
+    (None: exact contacts; a default for samples-touches, docs/recognition.md), ``profile`` a name
     of recognizer.profiles.PROFILES or None."""
 
     estimator: str = "auto"
@@ -93,7 +93,7 @@ class Ranked:
 
 @dataclass
 class Recognition:
-    """The recognizer's answer (CONTRACTS §3); ``ranking`` and ``timing`` are extras."""
+    """The recognizer's answer (docs/formats.md, answer); ``ranking`` and ``timing`` are extras."""
 
     cls: str
     params: dict = field(default_factory=dict)

@@ -1,9 +1,9 @@
-"""Scenes (CONTRACTS §4): which classes may be answered, and the object the emulator shows.
+"""Scenes (docs/formats.md, scene): which classes may be answered, and the object the emulator shows.
 
 ``load_scene(path_or_mapping, base_dir=None) -> Scene`` validates everything in one place;
 bad input raises a one-line :class:`InputError` naming the file and key.
 
-A finite object (CONTRACTS §4) is the curve over ``extent`` = [t0, t1] closed by straight
+A finite object (docs/formats.md, scene) is the curve over ``extent`` = [t0, t1] closed by straight
 segments from its end P(t1) through the ``closure`` corners (canonical frame, in order)
 back to its start P(t0), or by the single chord P(t1) → P(t0). The closed boundary must be
 simple: a closing segment that crosses or touches the curve or another segment is refused

@@ -1,4 +1,4 @@
-"""Closed-form starting points of the contact fit, per class (paper §§2–4, ERRATA).
+"""Closed-form starting points of the contact fit, per class (paper §§2–4, errata in docs/recognition.md).
 
 For one class and the touches' local geometry (data in the class's canonical direction,
 recognizer.localize flips them first), each start is (params, t per touch):

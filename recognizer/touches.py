@@ -1,4 +1,4 @@
-"""The recognizer's input (CONTRACTS §2), parsed and validated in one place.
+"""The recognizer's input (docs/formats.md, touches), parsed and validated in one place.
 
 A request is ``{"scene": path|mapping (optional), "touches": [...], "noise": {...},
 "options": {...}}``. A touch is either samples (``phi``, ``x``, ``y``, optional ``s``;
@@ -72,7 +72,7 @@ class SamplesTouch:
         return len(self.phi) // 2
 
     def to_json(self) -> dict:
-        """The touch in the CONTRACTS §2 samples form."""
+        """The touch in the input's samples form (docs/formats.md)."""
         out = {"phi": self.phi.tolist(), "x": self.x.tolist(), "y": self.y.tolist()}
         if self.s is not None:
             out["s"] = self.s.tolist()

@@ -60,7 +60,7 @@ class Exploration:
 
     @property
     def request(self) -> dict[str, Any]:
-        """CONTRACTS §2 request of the usable touches."""
+        """The touches request (docs/formats.md) of the usable touches."""
         return {"touches": [t.to_json() for t in self.used]}
 
 

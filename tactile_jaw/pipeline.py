@@ -45,7 +45,7 @@ class FeltTouch:
         return self.touch.finger
 
     def to_json(self) -> dict[str, Any]:
-        """CONTRACTS §2 samples touch with ``finger`` (usable touches only)."""
+        """The samples touch (docs/formats.md) with ``finger`` (usable touches only)."""
         out = self.contacts.to_touch()
         out["finger"] = self.touch.finger
         return out

@@ -1,10 +1,10 @@
-"""The speed–accuracy benchmark behind ``tactile bench`` (issue #3).
+"""The speed–accuracy benchmark behind ``tactile bench``.
 
 Every trial draws a random shape of one class (recognizer.synth.random_shape), touches
 it ``touches`` times with ``samples`` samples spaced ``spacing`` × its size L, adds noise
 (φ: ``noise`` × 1.5 mrad; positions: ``noise`` × 0.1 % of L; noise-free trials give the
 exact arc length s, noisy ones let the recognizer take s from the positions) and runs
-recognizer.classify.recognize over all classes of CONTRACTS §1. Trials use common random
+recognizer.classify.recognize over all seven classes. Trials use common random
 numbers: trial i of a class sees the same shape, contacts and noise pattern under every
 configuration that touches the same number of times.
 

@@ -8,7 +8,7 @@ redrawn. Per scene: the answer, right class or not, parameter error, usable/trie
 touches, robot and wall time. With ``--chi2 POS [POS ...]`` it also re-recognizes every
 scene's logged touches with each stated position deviation (φ as ``TOUCH_NOISE``) and
 prints the true class's χ² tail probability, to calibrate the stated noise
-(README, section motion). Run: ``python -m tools.bench_explore [--n 12] [--seed 1]``.
+(docs/exploration.md). Run: ``python -m tools.bench_explore [--n 12] [--seed 1]``.
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@
 
 For every class: N random shapes (scales 1e-3..1e3 mm, aspect ratios up to 1:1000),
 3-5 contacts anywhere (a vertex or inflection included in a third of the cases), random
-pose, either traversal direction; every class of CONTRACTS §1 allowed. Prints a table:
+pose, either traversal direction; every class allowed. Prints a table:
 right-class rate, median and worst relative parameter error, worst contact error
 relative to the curve's size, and compute time per request and per touch pair (CPU
 time of this process, time.process_time, so other load on the machine does not count):
@@ -77,7 +77,7 @@ def random_case(cls: str, rng: np.random.Generator, n: int | None = None):
 
 
 def exact_request(cls: str, params: dict, t, pose: Pose, reverse: bool, classes=None) -> dict:
-    """A CONTRACTS §2 request of exact contacts on the posed curve (reverse: decreasing t)."""
+    """A touches request (docs/formats.md) of exact contacts on the posed curve (reverse: decreasing t)."""
     c = CURVES[cls](params)
     t = np.asarray(t, float)
     if reverse:

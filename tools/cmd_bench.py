@@ -26,7 +26,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="shapes (points) per class for the paper's Tables 1 and 3 (default 100, quick 4)")
     parser.add_argument("--seed", type=int, default=1, help="random seed (default 1)")
     parser.add_argument("--classes", nargs="+", default=None, metavar="CLASS",
-                        help="classes to draw and answer among (default: all of CONTRACTS §1)")
+                        help="classes to draw and answer among (default: all seven)")
     parser.add_argument("--jobs", type=int, default=None, help="worker processes (default: min(2, CPUs))")
 
 

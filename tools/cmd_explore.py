@@ -23,12 +23,12 @@ def default_path(relative: str) -> str:
 def add_common_arguments(parser, *, scene_default: str | None) -> None:
     """Options shared by ``explore`` and ``demo``."""
     parser.add_argument("--scene", default=scene_default,
-                        help="scene YAML (CONTRACTS §4): the classes that may be answered"
+                        help="scene YAML (docs/formats.md): the classes that may be answered"
                              + (f" (default {scene_default})" if scene_default else ""))
     parser.add_argument("--profile", default="balanced",
-                        help="speed/accuracy profile: fast, balanced (default), accurate (README, section estimation)")
+                        help="speed/accuracy profile: fast, balanced (default), accurate (docs/estimation.md)")
     parser.add_argument("--log", metavar="L", help="write the run log (JSON Lines) to L; `tactile replay L` reads it")
-    parser.add_argument("--json", action="store_true", help="print the recognition as CONTRACTS §3 JSON only")
+    parser.add_argument("--json", action="store_true", help="print the recognition as JSON only (docs/formats.md)")
     parser.add_argument("--plot", metavar="PNG", help="write a plot of the pad lines, touches and recognized curve")
 
 

@@ -1,4 +1,4 @@
-"""``tactile recognize``: class, parameters, pose and contacts from touches (CONTRACTS §2-3)."""
+"""``tactile recognize``: class, parameters, pose and contacts from touches (docs/formats.md)."""
 
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ HELP = "recognizes the curve from touches (a JSON file, or - for stdin); --strea
 
 
 def add_arguments(parser) -> None:
-    parser.add_argument("file", nargs="?", default="-", help="touches JSON file (CONTRACTS §2), or - for stdin")
+    parser.add_argument("file", nargs="?", default="-", help="touches JSON file (docs/formats.md), or - for stdin")
     parser.add_argument("--stream", action="store_true",
                         help="recognition service: one request per line in, one compact JSON answer per line out")
     parser.add_argument("--json", action="store_true", help="accepted for symmetry: the output is always JSON")

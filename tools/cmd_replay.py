@@ -15,9 +15,9 @@ HELP = "recognizes from a recorded run log (tactile explore/demo --log), no hard
 
 def add_arguments(parser) -> None:
     parser.add_argument("log", help="run log (JSON Lines) written by tactile explore or tactile demo --log")
-    parser.add_argument("--json", action="store_true", help="print the recognition as CONTRACTS §3 JSON only")
+    parser.add_argument("--json", action="store_true", help="print the recognition as JSON only (docs/formats.md)")
     parser.add_argument("--touches", metavar="FILE",
-                        help="also write the rebuilt touches as a CONTRACTS §2 request (for tactile recognize)")
+                        help="also write the rebuilt touches as a touches request (docs/formats.md; for tactile recognize)")
 
 
 def run(args) -> int:

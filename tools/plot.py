@@ -1,6 +1,6 @@
 """Plot of one exploration: pad lines in contact, touch samples, recognized (and true) curve.
 
-A finite true object (CONTRACTS §4) is drawn whole: its solid shaded, the curved part over
+A finite true object (docs/formats.md, scene) is drawn whole: its solid shaded, the curved part over
 its extent as a dashed line, the straight closing segments dotted, the corners marked.
 Written with matplotlib's Agg backend (no screen needed) to a PNG file.
 """
@@ -46,9 +46,9 @@ def _draw_finite(ax, truth) -> None:
 def plot_exploration(path: str | Path, *, touches: Sequence[dict[str, Any]], pad_segments: Sequence[dict[str, Any]],
                      recognition: dict[str, Any] | None, truth: Any | None, workspace: tuple[tuple[float, float], float],
                      title: str = "") -> Path:
-    """Write the plot. ``touches``: CONTRACTS §2 samples touches (with ``finger``);
+    """Write the plot. ``touches``: samples touches (docs/formats.md) (with ``finger``);
     ``pad_segments``: ``{"finger", "p0": (x, y), "p1": (x, y)}`` for each in-contact pad;
-    ``recognition``: CONTRACTS §3 mapping; ``truth``: a ``SceneObject`` or None."""
+    ``recognition``: the answer mapping (docs/formats.md); ``truth``: a ``SceneObject`` or None."""
     import matplotlib
 
     matplotlib.use("Agg")

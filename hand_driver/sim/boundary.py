@@ -1,7 +1,7 @@
 """The scene object's boundary, exact, for the emulator's contact physics.
 
 This is the one module of ``hand_driver`` that imports the recognizer, and only
-``recognizer.curves`` (the exact canonical curves of CONTRACTS §1): the emulator must show
+``recognizer.curves`` (the exact canonical curves, docs/formats.md): the emulator must show
 the very curves the recognizer answers with. Everything the physics needs of an object
 goes through :class:`Boundary`:
 
@@ -15,7 +15,7 @@ goes through :class:`Boundary`:
 An object is duck-typed (a ``recognizer.scene.SceneObject`` or anything with ``cls``,
 ``params``, ``pose``, ``side`` and optionally ``extent``/``closure``). An unbounded object
 is the region on ``side`` of the whole curve (closed-form predicates). A finite object
-(CONTRACTS §4) is bounded by the curve over ``extent`` = [t0, t1] and the straight segments
+(docs/formats.md, scene) is bounded by the curve over ``extent`` = [t0, t1] and the straight segments
 P(t1) → closure corners → P(t0); a point is inside when a ray from it crosses that
 boundary an odd number of times. Crossings are exact: the boundary meets a line n·p = d
 where a closed-form equation in t holds (trigonometric for circle and ellipse, a quadratic
@@ -163,7 +163,7 @@ class Boundary:
 
     # ------------------------------------------------------------------ closed forms
     def _in_region(self, u: float, v: float) -> bool:
-        """Is the canonical point strictly inside the class's region (CONTRACTS §1)?"""
+        """Is the canonical point strictly inside the class's region (docs/formats.md, canonical curves)?"""
         p, cls = self._p, self.cls
         if cls == "line":
             return v > 0
@@ -180,7 +180,7 @@ class Boundary:
         return u > 0 and abs(v - p["b"] * u) < p["a"] * u**1.5  # semicubical, a > 0: between the branches
 
     def _point(self, t: float) -> tuple[float, float]:
-        """Canonical point at t (CONTRACTS §1), scalar and fast."""
+        """Canonical point at t (docs/formats.md, canonical curves), scalar and fast."""
         p, cls = self._p, self.cls
         if cls == "line":
             return t, 0.0

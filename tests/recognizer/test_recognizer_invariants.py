@@ -63,7 +63,7 @@ def test_cubic_invariants_and_slope_roots(cls, params):
         assert np.allclose(inv.I_cp2(lam, k, ks), params["c"], rtol=1e-10, atol=1e-12)
         kk = inv.K_CUBICAL
     else:
-        # ERRATA: the radicand is −a² on t < 0, a² on t > 0 — √|·| is a on both branches
+        # errata (docs/recognition.md): the radicand is −a² on t < 0, a² on t > 0 — √|·| is a on both branches
         assert np.allclose(inv.I_scp1(lam, k, ks), params["a"], rtol=1e-10)
         assert np.allclose(inv.I_scp2(lam, k, ks), params["b"], rtol=1e-10, atol=1e-12)
         kk = inv.K_SEMICUBICAL
@@ -75,7 +75,7 @@ def test_cubic_invariants_and_slope_roots(cls, params):
 
 
 def test_slope_equation_has_the_spurious_factor():
-    """ERRATA: eliminating λ₂ from I_cp2(λ₁) = I_cp2(λ₂), λ₂ = (λ₁+δ)/(1−λ₁δ), gives a quartic
+    """Errata (docs/recognition.md): eliminating λ₂ from I_cp2(λ₁) = I_cp2(λ₂), λ₂ = (λ₁+δ)/(1−λ₁δ), gives a quartic
     that is (1+λ₁²) × a quadratic; slope_angles solves that quadratic."""
     l, d, k1, k2, s1, s2 = sp.symbols("lambda delta k1 k2 s1 s2")
     f = lambda lam, k, s: lam - k**2 * (1 + lam**2) / (2 * (s + 3 * lam * k**2))  # noqa: E731

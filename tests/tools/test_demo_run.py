@@ -42,7 +42,7 @@ def _without_timing(rec: dict) -> dict:
 
 def test_demo_recognizes_the_default_ellipse(demo):
     assert demo["rc"] == 0, demo["err"]
-    rec = json.loads(demo["out"])  # stdout is exactly one CONTRACTS §3 object
+    rec = json.loads(demo["out"])  # stdout is exactly one answer object (docs/formats.md)
     assert rec["class"] == "ellipse"
     for k, v in TRUTH.params.items():  # measured: a +0.21 %, b +0.08 %
         assert rec["params"][k] == pytest.approx(v, rel=0.015)

@@ -1,4 +1,4 @@
-"""Contact physics of finite objects (CONTRACTS §4) against exact geometry: a pad pressed
+"""Contact physics of finite objects (docs/formats.md, scene) against exact geometry: a pad pressed
 flat onto a closing segment lies on the segment's line, a tilted pad stops with its end on
 it, a pad pressed onto a corner at any orientation of the corner's normal cone stops with
 its line through the corner (rolling on a corner pivots about it), the curve counts only
