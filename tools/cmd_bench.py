@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -15,7 +16,9 @@ HELP = "measures the speed–accuracy trade (noise, samples, span, touches, esti
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quick", action="store_true",
                         help="a smoke run of about 20-60 s (few shapes); the committed numbers come from the default run")
-    parser.add_argument("--out", default="docs/bench", help="output directory (default docs/bench)")
+    parser.add_argument("--out", default=None,
+                        help="output directory (default: a new scratch directory, printed; "
+                             "the committed results are written with --out docs/bench)")
     parser.add_argument("--shapes", type=int, default=None,
                         help="random shapes per class for the baseline and noise-free rows (default 100, quick 3)")
     parser.add_argument("--sweep-shapes", type=int, default=None,
@@ -51,7 +54,7 @@ def run(args: argparse.Namespace) -> int:
     table = _positive(args.table_shapes, 4 if args.quick else 100, "--table-shapes")
     profile = _positive(args.profile_shapes, sweep, "--profile-shapes")
     jobs = _positive(args.jobs, bench.default_jobs(), "--jobs")
-    out = Path(args.out)
+    out = Path(args.out) if args.out is not None else Path(tempfile.mkdtemp(prefix="tactile-bench-"))
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
