@@ -72,7 +72,8 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
             # φ carries a truncation error no covariance states (up to 1e-2 rad on noise-free
             # hyperbola touches, judged at the 1e-7 floor: right classes were rejected)
             phi_m = float(np.asarray(t.phi, float)[len(t.phi) // 2])
-            rows.append((g.x, g.y, phi_m, g.kappa, g.kappa_s, np.asarray(g.cov, float), _pos_sd(nz), nz.phi))
+            kappa, kappa_s, cov = (g.kappa, g.kappa_s, g.cov) if t.curvature is None else t.curvature
+            rows.append((g.x, g.y, phi_m, kappa, kappa_s, np.asarray(cov, float), _pos_sd(nz), nz.phi))
     cols = list(zip(*rows))
     arr = [np.array(c, dtype=float) for c in cols[:5]]
     return Contacts(*arr, np.array(cols[5], dtype=float).reshape(-1, 2, 2), np.array(cols[6], float),

@@ -66,6 +66,9 @@ class SamplesTouch:
     x: np.ndarray
     y: np.ndarray
     s: np.ndarray | None = None
+    #: (κ, κ_s, 2×2 covariance) at the contact sample when the instrument measured them
+    #: itself (the jaw's envelope fit); None: estimated from the samples (recognizer.estimate)
+    curvature: tuple[float, float, np.ndarray] | None = None
 
     @property
     def contact_index(self) -> int:

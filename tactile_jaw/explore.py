@@ -57,6 +57,10 @@ class Exploration:
     rounds: int = 0
     robot_time_s: float = 0.0
     answers: list[str] = field(default_factory=list)  # class after each recognition
+    #: where the robot time went (s): probe and touch rounds (each including its transits),
+    #: the transits alone (per round the slower finger's), the final retreat
+    time_s: dict[str, float] = field(default_factory=lambda: dict.fromkeys(
+        ("probes", "probe_transits", "touches", "touch_transits", "retreat"), 0.0))
 
     @property
     def request(self) -> dict[str, Any]:
@@ -87,21 +91,27 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
         yield from move_line(jaw, finger, a, model.edge(a), *TRANSIT_STEPS)
 
 
-def _transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
-    """:func:`transit`; why it could not go on (the path left the joint limits), or None."""
+def _transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float,
+                        spent: dict[str, float] | None = None):
+    """:func:`transit`; why it could not go on (the path left the joint limits), or None.
+    The robot time it took goes to ``spent[finger]``."""
+    t0 = jaw.robot_time()
     try:
         yield from transit(jaw, finger, model, psi_to)
     except kin.Unreachable as exc:
         return f"{finger}: transit to psi={math.degrees(psi_to):.1f} deg: {exc}"
+    finally:
+        if spent is not None:
+            spent[finger] = jaw.robot_time() - t0
     return None
 
 
 def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings: ExploreSettings,
-                touch_index: int, emit):
+                touch_index: int, emit, spent: dict[str, float]):
     """Transit, then one rolling touch around ψ from ``APPROACH_MARGIN_MM`` outside the
     predicted tangent line; returns the TouchResult."""
     start = float(roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[0])
-    problem = yield from _transit_or_problem(jaw, finger, model, start)
+    problem = yield from _transit_or_problem(jaw, finger, model, start, spent)
     if problem is not None:
         return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
     d_pred, _ = model.tangent(start)
@@ -111,12 +121,13 @@ def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings:
                                      settings.samples_per_touch, d_start, travel, on_event=emit))
 
 
-def _probe_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, touch_index: int, emit):
+def _probe_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, touch_index: int, emit,
+                spent: dict[str, float]):
     """Transit, then a short rolling touch (``PROBE_SAMPLES`` over ``PROBE_SPAN_DEG``) from
     the workspace edge across the whole workspace disk; returns the TouchResult."""
     span = math.radians(PROBE_SPAN_DEG)
     start = float(roll_angles(psi, span, PROBE_SAMPLES)[0])
-    problem = yield from _transit_or_problem(jaw, finger, model, start)
+    problem = yield from _transit_or_problem(jaw, finger, model, start, spent)
     if problem is not None:
         return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
     return (yield from rolling_touch(jaw, finger, touch_index, psi, span, PROBE_SAMPLES, model.edge(start),
@@ -134,6 +145,16 @@ def _memo(recognize_touches: RecognizeTouches) -> RecognizeTouches:
         return seen[key]
 
     return run
+
+
+def _timed(jaw: Jaw, plans: dict, spent: dict[str, float], time_s: dict[str, float], total: str, transits: str):
+    """:func:`run_together` of one round, its robot time added to ``time_s[total]`` and the
+    slower finger's transit to ``time_s[transits]``."""
+    t0 = jaw.robot_time()
+    results = run_together(jaw, plans)
+    time_s[total] += jaw.robot_time() - t0
+    time_s[transits] += max(spent.values(), default=0.0)
+    return results
 
 
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTouches,
@@ -163,11 +184,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                       if len(faces[f.name]) == 1 else [] for f in cfg.fingers}
             if not any(queues.values()):
                 break
-        plans = {}
+        plans, spent = {}, {}
         for name, queue in queues.items():
             if queue:
-                plans[name] = _probe_plan(jaw, name, model, queue.pop(0), index + len(plans), emit)
-        results = run_together(jaw, plans)
+                plans[name] = _probe_plan(jaw, name, model, queue.pop(0), index + len(plans), emit, spent)
+        results = _timed(jaw, plans, spent, out.time_s, "probes", "probe_transits")
         for name in plans:
             felt = feel(cfg, results[name], PROBE_SAMPLES)
             probe = felt.touch
@@ -184,7 +205,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                    probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     while len(out.touches) < settings.touches:
-        plans = {}
+        plans, spent = {}, {}
         budget = settings.touches - len(out.touches)
         for f in cfg.fingers[:budget]:
             psi = choose_psi(f, model, settings, used[f.name])
@@ -195,12 +216,12 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 say(message)
                 continue
             used[f.name].append(psi)
-            plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit)
+            plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent)
         if not plans:
             break
         index += len(plans)
         out.rounds += 1
-        results = run_together(jaw, plans)
+        results = _timed(jaw, plans, spent, out.time_s, "touches", "touch_transits")
         for name in plans:
             felt = feel(cfg, results[name], settings.samples_per_touch)
             touch, problem = felt.touch, felt.problem
@@ -224,7 +245,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             if why is None:
                 break
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
+    t_retreat = jaw.robot_time()
     run_together(jaw, {name: _transit_or_problem(jaw, name, model, psi) for name, psi in here.items()})  # to the edge
+    out.time_s["retreat"] = jaw.robot_time() - t_retreat
     if not model.psi.size:
         message = (f"no probe of {len(out.probes)} found a contact on a pad's face: within reach of the pads the "
                    f"object offers no boundary they can roll on (flat, concave, or felt only by a pad end)")

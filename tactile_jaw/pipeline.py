@@ -18,6 +18,7 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.motion import EDGE_MARGIN_MM, Sample, TouchResult
+from hand_driver.units import RAD_PER_TICK
 from recognizer.classify import recognize
 from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
@@ -25,6 +26,8 @@ from recognizer.touches import Request, SamplesTouch, check_touch_count, parse_n
 from tactile_common.errors import InputError
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, TOUCH_NOISE, ExploreSettings
 
+#: central-difference step (rad) of the curvature's joint-angle Jacobian
+CURVATURE_STEP_RAD = 1e-7
 #: outcomes of a touch cut short whose samples so far may still be used
 CUT_SHORT = ("unreachable", "no_contact", "blocked")
 
@@ -58,6 +61,53 @@ class FeltTouch:
                 for p0, p1 in zip(self.lines.proximal, self.lines.distal)]
 
 
+def envelope_curvature(finger, q) -> tuple[float, float, np.ndarray]:
+    """κ, κ_s at the contact (reading n // 2 in ψ order) from the touch's own envelope fit:
+    the polynomial d(ψ) of hand_driver.kinematics.touch_from_pad_lines, about the centre of
+    curvature (:func:`_curvature_at`), with their 2×2 covariance to first order in every
+    joint angle ``q`` (n, 2) of every reading, each quantized to a tick (uniform:
+    σ = tick/√12). Emulated touches: as accurate as the recognizer's estimate from the
+    smoothed samples, whose stated σ is ~20× too small (docs/exploration.md)."""
+    q = np.asarray(q, dtype=float)
+    base, origin = _curvature_at(finger, q, None)
+    jac = np.empty((2, q.size))
+    for j in range(q.size):
+        dq = np.zeros(q.size)
+        dq[j] = CURVATURE_STEP_RAD
+        dq = dq.reshape(q.shape)
+        jac[:, j] = (_curvature_at(finger, q + dq, origin)[0] - _curvature_at(finger, q - dq, origin)[0]) \
+            / (2.0 * CURVATURE_STEP_RAD)
+    return float(base[0]), float(base[1]), (RAD_PER_TICK**2 / 12.0) * jac @ jac.T
+
+
+def _curvature_at(finger, q, origin) -> tuple[np.ndarray, np.ndarray]:
+    """([κ, κ_s], centre of curvature) at the middle reading from the support values
+    d(ψ) − n(ψ)·o fitted by a polynomial in ψ (degree kinematics.default_degree): with
+    ρ̃ = d + d'' (minus the radius of curvature) κ = −1/ρ̃ and κ_s = −ρ̃'/ρ̃³. About the
+    centre of curvature ``o`` the support values of a circle are constant, so the fit's
+    truncation error is only that of the changing curvature; ``origin`` None: two passes,
+    the first about the lines' mean foot."""
+    line = kin.finger_pad_line(finger, q)
+    psi = np.unwrap(np.asarray(line.psi, dtype=float))
+    order = np.argsort(psi, kind="stable")
+    psi, d, n = psi[order], np.asarray(line.d, dtype=float)[order], np.asarray(line.normal, dtype=float)[order]
+    c0, scale = 0.5 * (psi[0] + psi[-1]), 0.5 * (psi[-1] - psi[0])
+    x = (psi - c0) / scale
+    m = psi.size // 2
+    passes = [np.mean(n * d[:, None], axis=0), None] if origin is None else [origin]
+    for o in passes:
+        if o is None:
+            o = centre
+        poly = np.polynomial.Polynomial.fit(x, d - n @ o, kin.default_degree(psi.size), domain=[-1, 1],
+                                            window=[-1, 1])
+        rho = poly(x[m]) + poly.deriv(2)(x[m]) / scale**2
+        rho_1 = (poly.deriv(1)(x[m]) + poly.deriv(3)(x[m]) / scale**2) / scale
+        nperp = np.array([-n[m, 1], n[m, 0]])
+        contact = o + n[m] * poly(x[m]) + nperp * poly.deriv(1)(x[m]) / scale
+        centre = contact - n[m] * rho  # ρ̃ < 0: the centre lies inside the object, along n
+    return np.array([-1.0 / rho, -rho_1 / rho**3]), centre
+
+
 def feel(config, touch: TouchResult, samples: int) -> FeltTouch:
     """The touch's pad lines (one forward-kinematics pass over its readings), their
     envelope, and why it cannot be used, or None: at least ``MIN_SAMPLES_PER_TOUCH``
@@ -75,13 +125,16 @@ def feel(config, touch: TouchResult, samples: int) -> FeltTouch:
     def out(problem, contacts=None, pad_u=None):
         samples_touch = None
         if problem is None:
-            samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s)
+            f = config.finger(finger)
+            q = kin.ticks_to_angles(f.joints, ticks)
+            samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
+                                         curvature=envelope_curvature(f, q))
         return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch)
 
     cut_short = touch.outcome in CUT_SHORT
     if touch.outcome != "ok" and not cut_short:
         return out(touch.message or touch.outcome)
-    if len(touch.samples) < min(samples, MIN_SAMPLES_PER_TOUCH):
+    if len(touch.samples) < max(3, min(samples, MIN_SAMPLES_PER_TOUCH)):  # an envelope needs 3 lines
         return out(touch.message if cut_short else f"{finger}: {len(touch.samples)} of {samples} samples")
     try:
         c = kin.touch_from_pad_lines(lines.psi, lines.d)

@@ -9,12 +9,8 @@ from typing import Any
 
 from recognizer.profiles import get_profile
 
-#: the roll span (deg) below which κ_s drowns in encoder quantization on the default jaw:
-#: exact ellipse touches through 4096-tick encoders are recognized with 30° and 9 samples,
-#: not with 16° or 18° (docs/exploration.md)
-MIN_ROLL_SPAN_DEG = 30.0
-#: the fewest samples per rolling touch that recognize on the default jaw (7 and 9 over
-#: 30° do, 5 does not: docs/exploration.md)
+#: a touch cut short (out of reach or contact) is still used with this many samples
+#: (with all of them when fewer were planned)
 MIN_SAMPLES_PER_TOUCH = 7
 #: per-sample noise the explorer states in its requests (docs/exploration.md): φ is the
 #: pad's angle q1 + q2, each joint quantized to a tick (uniform, σ = tick/√12), so
@@ -44,13 +40,14 @@ class ExploreSettings:
 
     @classmethod
     def from_profile(cls, name: str) -> "ExploreSettings":
-        """Settings of a recognizer.profiles profile: its samples per touch raised to
-        ``MIN_SAMPLES_PER_TOUCH``, its roll span raised to ``MIN_ROLL_SPAN_DEG``, a budget
-        of twice its touches plus two, its recognizer options."""
+        """Settings of a recognizer.profiles profile, run as ``tactile bench`` measured it:
+        its samples per touch and roll span, a budget of twice its touches plus two, its
+        recognizer options. (Short rolls recognize on the jaw because each touch hands the
+        recognizer its envelope's κ, κ_s with their covariance: tactile_jaw.pipeline.)"""
         p = get_profile(name, "--profile")
-        return cls(touches=2 * p.touches + 2, samples_per_touch=max(p.samples_per_touch, MIN_SAMPLES_PER_TOUCH),
-                   roll_span_rad=math.radians(max(p.roll_span_deg, MIN_ROLL_SPAN_DEG)),
-                   min_touches=p.touches, profile=p.name, recognize=p.options())
+        return cls(touches=2 * p.touches + 2, samples_per_touch=p.samples_per_touch,
+                   roll_span_rad=math.radians(p.roll_span_deg), min_touches=p.touches, profile=p.name,
+                   recognize=p.options())
 
     def to_json(self) -> dict[str, Any]:
         return {"touches": self.touches, "samples_per_touch": self.samples_per_touch,

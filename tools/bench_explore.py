@@ -21,10 +21,13 @@ import sys
 import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import yaml
+
+from tactile_common.errors import InputError
 
 CLASSES = ["line", "circle", "ellipse", "parabola", "hyperbola"]
 
@@ -84,6 +87,59 @@ def true_chi2(log: Path, obj: dict, pos_values: list[float]) -> list[float | Non
     return out
 
 
+def true_geometry(obj: dict, x: float, y: float) -> tuple[float, float]:
+    """κ, κ_s of the scene's closed curve at the point nearest (x, y)."""
+    from recognizer.curves import CURVES, Pose
+
+    curve = CURVES[obj["class"]](obj["params"])
+    cx, cy = Pose(**obj["pose"]).inverse(x, y)
+    t = np.linspace(*curve.t_period, 200001)
+    px, py = curve.point(t)
+    k = int(np.argmin(np.hypot(px - cx, py - cy)))
+    return float(curve.kappa(t[k])), float(curve.kappa_s(t[k]))
+
+
+def kappa_comparison(log: Path, obj: dict) -> dict:
+    """The logged usable touches' κ, κ_s two ways against the truth (errors and z-scores):
+    the jaw's envelope fit with its quantization covariance (tactile_jaw.pipeline.
+    envelope_curvature, what the jaw hands the recognizer) and the recognizer's own
+    estimate from the samples; and the final answer both ways."""
+    from hand_driver.config import parse_config
+    from hand_driver.log import read_log
+    from recognizer.estimate import estimate_local
+    from recognizer.touches import parse_noise
+    from tactile_jaw.decide import final_answer
+    from tactile_jaw.pipeline import logged_touches, make_recognizer
+    from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
+
+    contents = read_log(str(log))
+    header = contents.header
+    config = parse_config(header["config"], str(log))
+    settings = ExploreSettings.from_json(header["settings"])
+    felt = logged_touches(config, contents, settings)
+    noise = parse_noise(header["settings"].get("noise", TOUCH_NOISE))
+    rows = []
+    for t in felt:
+        k_env, ks_env, cov = t.samples.curvature
+        g = estimate_local(t.samples, method=settings.recognize.get("estimator", "auto"), noise=noise)
+        m = len(t.samples.phi) // 2
+        k_true, ks_true = true_geometry(obj, float(t.samples.x[m]), float(t.samples.y[m]))
+        rows.append({"k_true": k_true, "ks_true": ks_true, "k_env": k_env, "ks_env": ks_env,
+                     "sk_env": math.sqrt(cov[0, 0]), "sks_env": math.sqrt(cov[1, 1]),
+                     "k_smp": g.kappa, "ks_smp": g.kappa_s, "sk_smp": math.sqrt(g.cov[0][0]),
+                     "sks_smp": math.sqrt(g.cov[1][1])})
+    out = {"rows": rows}
+    if len(felt) >= 2:
+        recognize = make_recognizer(header["scene"], settings, header["settings"].get("noise", TOUCH_NOISE))
+        without = [replace(t, samples=replace(t.samples, curvature=None)) for t in felt]
+        try:
+            out["envelope"] = final_answer(recognize, felt, settings)
+            out["samples"] = final_answer(recognize, without, settings)
+        except InputError:
+            pass
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=12, help="scenes (default 12)")
@@ -92,6 +148,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--chi2", type=float, nargs="*", default=[], metavar="POS",
                     help="stated position deviations (mm) at which to report the true class's χ² p-value")
+    ap.add_argument("--kappa", action="store_true",
+                    help="compare each usable touch's κ, κ_s from the envelope fit (with its quantization "
+                         "covariance) and from the samples against the truth, and recognize both ways")
     ap.add_argument("--keep", default=None, help="directory for the scenes and logs (default: a temporary one)")
     args = ap.parse_args(argv)
     from hand_driver.config import load_config
@@ -137,7 +196,46 @@ def main(argv: list[str] | None = None) -> int:
             row += "".join(f" {'—' if v is None else f'{v:.3g}'} |" for v in ps)
         print(row, flush=True)
     print(f"right class on {right} of {len(scenes)} scenes; scenes and logs in {work}")
+    if args.kappa:
+        print_kappa_table([(path.with_suffix(".log"), obj) for path, obj in scenes])
     return 0
+
+
+def print_kappa_table(runs: list[tuple[Path, dict]]) -> None:
+    """Per estimator: median |relative error| of κ and median |error| of κ_s, RMS z-score
+    against the stated σ; and the final answers with and without the envelope's κ (right
+    class, refusals, median worst relative parameter error)."""
+    rows, answers = [], {"envelope": [], "samples": []}
+    for log, obj in runs:
+        if not log.exists():
+            continue
+        res = kappa_comparison(log, obj)
+        rows += res["rows"]
+        for way in answers:
+            if way in res:
+                rec = res[way]
+                err = (max(abs(rec.params[k] - v) / abs(v) for k, v in obj["params"].items())
+                       if rec.cls == obj["class"] else None)
+                answers[way].append((rec.cls == obj["class"], rec.cls == "unclassified", err))
+    print(f"\nκ at the contact, {len(rows)} usable touches of {len(runs)} scenes")
+    print("| estimate | median abs rel err κ | median abs err κ_s (1/mm²) | RMS z κ | RMS z κ_s |")
+    print("|---|---|---|---|---|")
+    for way, name in (("env", "envelope fit d(ψ) + quantization covariance"), ("smp", "samples (recognizer.estimate)")):
+        ek = np.array([(r[f"k_{way}"] - r["k_true"]) for r in rows])
+        eks = np.array([(r[f"ks_{way}"] - r["ks_true"]) for r in rows])
+        zk = ek / np.array([r[f"sk_{way}"] for r in rows])
+        zks = eks / np.array([r[f"sks_{way}"] for r in rows])
+        rel = np.abs(ek) / np.abs([r["k_true"] for r in rows])
+        print(f"| {name} | {100 * np.median(rel):.2f} % | {np.median(np.abs(eks)):.2e} | "
+              f"{np.sqrt(np.mean(zk**2)):.2f} | {np.sqrt(np.mean(zks**2)):.2f} |")
+    print("\n| recognizer input | right class | refused | median worst param error |")
+    print("|---|---|---|---|")
+    for way, name in (("envelope", "samples + envelope κ, κ_s, covariance (the jaw's)"),
+                      ("samples", "samples only (κ estimated by the recognizer)")):
+        a = answers[way]
+        errs = [e for ok, _, e in a if ok]
+        print(f"| {name} | {sum(ok for ok, _, _ in a)}/{len(a)} | {sum(r for _, r, _ in a)} | "
+              f"{100 * float(np.median(errs)) if errs else float('nan'):.2f} % |")
 
 
 if __name__ == "__main__":

@@ -92,7 +92,7 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
         if log is not None:
             log.write({"type": "result", "recognition": recognition, "robot_time_s": exploration.robot_time_s,
                        "touches_used": len(exploration.used),
-                       "touches_tried": len(exploration.touches)})
+                       "touches_tried": len(exploration.touches), "time_s": exploration.time_s})
     return Session(exploration, recognition, settings, time.monotonic() - t0, log_path)
 
 
@@ -128,13 +128,21 @@ def finish(session: Session, args, *, config, truth=None, extra_lines: list[str]
     used = len(ex.used)
     lines = [f"recognized: {describe(session.recognition)}", *extra_lines,
              f"touches: {used} used of {len(ex.touches)} tried ({session.settings.samples_per_touch} samples each), "
-             f"{ex.rounds} rounds; robot time {ex.robot_time_s:.1f} s; wall time {session.wall_time_s:.1f} s"]
+             f"{ex.rounds} rounds; robot time {ex.robot_time_s:.1f} s (" + time_breakdown(ex.time_s)
+             + f"); wall time {session.wall_time_s:.1f} s"]
     if session.log_path:
         lines.append(f"log: {session.log_path}")
     if args.plot:
         lines.append(f"plot: {args.plot}")
     sys.stdout.write("\n".join(lines) + "\n")
     return 0
+
+
+def time_breakdown(time_s: dict[str, float]) -> str:
+    """Where an exploration's robot time went, for people."""
+    return (f"probes {time_s['probes']:.1f} s of which transits {time_s['probe_transits']:.1f} s, "
+            f"touches {time_s['touches']:.1f} s of which transits {time_s['touch_transits']:.1f} s, "
+            f"retreat {time_s['retreat']:.1f} s")
 
 
 def progress_printer(quiet: bool = False) -> Callable[[str], None]:
