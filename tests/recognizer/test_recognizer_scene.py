@@ -10,7 +10,8 @@ from recognizer.scene import load_scene
 
 SCENES = Path(__file__).resolve().parents[2] / "config" / "scenes"
 PARABOLA = {"class": "parabola", "params": {"a": 8.0}, "pose": {"x": 85.0}}
-MINE = ["conics", "ellipse", "circle", "parabola", "hyperbola", "cubics", "all"]
+MINE = ["default", "conics", "cubics", "all", "calibration", "line", "circle", "ellipse", "parabola", "hyperbola",
+        "cubical_parabola", "semicubical_parabola"]
 
 
 @pytest.mark.parametrize("name", MINE)
@@ -18,7 +19,10 @@ def test_example_scenes_load(name):
     sc = load_scene(SCENES / f"{name}.yaml")
     assert sc.name == name and sc.classes and set(sc.classes) <= set(CURVES)
     assert sc.object is not None and sc.object.cls in sc.classes
-    assert 60 < sc.object.pose.x < 160
+    assert 55 <= sc.object.pose.x < 160
+    if name in CURVES:  # each class's example: a finite object (or a whole closed curve), every class a candidate
+        assert sc.object.cls == name and sc.classes == tuple(CURVES)
+        assert sc.object.finite or name in ("circle", "ellipse")
 
 
 def test_defaults_and_inline():
