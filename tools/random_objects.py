@@ -1,6 +1,6 @@
 """Random finite objects in front of the jaw, for the exploration benchmark.
 
-``random_object(cls, rng)`` draws one scene ``object`` mapping (CONTRACTS §4) of a class:
+``random_object(cls, rng)`` draws one scene ``object`` mapping (docs/formats.md, Scene) of a class:
 the class's example object (``config/scenes/<class>.yaml``) scaled by a factor drawn from
 ``SIZE_RANGE`` (0.6–1.5, :func:`scaled`: the same shape, every length times k), turned by
 any angle and moved anywhere in the workspace disk (config ``workspace``), kept only
