@@ -18,16 +18,23 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.motion import EDGE_MARGIN_MM, Sample, TouchResult
-from hand_driver.units import RAD_PER_TICK
-from recognizer.classify import recognize
+from recognizer.classify import chi2_limit, recognize
 from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
 from recognizer.touches import Request, SamplesTouch, check_touch_count, parse_noise
 from tactile_common.errors import InputError
+from tactile_jaw.envelope import EnvelopeFit, fit_envelope
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, TOUCH_NOISE, ExploreSettings
 
-#: central-difference step (rad) of the curvature's joint-angle Jacobian
-CURVATURE_STEP_RAD = 1e-7
+#: a touch whose radius of curvature at the contact is below this (mm), or below
+#: CORNER_SIGMAS of its deviation, rolled on a corner (the contact stayed put while the pad
+#: turned), not on the curved part. A corner's measured radius scatters about 0 by σ_ρ
+#: (1.3 mm over a 30° roll of 9 samples, ~4 mm over 18°): 2.5 σ misses 0.6 % of corners and
+#: also refuses boundary bent tighter than ~2.5 σ_ρ, whose κ is too uncertain to use
+CORNER_RADIUS_MM = 1.0
+CORNER_SIGMAS = 2.5
+#: false-rejection rate of the test that a touch's pad lines are one smooth curve's tangents
+SMOOTH_ALPHA = 1e-3
 #: outcomes of a touch cut short whose samples so far may still be used
 CUT_SHORT = ("unreachable", "no_contact", "blocked")
 
@@ -42,6 +49,7 @@ class FeltTouch:
     pad_u: np.ndarray | None  # each contact's distance along the pad from its proximal end (contacts' order)
     problem: str | None  # why the touch cannot be used, or None
     samples: SamplesTouch | None  # the recognizer's samples touch when usable
+    fit: EnvelopeFit | None = None  # the envelope fit's curvature, radius and smoothness
 
     @property
     def finger(self) -> str:
@@ -61,75 +69,28 @@ class FeltTouch:
                 for p0, p1 in zip(self.lines.proximal, self.lines.distal)]
 
 
-def envelope_curvature(finger, q) -> tuple[float, float, np.ndarray]:
-    """κ, κ_s at the contact (reading n // 2 in ψ order) from the touch's own envelope fit:
-    the polynomial d(ψ) of hand_driver.kinematics.touch_from_pad_lines, about the centre of
-    curvature (:func:`_curvature_at`), with their 2×2 covariance to first order in every
-    joint angle ``q`` (n, 2) of every reading, each quantized to a tick (uniform:
-    σ = tick/√12). Emulated touches: as accurate as the recognizer's estimate from the
-    smoothed samples, whose stated σ is ~20× too small (docs/exploration.md)."""
-    q = np.asarray(q, dtype=float)
-    base, origin = _curvature_at(finger, q, None)
-    jac = np.empty((2, q.size))
-    for j in range(q.size):
-        dq = np.zeros(q.size)
-        dq[j] = CURVATURE_STEP_RAD
-        dq = dq.reshape(q.shape)
-        jac[:, j] = (_curvature_at(finger, q + dq, origin)[0] - _curvature_at(finger, q - dq, origin)[0]) \
-            / (2.0 * CURVATURE_STEP_RAD)
-    return float(base[0]), float(base[1]), (RAD_PER_TICK**2 / 12.0) * jac @ jac.T
-
-
-def _curvature_at(finger, q, origin) -> tuple[np.ndarray, np.ndarray]:
-    """([κ, κ_s], centre of curvature) at the middle reading from the support values
-    d(ψ) − n(ψ)·o fitted by a polynomial in ψ (degree kinematics.default_degree): with
-    ρ̃ = d + d'' (minus the radius of curvature) κ = −1/ρ̃ and κ_s = −ρ̃'/ρ̃³. About the
-    centre of curvature ``o`` the support values of a circle are constant, so the fit's
-    truncation error is only that of the changing curvature; ``origin`` None: two passes,
-    the first about the lines' mean foot."""
-    line = kin.finger_pad_line(finger, q)
-    psi = np.unwrap(np.asarray(line.psi, dtype=float))
-    order = np.argsort(psi, kind="stable")
-    psi, d, n = psi[order], np.asarray(line.d, dtype=float)[order], np.asarray(line.normal, dtype=float)[order]
-    c0, scale = 0.5 * (psi[0] + psi[-1]), 0.5 * (psi[-1] - psi[0])
-    x = (psi - c0) / scale
-    m = psi.size // 2
-    passes = [np.mean(n * d[:, None], axis=0), None] if origin is None else [origin]
-    for o in passes:
-        if o is None:
-            o = centre
-        poly = np.polynomial.Polynomial.fit(x, d - n @ o, kin.default_degree(psi.size), domain=[-1, 1],
-                                            window=[-1, 1])
-        rho = poly(x[m]) + poly.deriv(2)(x[m]) / scale**2
-        rho_1 = (poly.deriv(1)(x[m]) + poly.deriv(3)(x[m]) / scale**2) / scale
-        nperp = np.array([-n[m, 1], n[m, 0]])
-        contact = o + n[m] * poly(x[m]) + nperp * poly.deriv(1)(x[m]) / scale
-        centre = contact - n[m] * rho  # ρ̃ < 0: the centre lies inside the object, along n
-    return np.array([-1.0 / rho, -rho_1 / rho**3]), centre
-
-
-def feel(config, touch: TouchResult, samples: int) -> FeltTouch:
+def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) -> FeltTouch:
     """The touch's pad lines (one forward-kinematics pass over its readings), their
-    envelope, and why it cannot be used, or None: at least ``MIN_SAMPLES_PER_TOUCH``
+    envelope (and, for rolling touches, its :class:`EnvelopeFit`), and why it cannot be used, or None: at least ``MIN_SAMPLES_PER_TOUCH``
     samples (all ``samples`` planned ones, or those taken before the roll ran out of reach
     or contact), arc length strictly increasing (the pad rolled on a boundary convex toward
     it, not on an edge or a corner) and every envelope contact on the pad,
     ``EDGE_MARGIN_MM`` from its ends (a pad end resting on the object is not a tangent
-    contact)."""
+    contact); and, with ``curve_checks`` (rolling touches; not probes, whose short rolls
+    cannot measure a radius of curvature), that it rolled on the curved part
+    (:func:`off_curve_reason`)."""
     finger = touch.finger
     lines = None
     if touch.samples:
         ticks = np.array([s.ticks for s in touch.samples], dtype=float)
         lines = kin.finger_pad_line_from_ticks(config, finger, ticks)
 
-    def out(problem, contacts=None, pad_u=None):
+    def out(problem, contacts=None, pad_u=None, fit=None):
         samples_touch = None
-        if problem is None:
-            f = config.finger(finger)
-            q = kin.ticks_to_angles(f.joints, ticks)
+        if problem is None and fit is not None:
             samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
-                                         curvature=envelope_curvature(f, q))
-        return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch)
+                                         curvature=(fit.kappa, fit.kappa_s, fit.cov))
+        return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit)
 
     cut_short = touch.outcome in CUT_SHORT
     if touch.outcome != "ok" and not cut_short:
@@ -140,19 +101,43 @@ def feel(config, touch: TouchResult, samples: int) -> FeltTouch:
         c = kin.touch_from_pad_lines(lines.psi, lines.d)
     except InputError as exc:
         return out(f"{finger}: {exc}")
-    if np.any(np.diff(c.s) <= 0.0):
-        return out(f"{finger}: arc length not increasing: the pad rolled on an edge or corner", c)
+    f = config.finger(finger)
     u = np.sum((np.stack([c.x, c.y], axis=-1) - lines.proximal[c.order]) * lines.tangent[c.order], axis=-1)
-    length = config.finger(finger).pad.length_mm
+    fit = None
+    if curve_checks:
+        fit = fit_envelope(f, kin.ticks_to_angles(f.joints, ticks))
+        off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)))
+        if off_curve is not None:
+            return out(f"{finger}: {off_curve}", c, u, fit)
+    if np.any(np.diff(c.s) <= 0.0):
+        return out(f"{finger}: arc length not increasing: the pad rolled on an edge or corner", c, u, fit)
+    length = f.pad.length_mm
     if np.any(u < EDGE_MARGIN_MM) or np.any(u > length - EDGE_MARGIN_MM):
         return out(f"{finger}: contact {float(np.min(u)):.1f}..{float(np.max(u)):.1f} mm along the pad, "
-                   f"not inside {EDGE_MARGIN_MM:g}..{length - EDGE_MARGIN_MM:g} mm (a pad end touched)", c, u)
-    return out(None, c, u)
+                   f"not inside {EDGE_MARGIN_MM:g}..{length - EDGE_MARGIN_MM:g} mm (a pad end touched)", c, u, fit)
+    return out(None, c, u, fit)
+
+
+def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float) -> str | None:
+    """Why a touch fell off the object's curved part, or None: on a corner (the radius of
+    curvature at the contact is below ``CORNER_RADIUS_MM`` or ``CORNER_SIGMAS`` of its
+    deviation: the contact stayed put while the pad turned) or across a corner or closing
+    segment (the pad lines are no smooth curve's tangents: their χ² about the envelope fit
+    above its limit at ``SMOOTH_ALPHA``: a straight segment bridged between two corners
+    makes d(ψ) kink)."""
+    m = len(contacts.x) // 2
+    if fit.rho < max(CORNER_RADIUS_MM, CORNER_SIGMAS * fit.sigma_rho):
+        return (f"corner: the contact stayed near ({contacts.x[m]:.1f}, {contacts.y[m]:.1f}) mm while the pad "
+                f"turned {np.degrees(turn_rad):.0f} deg (radius of curvature {fit.rho:.2f} ± {fit.sigma_rho:.2f} mm)")
+    if fit.dof > 0 and fit.chi2 > chi2_limit(SMOOTH_ALPHA, fit.dof):
+        return (f"off the curved part: the pad lines are no smooth curve's tangents (chi2 {fit.chi2:.3g} on "
+                f"{fit.dof} dof): the roll crossed a corner or a straight closing segment")
+    return None
 
 
 def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings,
                     noise: dict[str, float] | None = None) -> Callable[[Sequence[FeltTouch]], Recognition]:
-    """Usable felt touches → Recognition, with the scene (a mapping, validated here once),
+    """Usable felt rolling touches → Recognition, with the scene (a mapping, validated here once),
     ``noise`` (default ``TOUCH_NOISE``) and the settings' recognizer options. Each call
     extends one validated request with the touches' samples (already checked by
     :func:`feel`): nothing is parsed again per decision."""

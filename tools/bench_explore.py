@@ -102,7 +102,7 @@ def true_geometry(obj: dict, x: float, y: float) -> tuple[float, float]:
 def kappa_comparison(log: Path, obj: dict) -> dict:
     """The logged usable touches' κ, κ_s two ways against the truth (errors and z-scores):
     the jaw's envelope fit with its quantization covariance (tactile_jaw.pipeline.
-    envelope_curvature, what the jaw hands the recognizer) and the recognizer's own
+    envelope.fit_envelope, what the jaw hands the recognizer) and the recognizer's own
     estimate from the samples; and the final answer both ways."""
     from hand_driver.config import parse_config
     from hand_driver.log import read_log

@@ -14,7 +14,8 @@ from hand_driver.config import load_config
 from hand_driver.motion import Sample, TouchResult
 from hand_driver.units import RAD_PER_TICK
 from recognizer.curves import CURVES
-from tactile_jaw.pipeline import envelope_curvature, feel
+from tactile_jaw.envelope import fit_envelope
+from tactile_jaw.pipeline import feel
 
 CONFIG = load_config("config/jaw.yaml")
 LEFT = CONFIG.finger("left")
@@ -39,7 +40,8 @@ def ellipse_tangent_angles(a: float, b: float, psis) -> tuple[np.ndarray, np.nda
 def test_circle_curvature_is_exact():
     psis = math.radians(-80.0) + np.linspace(-0.15, 0.15, 9)
     q, _, _ = ellipse_tangent_angles(20.0, 20.0, psis)
-    kappa, kappa_s, cov = envelope_curvature(LEFT, q)
+    fit = fit_envelope(LEFT, q)
+    kappa, kappa_s, cov = fit.kappa, fit.kappa_s, fit.cov
     assert kappa == pytest.approx(1.0 / 20.0, rel=1e-5)  # the second pass's centre is 1e-4 mm off
     assert abs(kappa_s) < 1e-9
     assert cov.shape == (2, 2) and np.all(np.linalg.eigvalsh(cov) > 0)
@@ -53,7 +55,8 @@ def test_ellipse_curvature_against_closed_form(centre_deg):
     a, b = 28.0, 17.0
     psis = math.radians(centre_deg) + np.linspace(-1, 1, 9) * math.radians(9.0)
     q, _, ts = ellipse_tangent_angles(a, b, psis)
-    kappa, kappa_s, _ = envelope_curvature(LEFT, q)
+    fit = fit_envelope(LEFT, q)
+    kappa, kappa_s = fit.kappa, fit.kappa_s
     curve = CURVES["ellipse"]({"a": a, "b": b})
     t = ts[len(ts) // 2]
     assert kappa == pytest.approx(float(curve.kappa(t)), rel=1.5e-2)
@@ -66,10 +69,10 @@ def test_covariance_matches_quantization_scatter():
     a, b = 28.0, 17.0
     psis = math.radians(-75.0) + np.linspace(-1, 1, 9) * math.radians(9.0)
     q, _, _ = ellipse_tangent_angles(a, b, psis)
-    _, _, cov = envelope_curvature(LEFT, q)
+    cov = fit_envelope(LEFT, q).cov
     rng = np.random.default_rng(3)
-    draws = np.array([envelope_curvature(LEFT, q + rng.uniform(-0.5, 0.5, q.shape) * RAD_PER_TICK)[:2]
-                      for _ in range(400)])
+    fits = [fit_envelope(LEFT, q + rng.uniform(-0.5, 0.5, q.shape) * RAD_PER_TICK) for _ in range(400)]
+    draws = np.array([(f.kappa, f.kappa_s) for f in fits])
     ratio = draws.std(axis=0) / np.sqrt(np.diag(cov))
     assert np.all((ratio > 0.85) & (ratio < 1.15)), ratio
 
@@ -100,3 +103,45 @@ def test_feel_refuses_too_few_samples():
     q, _, _ = ellipse_tangent_angles(28.0, 17.0, psis)
     felt = feel(CONFIG, touch_from_angles(q, outcome="no_contact"), 9)
     assert felt.problem is not None and felt.samples is None and felt.contacts is None
+
+
+def quantized_touch(contact, psis) -> TouchResult:
+    """The left pad on the object's tangent lines of normals ψ through ``contact(ψ)`` (the
+    point where the pad meets the object), each reading's joint angles rounded to whole
+    ticks as the encoders do."""
+    q = np.array([kin.ik_tangent(LEFT, contact(psi), float(psi)) for psi in psis])
+    ticks = np.rint(kin.angles_to_ticks(LEFT.joints, q))
+    return touch_from_angles(kin.ticks_to_angles(LEFT.joints, ticks))
+
+
+@pytest.mark.parametrize("span_deg, samples", [(18.0, 9), (30.0, 9), (24.0, 15)])
+def test_a_corner_touch_is_rejected(span_deg, samples):
+    """The pad rolling on a corner of the object: every pad line passes through the corner."""
+    corner = np.array([112.0, 14.0])
+    psis = math.radians(-80.0) + np.linspace(-0.5, 0.5, samples) * math.radians(span_deg)
+    felt = feel(CONFIG, quantized_touch(lambda psi: corner, psis), samples)
+    assert felt.problem is not None and "corner" in felt.problem, felt.problem
+    assert felt.samples is None
+
+
+def test_a_touch_across_a_closing_segment_is_rejected():
+    """The pad rolling across a straight closing segment 16 mm long: below the segment's
+    normal it rests on one end corner, above it on the other, so the pad lines kink."""
+    psi_s = math.radians(-80.0)
+    along = np.array([-math.sin(psi_s), math.cos(psi_s)])
+    mid = np.array([112.0, 14.0])
+    ends = (mid - 8.0 * along, mid + 8.0 * along)
+    psis = psi_s + np.linspace(-0.5, 0.5, 9) * math.radians(18.0)
+    felt = feel(CONFIG, quantized_touch(
+        lambda psi: min(ends, key=lambda e: float(np.array([math.cos(psi), math.sin(psi)]) @ e)), psis), 9)
+    assert felt.problem is not None and ("off the curved part" in felt.problem or "corner" in felt.problem), \
+        felt.problem
+
+
+def test_the_curved_part_is_kept():
+    """The same rolls on an ellipse's curved part (radius of curvature 10–50 mm) pass."""
+    for centre_deg in (-95.0, -85.0, -75.0):
+        psis = math.radians(centre_deg) + np.linspace(-0.5, 0.5, 9) * math.radians(18.0)
+        _, points, _ = ellipse_tangent_angles(28.0, 17.0, psis)
+        felt = feel(CONFIG, quantized_touch(lambda psi: points[int(np.argmin(np.abs(psis - psi)))], psis), 9)
+        assert felt.problem is None, felt.problem
