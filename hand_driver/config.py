@@ -24,6 +24,7 @@ from typing import Any
 import yaml
 
 from tactile_common.errors import InputError
+from tactile_common.files import atomic_write
 from tactile_common.yamlfile import read_yaml
 
 TICKS_PER_REV = 4096
@@ -374,8 +375,9 @@ def config_to_mapping(cfg: JawConfig) -> dict:
 
 
 def dump_config(cfg: JawConfig, path: str | Path, header: str | None = None) -> None:
-    """Write ``cfg`` as YAML that :func:`load_config` reads back to an equal config."""
+    """Write ``cfg`` as YAML that :func:`load_config` reads back to an equal config, whole
+    or not at all (tactile_common.files.atomic_write)."""
     text = yaml.safe_dump(config_to_mapping(cfg), sort_keys=False, default_flow_style=None, width=120)
     if header:
         text = "".join(f"# {line}\n" for line in header.splitlines()) + text
-    Path(path).write_text(text, encoding="utf-8")
+    atomic_write(path, text)

@@ -39,6 +39,7 @@ from pathlib import Path
 from typing import Any, Iterable
 
 from tactile_common.errors import InputError
+from tactile_common.files import create_exclusive
 
 LOG_FORMAT = "tactile-jaw-log"
 LOG_VERSION = 1
@@ -90,13 +91,11 @@ class RunLog:
         self.monotonic_origin = 0.0
 
     def open(self, *, config: dict[str, Any], scene: dict[str, Any] | None,
-             command: list[str] | None = None, settings: dict[str, Any] | None = None) -> "RunLog":
-        """Create (truncate) the file and write the header."""
-        try:
-            self.path.parent.mkdir(parents=True, exist_ok=True)
-            self._file = open(self.path, "w", encoding="utf-8")
-        except OSError as exc:
-            raise InputError(f"--log {self.path}: cannot write the log ({exc.strerror})") from None
+             command: list[str] | None = None, settings: dict[str, Any] | None = None,
+             force: bool = False) -> "RunLog":
+        """Create the file and write the header; an existing file is refused unless ``force``
+        (tactile_common.files.create_exclusive)."""
+        self._file = create_exclusive(self.path, force=force, flag="--log")
         self.monotonic_origin = time.monotonic()
         self.write({
             "type": "header",

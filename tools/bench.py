@@ -28,6 +28,7 @@ Paper protocol, side by side with ours:
 from __future__ import annotations
 
 import csv
+import io
 import math
 import multiprocessing
 import multiprocessing.pool
@@ -44,6 +45,7 @@ import numpy as np
 from recognizer import synth
 from recognizer.curves import CURVES, Pose
 from recognizer.profiles import PROFILES, robot_time_s
+from tactile_common.files import atomic_path, atomic_write
 
 CLASSES = tuple(CURVES)
 SPEC_PHI = 1.5e-3
@@ -488,11 +490,12 @@ CSV_KEYS = ("label", "group", "noise_x", "touches", "samples", "spacing_pct", "r
 
 def write_csv(result: BenchResult, path: Path) -> None:
     keys = list(CSV_KEYS) + [k for k in result.rows[0] if k not in CSV_KEYS and k != "failures"] + ["failures"]
-    with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=keys)
-        w.writeheader()
-        for r in result.rows:
-            w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+    buf = io.StringIO(newline="")
+    w = csv.DictWriter(buf, fieldnames=keys)
+    w.writeheader()
+    for r in result.rows:
+        w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
+    atomic_write(path, buf.getvalue())
 
 
 def _f(v: float, fmt: str = ".3g") -> str:
@@ -573,7 +576,7 @@ def write_markdown(result: BenchResult, path: Path, command: str) -> None:
     if fails:
         lines += ["", "## Failures", ""] + [f"- {r['label']}: {r['failures']}" for r in fails]
     lines += ["", "![accuracy against cost](bench.png)", ""]
-    path.write_text("\n".join(lines))
+    atomic_write(path, "\n".join(lines))
 
 
 def write_plot(result: BenchResult, path: Path) -> None:
@@ -609,8 +612,11 @@ def write_plot(result: BenchResult, path: Path) -> None:
     axes[0, 0].legend(uniq.values(), uniq.keys(), fontsize=7, title="sweep", title_fontsize=7)
     fig.suptitle("tactile bench: accuracy against cost (standard noise unless the label says otherwise)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+    finally:
+        plt.close(fig)
 
 
 def default_jobs() -> int:

@@ -9,16 +9,21 @@ import time
 from pathlib import Path
 
 from tactile_common.errors import InputError
+from tactile_common.files import check_output
 
 HELP = "measures the speed–accuracy trade (noise, samples, span, touches, estimator, refinement) and writes a table and a plot"
+
+
+OUTPUTS = ("bench.csv", "bench.md", "bench.png")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--quick", action="store_true",
                         help="a smoke run of about 20-60 s (few shapes); the committed numbers come from the default run")
     parser.add_argument("--out", default=None,
-                        help="output directory (default: a new scratch directory, printed; "
-                             "the committed results are written with --out docs/bench)")
+                        help="output directory for bench.csv, bench.md, bench.png (default: a new scratch directory, "
+                             "printed; the committed results are written with --out docs/bench --force)")
+    parser.add_argument("--force", action="store_true", help="overwrite the three files if --out already holds them")
     parser.add_argument("--shapes", type=int, default=None,
                         help="random shapes per class for the baseline and noise-free rows (default 100, quick 3)")
     parser.add_argument("--sweep-shapes", type=int, default=None,
@@ -54,11 +59,16 @@ def run(args: argparse.Namespace) -> int:
     table = _positive(args.table_shapes, 4 if args.quick else 100, "--table-shapes")
     profile = _positive(args.profile_shapes, sweep, "--profile-shapes")
     jobs = _positive(args.jobs, bench.default_jobs(), "--jobs")
-    out = Path(args.out) if args.out is not None else Path(tempfile.mkdtemp(prefix="tactile-bench-"))
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"--out {out}: cannot create ({exc.strerror})") from exc
+    if args.out is None:
+        out = Path(tempfile.mkdtemp(prefix="tactile-bench-"))
+    else:
+        out = Path(args.out)
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise InputError(f"--out {out}: cannot create ({exc.strerror})") from exc
+        for name in OUTPUTS:
+            check_output(out / name, force=args.force, flag="--out")
 
     def progress(msg: str, final: bool) -> None:
         sys.stderr.write(f"\r[bench] {msg}   " + ("\n" if final else ""))
@@ -74,9 +84,9 @@ def run(args: argparse.Namespace) -> int:
         (f" --table-shapes {args.table_shapes}" if args.table_shapes else "") + \
         (f" --seed {args.seed}" if args.seed != 1 else "") + \
         (f" --classes {' '.join(args.classes)}" if args.classes else "")
-    bench.write_csv(result, out / "bench.csv")
-    bench.write_markdown(result, out / "bench.md", command)
-    bench.write_plot(result, out / "bench.png")
+    bench.write_csv(result, out / OUTPUTS[0])
+    bench.write_markdown(result, out / OUTPUTS[1], command)
+    bench.write_plot(result, out / OUTPUTS[2])
     for c in result.checks:
         print(f"{'met ' if c['pass'] else 'MISS'}  {c['target']}: {c['measured']}")
     print(f"wrote {out / 'bench.csv'}, {out / 'bench.md'}, {out / 'bench.png'} in {time.perf_counter() - t0:.0f} s")

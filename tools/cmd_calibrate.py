@@ -83,12 +83,10 @@ def run(args) -> int:
     from hand_driver.config import dump_config, load_config
     from hand_driver.motion import WallClock
     from recognizer.scene import load_scene
+    from tactile_common.files import check_output
 
-    src, out = Path(args.config), Path(args.out)
-    if out.resolve() == src.resolve():
-        raise InputError(f"--out {out} is the input config; calibration never overwrites it, choose another path")
-    if out.exists() and not args.force:
-        raise InputError(f"--out {out} exists; pass --force to overwrite it")
+    src = Path(args.config)
+    out = check_output(args.out, force=args.force, reads=[src, args.reference], flag="--out")
     cfg = load_config(src)
     scene = load_scene(args.reference)
     if scene.object is None or scene.object.cls != "circle":

@@ -16,6 +16,7 @@ import sys
 
 from tools.cmd_explore import (
     add_common_arguments,
+    check_outputs,
     default_path,
     finish,
     progress_printer,
@@ -62,11 +63,13 @@ def run(args) -> int:
     from tactile_jaw.plan import open_pose
 
     scene_path = default_path(args.scene)
+    config_path = args.config or default_path("config/jaw.yaml")
+    check_outputs(args, args.log, [config_path, args.truth_config, scene_path])
     scene_mapping = read_yaml_mapping(scene_path, "scene")
     scene = load_scene(scene_mapping, source=scene_path)
     if scene.object is None:
         raise InputError(f"{scene_path}: the scene has no object for the emulator to show (key 'object')")
-    config = load_config(args.config or default_path("config/jaw.yaml"))
+    config = load_config(config_path)
     truth = load_config(args.truth_config) if args.truth_config else None
     say = progress_printer()
     sys.setswitchinterval(5e-4)  # the emulator thread answers sooner while the SDK polls
@@ -78,7 +81,7 @@ def run(args) -> int:
             raise InputError(f"{scene_path}: the object overlaps the opened jaw's pads (each on the workspace "
                              f"disk's edge, config 'workspace'): place it clear of them")
         session = run_session(port=sim.port, config=config, scene_mapping=scene_mapping, profile=args.profile,
-                              log_path=args.log, clock_factory=lambda: LockstepClock(sim),
+                              log_path=args.log, force=args.force, clock_factory=lambda: LockstepClock(sim),
                               bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say)
     extra = truth_lines(session.recognition, scene.object) if session.recognition else []
     return finish(session, args, config=config, truth=scene.object, extra_lines=extra)

@@ -30,6 +30,19 @@ def add_common_arguments(parser, *, scene_default: str | None) -> None:
     parser.add_argument("--log", metavar="L", help="write the run log (JSON Lines) to L; `tactile replay L` reads it")
     parser.add_argument("--json", action="store_true", help="print the recognition as JSON only (docs/formats.md)")
     parser.add_argument("--plot", metavar="PNG", help="write a plot of the pad lines, touches and recognized curve")
+    parser.add_argument("--force", action="store_true",
+                        help="overwrite an existing --log or --plot file (never a file the command reads)")
+
+
+def check_outputs(args, log_path: str | None, reads) -> None:
+    """Refuse, before the jaw moves, a --log or --plot that exists (without --force) or that
+    is a file this command reads (tactile_common.files.check_output)."""
+    from tactile_common.files import check_output
+
+    if log_path is not None:
+        check_output(log_path, force=args.force, reads=reads, flag="--log")
+    if args.plot:
+        check_output(args.plot, force=args.force, reads=[*reads, log_path], flag="--plot")
 
 
 def add_arguments(parser) -> None:
@@ -60,7 +73,7 @@ def read_yaml_mapping(path: str, what: str) -> dict[str, Any]:
 
 
 def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, log_path: str | None,
-                clock_factory: Callable[[], Any], bus_timeout_s: float, progress: Callable[[str], None]) -> Session:
+                force: bool, clock_factory: Callable[[], Any], bus_timeout_s: float, progress: Callable[[str], None]) -> Session:
     """Open the bus, explore, log everything; returns the :class:`Session`."""
     from hand_driver.bus import JointBus
     from hand_driver.config import config_to_mapping
@@ -76,7 +89,7 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     log = None
     if log_path is not None:
         log = RunLog(log_path).open(config=config_to_mapping(config), scene=scene_mapping, command=sys.argv,
-                                    settings={**settings.to_json(), "noise": TOUCH_NOISE})
+                                    settings={**settings.to_json(), "noise": TOUCH_NOISE}, force=force)
     with log if log is not None else nullcontext():
         with JointBus(port, config.bus.baudrate, config, retries=config.bus.retries, timeout_s=bus_timeout_s,
                       on_reading=log.reading if log is not None else None) as bus:
@@ -158,13 +171,15 @@ def run(args) -> int:
     from hand_driver.motion import WallClock
 
     config = load_config(args.config or default_path("config/jaw.yaml"))
+    log_path = args.log or default_log_path()
+    check_outputs(args, log_path, [args.config or default_path("config/jaw.yaml"), args.scene])
     scene_mapping = read_yaml_mapping(args.scene, "scene") if args.scene else None
     if scene_mapping is not None:
         from recognizer.scene import load_scene
 
         load_scene(scene_mapping, source=args.scene)  # validate before the jaw moves
     session = run_session(port=args.port or config.bus.port, config=config, scene_mapping=scene_mapping,
-                          profile=args.profile, log_path=args.log or default_log_path(),
+                          profile=args.profile, log_path=log_path, force=args.force,
                           clock_factory=WallClock, bus_timeout_s=config.bus.timeout_s,
                           progress=progress_printer())
     return finish(session, args, config=config)

@@ -18,17 +18,21 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print the recognition as JSON only (docs/formats.md)")
     parser.add_argument("--touches", metavar="FILE",
                         help="also write the rebuilt touches as a touches request (docs/formats.md; for tactile recognize)")
+    parser.add_argument("--force", action="store_true", help="overwrite an existing --touches file (never the log)")
 
 
 def run(args) -> int:
     from hand_driver.config import parse_config
     from hand_driver.log import read_log
     from tactile_common.errors import InputError
+    from tactile_common.files import atomic_write, check_output
     from tactile_jaw.decide import final_answer
     from tactile_jaw.pipeline import logged_touches, make_recognizer
     from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
     from tools.cmd_explore import describe
 
+    if args.touches:
+        check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
     contents = read_log(args.log)
     header = contents.header
     config = parse_config(header.get("config"), f"{args.log}: header config")
@@ -39,8 +43,7 @@ def run(args) -> int:
     touches = logged_touches(config, contents, settings)
     if args.touches:
         request = {"scene": header.get("scene"), "touches": [t.to_json() for t in touches], "noise": header["settings"].get("noise", TOUCH_NOISE)}
-        with open(args.touches, "w", encoding="utf-8") as f:
-            json.dump(request, f)
+        atomic_write(args.touches, json.dumps(request), flag="--touches")
     if not touches:
         raise InputError(f"{args.log}: no usable touch in the log ({len(contents.touches)} touches logged)")
     recognize_touches = make_recognizer(header.get("scene"), settings, header["settings"].get("noise", TOUCH_NOISE))

@@ -13,6 +13,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from recognizer.curves import CURVES, Pose
+from tactile_common.files import atomic_path
 
 _FINGER_COLORS = ("tab:blue", "tab:orange", "tab:purple", "tab:brown")
 
@@ -90,8 +91,9 @@ def plot_exploration(path: str | Path, *, touches: Sequence[dict[str, Any]], pad
     ax.set_title(title or "tactile exploration")
     ax.legend(loc="upper right", fontsize=7)
     ax.grid(alpha=0.3)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(fig)
-    return path
+    try:
+        with atomic_path(path, "--plot") as tmp:
+            fig.savefig(tmp, dpi=120, bbox_inches="tight", format=Path(path).suffix.lstrip(".") or "png")
+    finally:
+        plt.close(fig)
+    return Path(path)
