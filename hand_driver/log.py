@@ -40,6 +40,7 @@ from typing import Any, Iterable
 
 from tactile_common.errors import InputError
 from tactile_common.files import create_exclusive
+from tactile_common.inputs import decode_utf8, loads_json, read_bounded
 
 LOG_FORMAT = "tactile-jaw-log"
 LOG_VERSION = 1
@@ -175,17 +176,89 @@ class LogContents:
     truncated: bool
 
 
-def read_log(path: str | os.PathLike[str]) -> LogContents:
-    """Parse a run log. A last line cut short by a crash is dropped (``truncated``);
-    any other malformed line raises :class:`InputError` naming the line."""
-    path = Path(path)
+#: a 10-minute exploration logs ~10 MB; the header (config and scene) is a few kB
+MAX_LOG_BYTES = 256 * 2 ** 20
+MAX_LINE_BYTES = 4 * 2 ** 20
+#: Dynamixel Present Position is a signed 32-bit register
+_TICK_RANGE = (-2 ** 31, 2 ** 31 - 1)
+
+
+class _Check:
+    """Field checks of one record; each failure is one line naming the log, line and field."""
+
+    def __init__(self, path: Path, lineno: int, rec: dict) -> None:
+        self.where, self.rec = f"{path}: line {lineno}", rec
+
+    def fail(self, msg: str) -> None:
+        raise InputError(f"{self.where}: {msg}")
+
+    def get(self, key: str, kinds: tuple, what: str, *, optional: bool = False):
+        if key not in self.rec:
+            if optional:
+                return None
+            self.fail(f"{self.rec.get('type')} without {key!r}")
+        v = self.rec[key]
+        if optional and v is None:
+            return None
+        ok = isinstance(v, kinds) and not (isinstance(v, bool) and bool not in kinds)
+        if ok and isinstance(v, float) and not math.isfinite(v):
+            ok = False
+        if not ok:
+            self.fail(f"{key} must be {what}, got {_short(v)}")
+        return v
+
+    def integer(self, key: str, lo: int, hi: int, *, optional: bool = False) -> int | None:
+        v = self.get(key, (int,), "an integer", optional=optional)
+        if v is not None and not lo <= v <= hi:
+            self.fail(f"{key} {v} outside [{lo}, {hi}]")
+        return v
+
+    def number(self, key: str, *, optional: bool = False) -> float | None:
+        return self.get(key, (int, float), "a finite number", optional=optional)
+
+    def values(self, key: str, n: int | None, kinds: tuple, what: str, *, nulls: bool = False,
+               optional: bool = False) -> list | None:
+        v = self.get(key, (list,), f"a list of {what}", optional=optional)
+        if v is None:
+            return None
+        if n is not None and len(v) != n:
+            self.fail(f"{key} has {len(v)} values, the jaw has {n} joints")
+        for j, e in enumerate(v):
+            if e is None and nulls:
+                continue
+            if isinstance(e, bool) and bool not in kinds or not isinstance(e, kinds) \
+                    or isinstance(e, float) and not math.isfinite(e):
+                self.fail(f"{key}[{j}] must be {what}, got {_short(e)}")
+        return v
+
+
+def _short(v: Any) -> str:
+    text = repr(v)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _jaw_shape(header: dict) -> tuple[int | None, set[str] | None]:
+    """Joint count and finger names of the header's jaw config, if it is one (replay
+    refuses a header whose config is not)."""
+    from hand_driver.config import parse_config
+
     try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read the log ({exc.strerror})") from None
-    lines = text.split("\n")
+        cfg = parse_config(header.get("config"), "header config")
+    except InputError:
+        return None, None
+    return len(cfg.joints), {f.name for f in cfg.fingers}
+
+
+def read_log(path: str | os.PathLike[str]) -> LogContents:
+    """Parse and validate a run log, read as bytes and decoded strictly (UTF-8). A last line
+    cut short by a crash (no final newline) is dropped (``truncated``); any other damage
+    (bad bytes, JSON, a record type or any field of any record wrong) raises
+    :class:`InputError` naming the line. Files over :data:`MAX_LOG_BYTES` are refused."""
+    path = Path(path)
+    raw = read_bounded(path, MAX_LOG_BYTES, "the log")
+    lines = raw.split(b"\n")
     truncated = False
-    if lines and lines[-1] == "":
+    if lines and lines[-1] == b"":
         lines.pop()
     elif lines:
         truncated = True  # no final newline: the writer died mid-line
@@ -193,52 +266,83 @@ def read_log(path: str | os.PathLike[str]) -> LogContents:
     records = _parse_lines(path, lines)
     if not records or records[0].get("type") != "header" or records[0].get("format") != LOG_FORMAT:
         raise InputError(f"{path}: line 1 is not a {LOG_FORMAT} header")
-    if records[0].get("version") != LOG_VERSION:
-        raise InputError(f"{path}: line 1: log version {records[0].get('version')!r}, this program reads {LOG_VERSION}")
+    header = records[0]
+    if header.get("version") != LOG_VERSION:
+        raise InputError(f"{path}: line 1: log version {_short(header.get('version'))}, this program reads {LOG_VERSION}")
+    c = _Check(path, 1, header)
+    c.get("config", (dict,), "a mapping")
+    c.get("scene", (dict,), "a mapping or null", optional=True)
+    c.get("settings", (dict,), "a mapping", optional=True)
+    c.number("monotonic_origin", optional=True)
+    n_joints, fingers = _jaw_shape(header)
     readings: list[dict[str, Any]] = []
     touches: dict[int, LoggedTouch] = {}
     events: list[dict[str, Any]] = []
     result = None
     for lineno, rec in enumerate(records[1:], start=2):
+        c = _Check(path, lineno, rec)
         kind = rec.get("type")
         if kind == "reading":
-            if rec.get("i") != len(readings):
-                raise InputError(f"{path}: line {lineno}: reading index {rec.get('i')!r}, expected {len(readings)}")
+            if rec.get("i") != len(readings) or isinstance(rec.get("i"), bool):
+                c.fail(f"reading index {_short(rec.get('i'))}, expected {len(readings)}")
+            c.number("t", optional=True)  # the writer logs a non-finite clock as null
+            ticks = c.values("ticks", n_joints, (int,), "integer ticks")
+            if n_joints is None and readings and len(ticks) != len(readings[0]["ticks"]):
+                c.fail(f"ticks has {len(ticks)} values, the first reading {len(readings[0]['ticks'])}")
+            if any(not _TICK_RANGE[0] <= t <= _TICK_RANGE[1] for t in ticks):
+                c.fail("ticks outside the servo's 32-bit position range")
+            c.values("current_ma", len(ticks), (int, float), "numbers", nulls=True, optional=True)
+            c.values("moving", len(ticks), (bool, int), "booleans", optional=True)
             readings.append(rec)
         elif kind in ("touch_start", "sample", "touch_end"):
-            k = rec.get("touch")
-            if not isinstance(k, int):
-                raise InputError(f"{path}: line {lineno}: {kind} without an integer 'touch'")
-            touch = touches.setdefault(k, LoggedTouch(touch=k, finger=str(rec.get("finger"))))
+            k = c.integer("touch", 0, 10 ** 9)
+            finger = c.get("finger", (str,), "a finger name")
+            if fingers is not None and finger not in fingers:
+                c.fail(f"finger {_short(finger)} is not one of the header config's ({', '.join(sorted(fingers))})")
+            touch = touches.setdefault(k, LoggedTouch(touch=k, finger=finger))
+            if touch.finger != finger:
+                c.fail(f"touch {k} was felt by {touch.finger}, this record says {finger}")
             if kind == "touch_start":
-                touch.psi_center = rec.get("psi")
+                touch.psi_center = float(c.number("psi"))
+                c.integer("reading", 0, len(readings), optional=True)
             elif kind == "sample":
                 i = rec.get("reading")
-                if not isinstance(i, int) or not 0 <= i < len(readings):
-                    raise InputError(f"{path}: line {lineno}: sample names reading {i!r}, not yet logged")
+                if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < len(readings):
+                    c.fail(f"sample names reading {_short(i)}, not yet logged")
+                psi = float(c.number("psi"))
                 touch.readings.append(i)
-                touch.psi.append(float(rec["psi"]))
+                touch.psi.append(psi)
             else:
-                touch.outcome = str(rec.get("outcome", "ok"))
+                c.integer("reading", 0, len(readings), optional=True)
+                c.integer("samples", 0, 10 ** 6, optional=True)
+                touch.outcome = c.get("outcome", (str,), "a string", optional=True) or "ok"
         elif kind == "event":
+            c.get("kind", (str,), "a string")
+            c.get("message", (str,), "a string")
             events.append(rec)
         elif kind == "result":
+            c.get("recognition", (dict,), "a mapping or null", optional=True)
+            c.number("robot_time_s", optional=True)
             result = rec
         else:
-            raise InputError(f"{path}: line {lineno}: unknown record type {kind!r}")
-    return LogContents(header=records[0], readings=readings,
+            c.fail(f"unknown record type {_short(kind)}")
+    return LogContents(header=header, readings=readings,
                        touches=[touches[k] for k in sorted(touches)],
                        events=events, result=result, truncated=truncated)
 
 
-def _parse_lines(path: Path, lines: Iterable[str]) -> list[dict[str, Any]]:
+def _parse_lines(path: Path, lines: Iterable[bytes]) -> list[dict[str, Any]]:
     records = []
     for lineno, line in enumerate(lines, start=1):
+        where = f"{path}: line {lineno}"
+        if len(line) > MAX_LINE_BYTES:
+            raise InputError(f"{where}: a line of {len(line)} bytes (at most {MAX_LINE_BYTES})")
         try:
-            rec = json.loads(line)
-        except json.JSONDecodeError as exc:
-            raise InputError(f"{path}: line {lineno}: not JSON ({exc.msg})") from None
+            rec = loads_json(decode_utf8(line, where), where)
+        except InputError as exc:
+            msg = str(exc)
+            raise InputError(msg.replace(f"{where}: not valid JSON", f"{where}: not JSON")) from None
         if not isinstance(rec, dict):
-            raise InputError(f"{path}: line {lineno}: not a JSON object")
+            raise InputError(f"{where}: not a JSON object")
         records.append(rec)
     return records

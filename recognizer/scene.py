@@ -24,6 +24,7 @@ import numpy as np
 from recognizer.curves import CURVES, DEFAULT_SIDE, Pose, validate_params
 from tactile_common.errors import InputError
 from recognizer.touches import NoiseModel, parse_noise
+from tactile_common.inputs import check_path_text
 from tactile_common.yamlfile import read_yaml
 
 __all__ = ["Scene", "SceneObject", "load_scene", "ALL_CLASSES"]
@@ -117,11 +118,11 @@ def _parse_object(raw, where: str) -> SceneObject:
     if "class" not in raw:
         raise InputError(f"{where}.class: missing; allowed: {', '.join(CURVES)}")
     cls = raw["class"]
-    if cls not in CURVES:
+    if not isinstance(cls, str) or cls not in CURVES:
         raise InputError(f"{where}.class: unknown class {cls!r}; allowed: {', '.join(CURVES)}")
     params = validate_params(cls, raw.get("params", {}) or {}, f"{where}.params")
     side = raw.get("side", DEFAULT_SIDE[cls])
-    if side not in ("left", "right"):
+    if not isinstance(side, str) or side not in ("left", "right"):
         raise InputError(f"{where}.side: must be 'left' or 'right', got {side!r}")
     pose = _parse_pose(raw.get("pose"), f"{where}.pose")
     extent, closure = _parse_bounds(raw, cls, where)
@@ -238,6 +239,13 @@ def _check_profile(profile, where: str) -> str | None:
     return profile
 
 
+def _exists(path: Path) -> bool:
+    try:
+        return path.exists()
+    except OSError:  # e.g. a component over the file system's name limit: read_yaml says so
+        return False
+
+
 def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Scene:
     """Load and validate a scene from a YAML path or an inline mapping.
 
@@ -247,8 +255,8 @@ def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Sce
     if isinstance(path_or_mapping, Mapping):
         raw, source, stem = path_or_mapping, source or "scene", "inline"
     elif isinstance(path_or_mapping, (str, Path)):
-        path = Path(path_or_mapping)
-        if not path.is_absolute() and not path.exists() and base_dir is not None:
+        path = check_path_text(path_or_mapping, source or "scene")
+        if not path.is_absolute() and not _exists(path) and base_dir is not None:
             path = Path(base_dir) / path
         source, stem = str(path), path.stem
         raw = read_yaml(path, "scene")
@@ -267,7 +275,7 @@ def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Sce
     if isinstance(classes, str) or not isinstance(classes, (list, tuple)) or not classes:
         raise InputError(f"{source}: classes must be a non-empty list from {', '.join(CURVES)}")
     for c in classes:
-        if c not in CURVES:
+        if not isinstance(c, str) or c not in CURVES:
             raise InputError(f"{source}: classes: unknown class {c!r}; allowed: {', '.join(CURVES)}")
     ordered = tuple(c for c in ALL_CLASSES if c in set(classes))
     obj = _parse_object(raw["object"], f"{source}: object") if raw.get("object") is not None else None
