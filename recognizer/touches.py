@@ -17,6 +17,7 @@ from typing import Mapping
 
 import numpy as np
 
+from recognizer import limits
 from tactile_common.errors import InputError
 
 __all__ = ["NoiseModel", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
@@ -31,7 +32,7 @@ MIN_TOUCHES: dict[str, int] = {
 _TOP_KEYS = {"scene", "touches", "noise", "options", "meta"}
 _SAMPLE_KEYS = {"phi", "x", "y", "s", "finger", "meta"}
 _CONTACT_KEYS = {"x", "y", "phi", "kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s"}
-_OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float}
+_OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float}
 ESTIMATORS = ("auto", "central", "poly")
 
 
@@ -206,6 +207,8 @@ def _parse_options(raw, where: str = "options") -> dict:
         raise InputError(f"{where}.estimator: unknown {out['estimator']!r}; allowed: {', '.join(ESTIMATORS)}")
     if "alpha" in out and not 0.0 < out["alpha"] < 0.5:
         raise InputError(f"{where}.alpha: must be in (0, 0.5), got {out['alpha']}")
+    if "timeout_s" in out and not 0.0 < out["timeout_s"] <= limits.MAX_TIMEOUT_S:
+        raise InputError(f"{where}.timeout_s: must be in (0, {limits.MAX_TIMEOUT_S:g}] s, got {out['timeout_s']}")
     return out
 
 
@@ -231,11 +234,12 @@ def parse_request(obj, base_dir=None, source: str = "request") -> Request:
         sc = obj["scene"]
         if not isinstance(sc, (str, Mapping)):
             raise InputError(f"{source}.scene: must be a path or a scene mapping")
-        scene = load_scene(sc, base_dir=Path(base_dir) if base_dir is not None else None)
+        scene = load_scene(sc, base_dir=Path(base_dir) if base_dir is not None else None, source=f"{source}.scene")
     classes = scene.classes if scene is not None else ALL_CLASSES
     raw_touches = obj.get("touches")
     if not isinstance(raw_touches, list):
         raise InputError(f"{source}: missing 'touches' (a list of touches)")
+    limits.check_sizes(raw_touches, source)
     touches = []
     for i, t in enumerate(raw_touches):
         where = f"{source}.touches[{i}]"
@@ -252,6 +256,7 @@ def parse_request(obj, base_dir=None, source: str = "request") -> Request:
     noise = parse_noise(obj["noise"], f"{source}.noise") if obj.get("noise") is not None else None
     if noise is None and scene is not None:
         noise = scene.noise
+    limits.check_magnitudes(touches, noise, source)
     options = _parse_options(obj.get("options") or {}, f"{source}.options")
     if "profile" in options:
         from recognizer.scene import _check_profile

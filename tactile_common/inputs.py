@@ -58,7 +58,7 @@ def _json_float(text: str) -> float:
 
 
 def _json_constant(name: str):
-    raise NumberLimit(f"{name} is not a number JSON allows")
+    raise NumberLimit(f"{name}: numbers must be finite (JSON has no NaN or Infinity)")
 
 
 _DECODER = json.JSONDecoder(parse_int=check_int, parse_float=_json_float, parse_constant=_json_constant)

@@ -6,6 +6,9 @@ import json
 import sys
 from pathlib import Path
 
+#: bytes of one request (a stream line or a file): 64 touches of 500 samples fit in ~2 MB
+MAX_LINE_BYTES = 2 * 2 ** 20
+
 HELP = "recognizes the curve from touches (a JSON file, or - for stdin); --stream serves one request per line"
 
 
@@ -19,6 +22,9 @@ def add_arguments(parser) -> None:
                         help="kappa, kappa_s estimator for samples-touches (default: the request's, else auto)")
     parser.add_argument("--alpha", type=float, default=None,
                         help="false-rejection rate of each consistency test, in (0, 0.5) (default 1e-3)")
+    parser.add_argument("--timeout", type=float, default=None, metavar="S",
+                        help="cut a recognition off after S seconds with an error answer "
+                             "(default: the request's options.timeout_s, else 10)")
 
 
 def _options(args, request):
@@ -30,60 +36,89 @@ def _options(args, request):
     return options_for(request, {k: v for k, v in cli.items() if v is not None})
 
 
-def _answer(obj, args, base_dir, source):
-    from recognizer.classify import recognize
+def _answer(obj, args, base_dir, source, worker):
+    """Validate (here), then recognize in the worker under the deadline."""
     from recognizer.touches import parse_request
 
     request = parse_request(obj, base_dir=base_dir, source=source)
-    return recognize(request, _options(args, request)).to_json()
+    return worker.recognize(request, _options(args, request), args.timeout)
 
 
-def _decode(text: str, source: str):
+def _lines(src, limit: int):
+    """(line number, bytes or None when the line is over ``limit`` bytes) of a binary
+    stream; an over-long line is skipped without being held in memory."""
+    n = 0
+    while True:
+        line = src.readline(limit + 1)
+        if not line:
+            return
+        n += 1
+        if len(line) > limit and not line.endswith(b"\n"):
+            while line and not line.endswith(b"\n"):
+                line = src.readline(1 << 16)
+            yield n, None
+        else:
+            yield n, line
+
+
+def _serve(src, args, base, worker) -> None:
+    """One compact JSON answer per non-blank line; every failure is an ``{"error": ...}``."""
     from tactile_common.errors import InputError
+    from tactile_common.inputs import decode_utf8, loads_json
 
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise InputError(f"{source}: not valid JSON ({exc.msg} at line {exc.lineno} column {exc.colno})") from None
-    except RecursionError:
-        raise InputError(f"{source}: JSON nested too deeply") from None
+    for n, raw in _lines(src, MAX_LINE_BYTES):
+        where = f"line {n}"
+        try:
+            if raw is None:
+                raise InputError(f"{where}: longer than {MAX_LINE_BYTES} bytes (the request limit)")
+            text = decode_utf8(raw, where)
+            if not text.strip():
+                continue
+            out = _answer(loads_json(text, where), args, base, where, worker)
+        except InputError as exc:
+            out = {"error": str(exc)}
+        except RecursionError:
+            out = {"error": f"{where}: nested too deeply"}
+        except MemoryError:
+            out = {"error": f"{where}: out of memory reading the request"}
+        except Exception as exc:  # a validation bug must not end the service: answer it, name it
+            out = {"error": f"{where}: cannot handle the request ({type(exc).__name__}: {str(exc)[:200]})"}
+        sys.stdout.write(json.dumps(out, allow_nan=False) + "\n")
+        sys.stdout.flush()
 
 
 def run(args) -> int:
     from tactile_common.errors import InputError
+    from tactile_common.inputs import decode_utf8, loads_json, read_bounded
+    from recognizer.limits import MAX_TIMEOUT_S
+    from tools.recognize_worker import Worker
 
     if args.alpha is not None and not 0.0 < args.alpha < 0.5:
         raise InputError(f"--alpha: must be in (0, 0.5), got {args.alpha}")
+    if args.timeout is not None and not 0.0 < args.timeout <= MAX_TIMEOUT_S:
+        raise InputError(f"--timeout: must be in (0, {MAX_TIMEOUT_S:g}] s, got {args.timeout}")
     if args.stream:
-        src = sys.stdin if args.file == "-" else None
-        if src is None:
+        if args.file == "-":
+            src, base = sys.stdin.buffer, Path.cwd()
+        else:
             try:
-                src = open(args.file, encoding="utf-8")
+                src = open(args.file, "rb")
             except OSError as exc:
                 raise InputError(f"{args.file}: cannot read ({exc.strerror or exc})") from None
-        base = Path.cwd() if args.file == "-" else Path(args.file).resolve().parent
-        with src:
-            for n, line in enumerate(src, 1):
-                if not line.strip():
-                    continue
-                try:
-                    out = _answer(_decode(line, f"line {n}"), args, base, f"line {n}")
-                except InputError as exc:
-                    out = {"error": str(exc)}
-                except (ValueError, ArithmeticError) as exc:  # numerics on valid input: answer, never crash
-                    out = {"error": f"line {n}: cannot recognize ({exc})"}
-                sys.stdout.write(json.dumps(out, allow_nan=False) + "\n")
-                sys.stdout.flush()
+            base = Path(args.file).resolve().parent
+        with Worker() as worker:
+            _serve(src, args, base, worker)
         return 0
     if args.file == "-":
-        text, base, source = sys.stdin.read(), Path.cwd(), "stdin"
+        raw = sys.stdin.buffer.read(MAX_LINE_BYTES + 1)
+        if len(raw) > MAX_LINE_BYTES:
+            raise InputError(f"stdin: longer than {MAX_LINE_BYTES} bytes (the request limit)")
+        base, source = Path.cwd(), "stdin"
     else:
-        path = Path(args.file)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"{args.file}: cannot read ({getattr(exc, 'strerror', None) or exc})") from None
-        base, source = path.resolve().parent, args.file
-    out = _answer(_decode(text, source), args, base, source)
+        raw = read_bounded(args.file, MAX_LINE_BYTES, "the request", regular_only=False)
+        base, source = Path(args.file).resolve().parent, args.file
+    obj = loads_json(decode_utf8(raw, source), source)
+    with Worker() as worker:
+        out = _answer(obj, args, base, source, worker)
     sys.stdout.write(json.dumps(out, indent=2, allow_nan=False) + "\n")
     return 0

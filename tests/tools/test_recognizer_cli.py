@@ -42,7 +42,7 @@ def test_scene_relative_to_request_file(tmp_path, capsys, monkeypatch):
 def test_stream_answers_every_line(monkeypatch, capsys):
     lines = [json.dumps(GOOD), "not json", json.dumps({"touches": [{"phi": [1, 2], "x": [1, 2], "y": [1, 2]}]}),
              "", json.dumps(GOOD)]
-    monkeypatch.setattr(sys, "stdin", io.StringIO("\n".join(lines) + "\n"))
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(("\n".join(lines) + "\n").encode())))
     assert main(["recognize", "--stream", "-"]) == 0
     out = [json.loads(x) for x in capsys.readouterr().out.splitlines()]
     assert len(out) == 4
