@@ -1,7 +1,9 @@
 """Benchmark: exploration robustness on random reachable scenes (a benchmark, not a test).
 
 Seeded random objects in front of the jaw: ellipses with a in 12–35 mm, b/a in 0.3–1,
-any orientation, centre (105 ± 8, 0 ± 6) mm; circles r 8–25 mm at the same centres. Each
+any orientation, centre (105 ± 8, 0 ± 6) mm; circles r 8–25 mm at the same centres; or,
+with ``--finite N``, N finite objects per class drawn from the example scenes
+(:func:`finite_object`), all seven classes candidates. Each
 scene is explored by ``tactile demo --scene S --json --log L`` (balanced profile unless
 ``--profile``), two at a time. Scenes whose object overlaps the opened jaw (exit 2) are
 redrawn. Per scene: the answer, right class or not, parameter error, usable/tried
@@ -29,7 +31,12 @@ import yaml
 
 from tactile_common.errors import InputError
 
-CLASSES = ["line", "circle", "ellipse", "parabola", "hyperbola"]
+CLASSES = ["line", "circle", "ellipse", "parabola", "hyperbola", "cubical_parabola", "semicubical_parabola"]
+#: how a finite object of each class scales by s: factors of its parameters and of its
+#: canonical extent (the curve's points all scale by s; closure points scale by s)
+SCALING = {"line": ({}, 1.0), "circle": ({"r": 1.0}, None), "ellipse": ({"a": 1.0, "b": 1.0}, None),
+           "parabola": ({"a": 1.0}, 0.0), "hyperbola": ({"a": 1.0, "b": 1.0}, 0.0),
+           "cubical_parabola": ({"a": -2.0, "c": 0.0}, 1.0), "semicubical_parabola": ({"a": -0.5, "b": 0.0}, 0.5)}
 
 
 def random_object(rng) -> dict:
@@ -40,6 +47,28 @@ def random_object(rng) -> dict:
         return {"class": "circle", "params": {"r": float(rng.uniform(8, 25))}, "pose": {**pose, "theta": 0.0}}
     a = float(rng.uniform(12, 35))
     return {"class": "ellipse", "params": {"a": a, "b": a * float(rng.uniform(0.3, 1.0))}, "pose": pose}
+
+
+def finite_object(rng, example: dict) -> dict:
+    """A random finite object like ``example`` (an example scene's object): sizes 0.6–1.5×,
+    turned by up to ±20° and moved by up to ±8 mm, the curved part still facing the finger
+    it faces. Parameters scale by s to their length dimension (``SCALING``: exponent of s),
+    the canonical extent by s to the power the class's parametrization needs."""
+    size = float(rng.uniform(0.6, 1.5))
+    exps, ext_exp = SCALING[example["class"]]
+    pose = dict(example["pose"])
+    if "theta_deg" in pose:
+        pose["theta"] = math.radians(pose.pop("theta_deg"))
+    obj = {"class": example["class"],
+           "params": {k: float(v) * size ** (1.0 if exps.get(k) is None else exps[k])
+                      for k, v in example["params"].items()},
+           "pose": {"theta": float(pose["theta"] + rng.uniform(-1, 1) * math.radians(20.0)),
+                    "x": float(pose["x"] + rng.uniform(-8, 8)), "y": float(pose["y"] + rng.uniform(-8, 8))}}
+    if "extent" in example:
+        obj["extent"] = [float(t) * size ** ext_exp for t in example["extent"]]
+    if "closure" in example:
+        obj["closure"] = [[float(x) * size, float(y) * size] for x, y in example["closure"]]
+    return obj
 
 
 def run_scene(path: Path, log: Path, profile: str) -> dict:
@@ -151,6 +180,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--kappa", action="store_true",
                     help="compare each usable touch's κ, κ_s from the envelope fit (with its quantization "
                          "covariance) and from the samples against the truth, and recognize both ways")
+    ap.add_argument("--finite", type=int, default=0, metavar="N",
+                    help="instead: N random finite objects per class, drawn from config/scenes/<class>.yaml")
     ap.add_argument("--keep", default=None, help="directory for the scenes and logs (default: a temporary one)")
     args = ap.parse_args(argv)
     from hand_driver.config import load_config
@@ -164,12 +195,19 @@ def main(argv: list[str] | None = None) -> int:
     config = load_config("config/jaw.yaml")
     q_open = open_pose(config)
     scenes = []
-    while len(scenes) < args.n:
-        obj = random_object(rng)
-        mapping = {"name": f"rand{len(scenes)}", "classes": CLASSES, "object": obj}
-        scene = load_scene(mapping)
-        if ContactWorld(config, scene.object).penetrates(q_open):
-            continue  # overlaps the opened jaw: not a reachable scene for the demo
+    draws = ([lambda c=c: finite_object(rng, yaml.safe_load(Path(f"config/scenes/{c}.yaml").read_text())["object"])
+              for c in CLASSES for _ in range(args.finite)] if args.finite else
+             [lambda: random_object(rng)] * args.n)
+    for draw in draws:
+        while True:
+            obj = draw()
+            mapping = {"name": f"rand{len(scenes)}", "classes": CLASSES, "object": obj}
+            try:
+                scene = load_scene(mapping)
+            except InputError:
+                continue  # a closure the resized curve crosses: draw again
+            if not ContactWorld(config, scene.object).penetrates(q_open):
+                break  # else it overlaps the opened jaw: not a reachable scene for the demo
         path = work / f"rand{len(scenes)}.yaml"
         path.write_text(yaml.safe_dump(mapping))
         scenes.append((path, obj))
@@ -196,9 +234,34 @@ def main(argv: list[str] | None = None) -> int:
             row += "".join(f" {'—' if v is None else f'{v:.3g}'} |" for v in ps)
         print(row, flush=True)
     print(f"right class on {right} of {len(scenes)} scenes; scenes and logs in {work}")
+    print_class_summary(scenes, results)
     if args.kappa:
         print_kappa_table([(path.with_suffix(".log"), obj) for path, obj in scenes])
     return 0
+
+
+def print_class_summary(scenes, results) -> None:
+    """Per class: right / refused / wrong, median worst relative parameter error of the
+    right answers, wrong answers above 5 % error, median robot time and touches used/tried."""
+    print("\n| class | scenes | right | refused | wrong | median param error | robot time median (max) | "
+          "touches used/tried (median) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for cls in CLASSES:
+        rows = [(obj, res) for (_, obj), res in zip(scenes, results) if obj["class"] == cls]
+        if not rows:
+            continue
+        answers = [res.get("recognition") for _, res in rows]
+        right = [(obj, a) for (obj, _), a in zip(rows, answers) if a is not None and a["class"] == cls]
+        refused = sum(a is None or a["class"] == "unclassified" for a in answers)
+        errs = [max((abs(a["params"][k] - v) / abs(v) for k, v in obj["params"].items()), default=0.0)
+                for obj, a in right]
+        robot = [res["robot_s"] for _, res in rows if res.get("robot_s") is not None]
+        used = [res.get("used") or 0 for _, res in rows]
+        tried = [res.get("tried") or 0 for _, res in rows]
+        print(f"| {cls} | {len(rows)} | {len(right)} | {refused} | {len(rows) - len(right) - refused} | "
+              + (f"{100 * float(np.median(errs)):.2f} % |" if errs else "— |")
+              + (f" {np.median(robot):.1f} s ({max(robot):.1f} s) |" if robot else " — |")
+              + f" {np.median(used):g}/{np.median(tried):g} |", flush=True)
 
 
 def print_kappa_table(runs: list[tuple[Path, dict]]) -> None:
