@@ -27,8 +27,11 @@ from typing import Callable, Sequence
 import numpy as np
 
 from hand_driver import units
+from hand_driver.config import JawConfig, JointConfig
 from hand_driver.control_table import (
     ALERT_BIT,
+    BAUD_RATES,
+    COMMON_FIELDS,
     MODE_CURRENT_BASED_POSITION,
     MODE_POSITION,
     MODELS_BY_NUMBER,
@@ -93,34 +96,23 @@ class BusStats:
     retries: int = 0
 
 
-def tick_limits(joint) -> tuple[int, int]:
-    """(min_tick, max_tick) of a joint spec: min_tick/max_tick, else min_deg/max_deg about
-    zero_tick along direction, else the whole turn."""
-    if hasattr(joint, "min_tick") and hasattr(joint, "max_tick"):
-        return int(joint.min_tick), int(joint.max_tick)
-    if hasattr(joint, "min_deg") and hasattr(joint, "max_deg"):
-        d = getattr(joint, "direction", 1)
-        a = joint.zero_tick + d * joint.min_deg * units.TICKS_PER_REV / 360.0
-        b = joint.zero_tick + d * joint.max_deg * units.TICKS_PER_REV / 360.0
-        return int(math.ceil(min(a, b) - 1e-9)), int(math.floor(max(a, b) + 1e-9))
-    return 0, units.TICKS_PER_REV - 1
-
-
-def _joints_of(joints) -> list:
-    if hasattr(joints, "fingers"):
-        return [j for f in joints.fingers for j in f.joints]
-    return list(joints)
+def tick_limits(joint: JointConfig) -> tuple[int, int]:
+    """(min_tick, max_tick): the whole ticks inside the joint's min_deg..max_deg about
+    zero_tick along direction."""
+    a, b = (float(units.deg_to_ticks_exact(deg, joint.zero_tick, joint.direction))
+            for deg in (joint.min_deg, joint.max_deg))
+    return int(math.ceil(min(a, b) - 1e-9)), int(math.floor(max(a, b) + 1e-9))
 
 
 class JointBus:
     """Every joint of the jaw on one Dynamixel bus. See the module docstring."""
 
-    def __init__(self, port: str, baudrate: int, joints: Sequence = (), *, retries: int = 3,
+    def __init__(self, port: str, baudrate: int, joints: JawConfig | Sequence[JointConfig] = (), *, retries: int = 3,
                  fast_read: bool | None = None, on_reading: Callable[[JointState], None] | None = None,
                  timeout_s: float | None = None, handle_signals: bool = True, torque_on_open: bool = True):
         self.port_name = str(port)
         self.baudrate = int(baudrate)
-        self.joints = _joints_of(joints)
+        self.joints = list(joints.joints if isinstance(joints, JawConfig) else joints)
         self.ids = [int(j.id) for j in self.joints]
         if len(set(self.ids)) != len(self.ids):
             raise InputError(f"joint ids must be unique, got {self.ids}")
@@ -172,8 +164,9 @@ class JointBus:
         self._serial_errors = (serial.SerialException, OSError, termios.error)
         port = _Port(self.port_name)
         if port.getCFlagBaud(self.baudrate) <= 0:
+            usable = [b for b in sorted(BAUD_RATES) if port.getCFlagBaud(b) > 0]
             raise InputError(f"baud rate {self.baudrate} is not supported by the Dynamixel SDK; use one of "
-                             "57600, 115200, 1000000, 2000000, 3000000, 4000000")
+                             f"{', '.join(map(str, usable))}")
         try:
             port.baudrate = self.baudrate
             port.openPort()
@@ -220,22 +213,25 @@ class JointBus:
             mode = MODE_CURRENT_BASED_POSITION if spec.has_current_sensing else MODE_POSITION
             wanted = {"return_delay_time": 0, "operating_mode": mode,
                       "min_position_limit": int(lo), "max_position_limit": int(hi)}
-            if spec.has_current_sensing and hasattr(j, "current_limit_ma"):
-                wanted["current_limit"] = min(units.ma_to_current(j.current_limit_ma, spec),
-                                              spec.current_limit_default)
+            if spec.has_current_sensing:
+                wanted["current_limit"] = self._current_limit_raw(j, spec)
             for name, value in wanted.items():  # EEPROM: write only what differs
                 f = spec.field(name)
                 if self._read(j.id, f) != value:
                     self._write(j.id, f, value)
         if self.current_sensing:
-            ma = [getattr(j, "current_limit_ma", None) for j in self.joints]
-            if all(m is not None for m in ma):
-                self.set_goal_current(np.array(ma, dtype=float))
+            self._sync_write_field("goal_current", [self._current_limit_raw(j, s)
+                                                    for j, s in zip(self.joints, self.specs)])
         state = self._read_state_raw()
         self._sync_write_field("goal_position", np.clip(state.ticks, self.min_ticks, self.max_ticks))
         self._choose_read_mode()
         if self.torque_on_open:
             self.torque(True)
+
+    @staticmethod
+    def _current_limit_raw(joint: JointConfig, spec: ModelSpec) -> int:
+        """The joint's current_limit_ma in raw units, capped at the model's Current Limit."""
+        return min(units.ma_to_current(joint.current_limit_ma, spec), spec.current_limit_default)
 
     def _choose_read_mode(self) -> None:
         capable = all(s.fast_sync_read for s in self.specs)
@@ -372,15 +368,18 @@ class JointBus:
         t = time.monotonic()
         raw = [bytes(blocks[i]) for i in self.ids]
 
-        def field(off: int, size: int, signed: bool) -> np.ndarray:
-            vals = [int.from_bytes(b[off : off + size], "little") for b in raw]
-            return np.array([units.to_signed(v, size) if signed else v for v in vals], dtype=np.int64)
+        def field(name: str) -> np.ndarray:
+            out = []
+            for b, s in zip(raw, self.specs):
+                f = s.field(name)
+                v = int.from_bytes(b[f.addr - STATE_BLOCK_ADDR : f.addr - STATE_BLOCK_ADDR + f.size], "little")
+                out.append(units.to_signed(v, f.size) if f.signed else v)
+            return np.array(out, dtype=np.int64)
 
-        ticks = field(132 - STATE_BLOCK_ADDR, 4, True)
-        moving = field(0, 1, False).astype(bool)
-        cur_raw = field(126 - STATE_BLOCK_ADDR, 2, True)
-        vel = np.array([units.velocity_to_rad_s(v, s) for v, s in zip(field(128 - STATE_BLOCK_ADDR, 4, True), self.specs)])
-        current = (np.array([units.current_to_ma(c, s) for c, s in zip(cur_raw, self.specs)])
+        ticks = field("present_position")
+        moving = field("moving").astype(bool)
+        vel = np.array([units.velocity_to_rad_s(v, s) for v, s in zip(field("present_velocity"), self.specs)])
+        current = (np.array([units.current_to_ma(c, s) for c, s in zip(field("present_current"), self.specs)])
                    if self.current_sensing else None)
         state = JointState(t, ticks, current, moving, vel)
         self._pending_alerts = [i for i in self.ids if errors[i] & ALERT_BIT]
@@ -496,8 +495,7 @@ class JointBus:
     def ping(self, dxl_id: int) -> ServoInfo:
         """Model and firmware of one servo (BusTimeout if it does not answer)."""
         number = self._call(f"ping of servo {dxl_id}", lambda: self._ph.ping(self._port, dxl_id), dxl_id)[0]
-        fw = self._call(f"read of firmware from servo {dxl_id}",
-                        lambda: self._ph.read1ByteTxRx(self._port, dxl_id, 6), dxl_id)[0]
+        fw = self._read(dxl_id, COMMON_FIELDS["firmware_version"])
         spec = MODELS_BY_NUMBER.get(number)
         return ServoInfo(dxl_id, spec.name if spec else f"unknown-{number}", number, fw, self._port.getBaudRate())
 
@@ -524,8 +522,7 @@ class JointBus:
 
     def read_hardware_error(self, dxl_id: int) -> HardwareStatus:
         """Hardware Error Status (70) of one servo, decoded."""
-        bits = self._call(f"read of hardware error status from servo {dxl_id}",
-                          lambda: self._ph.read1ByteTxRx(self._port, dxl_id, 70), dxl_id)[0]
+        bits = self._read(dxl_id, COMMON_FIELDS["hardware_error_status"])
         return HardwareStatus(bits, tuple(decode_hardware_error(bits)))
 
     def reboot(self, dxl_id: int) -> None:
@@ -549,9 +546,8 @@ class JointBus:
             spec = self.specs[k]
             pos = self._read(dxl_id, spec.field("present_position"))
             self._write(dxl_id, spec.field("goal_position"), int(np.clip(pos, self.min_ticks[k], self.max_ticks[k])))
-            if spec.has_current_sensing and hasattr(self.joints[k], "current_limit_ma"):
-                self._write(dxl_id, spec.field("goal_current"),
-                            min(units.ma_to_current(self.joints[k].current_limit_ma, spec), spec.current_limit_default))
+            if spec.has_current_sensing:
+                self._write(dxl_id, spec.field("goal_current"), self._current_limit_raw(self.joints[k], spec))
 
 
 def scan(port: str, ids: Sequence[int], baudrates: Sequence[int]) -> list[ServoInfo]:

@@ -4,7 +4,7 @@ A jaw is a bus plus fingers; a finger is a planar chain of revolute joints fixed
 base pose in the hand frame, with a flat pad on the side of its distal link that ends at
 the fingertip. Joint angle (ARCHITECTURE "Units and frames")::
 
-    q = direction · (tick − zero_tick) · 2π/4096      (rad, counter-clockwise)
+    q = direction · (tick − zero_tick) · 2π/4096      (rad, counter-clockwise; hand_driver.units)
 
 Link i starts at joint i and points along ``base.angle + q_1 + … + q_i``; its length is
 ``link_mm``. The pad is a segment parallel to the distal link, ``pad.offset_mm`` from
@@ -23,23 +23,11 @@ from typing import Any
 
 import yaml
 
+from hand_driver.control_table import BAUD_RATES, MODELS
+from hand_driver.units import TICKS_PER_REV, deg_to_ticks_exact
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_write
 from tactile_common.yamlfile import read_yaml
-
-TICKS_PER_REV = 4096
-_FALLBACK_MODELS = ("XM430-W350", "XM430-W210", "XM540-W270", "XM540-W150",
-                    "XH430-W350", "XH430-W210", "XC330-T288", "XC330-M288",
-                    "XC330-T181", "XC330-M181", "XL430-W250")
-
-
-def supported_models() -> tuple[str, ...]:
-    """Model names the driver knows (hand_driver.control_table when present)."""
-    try:
-        from hand_driver.control_table import MODELS
-    except ImportError:
-        return _FALLBACK_MODELS
-    return tuple(MODELS)
 
 
 @dataclass(frozen=True)
@@ -204,13 +192,21 @@ class _Checker:
         return value
 
 
+def _baudrate(c: _Checker, m: dict, default: int) -> int:
+    value = m.get("baudrate", default)
+    if isinstance(value, bool) or not isinstance(value, int) or value not in BAUD_RATES:
+        c.fail("bus.baudrate", f"{value!r} is not a Dynamixel baud rate; choose from "
+                               f"{', '.join(map(str, sorted(BAUD_RATES)))}")
+    return value
+
+
 def _bus(c: _Checker, obj: Any) -> BusConfig:
     d = BusConfig()
     m = c.mapping(obj if obj is not None else {}, "bus", ("port", "baudrate", "protocol", "retries", "timeout_s"))
     protocol = c.number(m, "bus", "protocol", d.protocol, 2.0, 2.0)
     return BusConfig(
         port=c.string(m, "bus", "port", d.port),
-        baudrate=c.number(m, "bus", "baudrate", d.baudrate, 9600, 10_500_000, integer=True),
+        baudrate=_baudrate(c, m, d.baudrate),
         protocol=protocol,
         retries=c.number(m, "bus", "retries", d.retries, 0, 10, integer=True),
         timeout_s=c.number(m, "bus", "timeout_s", d.timeout_s, 0.001, 5.0),
@@ -237,7 +233,7 @@ def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointCon
     )
     # Limits must stay inside one encoder turn of position mode (ticks 0..4095).
     for name, deg in (("min_deg", j.min_deg), ("max_deg", j.max_deg)):
-        tick = j.zero_tick + j.direction * deg * TICKS_PER_REV / 360.0
+        tick = float(deg_to_ticks_exact(deg, j.zero_tick, j.direction))
         if not 0 <= tick <= TICKS_PER_REV - 1:
             lo = -j.zero_tick * 360.0 / TICKS_PER_REV
             hi = (TICKS_PER_REV - 1 - j.zero_tick) * 360.0 / TICKS_PER_REV
@@ -313,7 +309,7 @@ def parse_config(obj: Any, source: str = "<memory>") -> JawConfig:
     fingers_obj = m["fingers"]
     if not isinstance(fingers_obj, list) or len(fingers_obj) != 2:
         c.fail("fingers", "expected a list of exactly 2 fingers")
-    models = supported_models()
+    models = tuple(MODELS)
     fingers = tuple(_finger(c, f, f"fingers[{i}]", models) for i, f in enumerate(fingers_obj))
     names = [f.name for f in fingers]
     if len(set(names)) != len(names):

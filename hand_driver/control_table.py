@@ -94,7 +94,6 @@ class ModelSpec:
     fast_sync_read: bool = True
     velocity_unit_rpm: float = 0.229
     accel_unit_rpm2: float = 214.577
-    ticks_per_rev: int = 4096
 
     @property
     def has_current_sensing(self) -> bool:
@@ -105,6 +104,13 @@ class ModelSpec:
             return self.fields[name]
         except KeyError:
             raise KeyError(f"{self.name} has no control-table item {name!r}") from None
+
+    def baud_register(self, baudrate: int) -> int:
+        """The Baud Rate (8) register value selecting ``baudrate`` bit/s; ValueError if none."""
+        for reg, bps in self.baud_rates.items():
+            if bps == baudrate:
+                return reg
+        raise ValueError(f"{self.name} cannot talk at {baudrate} bit/s; it knows {sorted(self.baud_rates.values())}")
 
     def field_at(self, addr: int) -> Field | None:
         for f in self.fields.values():
@@ -200,9 +206,15 @@ MODELS: dict[str, ModelSpec] = {
 }
 MODELS_BY_NUMBER: dict[int, ModelSpec] = {m.number: m for m in MODELS.values()}
 
+#: items every model has at the same address (ids, firmware, errors, torque, positions)
+COMMON_FIELDS: dict[str, Field] = {f.name: f for f in _common_fields()
+                                   if all(f.name in m.fields and m.fields[f.name] == f for m in MODELS.values())}
+#: every baud rate any supported model can be set to (bit/s)
+BAUD_RATES: frozenset[int] = frozenset(b for m in MODELS.values() for b in m.baud_rates.values())
+
 # The joint-state block read every cycle: Moving (122) .. Present Position (132..135).
-STATE_BLOCK_ADDR = 122
-STATE_BLOCK_LEN = 14
+STATE_BLOCK_ADDR = COMMON_FIELDS["moving"].addr
+STATE_BLOCK_LEN = COMMON_FIELDS["present_position"].addr + COMMON_FIELDS["present_position"].size - STATE_BLOCK_ADDR
 
 
 def model(name: str) -> ModelSpec:

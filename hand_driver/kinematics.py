@@ -10,7 +10,7 @@ angles ``q1, q2`` and links ``L1, L2``: ``α1 = β + q1``, ``α2 = α1 + q2``, d
 ``n = e(α2 + side·π/2)`` (side = +1 'left', −1 'right'), pointing from the finger into
 the world. A pad line is ``{p : n(ψ)·p = d}`` with ψ the angle of n.
 
-Contacts (the envelope). A pad rolled on a boundary that is convex toward it gives lines
+The envelope (:class:`TouchEnvelope`). A pad rolled on a boundary that is convex toward it gives lines
 ``n(ψ)·p = d(ψ)``; the boundary point touched at ψ is their envelope
 ``p = d·n + d'·n⊥`` with ``n⊥ = dn/dψ``, the boundary's tangent angle is
 ``φ = ψ − π/2`` (the solid on the left of the traversal: increasing ψ is
@@ -32,20 +32,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from hand_driver.config import TICKS_PER_REV, FingerConfig, JawConfig, JointConfig
+from hand_driver.config import FingerConfig, JawConfig, JointConfig
+from hand_driver.units import HALF_TICK_RAD, rad_to_ticks_exact, ticks_to_rad
+from tactile_common.angles import wrap_angle
 from tactile_common.errors import InputError
-
-RAD_PER_TICK = 2.0 * math.pi / TICKS_PER_REV
-HALF_TICK_RAD = 0.5 * RAD_PER_TICK
 
 
 class Unreachable(InputError):
     """No joint angles within the limits put the pad where asked."""
-
-
-def _wrap(a):
-    """Angle(s) to (−π, π]."""
-    return np.pi - np.mod(np.pi - np.asarray(a, dtype=float), 2.0 * np.pi)
 
 
 def _e(a):
@@ -58,18 +52,16 @@ def _e(a):
 
 def ticks_to_angles(joints: tuple[JointConfig, ...], ticks) -> np.ndarray:
     """Encoder ticks (..., n_joints) → joint angles q (rad), same shape."""
-    t = np.asarray(ticks, dtype=float)
     zero = np.array([j.zero_tick for j in joints])
     sign = np.array([j.direction for j in joints], dtype=float)
-    return sign * (t - zero) * RAD_PER_TICK
+    return ticks_to_rad(ticks, zero, sign)
 
 
 def angles_to_ticks(joints: tuple[JointConfig, ...], q) -> np.ndarray:
     """Joint angles (..., n_joints) → encoder ticks (float; round to command a servo)."""
-    q = np.asarray(q, dtype=float)
     zero = np.array([j.zero_tick for j in joints])
     sign = np.array([j.direction for j in joints], dtype=float)
-    return zero + sign * q / RAD_PER_TICK
+    return rad_to_ticks_exact(q, zero, sign)
 
 
 def within_limits(joints: tuple[JointConfig, ...], q, margin_rad: float = 0.0) -> np.ndarray:
@@ -113,7 +105,7 @@ def chain_pad_line(base, q, links, pad_offset, pad_length, side_sign) -> PadLine
     n = _e(psi)
     distal = j2 + links[1] * e2 + pad_offset * n
     proximal = distal - pad_length * e2
-    return PadLine(psi=_wrap(psi), d=np.sum(n * distal, axis=-1), normal=n, tangent=e2,
+    return PadLine(psi=wrap_angle(psi), d=np.sum(n * distal, axis=-1), normal=n, tangent=e2,
                    proximal=proximal, distal=distal, joint2=j2)
 
 
@@ -155,7 +147,7 @@ def ik_line_solutions(finger: FingerConfig, psi: float, d: float) -> list[np.nda
     out = []
     for sgn in (1.0, -1.0):
         a1 = psi + sgn * math.acos(c)
-        out.append(np.array([float(_wrap(a1 - finger.base.angle)), float(_wrap(a2 - a1))]))
+        out.append(np.array([float(wrap_angle(a1 - finger.base.angle)), float(wrap_angle(a2 - a1))]))
     return out
 
 
@@ -208,7 +200,7 @@ def ik_corner(finger: FingerConfig, point, margin_rad: float = 0.0, end: str = "
     for sgn in (1.0, -1.0):
         k = sgn * math.acos(c)  # angle of the corner vector relative to link 1
         a1 = math.atan2(v[1], v[0]) - math.atan2(r2 * math.sin(k), j1.link_mm + r2 * math.cos(k))
-        q = np.array([float(_wrap(a1 - finger.base.angle)), float(_wrap(k - gamma))])
+        q = np.array([float(wrap_angle(a1 - finger.base.angle)), float(wrap_angle(k - gamma))])
         if within_limits(finger.joints, q, margin_rad):
             out.append(q)
     return out
@@ -218,7 +210,7 @@ def ik_corner(finger: FingerConfig, point, margin_rad: float = 0.0, end: str = "
 
 
 @dataclass(frozen=True)
-class Contacts:
+class TouchEnvelope:
     """Envelope of a rolled pad: samples ordered by increasing ψ (CCW around the solid)."""
 
     psi: np.ndarray
@@ -239,8 +231,8 @@ def default_degree(n: int) -> int:
     return 3 if n >= 6 else max(1, n - 2)
 
 
-def touch_from_pad_lines(psi, d, origin=None, degree: int | None = None) -> Contacts:
-    """Contacts of one rolling touch from its pad lines ``n(ψ_i)·p = d_i`` (≥ 3 readings,
+def touch_from_pad_lines(psi, d, origin=None, degree: int | None = None) -> TouchEnvelope:
+    """The envelope of one rolling touch from its pad lines ``n(ψ_i)·p = d_i`` (≥ 3 readings,
     distinct ψ). ``origin`` is the local origin of the fit (default: the mean of the
     lines' feet, close to the touch)."""
     psi = np.unwrap(np.asarray(psi, dtype=float))
@@ -265,7 +257,7 @@ def touch_from_pad_lines(psi, d, origin=None, degree: int | None = None) -> Cont
         p0, _ = _envelope(x, scale, d, n, nperp, np.mean(n * d[:, None], axis=0), deg)
         origin = np.median(p0, axis=0)
     p, s = _envelope(x, scale, d, n, nperp, np.asarray(origin, dtype=float), deg)
-    return Contacts(psi=psi, phi=_wrap(psi - np.pi / 2), x=p[:, 0], y=p[:, 1], s=s, order=order)
+    return TouchEnvelope(psi=psi, phi=wrap_angle(psi - np.pi / 2), x=p[:, 0], y=p[:, 1], s=s, order=order)
 
 
 def _envelope(x, scale, d, n, nperp, o, deg):
@@ -279,8 +271,8 @@ def _envelope(x, scale, d, n, nperp, o, deg):
     return o + n * f0[:, None] + nperp * f1[:, None], s
 
 
-def touch_from_ticks(cfg: JawConfig, finger: str, ticks, degree: int | None = None) -> Contacts:
-    """Contacts of one rolling touch of ``finger`` from its encoder ticks (n, 2)."""
+def touch_from_ticks(cfg: JawConfig, finger: str, ticks, degree: int | None = None) -> TouchEnvelope:
+    """The envelope of one rolling touch of ``finger`` from its encoder ticks (n, 2)."""
     line = finger_pad_line_from_ticks(cfg, finger, ticks)
     return touch_from_pad_lines(line.psi, line.d, degree=degree)
 

@@ -40,6 +40,7 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.config import JawConfig
+from tactile_common.angles import wrap_angle
 
 #: joint-limit margin kept by every goal (rad): 1°
 LIMIT_MARGIN_RAD = math.radians(1.0)
@@ -180,11 +181,7 @@ class Jaw:
         if not sols:
             raise kin.Unreachable(f"finger {finger}: pad line psi={math.degrees(psi):.1f} deg, d={d:.1f} mm "
                                   f"is outside the joint limits")
-        return min(sols, key=lambda q: float(np.sum(np.square(_wrap(q - q_ref)))))
-
-
-def _wrap(a):
-    return np.pi - np.mod(np.pi - np.asarray(a, dtype=float), 2.0 * np.pi)
+        return min(sols, key=lambda q: float(np.sum(np.square(wrap_angle(q - q_ref)))))
 
 
 def _unit(psi: float) -> np.ndarray:

@@ -1,9 +1,10 @@
 """Unit conversions between raw control-table values and SI units: pure functions.
 
-Encoder: 4096 ticks per turn, joint angle ``q = direction · (tick − zero_tick) · 2π/4096``
-(docs/ARCHITECTURE.md). Velocity unit 0.229 rev/min, acceleration unit 214.577 rev/min²,
-current unit per model (XM430: 2.69 mA, XC330: 1 mA, XL430: none).
-All functions accept scalars or numpy arrays.
+The one definition of every unit of the driver and the emulator. Encoder: 4096 ticks per
+turn, joint angle ``q = direction · (tick − zero_tick) · 2π/4096`` (docs/ARCHITECTURE.md).
+The per-model units live in the model's :class:`~hand_driver.control_table.ModelSpec`:
+velocity 0.229 rev/min, acceleration 214.577 rev/min², current (XM430: 2.69 mA, XC330:
+1 mA, XL430: none). All functions accept scalars or numpy arrays.
 """
 
 from __future__ import annotations
@@ -16,6 +17,8 @@ from hand_driver.control_table import ModelSpec
 
 TICKS_PER_REV = 4096
 RAD_PER_TICK = 2.0 * math.pi / TICKS_PER_REV
+#: the encoder's quantization: ±½ tick per joint
+HALF_TICK_RAD = 0.5 * RAD_PER_TICK
 _RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 _RPM2_TO_RAD_S2 = 2.0 * math.pi / 3600.0
 
@@ -25,10 +28,30 @@ def ticks_to_rad(ticks, zero_tick, direction):
     return direction * (np.asarray(ticks, dtype=float) - zero_tick) * RAD_PER_TICK
 
 
+def rad_to_ticks_exact(q, zero_tick, direction):
+    """Encoder position (float ticks, not rounded) of a joint angle in rad."""
+    return zero_tick + np.asarray(q, dtype=float) / (direction * RAD_PER_TICK)
+
+
 def rad_to_ticks(q, zero_tick, direction):
     """Nearest encoder tick (int, or int array) for a joint angle in rad."""
-    t = np.rint(zero_tick + np.asarray(q, dtype=float) / (direction * RAD_PER_TICK)).astype(np.int64)
+    t = np.rint(rad_to_ticks_exact(q, zero_tick, direction)).astype(np.int64)
     return int(t) if t.ndim == 0 else t
+
+
+def deg_to_ticks_exact(deg, zero_tick, direction):
+    """Encoder position (float ticks) of a joint angle in degrees."""
+    return zero_tick + direction * np.asarray(deg, dtype=float) * TICKS_PER_REV / 360.0
+
+
+def velocity_unit_ticks_s(spec: ModelSpec) -> float:
+    """One raw velocity unit (Present Velocity, Profile Velocity) in encoder ticks/s."""
+    return spec.velocity_unit_rpm * (TICKS_PER_REV / 60.0)
+
+
+def accel_unit_ticks_s2(spec: ModelSpec) -> float:
+    """One raw Profile Acceleration unit in encoder ticks/s²."""
+    return spec.accel_unit_rpm2 * (TICKS_PER_REV / 60.0) / 60.0
 
 
 def current_to_ma(raw, spec: ModelSpec):

@@ -13,9 +13,9 @@ from __future__ import annotations
 import argparse
 import multiprocessing as mp
 import time
-from types import SimpleNamespace
 
-from hand_driver.control_table import STATE_BLOCK_ADDR as ADDR, STATE_BLOCK_LEN as LEN
+from hand_driver.config import JointConfig
+from hand_driver.control_table import COMMON_FIELDS, STATE_BLOCK_ADDR as ADDR, STATE_BLOCK_LEN as LEN
 
 BAUD = 1_000_000
 
@@ -23,10 +23,10 @@ BAUD = 1_000_000
 def _serve(n: int, wire_timing: bool, conn) -> None:
     from hand_driver.sim.server import EmulatedBus
 
-    joints = [SimpleNamespace(id=i + 1, model="XM430-W350", zero_tick=2048) for i in range(n)]
+    joints = [JointConfig(i + 1, "XM430-W350", 2048, 50.0) for i in range(n)]
     with EmulatedBus(joints, wire_timing=wire_timing) as bus:
         for i in bus.servos:
-            bus.servos[i].write(9, b"\x00")  # return delay 0, as JointBus sets it
+            bus.servos[i].write(COMMON_FIELDS["return_delay_time"].addr, b"\x00")  # as JointBus sets it
         conn.send(bus.port)
         while conn.recv() == "stats":
             bus.wait_idle()

@@ -1,7 +1,7 @@
 """Benchmark: why calibration matters. A truth jaw (zero ticks ±20, links ±1 mm, pad offsets
 ±0.5 mm off the nominal config, seeded) is explored by ``tactile demo`` with a perfect config
 (the truth itself), with the nominal config (before calibration) and with the config
-``hand_driver.calibration`` fits from touches on the reference disk at the suggested
+``hand_driver.calibration_fit`` fits from touches on the reference disk at the suggested
 placements (after), each on the scene's object at ``--placements`` poses (the scene's own
 and sub-millimetre jitters of it, the same for the three configs). One demo's error is one
 draw of the exploration's quantization noise (a config 0.05 tick off the truth moves it by
@@ -38,7 +38,8 @@ def perturbed(cfg, seed: int):
 def calibrate(cfg, truth, rng, faces: int, corners: int):
     """``tactile calibrate``'s touches (one emulated bus per suggested placement, the disk
     off it by up to ±3 mm) and fit."""
-    from hand_driver import calibration as cal
+    from hand_driver.calibration_fit import fit
+    from hand_driver.calibration_plan import DEFAULT_PLACEMENTS
     from hand_driver.motion import LockstepClock
     from hand_driver.sim.server import EmulatedBus
     from recognizer.curves import Pose
@@ -46,7 +47,7 @@ def calibrate(cfg, truth, rng, faces: int, corners: int):
     from tools.cmd_calibrate import touch_placements
 
     disk = load_scene("config/scenes/calibration.yaml").object
-    places = list(cal.DEFAULT_PLACEMENTS)
+    places = list(DEFAULT_PLACEMENTS)
     placed = [dataclasses.replace(disk, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
               for x, y in places]
     with contextlib.ExitStack() as stack:
@@ -54,7 +55,7 @@ def calibrate(cfg, truth, rng, faces: int, corners: int):
         readings, _ = touch_placements(cfg, disk, places, [s.port for s in sims], faces=faces, corners=corners,
                                        clock_for=lambda k: LockstepClock(sims[k]), say=lambda line: None,
                                        bus_options={"handle_signals": False, "timeout_s": 0.5})
-    return cal.fit(cfg, disk, readings, tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})
+    return fit(cfg, disk, readings, tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})
 
 
 #: object placements relative to the scene's pose: (dx mm, dy mm, dθ rad). Sub-millimetre
@@ -123,7 +124,7 @@ def _mean_se(errs: list[float]) -> tuple[float, str]:
 
 
 def main() -> int:
-    from hand_driver import calibration as cal
+    from hand_driver.calibration_fit import pack_params
     from hand_driver.config import dump_config, load_config
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -143,7 +144,7 @@ def main() -> int:
         t0, c0 = time.monotonic(), time.process_time()
         result = calibrate(nominal, truth, rng, args.faces, args.corners)
         dump_config(result.config, after_path)
-        err = cal._pack(result.config) - cal._pack(truth)
+        err = pack_params(result.config) - pack_params(truth)
         print(f"calibration: {result.n_readings} touches used ({result.n_reclassified} face touches found to be "
               f"pad-end contacts, {result.n_dropped} dropped), {time.monotonic() - t0:.0f} s wall, "
               f"{time.process_time() - c0:.0f} s CPU, residual RMS {result.rms_before_mm:.3f} -> "

@@ -1,5 +1,6 @@
 """``tactile calibrate``: fit zero ticks, link lengths and pad offsets from touches on a
-known reference disk (hand_driver.calibration), write a new jaw config."""
+known reference disk (hand_driver.calibration: the touches; calibration_fit: the fit), write
+a new jaw config."""
 
 from __future__ import annotations
 
@@ -34,7 +35,7 @@ def add_arguments(parser) -> None:
 
 
 def _placements(args) -> list[tuple[float, float]]:
-    from hand_driver.calibration import DEFAULT_PLACEMENTS
+    from hand_driver.calibration_plan import DEFAULT_PLACEMENTS
 
     if not args.place:
         return list(DEFAULT_PLACEMENTS)
@@ -79,7 +80,7 @@ def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, cloc
 
 
 def run(args) -> int:
-    from hand_driver import calibration as cal
+    from hand_driver.calibration_fit import fit
     from hand_driver.config import dump_config, load_config
     from hand_driver.motion import WallClock
     from recognizer.scene import load_scene
@@ -111,7 +112,7 @@ def run(args) -> int:
     readings, _ = touch_placements(cfg, scene.object, places, args.port, faces=args.faces, corners=args.corners,
                                    clock_for=lambda k: WallClock(args.time_scale), say=say,
                                    wait_for_user=wait_for_user)
-    result = cal.fit(cfg, scene.object, readings, tolerances)
+    result = fit(cfg, scene.object, readings, tolerances)
     dump_config(result.config, out, header=f"calibrated by tactile calibrate from {src} "
                                            f"({result.n_readings} touches, residual RMS "
                                            f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm)")

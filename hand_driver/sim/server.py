@@ -23,28 +23,26 @@ import termios
 import threading
 import time
 import tty
+from typing import Sequence
 
 import numpy as np
 
+from hand_driver.config import JawConfig, JointConfig
+from hand_driver.control_table import BAUD_RATES
 from hand_driver.control_table import model as model_spec
 from hand_driver.sim import protocol as P
 from hand_driver.sim.faults import FaultPlan
 from hand_driver.sim.servo import EmulatedServo
-from hand_driver.units import RAD_PER_TICK
+from hand_driver.units import rad_to_ticks_exact, ticks_to_rad
 
 _MAX_SUBSTEP_S = 0.002
 _MAX_SUBSTEPS = 25  # per packet: bounds the physics work done before an answer
-_BAUD_REGISTER = {9600: 0, 57600: 1, 115200: 2, 1_000_000: 3, 2_000_000: 4, 3_000_000: 5, 4_000_000: 6, 4_500_000: 7}
-_TERMIOS_SPEED = {getattr(termios, f"B{b}"): b for b in _BAUD_REGISTER if hasattr(termios, f"B{b}")}
+_TERMIOS_SPEED = {getattr(termios, f"B{b}"): b for b in BAUD_RATES if hasattr(termios, f"B{b}")}
 
 
-def joints_of(config) -> list:
-    """Joint specs in config order: JawConfig-like (.fingers[].joints or .joints) or a sequence."""
-    if hasattr(config, "fingers"):
-        return [j for f in config.fingers for j in f.joints]
-    if hasattr(config, "joints"):
-        return list(config.joints)
-    return list(config)
+def joints_of(config: JawConfig | Sequence[JointConfig]) -> list[JointConfig]:
+    """Joints in config order, of a jaw config or a sequence of joints."""
+    return list(config.joints if isinstance(config, JawConfig) else config)
 
 
 def _contact_world(truth_config, scene):
@@ -76,14 +74,14 @@ class EmulatedBus:
         self.wire_timing = wire_timing
         self.boot_time_s = boot_time_s
         if initial_ticks is None:
-            initial_ticks = [getattr(j, "zero_tick", 2048) for j in self.truth_joints]
-        baud_reg = _BAUD_REGISTER[baudrate]
+            initial_ticks = [j.zero_tick for j in self.truth_joints]
         self.servos: dict[int, EmulatedServo] = {}
         for j, t in zip(self.joints, initial_ticks):
-            self.servos[int(j.id)] = EmulatedServo(int(j.id), model_spec(j.model), firmware, int(t), baud_reg)
+            spec = model_spec(j.model)
+            self.servos[int(j.id)] = EmulatedServo(int(j.id), spec, firmware, int(t), spec.baud_register(baudrate))
         self._order = [int(j.id) for j in self.joints]
-        self._zero = np.array([float(getattr(j, "zero_tick", 2048)) for j in self.truth_joints])
-        self._dir = np.array([float(getattr(j, "direction", 1)) for j in self.truth_joints])
+        self._zero = np.array([float(j.zero_tick) for j in self.truth_joints])
+        self._dir = np.array([float(j.direction) for j in self.truth_joints])
         self._truth = truth
         self.lock = threading.RLock()
         self.world = None
@@ -171,10 +169,10 @@ class EmulatedBus:
                 pos = [s.pos for s in servos]
                 prop = [s.propose(h) for s in servos]
                 if self.world is not None and prop != pos:
-                    q_from = self._dir * (np.array(pos) - self._zero) * RAD_PER_TICK
-                    q_to = self._dir * (np.array(prop) - self._zero) * RAD_PER_TICK
+                    q_from = ticks_to_rad(pos, self._zero, self._dir)
+                    q_to = ticks_to_rad(prop, self._zero, self._dir)
                     q = np.asarray(self.world.constrain(q_from, q_to), dtype=float)
-                    prop = list(self._zero + q / (self._dir * RAD_PER_TICK))
+                    prop = list(rad_to_ticks_exact(q, self._zero, self._dir))
                 for s, p in zip(servos, prop):
                     s.settle(float(p), h)
             for s in servos:

@@ -24,12 +24,11 @@ from hand_driver.control_table import (
     ModelSpec,
 )
 from hand_driver.sim import protocol as P
-from hand_driver.units import to_signed, to_unsigned
+from hand_driver.units import accel_unit_ticks_s2, to_signed, to_unsigned, velocity_unit_ticks_s
 
 # Present Current per tick of trajectory-following error when blocked (raw current units).
 CURRENT_PER_TICK = 8.0
 TABLE_SIZE = 228
-_RPM_TO_TICKS_S = 4096.0 / 60.0
 
 
 class EmulatedServo:
@@ -167,8 +166,8 @@ class EmulatedServo:
             return self.pos
         goal = float(self.get("goal_position"))
         vmax = self.get("profile_velocity") or self.get("velocity_limit") or 1023
-        vmax *= self.spec.velocity_unit_rpm * _RPM_TO_TICKS_S
-        amax = self.get("profile_acceleration") * self.spec.accel_unit_rpm2 * _RPM_TO_TICKS_S / 60.0
+        vmax *= velocity_unit_ticks_s(self.spec)
+        amax = self.get("profile_acceleration") * accel_unit_ticks_s2(self.spec)
         err = goal - self.traj
         if amax > 0:
             # fastest speed from which a discrete-time deceleration at amax stops at the goal
@@ -204,7 +203,7 @@ class EmulatedServo:
             self._put("present_current", int(round(cur)))
         else:  # XL430: Present Load in 0.1 % of max torque
             self._put("present_load", int(round(max(-1000.0, min(1000.0, 5.0 * gap)))) if self.torque_on else 0)
-        vunit = self.spec.velocity_unit_rpm * _RPM_TO_TICKS_S
+        vunit = velocity_unit_ticks_s(self.spec)
         pv = int(round(self.actual_vel / vunit))
         self._put("present_velocity", pv)
         self._put("present_position", int(round(self.pos)))

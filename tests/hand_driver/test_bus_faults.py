@@ -1,28 +1,15 @@
 """Every injected fault: bounded retry then a typed error, torque off, readings kept."""
 
-from types import SimpleNamespace as NS
-
 import pytest
 
 from hand_driver.bus import JointBus
 from hand_driver.errors import BusTimeout, CrcError, PortError, ServoHardwareError
-from hand_driver.sim.server import EmulatedBus
-
-JOINTS = [NS(id=1, model="XM430-W350", zero_tick=2048, min_deg=-90.0, max_deg=90.0),
-          NS(id=2, model="XC330-T288", zero_tick=2048, min_deg=-90.0, max_deg=90.0)]
-
-
-@pytest.fixture
-def sim():
-    with EmulatedBus(JOINTS) as s:
-        yield s
-
 
 def run_until_fault(sim, arm, fast=True, retries=3):
     """Three good readings, arm the fault, read again; returns (readings, returned, error, bus)."""
     readings, returned = [], []
     err = None
-    bus = JointBus(sim.port, 1_000_000, JOINTS, fast_read=fast, retries=retries,
+    bus = JointBus(sim.port, 1_000_000, sim.joints, fast_read=fast, retries=retries,
                    on_reading=readings.append, timeout_s=0.1)
     try:
         with bus:
@@ -77,14 +64,14 @@ def test_hardware_error_raises_decoded_and_reboot_clears(sim):
     with JointBus(sim.port, 1_000_000, [], handle_signals=False) as bare:
         bare.reboot(2)
         assert bare.read_hardware_error(2).bits == 0
-    with JointBus(sim.port, 1_000_000, JOINTS) as bus:
-        assert bus.read_state().ticks.tolist() == [2048, 2048]
+    with JointBus(sim.port, 1_000_000, sim.joints) as bus:
+        assert bus.read_state().ticks.tolist() == [2048, 2048, 1500]
 
 
 def test_vanished_adapter_is_a_port_error_and_not_masked(sim):
     readings = []
     with pytest.raises(PortError, match="adapter unplugged"):
-        with JointBus(sim.port, 1_000_000, JOINTS, on_reading=readings.append) as bus:
+        with JointBus(sim.port, 1_000_000, sim.joints, on_reading=readings.append) as bus:
             bus.read_state()
             sim.vanish()
             bus.read_state()

@@ -3,7 +3,6 @@
 import math
 import os
 import signal
-from types import SimpleNamespace as NS
 
 import numpy as np
 import pytest
@@ -11,31 +10,22 @@ import pytest
 from hand_driver import units
 from hand_driver.bus import JointBus, scan, tick_limits
 from hand_driver.errors import CapabilityError, JointLimitError, ModelMismatchError, PortError
+from hand_driver.kinematics import angles_to_ticks
 from hand_driver.sim.server import EmulatedBus
+from recognizer.scene import load_scene
 
-JOINTS = [NS(id=1, model="XM430-W350", zero_tick=2048, direction=1, min_deg=-90.0, max_deg=90.0, current_limit_ma=500.0),
-          NS(id=2, model="XM430-W350", zero_tick=2048, direction=-1, min_deg=-45.0, max_deg=30.0, current_limit_ma=500.0),
-          NS(id=3, model="XC330-T288", zero_tick=1500, direction=1, min_tick=1000, max_tick=2000, current_limit_ma=400.0)]
-
-
-@pytest.fixture
-def sim():
-    with EmulatedBus(JOINTS, time_scale=10.0) as s:
-        yield s
-
-
-def test_tick_limits_from_degrees_and_direction():
-    assert tick_limits(JOINTS[0]) == (1024, 3072)
+def test_tick_limits_from_degrees_and_direction(bus_joints):
+    assert tick_limits(bus_joints[0]) == (1024, 3072)
     # direction -1: +30° is below zero_tick
-    assert tick_limits(JOINTS[1]) == (2048 - math.floor(30 * 4096 / 360), 2048 + 512)
-    assert tick_limits(JOINTS[2]) == (1000, 2000)
+    assert tick_limits(bus_joints[1]) == (2048 - math.floor(30 * 4096 / 360), 2048 + 512)
+    assert tick_limits(bus_joints[2]) == (1000, 2000)
 
 
-def test_open_configures_every_servo_and_close_turns_torque_off(sim):
-    with JointBus(sim.port, 1_000_000, JOINTS, timeout_s=0.25) as bus:
+def test_open_configures_every_servo_and_close_turns_torque_off(sim, bus_joints):
+    with JointBus(sim.port, 1_000_000, bus_joints, timeout_s=0.25) as bus:
         assert bus.fast_read
         sim.wait_idle()
-        for j, lo, hi in zip(JOINTS, bus.min_ticks, bus.max_ticks):
+        for j, lo, hi in zip(bus_joints, bus.min_ticks, bus.max_ticks):
             s = sim.servos[j.id]
             assert s.get("return_delay_time") == 0
             assert s.get("operating_mode") == 5
@@ -46,9 +36,9 @@ def test_open_configures_every_servo_and_close_turns_torque_off(sim):
     assert not any(s.torque_on for s in sim.servos.values())
 
 
-def test_cycle_reads_state_and_moves_to_goals_with_one_sync_write(sim):
+def test_cycle_reads_state_and_moves_to_goals_with_one_sync_write(sim, bus_joints):
     readings = []
-    with JointBus(sim.port, 1_000_000, JOINTS, on_reading=readings.append, timeout_s=0.25) as bus:
+    with JointBus(sim.port, 1_000_000, bus_joints, on_reading=readings.append, timeout_s=0.25) as bus:
         s0 = bus.read_state()
         assert s0.ticks.tolist() == [2048, 2048, 1500]
         goal = np.array([2200, 2000, 1700])
@@ -64,8 +54,8 @@ def test_cycle_reads_state_and_moves_to_goals_with_one_sync_write(sim):
         assert readings == [s0, s1]
 
 
-def test_sync_read_and_fast_sync_read_agree(sim):
-    with JointBus(sim.port, 1_000_000, JOINTS, fast_read=False, timeout_s=0.25) as bus:
+def test_sync_read_and_fast_sync_read_agree(sim, bus_joints):
+    with JointBus(sim.port, 1_000_000, bus_joints, fast_read=False, timeout_s=0.25) as bus:
         assert not bus.fast_read
         a = bus.read_state()
         bus.fast_read = True
@@ -73,8 +63,8 @@ def test_sync_read_and_fast_sync_read_agree(sim):
         assert a.ticks.tolist() == b.ticks.tolist() and a.moving.tolist() == b.moving.tolist()
 
 
-def test_joint_limits_refuse_before_anything_is_written(sim):
-    with JointBus(sim.port, 1_000_000, JOINTS, timeout_s=0.25) as bus:
+def test_joint_limits_refuse_before_anything_is_written(sim, bus_joints):
+    with JointBus(sim.port, 1_000_000, bus_joints, timeout_s=0.25) as bus:
         sim.wait_idle()
         before = sim.bytes_in
         with pytest.raises(JointLimitError, match=r"servo id 3\): goal tick 2001 outside its limits 1000..2000"):
@@ -86,8 +76,8 @@ def test_joint_limits_refuse_before_anything_is_written(sim):
         assert [sim.servos[i].get("goal_position") for i in (1, 2, 3)] == [2048, 2048, 1500]
 
 
-def test_profile_and_goal_current_units(sim):
-    with JointBus(sim.port, 1_000_000, JOINTS, timeout_s=0.25) as bus:
+def test_profile_and_goal_current_units(sim, bus_joints):
+    with JointBus(sim.port, 1_000_000, bus_joints, timeout_s=0.25) as bus:
         bus.set_profile(velocity_rad_s=1.0, accel_rad_s2=10.0)
         bus.set_goal_current(269.0)
         sim.wait_idle()
@@ -98,8 +88,8 @@ def test_profile_and_goal_current_units(sim):
         assert sim.servos[3].get("goal_current") == 269  # XC330: 1 mA units
 
 
-def test_xl430_refuses_current_based_touch_with_clear_message():
-    joints = [NS(id=4, model="XL430-W250", zero_tick=2048, min_deg=-90.0, max_deg=90.0)]
+def test_xl430_refuses_current_based_touch_with_clear_message(make_joint):
+    joints = [make_joint(4, "XL430-W250")]
     with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints, timeout_s=0.25) as bus:
         assert sim.servos[4].get("operating_mode") == 3
         state = bus.read_state()
@@ -110,22 +100,22 @@ def test_xl430_refuses_current_based_touch_with_clear_message():
             bus.set_goal_current(100.0)
 
 
-def test_model_mismatch_is_refused(sim):
-    wrong = [NS(id=1, model="XL430-W250", zero_tick=2048)]
+def test_model_mismatch_is_refused(sim, make_joint):
+    wrong = [make_joint(1, "XL430-W250")]
     with pytest.raises(ModelMismatchError, match="id 1 is configured as XL430-W250 but the servo reports XM430-W350"):
         with JointBus(sim.port, 1_000_000, wrong, timeout_s=0.25):
             pass
 
 
-def test_missing_port_is_a_port_error():
+def test_missing_port_is_a_port_error(bus_joints):
     with pytest.raises(PortError, match="cannot open serial port /dev/does-not-exist"):
-        JointBus("/dev/does-not-exist", 1_000_000, JOINTS, timeout_s=0.25).open()
+        JointBus("/dev/does-not-exist", 1_000_000, bus_joints, timeout_s=0.25).open()
 
 
-def test_sigint_turns_torque_off_then_interrupts(sim):
+def test_sigint_turns_torque_off_then_interrupts(sim, bus_joints):
     old = signal.getsignal(signal.SIGINT)
     with pytest.raises(KeyboardInterrupt):
-        with JointBus(sim.port, 1_000_000, JOINTS, timeout_s=0.25) as bus:
+        with JointBus(sim.port, 1_000_000, bus_joints, timeout_s=0.25) as bus:
             assert signal.getsignal(signal.SIGINT) == bus._on_signal
             os.kill(os.getpid(), signal.SIGINT)
             for _ in range(1000):  # the handler runs between bytecodes
@@ -142,21 +132,15 @@ def test_scan_lists_servos_with_model_and_firmware(sim):
         (3, "XC330-T288", 1220, 46, 1_000_000)]
 
 
-def test_k1_jaw_config_drives_the_bus():
-    from hand_driver.config import load_config
-
-    cfg = load_config("config/jaw.yaml")
+def test_k1_jaw_config_drives_the_bus(jaw_config):
+    cfg = jaw_config
     with EmulatedBus(cfg) as sim, JointBus(sim.port, cfg.bus.baudrate, cfg, timeout_s=0.25) as bus:
         assert bus.ids == [j.id for j in cfg.joints]
         assert bus.read_state().ticks.shape == (len(cfg.joints),)
 
 
-def test_pads_stop_at_the_scene_object_with_current_at_the_cap():
-    from hand_driver.config import load_config
-    from hand_driver.kinematics import angles_to_ticks
-    from recognizer.scene import load_scene
-
-    cfg = load_config("config/jaw.yaml")
+def test_pads_stop_at_the_scene_object_with_current_at_the_cap(jaw_config):
+    cfg = jaw_config
     with EmulatedBus(cfg, scene=load_scene("config/scenes/default.yaml")) as sim, \
             JointBus(sim.port, cfg.bus.baudrate, cfg, timeout_s=0.25) as bus:
         assert sim.world is not None
@@ -179,14 +163,14 @@ def test_pads_stop_at_the_scene_object_with_current_at_the_cap():
         assert sim.world.penetrates(q - np.array([tick, 0.0, -tick, 0.0]) * 3)
 
 
-def test_free_servo_current_is_zero_and_blocked_current_tracks_gap():
+def test_free_servo_current_is_zero_and_blocked_current_tracks_gap(bus_joints):
     class Wall:  # joint 0 cannot pass 0.1 rad
         def constrain(self, q_from, q_to):
             q = np.array(q_to, dtype=float)
             q[0] = min(q[0], 0.1)
             return q
 
-    joints = JOINTS[:1]
+    joints = bus_joints[:1]
     with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints, timeout_s=0.25) as bus:
         sim.world = Wall()
         bus.set_goal_current(2.69 * 150)

@@ -9,7 +9,8 @@ import functools
 import numpy as np
 import pytest
 
-from hand_driver import calibration as cal
+from hand_driver import calibration_fit as cal
+from hand_driver import calibration_plan as cp
 from hand_driver.config import load_config, perturbed as perturbed_config
 from recognizer.curves import Pose
 from recognizer.scene import SceneObject
@@ -25,16 +26,16 @@ def perturbed(seed: int):
 
 @functools.cache
 def plan_at(x: float, y: float) -> tuple:
-    return tuple(cal.plan_touches(CFG, DISK, (x, y), faces=10, corners=6))
+    return tuple(cp.plan_touches(CFG, DISK, (x, y), faces=10, corners=6))
 
 
-def readings_for(truth, rng, placements=cal.DEFAULT_PLACEMENTS, kinds=("face", "corner", "heel")):
+def readings_for(truth, rng, placements=cp.DEFAULT_PLACEMENTS, kinds=("face", "corner", "heel")):
     """Synthetic readings of the nominal plan; each disk is off its expected place by ±3 mm."""
     out = []
     for k, (x, y) in enumerate(placements):
         disk = dataclasses.replace(DISK, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
         plan = [t for t in plan_at(x, y) if t.kind in kinds]
-        out += cal.synthesize(truth, disk, plan, placement=k)
+        out += cp.synthesize(truth, disk, plan, placement=k)
     return out
 
 
@@ -42,24 +43,24 @@ def readings_for(truth, rng, placements=cal.DEFAULT_PLACEMENTS, kinds=("face", "
 def test_fit_recovers_truth_within_a_tick_and_a_tenth_of_a_mm(seed):
     truth, rng = perturbed(seed)
     result = cal.fit(CFG, DISK, readings_for(truth, rng))
-    err = cal._pack(result.config) - cal._pack(truth)
+    err = cal.pack_params(result.config) - cal.pack_params(truth)
     for e, d in zip(result.estimates, err):
         limit = 1.0 if e.kind == "zero_tick" else 0.1
         assert abs(d) <= limit, f"{e.name}: error {d:+.3f}, se {e.se:.3f}"
         assert abs(d) <= 4.0 * e.se + 1e-9  # the reported uncertainty is honest
     assert result.rms_before_mm > 10 * result.rms_after_mm
     assert result.rms_after_mm < 0.06  # quantization only
-    assert len(result.reference_poses) == len(cal.DEFAULT_PLACEMENTS)
+    assert len(result.reference_poses) == len(cp.DEFAULT_PLACEMENTS)
 
 
 def test_exact_readings_give_exact_parameters():
     truth, rng = perturbed(3)
     readings = []
-    for k, (x, y) in enumerate(cal.DEFAULT_PLACEMENTS):
+    for k, (x, y) in enumerate(cp.DEFAULT_PLACEMENTS):
         disk = dataclasses.replace(DISK, pose=Pose(0.0, x + 1.0, y - 1.0))
-        readings += cal.synthesize(truth, disk, list(plan_at(x, y)), quantize=False, placement=k)
+        readings += cp.synthesize(truth, disk, list(plan_at(x, y)), quantize=False, placement=k)
     result = cal.fit(CFG, DISK, readings)
-    assert cal._pack(result.config) == pytest.approx(cal._pack(truth), abs=1e-5)
+    assert cal.pack_params(result.config) == pytest.approx(cal.pack_params(truth), abs=1e-5)
     assert result.rms_after_mm < 1e-6
 
 
@@ -72,7 +73,7 @@ def test_face_touches_alone_cannot_see_the_distal_links():
 def test_one_finger_cannot_fix_its_base_joint_zero():
     """A finger turning about its base with the disk: the same readings (a symmetry)."""
     truth, rng = perturbed(5)
-    readings = [r for r in readings_for(truth, rng, placements=cal.DEFAULT_PLACEMENTS[:1]) if r.finger == "left"]
+    readings = [r for r in readings_for(truth, rng, placements=cp.DEFAULT_PLACEMENTS[:1]) if r.finger == "left"]
     with pytest.raises(cal.CalibrationRefused, match="cannot determine|only to"):
         cal.fit(CFG, DISK, readings)
 
@@ -95,7 +96,7 @@ def test_pad_end_contacts_reported_as_face_touches_are_reclassified():
     result = cal.fit(CFG, DISK, wrong)
     assert result.n_reclassified == 3 and result.n_dropped == 0
     reference = cal.fit(CFG, DISK, readings)
-    assert cal._pack(result.config) == pytest.approx(cal._pack(reference.config), abs=1e-6)
+    assert cal.pack_params(result.config) == pytest.approx(cal.pack_params(reference.config), abs=1e-6)
 
 
 def test_a_reading_no_contact_explains_is_dropped():
@@ -105,6 +106,6 @@ def test_a_reading_no_contact_explains_is_dropped():
     readings[5] = dataclasses.replace(bad, ticks=(bad.ticks[0] + 30.0, bad.ticks[1]))
     result = cal.fit(CFG, DISK, readings)
     assert result.n_dropped == 1 and result.n_readings == len(readings) - 1
-    err = cal._pack(result.config) - cal._pack(truth)
+    err = cal.pack_params(result.config) - cal.pack_params(truth)
     for e, d in zip(result.estimates, err):
         assert abs(d) <= (1.0 if e.kind == "zero_tick" else 0.1), f"{e.name}: error {d:+.3f}"

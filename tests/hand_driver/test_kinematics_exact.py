@@ -12,8 +12,10 @@ from hypothesis import strategies as st
 from scipy.optimize import brentq
 
 from hand_driver import kinematics as kin
+from hand_driver import units
 from hand_driver.config import load_config
 from recognizer.curves import CURVES, Pose
+from tactile_common.angles import wrap_angle
 
 CFG = load_config("config/jaw.yaml")
 
@@ -46,9 +48,9 @@ def test_ik_line_inverts_fk(name, q1, q2):
     assert sols, "the line of a configuration is always reachable"
     for q in sols:
         again = kin.finger_pad_line(f, q)
-        assert float(kin._wrap(again.psi - line.psi)) == pytest.approx(0.0, abs=1e-12)
+        assert float(wrap_angle(again.psi - line.psi)) == pytest.approx(0.0, abs=1e-12)
         assert float(again.d) == pytest.approx(float(line.d), abs=1e-9)
-    assert min(float(np.max(np.abs(kin._wrap(q - [q1, q2])))) for q in sols) < 1e-9
+    assert min(float(np.max(np.abs(wrap_angle(q - [q1, q2])))) for q in sols) < 1e-9
 
 
 @settings(max_examples=40, deadline=None)
@@ -123,14 +125,14 @@ def test_quantized_touch_within_the_quantization_bound(case):
     trunc_pt = np.hypot(exact.x - x, exact.y - y)
     trunc_s = np.abs(exact.s - s)
     bound = kin.quantization_bound(f, q)
-    assert np.max(bound["phi"]) == pytest.approx(2 * kin.HALF_TICK_RAD, rel=1e-6)  # ψ = β + q1 + q2
+    assert np.max(bound["phi"]) == pytest.approx(2 * units.HALF_TICK_RAD, rel=1e-6)  # ψ = β + q1 + q2
     rng = np.random.default_rng(7)
     for _ in range(5):
         phase = rng.uniform(-0.5, 0.5, size=2)  # a different encoder offset each time
         joints = tuple(type(j)(**{**j.__dict__, "zero_tick": j.zero_tick + p}) for j, p in zip(f.joints, phase))
         ticks = np.rint(kin.angles_to_ticks(joints, q))
         qq = kin.ticks_to_angles(joints, ticks)
-        assert np.max(np.abs(qq - q)) <= kin.HALF_TICK_RAD + 1e-12
+        assert np.max(np.abs(qq - q)) <= units.HALF_TICK_RAD + 1e-12
         line = kin.finger_pad_line(f, qq)
         c = kin.touch_from_pad_lines(line.psi, line.d)
         phi_err = np.abs(np.vectorize(math.remainder)(c.phi - phis, 2 * math.pi))
@@ -153,11 +155,11 @@ def test_quantization_rms_matches_the_uniform_model():
             a = kin.touch_from_pad_lines(*(lambda ln: (ln.psi, ln.d))(kin.finger_pad_line(f, q + dq)))
             b = kin.touch_from_pad_lines(*(lambda ln: (ln.psi, ln.d))(kin.finger_pad_line(f, q - dq)))
             var += ((a.x - b.x) / (2 * h)) ** 2
-    predicted = math.sqrt(float(np.mean(var)) * kin.RAD_PER_TICK**2 / 12)
+    predicted = math.sqrt(float(np.mean(var)) * units.RAD_PER_TICK**2 / 12)
     rng = np.random.default_rng(1)
     errs = []
     for _ in range(60):
-        qq = q + rng.uniform(-kin.HALF_TICK_RAD, kin.HALF_TICK_RAD, q.shape)
+        qq = q + rng.uniform(-units.HALF_TICK_RAD, units.HALF_TICK_RAD, q.shape)
         ln = kin.finger_pad_line(f, qq)
         errs.append(kin.touch_from_pad_lines(ln.psi, ln.d).x - base.x)
     measured = float(np.sqrt(np.mean(np.square(errs))))

@@ -94,11 +94,12 @@ def test_sigkill_loses_no_logged_reading(tmp_path):
     progress = tmp_path / "progress"
     script = textwrap.dedent(f"""
         import os, time
-        from types import SimpleNamespace
+        import numpy as np
+        from hand_driver.bus import JointState
         from hand_driver.log import RunLog
         log = RunLog({str(path)!r}).open(config={{}}, scene=None)
         for i in range(100000):
-            log.reading(SimpleNamespace(t_monotonic=time.monotonic(), ticks=[i, i], current_ma=[0.0, 0.0], moving=None))
+            log.reading(JointState(time.monotonic(), np.array([i, i]), np.zeros(2), np.zeros(2, bool), np.zeros(2)))
             with open({str(progress)!r} + ".tmp", "w") as f:
                 f.write(str(i + 1))
             os.replace({str(progress)!r} + ".tmp", {str(progress)!r})

@@ -16,7 +16,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from hand_driver import calibration as cal
+from hand_driver import calibration_fit as cal
+from hand_driver import calibration_plan as cp
 from hand_driver.config import dump_config, load_config, perturbed as perturbed_config
 from hand_driver.motion import LockstepClock
 from hand_driver.sim.server import EmulatedBus
@@ -38,9 +39,9 @@ def truth_config(rng):
 def test_calibration_on_the_emulated_bus_meets_the_target(seed, tmp_path):
     rng = np.random.default_rng(seed)
     truth = truth_config(rng)
-    nominal_err = cal._pack(CFG) - cal._pack(truth)
+    nominal_err = cal.pack_params(CFG) - cal.pack_params(truth)
     assert np.max(np.abs(nominal_err[[0, 1, 5, 6]])) > 5.0  # the nominal config is far off
-    places = list(cal.DEFAULT_PLACEMENTS)
+    places = list(cp.DEFAULT_PLACEMENTS)
     disks = [dataclasses.replace(DISK, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
              for x, y in places]
     with contextlib.ExitStack() as stack:  # one emulated bus per placement, as with one port each
@@ -51,7 +52,7 @@ def test_calibration_on_the_emulated_bus_meets_the_target(seed, tmp_path):
     for d, (cx, cy) in zip(disks, centres):
         assert np.hypot(cx - d.pose.x, cy - d.pose.y) < 5.0  # located (nominal geometry)
     result = cal.fit(CFG, DISK, readings)  # default tolerances: se ≤ 0.5 tick, ≤ 0.05 mm
-    err = cal._pack(result.config) - cal._pack(truth)
+    err = cal.pack_params(result.config) - cal.pack_params(truth)
     for e, d in zip(result.estimates, err):
         assert abs(d) <= (1.0 if e.kind == "zero_tick" else 0.1), f"{e.name}: error {d:+.3f} (se {e.se:.3f})"
         assert abs(d) <= 3.0 * e.se, f"{e.name}: error {d:+.3f} (se {e.se:.3f})"
@@ -73,7 +74,7 @@ def test_single_port_interactive_flow():
 
     rng = np.random.default_rng(21)
     truth = truth_config(rng)
-    places = list(cal.DEFAULT_PLACEMENTS)
+    places = list(cp.DEFAULT_PLACEMENTS)
     disks = [dataclasses.replace(DISK, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
              for x, y in places]
     asked, lines = [], []
@@ -92,6 +93,6 @@ def test_single_port_interactive_flow():
     assert asked == [(k, tuple(p)) for k, p in enumerate(places)]
     assert len(lines) == len(places) and all(f"placement {k + 1}: disk found" in line for k, line in enumerate(lines))
     result = cal.fit(CFG, DISK, readings, tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})
-    err = cal._pack(result.config) - cal._pack(truth)
+    err = cal.pack_params(result.config) - cal.pack_params(truth)
     for e, d in zip(result.estimates, err):
         assert abs(d) <= (1.0 if e.kind == "zero_tick" else 0.1), f"{e.name}: error {d:+.3f} (se {e.se:.3f})"

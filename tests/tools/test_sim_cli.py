@@ -7,8 +7,8 @@ import sys
 
 import pytest
 
+from hand_driver.config import JointConfig
 from hand_driver.sim.server import EmulatedBus
-from types import SimpleNamespace as NS
 
 
 def tactile(*args, **kw):
@@ -34,7 +34,7 @@ def test_sim_prints_port_first_and_exits_cleanly_on_signal(sig):
 
 
 def test_scan_table_and_errors():
-    with EmulatedBus([NS(id=7, model="XC330-M288", zero_tick=2048)]) as sim:
+    with EmulatedBus([JointConfig(7, "XC330-M288", 2048, 50.0)]) as sim:
         out = tactile("scan", "--port", sim.port, "--ids", "5-8")
         assert out.returncode == 0
         assert out.stdout.splitlines()[1].split() == ["7", "XC330-M288", "1240", "46", "1000000"]

@@ -15,6 +15,7 @@ from hand_driver.config import load_config
 from hand_driver.sim.physics import ContactWorld
 from recognizer.curves import CURVES, Pose
 from recognizer.scene import SceneObject
+from tactile_common.angles import wrap_angle
 
 CFG = load_config("config/jaw.yaml")
 LEFT = CFG.finger("left")
@@ -57,7 +58,7 @@ def test_pad_stops_at_exact_tangency(cls, params, side, t):
     assert not world.penetrates(q_from, [0]) and world.penetrates(q_to, [0])
     q = world.constrain(q_from, q_to)
     line = kin.finger_pad_line(LEFT, q[:2])
-    assert float(kin._wrap(line.psi - psi)) == pytest.approx(0.0, abs=1e-12)  # ψ = q1 + q2 is linear in q
+    assert float(wrap_angle(line.psi - psi)) == pytest.approx(0.0, abs=1e-12)  # ψ = q1 + q2 is linear in q
     assert float(line.d) == pytest.approx(d_touch, abs=1e-4)
     assert not world.penetrates(q, [0])
     assert world.penetrates(q + 1e-5 * (q_to - q_from), [0])

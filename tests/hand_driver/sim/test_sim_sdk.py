@@ -1,7 +1,5 @@
 """The real dynamixel_sdk and pyserial talking to the emulated bus through its pty."""
 
-from types import SimpleNamespace as NS
-
 import pytest
 from dynamixel_sdk import (
     COMM_RX_TIMEOUT,
@@ -14,10 +12,11 @@ from dynamixel_sdk import (
     PortHandler,
 )
 
+from hand_driver.config import JointConfig
 from hand_driver.sim.server import EmulatedBus
 
-JOINTS = [NS(id=1, model="XM430-W350", zero_tick=2048), NS(id=2, model="XC330-T288", zero_tick=1000),
-          NS(id=5, model="XL430-W250", zero_tick=3000)]
+JOINTS = [JointConfig(1, "XM430-W350", 2048, 50.0), JointConfig(2, "XC330-T288", 1000, 50.0),
+          JointConfig(5, "XL430-W250", 3000, 50.0)]
 
 
 class Port(PortHandler):

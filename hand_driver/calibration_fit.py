@@ -1,0 +1,345 @@
+"""Calibration fit: the jaw's kinematic parameters from contact readings on a known object.
+
+Pure (no bus): :func:`fit` takes readings (encoder ticks at contact) and returns the
+calibrated config with standard errors, or refuses. The touch plan is in
+hand_driver.calibration_plan, the jaw procedure that collects readings in
+hand_driver.calibration.
+
+Unknowns (per finger): the ``zero_tick`` of both joints, the ``link_mm`` of both links
+and the pad's ``offset_mm``; nuisance: the reference object's pose. Readings are joint
+ticks at contact, of two kinds:
+
+- ``face``: the pad lies tangent to the reference (a disk: the pad line is at distance r
+  from the centre, ``n(ψ)·C − d − r = 0``; a flat block: the pad lies on the face, both
+  pad ends on the face line ``m·p = h``);
+- ``corner``: the pad's distal corner (fingertip end of the pad surface) touches the
+  reference (disk: ``|corner − C| − r = 0``; block: ``m·corner − h = 0``); ``heel``: the
+  proximal end does.
+
+Why both kinds (identifiability): a face contact depends on the distal link only through
+its direction (the pad is parallel to it), so ``link_mm`` of the distal joint is
+invisible to face touches; corner touches see it. The pad offset and the proximal link
+are separated by face touches at many pad orientations; the zero ticks of a finger are
+separated from the object's unknown position only because both fingers touch the same
+object (a single finger turning about its own base together with the object is a
+symmetry). The fit (scipy.optimize.least_squares) reports residuals before (nominal
+config, only the object's pose fitted) and after, standard errors from the Jacobian
+(σ² (JᵀJ)⁻¹ with σ² from the residuals, floored at the quantization variance), and
+refuses (:class:`CalibrationRefused`) when the Jacobian is rank deficient or a parameter's
+standard error exceeds its tolerance.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from hand_driver import kinematics as kin
+from hand_driver.config import JawConfig
+from hand_driver.units import ticks_to_rad
+from tactile_common.errors import InputError
+
+#: a reading whose residual exceeds this many quantization σ is not the modelled contact
+OUTLIER_Z = 4.0
+#: screening passes (reclassify pad-end contacts, drop unexplained readings, refit)
+SCREEN_PASSES = 4
+#: default standard-error tolerances: half the recovery targets (1 tick, 0.1 mm)
+TOLERANCES = {"zero_tick": 0.5, "link_mm": 0.05, "offset_mm": 0.05}
+#: what each parameter kind needs, for refusals
+_NEEDS = {
+    "zero_tick": "face touches of this finger at widely spread pad orientations, with the other finger "
+                 "touching the same object",
+    "link_mm": "corner touches (distal link) or face touches at widely spread orientations (proximal link)",
+    "offset_mm": "face touches at widely spread pad orientations",
+}
+
+
+class CalibrationRefused(InputError):
+    """The touches do not determine every parameter to its tolerance."""
+
+
+@dataclass(frozen=True)
+class Reading:
+    """One contact: finger name, kind ('face', 'corner' or 'heel'), that finger's two
+    encoder ticks, and which placement of the reference it touched (0, 1, ...)."""
+
+    finger: str
+    kind: str
+    ticks: tuple[float, float]
+    placement: int = 0
+
+
+@dataclass(frozen=True)
+class Estimate:
+    name: str  # e.g. "left.joint1.zero_tick", "left.pad.offset_mm"
+    kind: str  # zero_tick | link_mm | offset_mm
+    before: float
+    after: float
+    se: float
+    tolerance: float
+
+
+@dataclass(frozen=True)
+class CalibrationResult:
+    config: JawConfig
+    estimates: tuple[Estimate, ...]
+    reference_poses: tuple[dict, ...]
+    rms_before_mm: float
+    rms_after_mm: float
+    max_after_mm: float
+    n_readings: int  # readings used by the fit
+    n_reclassified: int = 0  # face readings found to be pad-end contacts (ContactModel.screen)
+    n_dropped: int = 0  # readings the contact model cannot explain, left out
+
+    def to_json(self) -> dict:
+        return {
+            "readings": self.n_readings,
+            "reclassified": self.n_reclassified,
+            "dropped": self.n_dropped,
+            "rms_before_mm": self.rms_before_mm,
+            "rms_after_mm": self.rms_after_mm,
+            "max_residual_after_mm": self.max_after_mm,
+            "reference_poses": list(self.reference_poses),
+            "parameters": [{"name": e.name, "before": e.before, "after": e.after, "se": e.se,
+                            "tolerance": e.tolerance} for e in self.estimates],
+        }
+
+
+# ----------------------------------------------------------------------------- model
+
+def _param_names(cfg: JawConfig) -> list[tuple[str, str]]:
+    out = []
+    for f in cfg.fingers:
+        out += [(f"{f.name}.joint{j.id}.zero_tick", "zero_tick") for j in f.joints]
+        out += [(f"{f.name}.joint{j.id}.link_mm", "link_mm") for j in f.joints]
+        out.append((f"{f.name}.pad.offset_mm", "offset_mm"))
+    return out
+
+
+def pack_params(cfg: JawConfig) -> np.ndarray:
+    v = []
+    for f in cfg.fingers:
+        v += [j.zero_tick for j in f.joints] + [j.link_mm for j in f.joints] + [f.pad.offset_mm]
+    return np.array(v, dtype=float)
+
+
+def apply_params(cfg: JawConfig, v) -> JawConfig:
+    """A copy of ``cfg`` with the calibrated parameters ``v`` (the fit's order)."""
+    fingers, k = [], 0
+    for f in cfg.fingers:
+        z, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
+        k += 5
+        joints = tuple(dataclasses.replace(j, zero_tick=float(z[i]), link_mm=float(links[i]))
+                       for i, j in enumerate(f.joints))
+        fingers.append(dataclasses.replace(f, joints=joints, pad=dataclasses.replace(f.pad, offset_mm=float(off))))
+    return dataclasses.replace(cfg, fingers=tuple(fingers))
+
+
+class ContactModel:
+    """Residuals (mm) of every reading for kinematic parameters v and object pose w."""
+
+    def __init__(self, cfg: JawConfig, reference, readings: list[Reading]):
+        self.cfg = cfg
+        self.cls = reference.cls
+        if self.cls == "circle":
+            self.r = float(reference.params["r"])
+        elif self.cls != "line":
+            raise InputError(f"reference object class {self.cls!r} not supported; use a circle (disk) or a "
+                             f"line (flat block face)")
+        names = [f.name for f in cfg.fingers]
+        self.placements = sorted({r.placement for r in readings})
+        if self.placements != list(range(len(self.placements))):
+            raise InputError(f"placements must be numbered 0, 1, ...; got {self.placements}")
+        self.groups = []
+        self.members = []  # per group, the indices of its readings in ``readings``
+        for pl in self.placements:
+            for fi, f in enumerate(cfg.fingers):
+                for kind in ("face", "corner", "heel"):
+                    sel = [i for i, r in enumerate(readings)
+                           if r.finger == f.name and r.kind == kind and r.placement == pl]
+                    if sel:
+                        self.groups.append((pl, fi, kind, np.array([readings[i].ticks for i in sel], dtype=float)))
+                        self.members.append(sel)
+        unknown = {r.finger for r in readings} - set(names)
+        if unknown:
+            raise InputError(f"readings name unknown finger(s) {sorted(unknown)}; fingers are {names}")
+        bad = {r.kind for r in readings} - {"face", "corner", "heel"}
+        if bad:
+            raise InputError(f"reading kinds must be 'face', 'corner' or 'heel', got {sorted(bad)}")
+
+    def lines(self, v, fi: int, ticks) -> kin.PadLine:
+        f = self.cfg.fingers[fi]
+        k = 5 * fi
+        zero, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
+        sign = np.array([j.direction for j in f.joints], dtype=float)
+        q = ticks_to_rad(ticks, zero, sign)
+        return kin.chain_pad_line((f.base.x, f.base.y, f.base.angle), q, links, off, f.pad.length_mm,
+                                  f.pad.side_sign)
+
+    def residuals(self, v, w) -> np.ndarray:
+        """Residuals (mm); ``w`` holds two pose numbers per placement (disk: centre x, y;
+        block: face normal angle, offset)."""
+        out = []
+        for pl, fi, kind, ticks in self.groups:
+            line = self.lines(v, fi, ticks)
+            a, b = w[2 * pl], w[2 * pl + 1]
+            if self.cls == "circle":
+                c = np.array([a, b])
+                if kind == "face":
+                    out.append(line.normal @ c - line.d - self.r)
+                else:
+                    end = line.distal if kind == "corner" else line.proximal
+                    out.append(np.hypot(*(end - c).T) - self.r)
+            else:
+                m = np.array([math.cos(a), math.sin(a)])
+                if kind == "face":
+                    out += [line.proximal @ m - b, line.distal @ m - b]
+                else:
+                    out.append((line.distal if kind == "corner" else line.proximal) @ m - b)
+        return np.concatenate(out)
+
+    def pose_start(self, v) -> np.ndarray:
+        """Each placement's pose from its face readings by linear least squares."""
+        w = []
+        for pl in self.placements:
+            faces = [(fi, t) for p, fi, kind, t in self.groups if kind == "face" and p == pl]
+            if not faces:
+                raise CalibrationRefused(f"placement {pl}: no face touches, so the reference cannot be located")
+            lines = [self.lines(v, fi, t) for fi, t in faces]
+            if self.cls == "circle":  # n·C = d + r
+                a = np.concatenate([ln.normal for ln in lines])
+                b = np.concatenate([ln.d + self.r for ln in lines])
+                w += list(np.linalg.lstsq(a, b, rcond=None)[0])
+            else:
+                psi = np.concatenate([ln.psi for ln in lines])
+                ang = math.atan2(np.mean(np.sin(psi + np.pi)), np.mean(np.cos(psi + np.pi)))
+                m = np.array([math.cos(ang), math.sin(ang)])
+                w += [ang, float(np.mean(np.concatenate([ln.distal @ m for ln in lines])))]
+        return np.array(w)
+
+    def screen(self, v, w, z, readings: list[Reading]) -> tuple[list[Reading], int, int]:
+        """Readings the contact model explains at (v, w): a disk face touch whose tangent
+        point lies off the pad was a pad-end contact and becomes 'heel'/'corner'; if none
+        does, the readings with a normalized residual |z| above OUTLIER_Z (quantization
+        alone gives ≤ √6 ≈ 2.45) and above half the largest |z| are dropped (the worst
+        first: one bad reading pulls the fit and so the others' residuals). Returns
+        (readings, reclassified, dropped)."""
+        kinds = [r.kind for r in readings]
+        keep = [True] * len(readings)
+        row = 0
+        reclassified = 0
+        limit = max(OUTLIER_Z, 0.5 * float(np.max(np.abs(z))))
+        worst = []
+        for (pl, fi, kind, ticks), members in zip(self.groups, self.members):
+            per = 2 if (self.cls == "line" and kind == "face") else 1
+            zg = np.abs(np.asarray(z[row:row + per * len(members)])).reshape(len(members), per).max(axis=1)
+            row += per * len(members)
+            if self.cls == "circle" and kind == "face":
+                line = self.lines(v, fi, ticks)
+                c = np.array([w[2 * pl], w[2 * pl + 1]])
+                u = line.pad_coordinate(c - self.r * line.normal)
+                length = self.cfg.fingers[fi].pad.length_mm
+                for i, uu in zip(members, np.atleast_1d(u)):
+                    if not 0.0 <= uu <= length:
+                        kinds[i] = "heel" if uu < 0.0 else "corner"
+                        reclassified += 1
+            worst += [i for i, zz in zip(members, zg) if zz > limit]
+        if not reclassified:
+            for i in worst:
+                keep[i] = False
+        out = [dataclasses.replace(r, kind=k) for r, k, ok in zip(readings, kinds, keep) if ok]
+        return out, reclassified, keep.count(False)
+
+    def reading_sigmas(self, v, w) -> np.ndarray:
+        """Per-residual standard deviation (mm) that encoder quantization alone produces:
+        ±½ tick uniform per joint, σ² = Σ_joints (∂residual/∂tick)² / 12."""
+        h = 1e-3
+        sens = []
+        for group in self.groups:
+            var = 0.0
+            for k in range(2):
+                dt = np.zeros_like(group[3])
+                dt[:, k] = h
+                plus = self._group_residual(v, w, group, group[3] + dt)
+                minus = self._group_residual(v, w, group, group[3] - dt)
+                var = var + ((plus - minus) / (2 * h)) ** 2
+            sens.append(var)
+        return np.sqrt(np.concatenate(sens) / 12.0)
+
+    def _group_residual(self, v, w, group, ticks):
+        saved = self.groups
+        self.groups = [group[:3] + (ticks,)]
+        try:
+            return self.residuals(v, w)
+        finally:
+            self.groups = saved
+
+
+def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | None = None) -> CalibrationResult:
+    """Least-squares calibration (module docstring); :class:`CalibrationRefused` when a
+    parameter is not determined to its tolerance."""
+    tol = dict(TOLERANCES, **(tolerances or {}))
+    v0 = pack_params(cfg)
+    names = _param_names(cfg)
+    nv = v0.size
+    used, n_reclassified, n_dropped = list(readings), 0, 0
+    for attempt in range(SCREEN_PASSES + 1):
+        model = ContactModel(cfg, reference, used)
+        n_pose = 2 * len(model.placements)
+        n_res = sum(len(t) * (2 if (model.cls == "line" and kind == "face") else 1)
+                    for _, _, kind, t in model.groups)
+        if n_res <= nv + n_pose:
+            raise CalibrationRefused(f"{n_res} residuals for {nv + n_pose} unknowns: more touches are needed "
+                                     f"(face and corner touches of both fingers on every placement)")
+        # before: nominal parameters, only the pose fitted
+        w0 = model.pose_start(v0)
+        before = least_squares(lambda w: model.residuals(v0, w), w0, method="lm")
+        x0 = np.concatenate([v0, before.x])
+        # weighted by each reading's quantization σ (at the nominal geometry), so that
+        # readings with long lever arms (coarse) count less than fine ones
+        sig = np.maximum(model.reading_sigmas(v0, before.x), 1e-4)
+        res = least_squares(lambda x: model.residuals(x[:nv], x[nv:]) / sig, x0, method="lm", x_scale="jac",
+                            xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
+        sv = np.linalg.svd(res.jac, compute_uv=False)
+        col = np.linalg.norm(res.jac, axis=0)
+        unseen = np.any(col <= 1e-6 * np.max(col))  # a parameter the readings do not see
+        if attempt == SCREEN_PASSES or unseen or sv[-1] <= 1e-9 * sv[0]:  # rank deficient: refused below
+            break
+        screened, moved, dropped = model.screen(res.x[:nv], res.x[nv:], res.fun, used)
+        if not moved and not dropped:
+            break
+        used, n_reclassified, n_dropped = screened, n_reclassified + moved, n_dropped + dropped
+    r = res.fun * sig  # mm
+    m, p = r.size, x0.size
+    jac = res.jac
+    u, s, vt = np.linalg.svd(jac, full_matrices=False)
+    col = np.linalg.norm(jac, axis=0)
+    if np.any(col == 0.0) or s[-1] <= 1e-9 * s[0]:
+        weak = int(np.argmax(np.abs(vt[-1])))
+        what = names[weak][0] if weak < nv else "the reference pose"
+        kind = names[weak][1] if weak < nv else "zero_tick"
+        raise CalibrationRefused(f"the touches cannot determine {what} (rank-deficient Jacobian); "
+                                 f"it needs {_NEEDS[kind]}")
+    # variance factor: χ²/dof of the weighted fit, never below the quantization model's 1
+    sigma2 = max(float(res.fun @ res.fun) / (m - p), 1.0)
+    cov = sigma2 * (vt.T / s**2) @ vt
+    se = np.sqrt(np.diag(cov))
+    estimates = tuple(Estimate(name, kind, float(v0[i]), float(res.x[i]), float(se[i]), tol[kind])
+                      for i, (name, kind) in enumerate(names))
+    worst = [e for e in estimates if e.se > e.tolerance]
+    if worst:
+        e = max(worst, key=lambda e: e.se / e.tolerance)
+        raise CalibrationRefused(f"the touches determine {e.name} only to ±{e.se:.3g} (tolerance {e.tolerance:g}); "
+                                 f"it needs {_NEEDS[e.kind]}")
+    w = res.x[nv:]
+    poses = tuple({"x": float(w[2 * i]), "y": float(w[2 * i + 1])} if model.cls == "circle"
+                  else {"normal_angle": float(w[2 * i]), "offset_mm": float(w[2 * i + 1])}
+                  for i in model.placements)
+    return CalibrationResult(config=apply_params(cfg, res.x[:nv]), estimates=estimates, reference_poses=poses,
+                             rms_before_mm=float(np.sqrt(np.mean(before.fun**2))),
+                             rms_after_mm=float(np.sqrt(np.mean(r**2))), max_after_mm=float(np.max(np.abs(r))),
+                             n_readings=len(used), n_reclassified=n_reclassified, n_dropped=n_dropped)

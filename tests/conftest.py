@@ -1,0 +1,44 @@
+"""Shared fixtures: real config objects (never stand-ins) and the emulated servo bus."""
+
+from __future__ import annotations
+
+import pytest
+
+from hand_driver.config import JawConfig, JointConfig, load_config
+from hand_driver.sim.server import EmulatedBus
+
+
+def _joint(id: int, model: str = "XM430-W350", zero_tick: float = 2048.0, direction: int = 1,
+           min_deg: float = -90.0, max_deg: float = 90.0, current_limit_ma: float = 1000.0,
+           link_mm: float = 50.0) -> JointConfig:
+    return JointConfig(id=id, model=model, zero_tick=zero_tick, link_mm=link_mm, direction=direction,
+                       min_deg=min_deg, max_deg=max_deg, current_limit_ma=current_limit_ma)
+
+
+@pytest.fixture(scope="session")
+def make_joint():
+    """A JointConfig with defaults for what a test does not care about (link 50 mm, ±90°)."""
+    return _joint
+
+
+@pytest.fixture(scope="session")
+def bus_joints() -> tuple[JointConfig, ...]:
+    """Three servos of two models: id 1 XM430 (±90°), id 2 XM430 turning the other way
+    (−45°..30°), id 3 XC330-T288 about tick 1500 (ticks 1000..2000)."""
+    return (_joint(1, current_limit_ma=500.0),
+            _joint(2, direction=-1, min_deg=-45.0, max_deg=30.0, current_limit_ma=500.0),
+            _joint(3, "XC330-T288", zero_tick=1500.0, min_deg=-500 * 360 / 4096, max_deg=500 * 360 / 4096,
+                   current_limit_ma=400.0))
+
+
+@pytest.fixture
+def sim(bus_joints):
+    """The emulated bus of ``bus_joints`` at 10× real time, stopped after the test."""
+    with EmulatedBus(bus_joints, time_scale=10.0) as s:
+        yield s
+
+
+@pytest.fixture(scope="session")
+def jaw_config() -> JawConfig:
+    """The repository's jaw config (config/jaw.yaml)."""
+    return load_config("config/jaw.yaml")
