@@ -45,7 +45,7 @@ class FeltTouch:
 
     touch: TouchResult
     lines: kin.PadLine | None  # the pad at every in-contact sample, in the order taken
-    contacts: kin.Contacts | None  # their envelope, ordered by ψ (None when not computed)
+    contacts: kin.TouchEnvelope | None  # their envelope, ordered by ψ (None when not computed)
     pad_u: np.ndarray | None  # each contact's distance along the pad from its proximal end (contacts' order)
     problem: str | None  # why the touch cannot be used, or None
     samples: SamplesTouch | None  # the recognizer's samples touch when usable

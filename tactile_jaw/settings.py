@@ -7,6 +7,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from hand_driver.units import RAD_PER_TICK
 from recognizer.profiles import get_profile
 
 #: a touch cut short (out of reach or contact) is still used with this many samples
@@ -22,7 +23,7 @@ MIN_SAMPLES_PER_TOUCH = 7
 #: (``pos``) and 0.6 mm along (``pos_along``); one isotropic 0.3 mm made calibrated
 #: configs fail the χ² test (168 on 103 dof at the true shape) and weighted the along-track
 #: errors like the shape information across the tangent
-TOUCH_NOISE = {"phi": math.sqrt(2.0) * (2.0 * math.pi / 4096.0) / math.sqrt(12.0), "pos": 0.06, "pos_along": 0.6}
+TOUCH_NOISE = {"phi": math.sqrt(2.0) * RAD_PER_TICK / math.sqrt(12.0), "pos": 0.06, "pos_along": 0.6}
 
 
 @dataclass(frozen=True)
