@@ -1,5 +1,8 @@
 """The Dynamixel bus behind a narrow interface, over the vendor SDK (Protocol 2.0).
 
+(Over 400 lines on purpose: one class, whose opening, retry policy, cycle, single-servo
+operations and scan all share one port, one lock and one retry state.)
+
 ``JointBus(port, baudrate, joints)`` is a context manager. Opening it checks every servo
 (model, hardware error), writes Return Delay Time 0, the operating mode (current-based
 position, 5, where the model senses current; position, 3, otherwise), the joint limits
@@ -11,6 +14,14 @@ goals against the joint limits. SDK result codes become typed exceptions
 (hand_driver.errors), transient ones (timeout, corrupt packet, CRC error at the servo)
 are retried ``retries`` times. Torque goes off in ``__exit__`` and on SIGINT/SIGTERM,
 best effort, never masking the error that is propagating.
+
+Bus Watchdog (98): opening clears a watchdog error left by a host that died (and says
+so), then arms every servo with ``watchdog_ms`` (the jaw config's ``bus.watchdog_ms``,
+100 ms by default, 0: off). Each servo then stops by itself when no instruction packet
+reaches it for that long, e.g. after ``kill -9`` of the host; every cycle's read and write
+keeps it fed. After a longer pause of the host (a recognition between touches)
+:meth:`JointBus.rearm_watchdog` clears the error before motion goes on (hand_driver.motion
+does it). A clean close disarms it with torque off.
 """
 
 from __future__ import annotations
@@ -27,7 +38,8 @@ from typing import Callable, Sequence
 import numpy as np
 
 from hand_driver import units
-from hand_driver.config import JawConfig, JointConfig
+from hand_driver.adapter import latency_warning
+from hand_driver.config import BusConfig, JawConfig, JointConfig
 from hand_driver.control_table import (
     ALERT_BIT,
     BAUD_RATES,
@@ -60,6 +72,10 @@ log = logging.getLogger(__name__)
 BROADCAST_ID = 0xFE
 _ERR_CRC = 3
 _REBOOT_WAIT_S = 3.0
+#: scan: pings in a row without an answer before an id counts as absent (a lost reply
+#: looks like an absent servo), and attempts of the read of a servo found
+SCAN_SILENT_PINGS = 4
+SCAN_READ_ATTEMPTS = 8
 
 
 @dataclass(frozen=True)
@@ -109,7 +125,8 @@ class JointBus:
 
     def __init__(self, port: str, baudrate: int, joints: JawConfig | Sequence[JointConfig] = (), *, retries: int = 3,
                  fast_read: bool | None = None, on_reading: Callable[[JointState], None] | None = None,
-                 timeout_s: float | None = None, handle_signals: bool = True, torque_on_open: bool = True):
+                 timeout_s: float | None = None, handle_signals: bool = True, torque_on_open: bool = True,
+                 watchdog_ms: int = BusConfig.watchdog_ms):
         self.port_name = str(port)
         self.baudrate = int(baudrate)
         self.joints = list(joints.joints if isinstance(joints, JawConfig) else joints)
@@ -130,6 +147,10 @@ class JointBus:
         self.timeout_s = timeout_s
         self.handle_signals = handle_signals
         self.torque_on_open = torque_on_open
+        if watchdog_ms < 0 or watchdog_ms % units.WATCHDOG_STEP_MS or watchdog_ms > 127 * units.WATCHDOG_STEP_MS:
+            raise InputError(f"watchdog_ms {watchdog_ms} must be a multiple of {units.WATCHDOG_STEP_MS} in "
+                             f"0..{127 * units.WATCHDOG_STEP_MS} (0: off)")
+        self.watchdog_ms = int(watchdog_ms)
         self.stats = BusStats()
         self.firmware: dict[int, int] = {}
         self._lock = threading.RLock()
@@ -137,6 +158,7 @@ class JointBus:
         self._ph = None
         self._old_handlers: dict[int, object] = {}
         self._pending_alerts: list[int] = []  # servos whose last status had the alert bit
+        self._vanished = False  # the serial port failed (adapter unplugged)
         self.current_sensing = all(s.has_current_sensing for s in self.specs)
 
     # -- opening and closing ----------------------------------------------------------------
@@ -173,6 +195,9 @@ class JointBus:
         except self._serial_errors as exc:
             raise PortError(f"cannot open serial port {self.port_name}: {exc}; is the adapter plugged in?") from None
         self._port, self._ph = port, sdk.PacketHandler(2.0)
+        warning = latency_warning(self.port_name)
+        if warning:
+            log.warning("%s", warning)
         try:
             if self.joints:
                 self._configure()
@@ -182,18 +207,20 @@ class JointBus:
             raise
 
     def close(self) -> None:
-        """Torque off (best effort), restore signal handlers, close the port. Idempotent."""
+        """Torque off (best effort), restore signal handlers, close the port. Idempotent.
+        A port that vanished is only closed: nothing reaches the servos any more (their
+        watchdog stops them) and the PortError already said so, in one line."""
         if self._port is None:
             return
         try:
-            if self.joints:
+            if self.joints and not self._vanished:
                 self._torque_off_best_effort()
         finally:
             self._restore_signal_handlers()
             try:
                 self._port.closePort()
             except Exception as exc:  # closing a vanished port may fail; nothing to do
-                log.warning("closing %s: %s", self.port_name, exc)
+                log.debug("closing %s: %s", self.port_name, exc)
             self._port = None
 
     def _configure(self) -> None:
@@ -208,6 +235,10 @@ class JointBus:
             hw = self._read(j.id, spec.field("hardware_error_status"))
             if hw:
                 raise ServoHardwareError(j.id, hw, decode_hardware_error(hw))
+            if self._read(j.id, spec.field("bus_watchdog")) < 0:
+                log.warning("servo %d: its Bus Watchdog had stopped it (the last host stopped talking to it "
+                            "mid-run); cleared", j.id)
+        self._sync_write_field("bus_watchdog", [0] * len(self.ids))  # clears a watchdog error
         self._sync_write_field("torque_enable", [0] * len(self.ids))
         for j, spec, lo, hi in zip(self.joints, self.specs, self.min_ticks, self.max_ticks):
             mode = MODE_CURRENT_BASED_POSITION if spec.has_current_sensing else MODE_POSITION
@@ -227,6 +258,18 @@ class JointBus:
         self._choose_read_mode()
         if self.torque_on_open:
             self.torque(True)
+        self._arm_watchdog()
+
+    def _arm_watchdog(self) -> None:
+        if self.watchdog_ms:
+            self._sync_write_field("bus_watchdog", [self.watchdog_ms // units.WATCHDOG_STEP_MS] * len(self.ids))
+
+    def rearm_watchdog(self) -> None:
+        """Clear a Bus Watchdog error (the host paused longer than ``watchdog_ms``: the
+        servos stopped and refuse goals until cleared) and arm the watchdog again."""
+        if self.watchdog_ms:
+            self._sync_write_field("bus_watchdog", [0] * len(self.ids))
+            self._arm_watchdog()
 
     @staticmethod
     def _current_limit_raw(joint: JointConfig, spec: ModelSpec) -> int:
@@ -286,6 +329,8 @@ class JointBus:
             f = self.specs[0].field("torque_enable")
             for _ in range(2):  # broadcast: no status; send twice against a lost packet
                 self._sync_write_raw(f, [0] * len(self.ids))
+            if self.watchdog_ms:
+                self._sync_write_raw(self.specs[0].field("bus_watchdog"), [0] * len(self.ids))
         except Exception as exc:  # never mask the error that is propagating
             log.warning("torque off on %s failed: %s", self.port_name, exc)
 
@@ -326,8 +371,11 @@ class JointBus:
                     if k + 1 < n:
                         self.stats.retries += 1
                 except self._serial_errors as exc:
+                    self._vanished = True
+                    stop = (f"; the servos stop by themselves within {self.watchdog_ms} ms (Bus Watchdog)"
+                            if self.watchdog_ms and self.joints else "")
                     raise PortError(f"{what}: serial port {self.port_name} failed ({exc}); "
-                                    "adapter unplugged?") from None
+                                    f"adapter unplugged?{stop}") from None
         raise type(last)(f"{last} — gave up after {n} attempts")
 
     def _call(self, what: str, fn: Callable, dxl_id: int | None = None):
@@ -495,30 +543,56 @@ class JointBus:
     def ping(self, dxl_id: int) -> ServoInfo:
         """Model and firmware of one servo (BusTimeout if it does not answer)."""
         number = self._call(f"ping of servo {dxl_id}", lambda: self._ph.ping(self._port, dxl_id), dxl_id)[0]
-        fw = self._read(dxl_id, COMMON_FIELDS["firmware_version"])
-        spec = MODELS_BY_NUMBER.get(number)
-        return ServoInfo(dxl_id, spec.name if spec else f"unknown-{number}", number, fw, self._port.getBaudRate())
+        return self._servo_info(dxl_id, number)
 
-    def scan(self, ids: Sequence[int], baudrates: Sequence[int]) -> list[ServoInfo]:
-        """Every servo that answers a ping, over the given ids and baud rates (no retries)."""
+    def scan(self, ids: Sequence[int], baudrates: Sequence[int], silent_pings: int = SCAN_SILENT_PINGS,
+             read_attempts: int = SCAN_READ_ATTEMPTS) -> list[ServoInfo]:
+        """Every servo that answers a ping, over the given ids and baud rates.
+
+        A noisy bus loses and garbles replies, and a lost reply looks like an absent servo:
+        each id is pinged until it answers cleanly, up to ``silent_pings`` times in a row
+        without any answer; a garbled answer (a servo is there) earns it ``silent_pings``
+        more tries. A servo found is read (firmware) with ``read_attempts`` attempts."""
         found = []
         saved = self.retries
         try:
-            self.retries = 0
             for b in baudrates:
                 with self._lock:
                     if not self._port.setBaudRate(int(b)):
                         raise InputError(f"baud rate {b} is not supported by the Dynamixel SDK")
                 for i in ids:
-                    try:
-                        found.append(self.ping(int(i)))
-                    except (BusTimeout, CrcError):
+                    self.retries = 0
+                    number = self._scan_ping(int(i), silent_pings)
+                    if number is None:
                         continue
+                    self.retries = read_attempts - 1
+                    try:
+                        found.append(self._servo_info(int(i), number))
+                    except (BusTimeout, CrcError) as exc:
+                        log.warning("servo %d answered a ping but not a read (%s); left out", i, exc)
         finally:
             self.retries = saved
             with self._lock:
                 self._port.setBaudRate(self.baudrate)
         return found
+
+    def _scan_ping(self, dxl_id: int, silent_pings: int) -> int | None:
+        """The model number of the servo at ``dxl_id``, or None (see :meth:`scan`)."""
+        silent_left, garbled_left = silent_pings, silent_pings
+        while silent_left > 0 and garbled_left > 0:
+            try:
+                return self._call(f"ping of servo {dxl_id}", lambda: self._ph.ping(self._port, dxl_id), dxl_id)[0]
+            except BusTimeout:
+                silent_left -= 1
+            except CrcError:
+                garbled_left -= 1
+                silent_left = silent_pings
+        return None
+
+    def _servo_info(self, dxl_id: int, number: int) -> ServoInfo:
+        fw = self._read(dxl_id, COMMON_FIELDS["firmware_version"])
+        spec = MODELS_BY_NUMBER.get(number)
+        return ServoInfo(dxl_id, spec.name if spec else f"unknown-{number}", number, fw, self._port.getBaudRate())
 
     def read_hardware_error(self, dxl_id: int) -> HardwareStatus:
         """Hardware Error Status (70) of one servo, decoded."""
@@ -529,7 +603,8 @@ class JointBus:
         """Reboot one servo (clears a hardware error) and wait until it answers again.
 
         RAM comes back at defaults: torque off; Goal Position is set to the present
-        position and the goal current re-applied, torque stays off until ``torque(True)``.
+        position, the goal current re-applied and the watchdog re-armed, torque stays off
+        until ``torque(True)``.
         """
         self._call(f"reboot of servo {dxl_id}", lambda: self._ph.reboot(self._port, dxl_id), dxl_id)
         deadline = time.monotonic() + _REBOOT_WAIT_S
@@ -548,9 +623,11 @@ class JointBus:
             self._write(dxl_id, spec.field("goal_position"), int(np.clip(pos, self.min_ticks[k], self.max_ticks[k])))
             if spec.has_current_sensing:
                 self._write(dxl_id, spec.field("goal_current"), self._current_limit_raw(self.joints[k], spec))
+            if self.watchdog_ms:
+                self._write(dxl_id, spec.field("bus_watchdog"), self.watchdog_ms // units.WATCHDOG_STEP_MS)
 
 
-def scan(port: str, ids: Sequence[int], baudrates: Sequence[int]) -> list[ServoInfo]:
-    """Servos answering on ``port`` (no jaw config needed)."""
+def scan(port: str, ids: Sequence[int], baudrates: Sequence[int], **attempts) -> list[ServoInfo]:
+    """Servos answering on ``port`` (no jaw config needed); ``attempts``: see JointBus.scan."""
     with JointBus(port, int(baudrates[0]), (), handle_signals=False) as bus:
-        return bus.scan(ids, baudrates)
+        return bus.scan(ids, baudrates, **attempts)

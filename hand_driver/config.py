@@ -24,7 +24,7 @@ from typing import Any
 import yaml
 
 from hand_driver.control_table import BAUD_RATES, MODELS
-from hand_driver.units import TICKS_PER_REV, deg_to_ticks_exact
+from hand_driver.units import TICKS_PER_REV, WATCHDOG_STEP_MS, deg_to_ticks_exact
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_write
 from tactile_common.yamlfile import read_yaml
@@ -37,6 +37,8 @@ class BusConfig:
     protocol: float = 2.0
     retries: int = 3
     timeout_s: float = 0.05
+    #: Bus Watchdog: a servo stops when the host is silent this long (0: off; 20 ms steps)
+    watchdog_ms: int = 100
 
 
 @dataclass(frozen=True)
@@ -202,7 +204,8 @@ def _baudrate(c: _Checker, m: dict, default: int) -> int:
 
 def _bus(c: _Checker, obj: Any) -> BusConfig:
     d = BusConfig()
-    m = c.mapping(obj if obj is not None else {}, "bus", ("port", "baudrate", "protocol", "retries", "timeout_s"))
+    m = c.mapping(obj if obj is not None else {}, "bus",
+                  ("port", "baudrate", "protocol", "retries", "timeout_s", "watchdog_ms"))
     protocol = c.number(m, "bus", "protocol", d.protocol, 2.0, 2.0)
     return BusConfig(
         port=c.string(m, "bus", "port", d.port),
@@ -210,7 +213,16 @@ def _bus(c: _Checker, obj: Any) -> BusConfig:
         protocol=protocol,
         retries=c.number(m, "bus", "retries", d.retries, 0, 10, integer=True),
         timeout_s=c.number(m, "bus", "timeout_s", d.timeout_s, 0.001, 5.0),
+        watchdog_ms=_watchdog_ms(c, m, d.watchdog_ms),
     )
+
+
+def _watchdog_ms(c: _Checker, m: dict, default: int) -> int:
+    value = c.number(m, "bus", "watchdog_ms", default, 0, 127 * WATCHDOG_STEP_MS, integer=True)
+    if value % WATCHDOG_STEP_MS:
+        c.fail("bus.watchdog_ms", f"{value} is not a multiple of {WATCHDOG_STEP_MS} ms (the servos' Bus Watchdog "
+                                  f"unit); 0 turns it off")
+    return value
 
 
 def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointConfig:
@@ -321,8 +333,14 @@ def parse_config(obj: Any, source: str = "<memory>") -> JawConfig:
             if j.id in seen:
                 c.fail(key, f"id {j.id} is used twice (also {seen[j.id]}); ids must be unique on the bus")
             seen[j.id] = key
-    return JawConfig(bus=_bus(c, m.get("bus")), fingers=fingers, motion=_motion(c, m.get("motion")),
-                     workspace=_workspace(c, m.get("workspace")), source=source)
+    bus, motion = _bus(c, m.get("bus")), _motion(c, m.get("motion"))
+    period_ms = 1000.0 * motion.approach_step_mm / motion.approach_speed_mm_s
+    if bus.watchdog_ms and bus.watchdog_ms < 2.0 * period_ms:
+        c.fail("bus.watchdog_ms", f"{bus.watchdog_ms} ms is less than two motion cycles ({period_ms:g} ms each: "
+                                  f"motion.approach_step_mm / motion.approach_speed_mm_s); the servos would stop "
+                                  f"between cycles")
+    return JawConfig(bus=bus, fingers=fingers, motion=motion, workspace=_workspace(c, m.get("workspace")),
+                     source=source)
 
 
 def load_config(path: str | Path) -> JawConfig:
@@ -355,7 +373,7 @@ def config_to_mapping(cfg: JawConfig) -> dict:
     """The YAML mapping of a config (inverse of :func:`parse_config`)."""
     return {
         "bus": {"port": cfg.bus.port, "baudrate": cfg.bus.baudrate, "protocol": cfg.bus.protocol,
-                "retries": cfg.bus.retries, "timeout_s": cfg.bus.timeout_s},
+                "retries": cfg.bus.retries, "timeout_s": cfg.bus.timeout_s, "watchdog_ms": cfg.bus.watchdog_ms},
         "fingers": [{
             "name": f.name,
             "base": {"x": _num(f.base.x), "y": _num(f.base.y), "angle_deg": _num(f.base.angle_deg)},

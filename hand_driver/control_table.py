@@ -49,6 +49,7 @@ def _common_fields() -> list[Field]:
         Field("velocity_limit", 44, 4, "RW", True, lo=0, hi=1023, default=200),
         Field("max_position_limit", 48, 4, "RW", True, lo=0, hi=4095, default=4095),
         Field("min_position_limit", 52, 4, "RW", True, lo=0, hi=4095, default=0),
+        Field("startup_configuration", 60, 1, "RW", True, lo=0, hi=3),
         Field("shutdown", 63, 1, "RW", True, lo=0, hi=255, default=52),
         Field("torque_enable", 64, 1, "RW", lo=0, hi=1),
         Field("led", 65, 1, "RW", lo=0, hi=1),
@@ -60,7 +61,8 @@ def _common_fields() -> list[Field]:
         Field("position_d_gain", 80, 2, "RW", lo=0, hi=16383),
         Field("position_i_gain", 82, 2, "RW", lo=0, hi=16383),
         Field("position_p_gain", 84, 2, "RW", lo=0, hi=16383, default=800),
-        Field("bus_watchdog", 98, 1, "RW", lo=0, hi=127),
+        # 20 ms units; 0 disables (and clears the error); reads −1 after it expired
+        Field("bus_watchdog", 98, 1, "RW", signed=True, lo=0, hi=127),
         Field("goal_pwm", 100, 2, "RW", signed=True, lo=-885, hi=885),
         Field("goal_velocity", 104, 4, "RW", signed=True),
         Field("profile_acceleration", 108, 4, "RW", lo=0, hi=32767),
@@ -77,7 +79,27 @@ def _common_fields() -> list[Field]:
         Field("position_trajectory", 140, 4, "R", signed=True),
         Field("present_input_voltage", 144, 2, "R", default=120),
         Field("present_temperature", 146, 1, "R", default=30),
+        *_indirect_fields(),
     ]
+
+
+#: Indirect Address k (2 bytes, pointing anywhere in 64..661) and Indirect Data k (the byte
+#: at that address, read and written through it): k = 1..28 and 29..56, each Indirect
+#: Address defaulting to its own Indirect Data's address
+INDIRECT_BLOCKS = ((1, 28, 168, 224), (29, 56, 578, 634))
+#: bytes of the control table (the last item is Indirect Data 56 at 661)
+TABLE_SIZE = 662
+
+
+def _indirect_fields() -> list[Field]:
+    out = []
+    for first, last, addr0, data0 in INDIRECT_BLOCKS:
+        for k in range(first, last + 1):
+            data = data0 + k - first
+            out.append(Field(f"indirect_address_{k}", addr0 + 2 * (k - first), 2, "RW", lo=64, hi=TABLE_SIZE - 1,
+                             default=data))
+            out.append(Field(f"indirect_data_{k}", data, 1, "RW"))
+    return out
 
 
 @dataclass(frozen=True)

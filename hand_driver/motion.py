@@ -53,6 +53,10 @@ ROLL_CLEARANCE_MM = 1.0
 EDGE_MARGIN_MM = 1.0
 #: a goal is "reached" when every joint of the finger is within this many ticks of it
 REACHED_TICKS = 3
+#: a pause of the host longer than this fraction of the Bus Watchdog's time (robot time)
+#: re-arms it before the next goals: a cycle (one period, half the watchdog at most, see
+#: config) never does, a recognition between touches does
+WATCHDOG_REARM_FRACTION = 0.75
 
 
 Reading = tuple[Any, int]  # (JointState, log index)
@@ -119,6 +123,7 @@ class Jaw:
         self.readings = 0
         self.last_index = -1
         self._t0 = self.clock.now()
+        self._last_io = self._t0  # robot time of the last cycle on the bus (Bus Watchdog)
         state, _ = self.read()
         self.goal_ticks = np.asarray(state.ticks, dtype=np.int64).copy()
         self.last_state = state
@@ -134,6 +139,7 @@ class Jaw:
 
     # -- bus --------------------------------------------------------------------------------
     def read(self) -> Reading:
+        self._last_io = self.clock.now()
         state = self.bus.read_state()
         self.readings += 1
         if self.log is None:
@@ -154,6 +160,12 @@ class Jaw:
         self.goal_ticks[self.slices[finger]] = np.rint(kin.angles_to_ticks(f.joints, q)).astype(np.int64)
 
     def write_goals(self) -> None:
+        """Every goal in one write; after a pause of the host close to the Bus Watchdog's
+        time (the servos may have stopped and refuse goals) the watchdog is re-armed first."""
+        now = self.clock.now()
+        if self.bus.watchdog_ms and now - self._last_io > WATCHDOG_REARM_FRACTION * self.bus.watchdog_ms / 1000.0:
+            self.bus.rearm_watchdog()
+        self._last_io = now
         self.bus.write_goal_ticks([int(t) for t in self.goal_ticks])
 
     # -- geometry ---------------------------------------------------------------------------

@@ -19,6 +19,8 @@ TICKS_PER_REV = 4096
 RAD_PER_TICK = 2.0 * math.pi / TICKS_PER_REV
 #: the encoder's quantization: ±½ tick per joint
 HALF_TICK_RAD = 0.5 * RAD_PER_TICK
+#: Bus Watchdog (98) unit, ms
+WATCHDOG_STEP_MS = 20
 _RPM_TO_RAD_S = 2.0 * math.pi / 60.0
 _RPM2_TO_RAD_S2 = 2.0 * math.pi / 3600.0
 

@@ -33,8 +33,8 @@ def bus_joints() -> tuple[JointConfig, ...]:
 
 @pytest.fixture
 def sim(bus_joints):
-    """The emulated bus of ``bus_joints`` at 10× real time, stopped after the test."""
-    with EmulatedBus(bus_joints, time_scale=10.0) as s:
+    """The emulated bus of ``bus_joints`` in real time, stopped after the test."""
+    with EmulatedBus(bus_joints) as s:
         yield s
 
 

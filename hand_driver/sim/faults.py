@@ -3,7 +3,8 @@
 A :class:`FaultPlan` is shared by the test (or ``tactile sim`` user) and the bus thread;
 each method arms a fault, counted in status packets: a status packet that would have
 been sent is instead dropped (lost), sent with a wrong CRC (corrupt) or sent late
-(delay). Instruction packets can be made to fail their CRC at the servo (the servo then
+(delay). :meth:`FaultPlan.noise` makes a fraction of all status packets lost or corrupt
+at random (seeded), as a noisy bus does. Instruction packets can be made to fail their CRC at the servo (the servo then
 answers with status error 3, as a real one does). Hardware errors and a vanished
 adapter are applied by :class:`hand_driver.sim.server.EmulatedBus` (``hardware_error``,
 ``vanish``).
@@ -11,6 +12,7 @@ adapter are applied by :class:`hand_driver.sim.server.EmulatedBus` (``hardware_e
 
 from __future__ import annotations
 
+import random
 import threading
 from dataclasses import dataclass
 
@@ -40,6 +42,8 @@ class FaultPlan:
         self._bad_instruction = 0
         self._delay_s = 0.0
         self._delay_left = 0
+        self._loss = self._garble = 0.0
+        self._rng = random.Random(0)
 
     @staticmethod
     def _ids(ids) -> frozenset[int] | None:
@@ -69,6 +73,15 @@ class FaultPlan:
             self._delay_s, self._delay_left = float(seconds), int(n)
         return self
 
+    def noise(self, loss: float = 0.0, corrupt: float = 0.0, seed: int = 0) -> "FaultPlan":
+        """From now on lose a fraction ``loss`` of the status packets and corrupt a fraction
+        ``corrupt`` of the others, independently at random (``seed``)."""
+        if not (0.0 <= loss <= 1.0 and 0.0 <= corrupt <= 1.0):
+            raise ValueError("loss and corrupt are fractions in [0, 1]")
+        with self._lock:
+            self._loss, self._garble, self._rng = float(loss), float(corrupt), random.Random(seed)
+        return self
+
     def clear(self) -> "FaultPlan":
         with self._lock:
             self._reset()
@@ -77,11 +90,11 @@ class FaultPlan:
     # -- used by the bus thread ---------------------------------------------------------
     def take_drop(self, dxl_id: int) -> bool:
         with self._lock:
-            return self._drop.take(dxl_id)
+            return self._drop.take(dxl_id) or (self._loss > 0.0 and self._rng.random() < self._loss)
 
     def take_corrupt(self, dxl_id: int) -> bool:
         with self._lock:
-            return self._corrupt.take(dxl_id)
+            return self._corrupt.take(dxl_id) or (self._garble > 0.0 and self._rng.random() < self._garble)
 
     def take_bad_instruction(self) -> bool:
         with self._lock:

@@ -32,6 +32,13 @@ INST_BULK_READ = 0x92
 INST_BULK_WRITE = 0x93
 INST_FAST_BULK_READ = 0x9A
 
+#: Factory Reset (0x06) options: everything; all but the ID; all but the ID and baud rate
+FACTORY_RESET_ALL = 0xFF
+FACTORY_RESET_KEEP_ID = 0x01
+FACTORY_RESET_KEEP_ID_BAUD = 0x02
+#: Clear (0x10) parameters that reset the multi-turn revolution count
+CLEAR_REVOLUTION = bytes([0x01, 0x44, 0x58, 0x4C, 0x22])
+
 ERR_RESULT_FAIL = 1
 ERR_INSTRUCTION = 2
 ERR_CRC = 3

@@ -16,6 +16,7 @@ the *truth* config: zero_tick, direction), and a blocked servo's current rises.
 from __future__ import annotations
 
 import fcntl
+import math
 import os
 import select
 import struct
@@ -135,12 +136,13 @@ class EmulatedBus:
             self.servos[dxl_id].set_hardware_error(bits)
 
     # -- simulation -------------------------------------------------------------------------
-    def _now(self) -> float:
+    def now(self) -> float:
+        """Simulated time now (the clock the servos, their motion and watchdogs run on)."""
         return (time.monotonic() - self._t0) * self.time_scale + self._offset
 
     def advance_to_now(self) -> None:
         with self.lock:
-            self._integrate(self._now() - self.sim_time)
+            self._integrate(self.now() - self.sim_time)
 
     def step(self, dt: float) -> None:
         """Serve everything already sent, then jump simulated time dt seconds ahead of the
@@ -159,6 +161,23 @@ class EmulatedBus:
             self._integrate(dt)
 
     def _integrate(self, dt: float) -> None:
+        """Integrate dt of motion; a servo's Bus Watchdog expiring within it stops that servo
+        at the exact instant (the span is split there)."""
+        with self.lock:
+            remaining = dt
+            while remaining > 0:
+                due = [(t, s) for s in self.servos.values() if (t := s.watchdog_due()) is not None]
+                t_next = min((t for t, _ in due), default=math.inf)
+                if t_next <= self.sim_time + 1e-12:
+                    for t, s in due:
+                        if t <= self.sim_time + 1e-12:
+                            s.trip_watchdog(t)
+                    continue
+                span = remaining if t_next >= self.sim_time + remaining else t_next - self.sim_time
+                self._integrate_span(span)
+                remaining -= span
+
+    def _integrate_span(self, dt: float) -> None:
         with self.lock:
             if dt <= 0:
                 return
@@ -223,64 +242,87 @@ class EmulatedBus:
                 self._transmit(replies, t_rx, pkt)
             self._busy = False
 
-    def _answering(self, dxl_id: int, baud: int | None) -> EmulatedServo | None:
-        s = self.servos.get(dxl_id)
-        if s is None or s.booting_until > self.sim_time:
-            return None
-        reg = s.get("baud_rate")
-        if baud is not None and s.spec.baud_rates.get(reg) != baud:
-            return None
-        return s
+    def _live(self, baud: int | None) -> list[EmulatedServo]:
+        """Servos that hear the line now: booted and set to the line's baud rate."""
+        out = []
+        for s in self.servos.values():
+            if s.booting_until > self.sim_time:
+                continue
+            if baud is not None and s.spec.baud_rates.get(s.get("baud_rate")) != baud:
+                continue
+            out.append(s)
+        return out
 
-    def _handle(self, pkt: P.Packet) -> list[tuple[int, bytes]]:
-        """Apply one instruction; return [(servo id, status packet bytes), …] to send."""
-        baud = self._line_baud()
+    def _handle(self, pkt: P.Packet) -> list[tuple[EmulatedServo | None, bytes]]:
+        """Apply one instruction; return [(replying servo, status packet bytes), …] to send
+        (servo None: a combined fast-read status)."""
+        live = self._live(self._line_baud())
         bad = not pkt.crc_ok or self.faults.take_bad_instruction()
-        if pkt.dxl_id != P.BROADCAST_ID:
-            s = self._answering(pkt.dxl_id, baud)
-            if s is None:
-                return []
+        if pkt.dxl_id == P.BROADCAST_ID:
             if bad:
-                return [(s.dxl_id, P.build_status(s.dxl_id, s.status_error(P.ERR_CRC)))]
-            return self._unicast(s, pkt)
+                return []
+            for s in live:
+                s.received(self.sim_time)
+            return self._broadcast(pkt, live)
+        primary = [s for s in live if s.dxl_id == pkt.dxl_id]
         if bad:
-            return []
-        return self._broadcast(pkt, baud)
+            return [(s, P.build_status(pkt.dxl_id, s.status_error(P.ERR_CRC))) for s in primary]
+        out = []
+        for s in primary:
+            s.received(self.sim_time)
+            out += self._unicast(s, pkt)
+        for s in live:  # addressed by its Secondary ID (12): obeys, never answers
+            if s.dxl_id != pkt.dxl_id and s.get("secondary_id") == pkt.dxl_id:
+                s.received(self.sim_time)
+                self._unicast(s, pkt)
+        return out
 
-    def _status(self, s: EmulatedServo, inst: int, code: int, data: bytes = b"") -> list[tuple[int, bytes]]:
+    def _status(self, s: EmulatedServo, pkt: P.Packet, code: int,
+                data: bytes = b"") -> list[tuple[EmulatedServo | None, bytes]]:
+        """The status of a unicast instruction, from the ID it was addressed to (after a
+        write of a new ID the servo answers this packet under its old one)."""
         level = s.get("status_return_level")
+        inst = pkt.instruction
         if inst != P.INST_PING and (level == 0 or (level == 1 and inst != P.INST_READ)):
             return []
-        return [(s.dxl_id, P.build_status(s.dxl_id, s.status_error(code), data))]
+        return [(s, P.build_status(pkt.dxl_id, s.status_error(code), data))]
 
-    def _unicast(self, s: EmulatedServo, pkt: P.Packet) -> list[tuple[int, bytes]]:
+    def _unicast(self, s: EmulatedServo, pkt: P.Packet) -> list[tuple[EmulatedServo | None, bytes]]:
         inst, prm = pkt.instruction, pkt.params
         if inst == P.INST_PING:
-            return self._status(s, inst, 0, P.p16(s.spec.number) + bytes([s.firmware]))
+            return self._status(s, pkt, 0, P.p16(s.spec.number) + bytes([s.firmware]))
         if inst == P.INST_READ:
             if len(prm) != 4:
-                return self._status(s, inst, P.ERR_DATA_LENGTH)
+                return self._status(s, pkt, P.ERR_DATA_LENGTH)
             code, data = s.read(P.u16(prm, 0), P.u16(prm, 2))
-            return self._status(s, inst, code, data)
+            return self._status(s, pkt, code, data)
         if inst in (P.INST_WRITE, P.INST_REG_WRITE):
             if len(prm) < 3:
-                return self._status(s, inst, P.ERR_DATA_LENGTH)
+                return self._status(s, pkt, P.ERR_DATA_LENGTH)
             addr, data = P.u16(prm, 0), bytes(prm[2:])
             if inst == P.INST_WRITE:
-                return self._status(s, inst, s.write(addr, data))
+                return self._status(s, pkt, s.write(addr, data))
             code = s.check_write(addr, data)
             if not code:
                 s.registered = (addr, data)
                 s._put("registered_instruction", 1)
-            return self._status(s, inst, code)
+            return self._status(s, pkt, code)
         if inst == P.INST_ACTION:
             self._action(s)
-            return self._status(s, inst, 0)
+            return self._status(s, pkt, 0)
         if inst == P.INST_REBOOT:
-            out = self._status(s, inst, 0)
+            out = self._status(s, pkt, 0)
             s.reboot(self.sim_time, self.boot_time_s)
             return out
-        return self._status(s, inst, P.ERR_INSTRUCTION)
+        if inst == P.INST_FACTORY_RESET:
+            if len(prm) != 1:
+                return self._status(s, pkt, P.ERR_DATA_LENGTH)
+            out = self._status(s, pkt, 0)  # answered before the reset, as the servo then reboots
+            code = s.factory_reset(prm[0], self.sim_time, self.boot_time_s)
+            return out if not code else self._status(s, pkt, code)
+        if inst == P.INST_CLEAR:
+            return self._status(s, pkt, s.clear_revolutions(bytes(prm)))
+        return self._status(s, pkt, P.ERR_INSTRUCTION)
 
     @staticmethod
     def _action(s: EmulatedServo) -> None:
@@ -289,12 +331,12 @@ class EmulatedBus:
             s.registered = None
             s._put("registered_instruction", 0)
 
-    def _broadcast(self, pkt: P.Packet, baud: int | None) -> list[tuple[int, bytes]]:
+    def _broadcast(self, pkt: P.Packet, servos: list[EmulatedServo]) -> list[tuple[EmulatedServo | None, bytes]]:
         inst, prm = pkt.instruction, pkt.params
-        live = {i: s for i in sorted(self.servos) if (s := self._answering(i, baud)) is not None}
+        live = {s.dxl_id: s for s in sorted(servos, key=lambda s: s.dxl_id)}
         try:
             if inst == P.INST_PING:
-                return [(i, P.build_status(i, s.status_error(), P.p16(s.spec.number) + bytes([s.firmware])))
+                return [(s, P.build_status(i, s.status_error(), P.p16(s.spec.number) + bytes([s.firmware])))
                         for i, s in live.items()]
             if inst == P.INST_WRITE and len(prm) >= 3:
                 for s in live.values():
@@ -303,6 +345,15 @@ class EmulatedBus:
             if inst == P.INST_ACTION:
                 for s in live.values():
                     self._action(s)
+                return []
+            if inst == P.INST_FACTORY_RESET and len(prm) == 1 and prm[0] != P.FACTORY_RESET_ALL:
+                # firmware ≥ 42 ignores a broadcast reset of everything (every servo would become ID 1)
+                for s in live.values():
+                    s.factory_reset(prm[0], self.sim_time, self.boot_time_s)
+                return []
+            if inst == P.INST_CLEAR:
+                for s in live.values():
+                    s.clear_revolutions(bytes(prm))
                 return []
             if inst == P.INST_SYNC_WRITE:
                 addr, _, items = P.parse_sync_write(prm)
@@ -329,7 +380,7 @@ class EmulatedBus:
             for i, addr, n in reqs:
                 if i in live:
                     code, data = live[i].read(addr, n)
-                    out.append((i, P.build_status(i, live[i].status_error(code), data)))
+                    out.append((live[i], P.build_status(i, live[i].status_error(code), data)))
             return out
         slots = []
         for i, addr, n in reqs:
@@ -342,21 +393,21 @@ class EmulatedBus:
         packet = P.build_fast_status(slots)
         if len(slots) < len(reqs):
             packet = packet[:-2]  # truncated: no final CRC arrives
-        return [(P.BROADCAST_ID, packet)]
+        return [(None, packet)]
 
-    def _transmit(self, replies: list[tuple[int, bytes]], t_rx: float, pkt: P.Packet) -> None:
+    def _transmit(self, replies: list[tuple[EmulatedServo | None, bytes]], t_rx: float, pkt: P.Packet) -> None:
         if not replies:
             return
         baud = self._line_baud() or 1_000_000
         byte_s = 10.0 / baud
         t = t_rx + (len(P.build_instruction(pkt.dxl_id, pkt.instruction, pkt.params)) * byte_s
                     if self.wire_timing else 0.0)
-        for dxl_id, packet in replies:
-            if dxl_id != P.BROADCAST_ID and self.faults.take_drop(dxl_id):
+        for s, packet in replies:
+            dxl_id = packet[4]  # the ID the status carries
+            if s is not None and self.faults.take_drop(dxl_id):
                 continue
             if self.faults.take_corrupt(dxl_id):
                 packet = packet[:-1] + bytes([packet[-1] ^ 0xFF])
-            s = self.servos.get(dxl_id)
             if self.wire_timing:
                 delay_reg = s.get("return_delay_time") if s is not None else 0
                 t += delay_reg * 2e-6 + len(packet) * byte_s

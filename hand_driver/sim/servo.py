@@ -9,8 +9,27 @@ position mode the servo follows a trapezoidal profile (Profile Velocity/Accelera
 (the emulated bus) may block the motion (a pad touching the object): Present Current
 then rises with the gap between trajectory and actual position, clipped at Goal Current
 (or Current Limit); it is 0 while the shaft follows its trajectory freely.
-A hardware error (set on demand) turns torque off, sets the alert bit of every status
-packet and keeps torque off until reboot, as real servos do.
+A hardware error (set on demand, or the overload error after a sustained stall) turns
+torque off, sets the alert bit of every status packet and keeps torque off until reboot,
+as real servos do.
+
+What the ROBOTIS e-Manual describes and other tools rely on (docs/driver.md):
+
+- **Bus Watchdog (98)**, 20 ms units: while torque is on and the watchdog is set, a gap
+  between instruction packets longer than it stops the servo where it is and the item
+  reads −1; the goal items (100, 102, 104, 116) then refuse writes with a data range
+  error until 0 is written to 98. The servo holds its position until a new goal arrives.
+- **Indirect addressing**: Indirect Data k (224…, 634…) reads and writes the byte that
+  Indirect Address k (168…, 578…) points to, with that item's own checks.
+- **Factory reset** (all / all but ID / all but ID and baud rate) and **clear** (the
+  multi-turn revolution count; refused while moving), **Startup Configuration (60)** bit 0
+  (torque on after a reboot), **Secondary ID (12)** (handled by the bus).
+- **Overload**: the e-Manual gives no numbers for "a persistent load exceeding the maximum
+  output"; the model here: the servo is blocked (its trajectory ahead of the shaft) while
+  its current (XL430: load) is at least a third of the model's maximum for
+  ``OVERLOAD_TIME_S``; with Shutdown (63) bit 5 set (the default) it raises bit 5 of
+  Hardware Error Status and drops torque. Pressing at the jaw's goal current (≤ 1 A of
+  XM430's 3.2 A) never reaches it.
 """
 
 from __future__ import annotations
@@ -18,17 +37,30 @@ from __future__ import annotations
 import math
 
 from hand_driver.control_table import (
+    INDIRECT_BLOCKS,
+    MODE_CURRENT,
     MODE_CURRENT_BASED_POSITION,
     MODE_EXTENDED_POSITION,
     MODE_POSITION,
+    TABLE_SIZE,
     ModelSpec,
 )
 from hand_driver.sim import protocol as P
-from hand_driver.units import accel_unit_ticks_s2, to_signed, to_unsigned, velocity_unit_ticks_s
+from hand_driver.units import TICKS_PER_REV, WATCHDOG_STEP_MS, accel_unit_ticks_s2, to_signed, to_unsigned, velocity_unit_ticks_s
 
 # Present Current per tick of trajectory-following error when blocked (raw current units).
 CURRENT_PER_TICK = 8.0
-TABLE_SIZE = 228
+#: the goal items a Bus Watchdog error makes read-only
+_GOALS = ("goal_pwm", "goal_current", "goal_velocity", "goal_position")
+#: overload model (module docstring): blocked at ≥ this fraction of the maximum current or
+#: load for this long
+OVERLOAD_FRACTION = 1.0 / 3.0
+OVERLOAD_TIME_S = 5.0
+#: Hardware Error Status (70) / Shutdown (63) bit of the overload error
+OVERLOAD_BIT = 0x20
+#: Indirect Data address → the Indirect Address item pointing for it
+_INDIRECT = {data0 + k - first: addr0 + 2 * (k - first)
+             for first, last, addr0, data0 in INDIRECT_BLOCKS for k in range(first, last + 1)}
 
 
 class EmulatedServo:
@@ -44,6 +76,9 @@ class EmulatedServo:
         self._reset_ram(position)
         self.booting_until = 0.0  # sim time before which the servo does not answer (reboot)
         self.registered: tuple[int, bytes] | None = None
+        self.last_rx = 0.0  # sim time of the last instruction packet this servo received
+        self.watchdog_tripped_at: float | None = None  # sim time the Bus Watchdog last expired
+        self.overload_s = 0.0  # how long the servo has been blocked at overload current
 
     # -- memory -------------------------------------------------------------------------
     def _reset_eeprom(self) -> None:
@@ -63,6 +98,7 @@ class EmulatedServo:
         self.traj = float(position)  # commanded trajectory position, ticks
         self.vel = 0.0  # trajectory velocity, ticks/s
         self.actual_vel = 0.0
+        self.halted = False  # stopped by the Bus Watchdog until a new goal position
         self._put("goal_position", int(round(position)))
         if "goal_current" in self.spec.fields:
             self._put("goal_current", self.spec.current_limit_default)
@@ -93,14 +129,40 @@ class EmulatedServo:
         """The error byte of a status packet: code plus the alert bit on hardware error."""
         return code | (0x80 if self.hardware_error else 0)
 
+    def _target(self, addr: int) -> int:
+        """Where a byte access at ``addr`` lands: through Indirect Data, the address its
+        Indirect Address points to; elsewhere ``addr`` itself."""
+        ptr = _INDIRECT.get(addr)
+        return addr if ptr is None else int.from_bytes(self.mem[ptr : ptr + 2], "little")
+
     def read(self, addr: int, length: int) -> tuple[int, bytes]:
         """(error code, data) of a Read of ``length`` bytes from ``addr``."""
         if length == 0 or addr + length > TABLE_SIZE:
             return P.ERR_ACCESS, b""
-        return 0, bytes(self.mem[addr : addr + length])
+        return 0, bytes(self.mem[self._target(a)] for a in range(addr, addr + length))
+
+    def _runs(self, addr: int, data: bytes) -> list[tuple[int, bytes]]:
+        """A write split into contiguous runs of target addresses (indirection resolved)."""
+        runs: list[tuple[int, bytearray]] = []
+        for i, b in enumerate(data):
+            t = self._target(addr + i)
+            if runs and runs[-1][0] + len(runs[-1][1]) == t:
+                runs[-1][1].append(b)
+            else:
+                runs.append((t, bytearray([b])))
+        return [(a, bytes(d)) for a, d in runs]
 
     def check_write(self, addr: int, data: bytes) -> int:
         """The error code a Write would get (0: accepted)."""
+        if not data or addr + len(data) > TABLE_SIZE:
+            return P.ERR_ACCESS
+        for a, d in self._runs(addr, data):
+            code = self._check_direct(a, d)
+            if code:
+                return code
+        return 0
+
+    def _check_direct(self, addr: int, data: bytes) -> int:
         end = addr + len(data)
         if not data or end > TABLE_SIZE:
             return P.ERR_ACCESS
@@ -123,6 +185,8 @@ class EmulatedServo:
                 return P.ERR_DATA_RANGE
             if f.name == "torque_enable" and v == 1 and self.hardware_error:
                 return P.ERR_RESULT_FAIL
+            if f.name in _GOALS and self.get("bus_watchdog") < 0:
+                return P.ERR_DATA_RANGE
         return 0
 
     def _beyond_limit(self, name: str, v: int) -> bool:
@@ -139,13 +203,33 @@ class EmulatedServo:
         err = self.check_write(addr, data)
         if err:
             return err
-        self.mem[addr : addr + len(data)] = data
         goal = self.spec.field("goal_position")
-        if addr <= goal.addr < addr + len(data):
-            # a new goal starts a new profile from where the shaft is
-            self.traj, self.vel = self.pos, self.actual_vel
+        for a, d in self._runs(addr, data):
+            self.mem[a : a + len(d)] = d
+            if a <= goal.addr < a + len(d):
+                # a new goal starts a new profile from where the shaft is
+                self.traj, self.vel = self.pos, self.actual_vel
+                self.halted = False
         return 0
 
+    # -- bus watchdog ---------------------------------------------------------------------
+    def received(self, now: float) -> None:
+        """An instruction packet for this servo arrived at sim time ``now``."""
+        self.last_rx = now
+
+    def watchdog_due(self) -> float | None:
+        """Sim time at which the Bus Watchdog expires unless a packet arrives (None: not armed)."""
+        wd = self.get("bus_watchdog")
+        if wd <= 0 or not self.torque_on:
+            return None
+        return self.last_rx + wd * WATCHDOG_STEP_MS / 1000.0
+
+    def trip_watchdog(self, now: float) -> None:
+        """The host went quiet: stop where the shaft is; Bus Watchdog reads −1."""
+        self._put("bus_watchdog", -1)
+        self.watchdog_tripped_at = now
+        self.halted = True
+        self.traj, self.vel = self.pos, 0.0
     # -- faults and reboot ----------------------------------------------------------------
     def set_hardware_error(self, bits: int) -> None:
         self._put("hardware_error_status", bits & 0xFF)
@@ -153,15 +237,45 @@ class EmulatedServo:
             self._put("torque_enable", 0)
 
     def reboot(self, now: float, boot_time: float) -> None:
-        """RAM back to defaults (torque off, hardware error cleared), silent for boot_time."""
+        """RAM back to defaults (torque off, hardware error cleared), silent for boot_time;
+        torque on again if Startup Configuration (60) bit 0 is set."""
         self._reset_ram(self.pos)
+        self.overload_s = 0.0
         self.booting_until = now + boot_time
+        if self.get("startup_configuration") & 1:
+            self._put("torque_enable", 1)
 
+    def factory_reset(self, option: int, now: float, boot_time: float) -> int:
+        """Factory Reset (0x06): EEPROM to the factory defaults (ID 1, 57600 bit/s) except the
+        ID (option 0x01) or the ID and baud rate (0x02), then a reboot. Returns the error code."""
+        if option not in (P.FACTORY_RESET_ALL, P.FACTORY_RESET_KEEP_ID, P.FACTORY_RESET_KEEP_ID_BAUD):
+            return P.ERR_DATA_RANGE
+        keep = {"id": self.get("id")} if option != P.FACTORY_RESET_ALL else {}
+        if option == P.FACTORY_RESET_KEEP_ID_BAUD:
+            keep["baud_rate"] = self.get("baud_rate")
+        self._eeprom_defaults = keep
+        self._reset_eeprom()
+        self.reboot(now, boot_time)
+        return 0
+
+    def clear_revolutions(self, params: bytes) -> int:
+        """Clear (0x10): Present Position back into one turn (0..4095), only while stopped."""
+        if params != P.CLEAR_REVOLUTION:
+            return P.ERR_DATA_RANGE
+        if abs(self.actual_vel) > 0.0 or abs(self.vel) > 0.0:
+            return P.ERR_RESULT_FAIL
+        turns = math.floor(self.pos / TICKS_PER_REV) * TICKS_PER_REV
+        self.pos -= turns
+        self.traj -= turns
+        self._put("goal_position", self.get("goal_position") - turns)
+        self._sync_present(0.0)
+        return 0
     # -- motion ---------------------------------------------------------------------------
     def propose(self, dt: float) -> float:
         """Advance the trajectory by dt; return where the shaft would be if unobstructed."""
         mode = self.get("operating_mode")
-        if not self.torque_on or mode not in (MODE_POSITION, MODE_EXTENDED_POSITION, MODE_CURRENT_BASED_POSITION):
+        if (not self.torque_on or self.halted
+                or mode not in (MODE_POSITION, MODE_EXTENDED_POSITION, MODE_CURRENT_BASED_POSITION)):
             self.traj, self.vel = self.pos, 0.0
             return self.pos
         goal = float(self.get("goal_position"))
@@ -191,14 +305,27 @@ class EmulatedServo:
         self.pos = actual
 
     def publish(self, dt: float) -> None:
-        """Write the Present* items (position, velocity, current, moving) after a step of dt."""
+        """Write the Present* items (position, velocity, current, moving) after a step of dt,
+        and judge overload over it."""
         self._sync_present(dt)
+        self._judge_overload(dt)
+
+    def _judge_overload(self, dt: float) -> None:
+        if "present_current" in self.spec.fields:
+            level, top = abs(self.get("present_current")), self.spec.current_limit_default
+        else:
+            level, top = abs(self.get("present_load")), 1000
+        blocked = self.torque_on and abs(self.traj - self.pos) >= 1.0
+        self.overload_s = self.overload_s + dt if blocked and level >= OVERLOAD_FRACTION * top else 0.0
+        if self.overload_s >= OVERLOAD_TIME_S and self.get("shutdown") & OVERLOAD_BIT:
+            self.set_hardware_error(self.hardware_error | OVERLOAD_BIT)
 
     def _sync_present(self, dt: float) -> None:
         gap = self.traj - self.pos
         if "present_current" in self.spec.fields:
-            limit = abs(self.get("goal_current")) if "goal_current" in self.spec.fields else 0
-            limit = min(limit, self.get("current_limit")) if self.get("current_limit") else limit
+            limit = self.get("current_limit")
+            if self.get("operating_mode") in (MODE_CURRENT, MODE_CURRENT_BASED_POSITION):
+                limit = min(limit, abs(self.get("goal_current")))  # Goal Current caps only these modes
             cur = max(-limit, min(limit, CURRENT_PER_TICK * gap)) if self.torque_on else 0.0
             self._put("present_current", int(round(cur)))
         else:  # XL430: Present Load in 0.1 % of max torque

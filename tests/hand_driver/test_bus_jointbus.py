@@ -38,7 +38,9 @@ def test_open_configures_every_servo_and_close_turns_torque_off(sim, bus_joints)
 
 def test_cycle_reads_state_and_moves_to_goals_with_one_sync_write(sim, bus_joints):
     readings = []
-    with JointBus(sim.port, 1_000_000, bus_joints, on_reading=readings.append, timeout_s=0.25) as bus:
+    # watchdog off: sim.step below is the host falling silent while the servos move
+    with JointBus(sim.port, 1_000_000, bus_joints, on_reading=readings.append, timeout_s=0.25,
+                  watchdog_ms=0) as bus:
         s0 = bus.read_state()
         assert s0.ticks.tolist() == [2048, 2048, 1500]
         goal = np.array([2200, 2000, 1700])
@@ -142,7 +144,7 @@ def test_k1_jaw_config_drives_the_bus(jaw_config):
 def test_pads_stop_at_the_scene_object_with_current_at_the_cap(jaw_config):
     cfg = jaw_config
     with EmulatedBus(cfg, scene=load_scene("config/scenes/default.yaml")) as sim, \
-            JointBus(sim.port, cfg.bus.baudrate, cfg, timeout_s=0.25) as bus:
+            JointBus(sim.port, cfg.bus.baudrate, cfg, timeout_s=0.25, watchdog_ms=0) as bus:
         assert sim.world is not None
         bus.set_goal_current(300.0)
         # both proximal joints close by 600 ticks toward the other finger (the object between)
@@ -171,7 +173,7 @@ def test_free_servo_current_is_zero_and_blocked_current_tracks_gap(bus_joints):
             return q
 
     joints = bus_joints[:1]
-    with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints, timeout_s=0.25) as bus:
+    with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints, timeout_s=0.25, watchdog_ms=0) as bus:
         sim.world = Wall()
         bus.set_goal_current(2.69 * 150)
         wall_tick = units.rad_to_ticks(0.1, 2048, 1)

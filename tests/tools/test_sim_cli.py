@@ -4,6 +4,7 @@ import json
 import signal
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -43,3 +44,23 @@ def test_scan_table_and_errors():
     assert "Traceback" not in out.stderr
     out = tactile("scan", "--port", "/dev/null", "--ids", "3-x")
     assert out.returncode == 2 and "--ids" in out.stderr
+
+
+def test_bus_vanishing_during_explore_is_one_error_line(jaw_config, tmp_path):
+    from recognizer.scene import load_scene
+
+    with EmulatedBus(jaw_config, load_scene("config/scenes/default.yaml")) as sim:
+        proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "explore", "--port", sim.port,
+                                 "--log", str(tmp_path / "run.jsonl")],
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        try:
+            assert "exploring" in proc.stderr.readline() + proc.stderr.readline()
+            time.sleep(1.0)
+            sim.vanish()
+            err = proc.stderr.read()
+            assert proc.wait(timeout=30) == 1
+        finally:
+            proc.kill()
+    errors = [line for line in err.splitlines() if not line.startswith("  ")]
+    assert len(errors) == 1 and errors[0].startswith("tactile explore: ") and "adapter unplugged?" in errors[0]
+    assert "Bus Watchdog" in errors[0]

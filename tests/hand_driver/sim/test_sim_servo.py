@@ -35,7 +35,7 @@ def test_access_rules():
     assert s.write(9, b"\x05") == P.ERR_ACCESS  # EEPROM while torque on
     assert s.get("return_delay_time") == 0
     assert s.write(116, le(5000, 4)) == P.ERR_DATA_LIMIT  # beyond Max Position Limit
-    assert s.read(226, 4)[0] == P.ERR_ACCESS
+    assert s.read(660, 4)[0] == P.ERR_ACCESS  # past the table (662 bytes)
 
 
 def test_xl430_has_no_current_items():
