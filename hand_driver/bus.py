@@ -76,6 +76,10 @@ _REBOOT_WAIT_S = 3.0
 #: looks like an absent servo), and attempts of the read of a servo found
 SCAN_SILENT_PINGS = 4
 SCAN_READ_ATTEMPTS = 8
+#: a pause of the host longer than this fraction of the Bus Watchdog's time re-arms it
+#: before the next goals: a motion cycle (at most half the watchdog, see config) never
+#: does, a recognition between touches does
+WATCHDOG_REARM_FRACTION = 0.75
 
 
 @dataclass(frozen=True)
@@ -159,6 +163,7 @@ class JointBus:
         self._old_handlers: dict[int, object] = {}
         self._pending_alerts: list[int] = []  # servos whose last status had the alert bit
         self._vanished = False  # the serial port failed (adapter unplugged)
+        self._last_io = 0.0  # time.monotonic() of the last transaction
         self.current_sensing = all(s.has_current_sensing for s in self.specs)
 
     # -- opening and closing ----------------------------------------------------------------
@@ -364,6 +369,7 @@ class JointBus:
                 raise PortError(f"{what}: the bus on {self.port_name} is not open")
             for k in range(n):
                 self.stats.transactions += 1
+                self._last_io = time.monotonic()
                 try:
                     return fn()
                 except (BusTimeout, CrcError) as exc:
@@ -494,8 +500,12 @@ class JointBus:
         return ti
 
     def write_goal_ticks(self, ticks) -> None:
-        """Every joint's Goal Position in one sync write, after checking all of them."""
+        """Every joint's Goal Position in one sync write, after checking all of them; after
+        a pause of the host longer than ¾ of the watchdog's time (wall clock) the watchdog
+        is re-armed first (hand_driver.motion.Jaw does the same in robot time)."""
         ti = self.check_goal_ticks(ticks)
+        if self.watchdog_ms and time.monotonic() - self._last_io > WATCHDOG_REARM_FRACTION * self.watchdog_ms / 1000.0:
+            self.rearm_watchdog()
         self._sync_write_field("goal_position", ti)
 
     def require_current_sensing(self, what: str = "a current-based guarded touch") -> None:

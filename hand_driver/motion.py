@@ -39,6 +39,7 @@ from typing import Any, Callable, Generator
 import numpy as np
 
 from hand_driver import kinematics as kin
+from hand_driver.bus import WATCHDOG_REARM_FRACTION
 from hand_driver.config import JawConfig
 from tactile_common.angles import wrap_angle
 
@@ -53,10 +54,6 @@ ROLL_CLEARANCE_MM = 1.0
 EDGE_MARGIN_MM = 1.0
 #: a goal is "reached" when every joint of the finger is within this many ticks of it
 REACHED_TICKS = 3
-#: a pause of the host longer than this fraction of the Bus Watchdog's time (robot time)
-#: re-arms it before the next goals: a cycle (one period, half the watchdog at most, see
-#: config) never does, a recognition between touches does
-WATCHDOG_REARM_FRACTION = 0.75
 
 
 Reading = tuple[Any, int]  # (JointState, log index)
