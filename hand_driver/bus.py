@@ -289,8 +289,8 @@ class JointBus:
                 raise CapabilityError("fast sync read requested but not every servo model supports it")
             return
         self.fast_read = True
-        try:
-            self._read_state_raw(attempts=1)
+        try:  # asked for: every retry; automatic: one try, then sync read
+            self._read_state_raw(attempts=None if self.fast_read_requested else 1)
         except (BusTimeout, CrcError) as exc:
             if self.fast_read_requested:
                 raise BusError(f"fast sync read requested but the servos do not answer it: {exc}") from None

@@ -29,6 +29,7 @@ from recognizer.contacts import Contacts
 from recognizer.curves import CURVES, Pose
 from recognizer.solver import ContactModel, svd
 from recognizer.starts import pose_from, starts
+from tactile_common.angles import wrap_angle
 
 __all__ = ["Fit", "fit_class", "fit_class_every_start", "N_SHAPE"]
 
@@ -36,10 +37,6 @@ __all__ = ["Fit", "fit_class", "fit_class_every_start", "N_SHAPE"]
 N_SHAPE = {"line": 0 + 2, "circle": 1 + 2, "ellipse": 2 + 3, "parabola": 1 + 3, "hyperbola": 2 + 3,
            "cubical_parabola": 2 + 3, "semicubical_parabola": 2 + 3}
 _NUMERIC_ERRORS = (ArithmeticError, ValueError)  # math raises where NumPy gives inf/nan
-
-
-def _wrap(a):
-    return np.remainder(np.asarray(a, float) + np.pi, 2 * np.pi) - np.pi
 
 
 @dataclass
@@ -64,9 +61,9 @@ def _canonical(cls: str, params: dict, th: float, X: float, Y: float, t: np.ndar
         th += np.pi / 2
         t -= np.pi / 2
     if cls == "ellipse":
-        w = float(_wrap(th))
+        w = float(wrap_angle(th))
         if w > np.pi / 2 or w <= -np.pi / 2:
-            w = float(_wrap(w - np.pi))
+            w = float(wrap_angle(w - np.pi))
             t += np.pi
         th = w
     elif cls == "circle":
@@ -78,8 +75,8 @@ def _canonical(cls: str, params: dict, th: float, X: float, Y: float, t: np.ndar
         X, Y = X - tau * ux, Y - tau * uy
         t += tau
     if CURVES[cls].t_period is not None:
-        t = _wrap(t)
-    return params, float(_wrap(th)), X, Y, t
+        t = wrap_angle(t)
+    return params, float(wrap_angle(th)), X, Y, t
 
 
 #: a start whose position-and-angle χ² per observation exceeds this (~1e5 σ) is not refined

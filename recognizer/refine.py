@@ -42,6 +42,7 @@ from scipy import optimize, stats
 
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Candidate
+from tactile_common.angles import wrap_angle
 
 SIGMA_FLOOR_PHI = 1e-9
 """rad: σ_φ used when the noise model says 0 (exact data)."""
@@ -135,10 +136,6 @@ def _collect(touches: Sequence[Any]) -> _Data:
                  mid, crows, np.array(ck), np.array(cks), np.array(sk), np.array(sks), np.concatenate(srel))
 
 
-def _wrap(a: np.ndarray) -> np.ndarray:
-    return (a + np.pi) % (2 * np.pi) - np.pi
-
-
 class _Problem:
     """Packs unknowns, evaluates residuals and the Jacobian for one class."""
 
@@ -219,7 +216,7 @@ class _Problem:
         _, _, _, _, hx, hy, phi, extra = self._model_at(z)
         d = self.data
         with np.errstate(all="ignore"):
-            parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, _wrap(d.phi - phi) / self.sig_phi]
+            parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, wrap_angle(d.phi - phi) / self.sig_phi]
             if extra is not None:
                 parts += [(d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s]
             r = np.concatenate(parts)
@@ -366,10 +363,10 @@ def _canonical(cls: str, params: dict, pose: Pose, t: np.ndarray) -> tuple[dict,
     """Canonical conventions: ellipse a ≥ b. Returns the permutation of parameters."""
     if cls == "ellipse" and params["b"] > params["a"]:
         params = {"a": params["b"], "b": params["a"]}
-        pose = Pose(float(_wrap(np.array(pose.theta + np.pi / 2))), pose.x, pose.y)
+        pose = Pose(float(wrap_angle(np.array(pose.theta + np.pi / 2))), pose.x, pose.y)
         return params, pose, t - np.pi / 2, [1, 0]
     if cls in ("circle", "ellipse"):
-        pose = Pose(float(_wrap(np.array(pose.theta))), pose.x, pose.y)
+        pose = Pose(float(wrap_angle(np.array(pose.theta))), pose.x, pose.y)
     return params, pose, t, list(range(len(params)))
 
 

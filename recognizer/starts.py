@@ -30,18 +30,11 @@ from recognizer import invariants as inv
 from recognizer.contacts import Contacts
 from recognizer.curves import CURVES
 from recognizer.solver import KERNELS
+from tactile_common.angles import wrap_angle
 
 __all__ = ["starts", "pose_from", "conic_start", "semicubical_scan"]
 
 _PI = math.pi
-
-
-def _wrap(a):
-    return np.remainder(np.asarray(a, float) + np.pi, 2 * np.pi) - np.pi
-
-
-def _wrap_s(a: float) -> float:
-    return (a + _PI) % (2.0 * _PI) - _PI
 
 
 def _circmean_s(a) -> float:
@@ -82,7 +75,7 @@ def pose_from(cls: str, params: dict, t, d: Contacts) -> tuple[float, float, flo
     ex = [row[0] - (ct * f[0] - st * f[1]) for row, f in zip(rows, fr)]
     ey = [row[1] - (st * f[0] + ct * f[1]) for row, f in zip(rows, fr)]
     X, Y = _mean(ex), _mean(ey)
-    cost = sum(((X - a) ** 2 + (Y - b) ** 2) / row[5] ** 2 + (_wrap_s(th - c) / row[6]) ** 2
+    cost = sum(((X - a) ** 2 + (Y - b) ** 2) / row[5] ** 2 + (wrap_angle(th - c) / row[6]) ** 2
                for a, b, c, row in zip(ex, ey, dph, rows))
     return th, X, Y, (cost if math.isfinite(cost) else math.inf)
 
@@ -174,7 +167,7 @@ def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
     W = d.whitener()
     b = b[..., None]
     th = phi[0] - np.arctan2(sg * (3 * v0 + 2 * b[..., 0]), 2 * sg)
-    psi = _wrap(phi - th[..., None])
+    psi = wrap_angle(phi - th[..., None])
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         v = (2 * np.tan(psi) - 2 * b) / 3
         # each touch on the branch its tangent points to: ψ within ±π/2 on v > 0, beyond on v < 0
@@ -285,7 +278,7 @@ def _conic_invariant_starts(cls: str, d: Contacts) -> list[tuple[dict, list]]:
             t0.append(math.atan2(math.sqrt(s2), math.sqrt(1.0 - s2)) * (-1.0 if ksi > 0 else 1.0))
         psi = [KERNELS["ellipse"]((a, b), t)[2] for t in t0]
         th = phi[0] - psi[0]
-        return [({"a": a, "b": b}, [t + _PI if abs(_wrap_s(p + th - f)) > _PI / 2 else t
+        return [({"a": a, "b": b}, [t + _PI if abs(wrap_angle(p + th - f)) > _PI / 2 else t
                                     for t, p, f in zip(t0, psi, phi)])]
     if c1 >= 0:
         return []
@@ -321,7 +314,7 @@ def _cubic_starts(cls: str, d: Contacts, every_pair: bool) -> list[tuple[dict, l
     for th in frames:
         # λ = tan ψ is blind to a half turn of the frame: the branch (sign of t) of the
         # semicubical parabola follows from t = 2(λ − b)/(3a), so one turn per root
-        lam = [math.tan(_wrap_s(f - th)) for f in phi]
+        lam = [math.tan(wrap_angle(f - th)) for f in phi]
         dens = [ksi + 3.0 * li * ki * ki for li, ki, ksi in zip(lam, k, ks)]
         if cls == "cubical_parabola":
             a = _median([de * (1.0 + li * li) ** 2 / 6.0 for li, de in zip(lam, dens)])
