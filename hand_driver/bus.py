@@ -166,6 +166,14 @@ class JointBus:
         self._last_io = 0.0  # time.monotonic() of the last transaction
         self.current_sensing = all(s.has_current_sensing for s in self.specs)
 
+    @classmethod
+    def for_config(cls, config: JawConfig, port: str | None = None, **options) -> "JointBus":
+        """The bus of a jaw config: its joints, baud rate, retries and Bus Watchdog time;
+        ``port`` (default the config's) and other keyword options as for the constructor."""
+        options.setdefault("retries", config.bus.retries)
+        options.setdefault("watchdog_ms", config.bus.watchdog_ms)
+        return cls(port if port is not None else config.bus.port, config.bus.baudrate, config, **options)
+
     # -- opening and closing ----------------------------------------------------------------
     def __enter__(self) -> "JointBus":
         self.open()

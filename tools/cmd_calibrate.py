@@ -66,7 +66,7 @@ def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, cloc
     readings, centres = [], []
     for k, guess in enumerate(places):
         port = ports[k] if len(ports) > 1 else ports[0]
-        with JointBus(port, cfg.bus.baudrate, cfg.joints, retries=cfg.bus.retries, **(bus_options or {})) as bus:
+        with JointBus.for_config(cfg, port, **(bus_options or {})) as bus:
             jaw = Jaw(bus, cfg, clock=clock_for(k))
             if ask:
                 cal.park(jaw)

@@ -91,8 +91,8 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
         log = RunLog(log_path).open(config=config_to_mapping(config), scene=scene_mapping, command=sys.argv,
                                     settings={**settings.to_json(), "noise": TOUCH_NOISE}, force=force)
     with log if log is not None else nullcontext():
-        with JointBus(port, config.bus.baudrate, config, retries=config.bus.retries, timeout_s=bus_timeout_s,
-                      on_reading=log.reading if log is not None else None) as bus:
+        with JointBus.for_config(config, port, timeout_s=bus_timeout_s,
+                                 on_reading=log.reading if log is not None else None) as bus:
             bus.set_profile_raw(config.motion.profile_velocity, config.motion.profile_acceleration)
             if bus.current_sensing:
                 bus.set_goal_current(config.motion.goal_current_ma)

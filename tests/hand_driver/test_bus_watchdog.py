@@ -97,7 +97,11 @@ def test_the_jaw_rearms_the_watchdog_after_a_pause_of_the_host():
 def test_watchdog_time_is_a_config_key(tmp_path):
     text = open("config/jaw.yaml").read().replace("watchdog_ms: 100", "watchdog_ms: 260")
     (tmp_path / "jaw.yaml").write_text(text)
-    assert load_config(tmp_path / "jaw.yaml").bus.watchdog_ms == 260
+    cfg = load_config(tmp_path / "jaw.yaml")
+    assert cfg.bus.watchdog_ms == 260
+    with EmulatedBus(cfg) as sim, JointBus.for_config(cfg, sim.port, timeout_s=0.5, handle_signals=False):
+        sim.wait_idle()
+        assert [s.get("bus_watchdog") for s in sim.servos.values()] == [13] * 4  # 260 ms / 20 ms
     (tmp_path / "bad.yaml").write_text(text.replace("260", "250"))
     with pytest.raises(Exception, match="watchdog_ms: 250 is not a multiple of 20 ms"):
         load_config(tmp_path / "bad.yaml")
