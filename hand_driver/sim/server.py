@@ -1,5 +1,8 @@
 """The emulated servo bus: X-series servos behind a pseudo-terminal.
 
+(Just over 400 lines: every instruction of Protocol 2.0 is served here, beside the
+simulated clock it advances.)
+
 ``EmulatedBus(config, scene)`` opens a pty; ``.port`` is the slave path that pyserial and
 the Dynamixel SDK open like a USB adapter. A thread parses Protocol 2.0 instruction
 packets from the master side and answers byte for byte like a bus of real servos (ping,
