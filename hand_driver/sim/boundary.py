@@ -64,6 +64,10 @@ class Boundary:
             #: straight segments (ax, ay, bx, by) in the canonical frame, P(t1) → ... → P(t0)
             self._segments = [(*path[k], *path[k + 1]) for k in range(len(path) - 1)]
             self.corners = np.array([self._to_hand(*p) for p in path])
+            pts = self.points((self._ox, self._oy), math.inf)
+            centre = pts.mean(axis=0)
+            #: a circle (hand frame) holding the whole finite boundary: outside it, outside the solid
+            self._bound = (float(centre[0]), float(centre[1]), float(np.max(np.hypot(*(pts - centre).T))) + 1.0)
         else:
             self.t0, self.t1 = -math.inf, math.inf
             self._segments = []
@@ -80,6 +84,10 @@ class Boundary:
     # ------------------------------------------------------------------ queries
     def inside(self, x: float, y: float) -> bool:
         """Is the hand-frame point strictly inside the solid?"""
+        if self.finite:
+            bx, by, br = self._bound
+            if (x - bx) ** 2 + (y - by) ** 2 > br * br:
+                return False
         u, v = self._to_canon(x, y)
         if not self.finite:
             region = self._in_region(u, v)
@@ -229,7 +237,10 @@ def _segment_line_param(ax: float, ay: float, bx: float, by: float, nx: float, n
 
 
 def _real_roots(coeffs: list[float]) -> list[float]:
-    """Real simple roots of a polynomial (highest power first); leading zeros dropped."""
+    """Real simple roots of a polynomial of degree ≤ 3 (highest power first); leading
+    zeros dropped. Closed form (a cubic by Cardano or the trigonometric form, each root
+    polished by Newton on the original coefficients); a cubic whose closed-form roots do
+    not check out (ill-conditioned coefficients) goes to numpy's companion matrix."""
     c = list(coeffs)
     while c and abs(c[0]) < 1e-300:
         c.pop(0)
@@ -245,6 +256,42 @@ def _real_roots(coeffs: list[float]) -> list[float]:
         r = math.sqrt(disc)
         q = -0.5 * (b + math.copysign(r, b))
         return [q / a, cc / q] if q != 0.0 else [0.0]
+    roots = _cubic_roots(*c)
+    if roots is not None:
+        return roots
     roots = np.roots(c)
     real = roots[np.abs(roots.imag) <= 1e-12 * np.maximum(1.0, np.abs(roots.real))].real
     return [float(r) for r in real]
+
+
+def _cubic_roots(a: float, b: float, c: float, d: float) -> list[float] | None:
+    """Real roots of a t³ + b t² + c t + d (a ≠ 0), or None when they do not check out."""
+    bb, cc, dd = b / a, c / a, d / a
+    p = cc - bb * bb / 3.0  # the depressed cubic x³ + p x + q, t = x − bb/3
+    q = 2.0 * bb**3 / 27.0 - bb * cc / 3.0 + dd
+    disc = (0.5 * q) ** 2 + (p / 3.0) ** 3
+    if disc > 0.0:  # one real root
+        big = -math.copysign(abs(0.5 * q) + math.sqrt(disc), q)
+        u = math.copysign(abs(big) ** (1.0 / 3.0), big)
+        xs = [u - p / (3.0 * u)] if u != 0.0 else [0.0]
+    elif p < 0.0:  # three real roots
+        r = 2.0 * math.sqrt(-p / 3.0)
+        arg = max(-1.0, min(1.0, 3.0 * q / (p * r)))
+        ang = math.acos(arg) / 3.0
+        xs = [r * math.cos(ang - 2.0 * math.pi * k / 3.0) for k in range(3)]
+    else:  # a triple root: not a transversal crossing
+        return []
+    out = []
+    for x in xs:
+        t = x - bb / 3.0
+        for _ in range(3):  # Newton on the original coefficients
+            f = ((a * t + b) * t + c) * t + d
+            df = (3.0 * a * t + 2.0 * b) * t + c
+            if df == 0.0:
+                break
+            t -= f / df
+        scale = abs(a * t**3) + abs(b * t * t) + abs(c * t) + abs(d)
+        if not math.isfinite(t) or abs(((a * t + b) * t + c) * t + d) > 1e-9 * scale:
+            return None
+        out.append(t)
+    return out

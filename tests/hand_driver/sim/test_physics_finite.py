@@ -132,3 +132,27 @@ def test_inside_agrees_with_the_outline(raw):
     got = np.array([b.inside(*p) for p in pts[far]])
     assert far.sum() > 500 and 50 < expect.sum() < 550
     assert np.array_equal(got, expect)
+
+
+def test_closed_form_roots_agree_with_numpy():
+    """The crossings' cubic solver (closed form, Newton-polished, numpy fallback) finds the
+    same real simple roots as numpy's companion matrix on random, also ill-scaled, cubics."""
+    from hand_driver.sim.boundary import _real_roots
+
+    rng = np.random.default_rng(5)
+    checked = 0
+    for _ in range(3000):
+        c = [float(rng.choice([-1.0, 1.0]) * 10 ** rng.uniform(-8, 3)) for _ in range(4)]
+        if rng.uniform() < 0.5:
+            c[int(rng.integers(1, 4))] = 0.0
+        r = np.roots(c)
+        tol = 1e-12 * np.maximum(1.0, np.abs(r.real))
+        if np.any((np.abs(r.imag) > tol) & (np.abs(r.imag) < 1e6 * tol)):
+            continue  # a near-double root: whether it is real is a matter of rounding
+        real = np.sort(r[np.abs(r.imag) <= tol].real)
+        if len(real) > 1 and np.min(np.diff(real)) < 1e-6 * max(1.0, float(np.max(np.abs(real)))):
+            continue
+        mine = np.sort(_real_roots(c))
+        assert len(mine) == len(real) and np.allclose(mine, real, rtol=1e-9, atol=1e-12), c
+        checked += 1
+    assert checked > 2500
