@@ -27,6 +27,7 @@ import random
 import select
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 from pathlib import Path
@@ -194,76 +195,88 @@ class _Memory(threading.Thread):
 SERVICE_ROOT = ROOT  # --repo: the checkout whose service is fuzzed (to measure another version)
 
 
-def _start() -> subprocess.Popen:
+def _start(stderr) -> subprocess.Popen:
     env = {**os.environ, "PYTHONPATH": str(SERVICE_ROOT), "LC_ALL": "C.UTF-8", "PYTHONIOENCODING": "utf-8:strict"}
     return subprocess.Popen([sys.executable, "-m", "tools.cli", "recognize", "--stream", "-"], cwd=SERVICE_ROOT, env=env,
-                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, bufsize=0)
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=stderr, bufsize=0)
+
+
+def _answer(proc, t0: float, hang_s: float, buf: bytes) -> tuple[bytes | None, bytes, str]:
+    """The next answer line, the rest of the buffer, and "" or "hang" / "died"."""
+    while b"\n" not in buf:
+        ready, _, _ = select.select([proc.stdout], [], [], max(0.0, hang_s - (time.perf_counter() - t0)))
+        if not ready:
+            return None, buf, "hang"
+        chunk = os.read(proc.stdout.fileno(), 1 << 16)
+        if not chunk:
+            return None, buf, "died"
+        buf += chunk
+    answer, buf = buf.split(b"\n", 1)
+    return answer, buf, ""
 
 
 def run(n: int, seed: int, hang_s: float, progress) -> dict:
     lines = hostile_lines(n, seed)
     warm = _encode(_valid_requests(random.Random(seed), 1)[0]) + b"\n"
-    proc = _start()
-    proc.stdin.write(warm)  # the service's start-up (imports, first worker) is not a line's latency
-    proc.stdout.readline()
-    mem = _Memory(proc.pid)
-    mem.start()
     stats = {"lines": len(lines), "recognized": 0, "errors": 0, "cut_off": 0, "crashes": 0, "hangs": 0,
-             "bad_answers": 0, "latency": [], "worst": ("", 0.0)}
-    buf = b""
-    t_all = time.perf_counter()
-    for i, (kind, raw) in enumerate(lines):
-        if proc.poll() is not None:
-            stats["crashes"] += 1
-            proc = _start()
-            proc.stdin.write(warm)
-            proc.stdout.readline()
-            mem.pid = proc.pid
-            buf = b""
-        t0 = time.perf_counter()
-        try:
-            proc.stdin.write(raw + b"\n")
-        except BrokenPipeError:
-            continue
-        while b"\n" not in buf:
-            ready, _, _ = select.select([proc.stdout], [], [], max(0.0, hang_s - (time.perf_counter() - t0)))
-            if not ready:
-                stats["hangs"] += 1
+             "bad_answers": 0, "latency": [], "worst": ("", 0.0), "crash_kinds": {}, "hang_kinds": {}}
+    with tempfile.TemporaryFile() as errlog:
+
+        def start():
+            p = _start(errlog)
+            p.stdin.write(warm)  # start-up (imports, first worker) is not a line's latency
+            p.stdout.readline()
+            return p
+
+        proc = start()
+        mem = _Memory(proc.pid)
+        mem.start()
+        buf = b""
+        t_all = time.perf_counter()
+        for i, (kind, raw) in enumerate(lines):
+            t0 = time.perf_counter()
+            try:
+                proc.stdin.write(raw + b"\n")
+                answer, buf, fault = _answer(proc, t0, hang_s, buf)
+            except BrokenPipeError:
+                answer, fault = None, "died"
+            if fault:
+                key = "hangs" if fault == "hang" else "crashes"
+                stats[key] += 1
+                kinds = stats["hang_kinds" if fault == "hang" else "crash_kinds"]
+                kinds[kind] = kinds.get(kind, 0) + 1
                 proc.kill()
-                break
-            chunk = os.read(proc.stdout.fileno(), 1 << 16)
-            if not chunk:
-                break  # died: counted as a crash at the next line
-            buf += chunk
-        if b"\n" not in buf:
-            continue
-        answer, buf = buf.split(b"\n", 1)
-        dt = time.perf_counter() - t0
-        stats["latency"].append(dt)
-        if dt > stats["worst"][1]:
-            stats["worst"] = (kind, dt)
-        try:
-            obj = json.loads(answer)
-        except ValueError:
-            stats["bad_answers"] += 1
-            continue
-        if "error" in obj:
-            stats["cut_off" if "cut off" in obj["error"] else "errors"] += 1
-        elif "class" in obj:
-            stats["recognized"] += 1
-        else:
-            stats["bad_answers"] += 1
-        if progress and (i + 1) % 500 == 0:
-            progress(f"{i + 1}/{len(lines)} lines, {time.perf_counter() - t_all:.0f} s")
-    proc.stdin.close()
-    err = proc.stderr.read().decode("utf-8", "replace")
-    rc = proc.wait(timeout=30)
-    mem.stop.set()
-    mem.join()
-    if rc != 0 or "Traceback" in err:
+                proc.wait()
+                proc, buf = start(), b""
+                mem.pid = proc.pid
+                continue
+            dt = time.perf_counter() - t0
+            stats["latency"].append(dt)
+            if dt > stats["worst"][1]:
+                stats["worst"] = (kind, dt)
+            try:
+                obj = json.loads(answer)
+            except ValueError:
+                stats["bad_answers"] += 1
+                continue
+            if isinstance(obj, dict) and "error" in obj:
+                stats["cut_off" if "cut off" in obj["error"] else "errors"] += 1
+            elif isinstance(obj, dict) and "class" in obj:
+                stats["recognized"] += 1
+            else:
+                stats["bad_answers"] += 1
+            if progress and (i + 1) % 500 == 0:
+                progress(f"{i + 1}/{len(lines)} lines, {time.perf_counter() - t_all:.0f} s")
+        proc.stdin.close()
+        rc = proc.wait(timeout=60)
+        mem.stop.set()
+        mem.join()
+        errlog.seek(0)
+        err = errlog.read().decode("utf-8", "replace")
+    if rc != 0:
         stats["crashes"] += 1
     stats.update(wall_s=time.perf_counter() - t_all, service_mb=mem.service_kb / 1024, worker_mb=mem.worker_kb / 1024,
-                 stderr=err.strip().splitlines()[-3:])
+                 tracebacks=err.count("Traceback"), stderr=err.strip().splitlines()[-3:])
     return stats
 
 
@@ -282,15 +295,16 @@ def main(argv=None) -> int:
     print(f"lines sent            {s['lines']} (seed {args.seed}) to one tactile recognize --stream")
     print(f"answers               {len(lat)}: {s['recognized']} recognitions, {s['errors']} errors, "
           f"{s['cut_off']} cut off by the timeout, {s['bad_answers']} not JSON / neither")
-    print(f"crashes               {s['crashes']}")
-    print(f"hangs (> {args.hang_s:g} s)       {s['hangs']}")
+    print(f"crashes               {s['crashes']} (tracebacks on stderr: {s['tracebacks']})"
+          + (f": {s['crash_kinds']}" if s["crash_kinds"] else ""))
+    print(f"hangs (> {args.hang_s:g} s)       {s['hangs']}" + (f": {s['hang_kinds']}" if s["hang_kinds"] else ""))
     print(f"peak memory (RSS)     service {s['service_mb']:.0f} MB, worker {s['worker_mb']:.0f} MB")
     print(f"latency per line      median {np.median(lat):.2f} ms, p99 {np.percentile(lat, 99):.1f} ms, "
           f"worst {lat.max():.0f} ms ({s['worst'][0]})")
     print(f"wall time             {s['wall_s']:.0f} s")
     if s["stderr"]:
         print("stderr tail:", *s["stderr"], sep="\n  ")
-    return 0 if s["crashes"] == 0 and s["hangs"] == 0 and s["bad_answers"] == 0 else 1
+    return 0 if s["crashes"] == s["hangs"] == s["bad_answers"] == s["tracebacks"] == 0 else 1
 
 
 if __name__ == "__main__":
