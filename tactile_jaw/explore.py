@@ -40,6 +40,9 @@ from tactile_jaw.plan import (
 )
 from tactile_jaw.settings import ExploreSettings
 
+#: a finger whose last this many touches fell on corners or closing segments stops touching:
+#: its side of the object is not the curved part, and the touch budget goes to the others
+OFF_CURVE_RETIRE = 2
 #: a transit turns along the workspace edge in steps of at most this many degrees
 EDGE_TURN_STEP_DEG = 15.0
 #: largest turn (rad) and shift (mm) per cycle of a transit outside the workspace disk
@@ -204,10 +207,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 + (f"pad face {u:.1f} mm from its proximal end" if u is not None else
                    probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
+    off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
     while len(out.touches) < settings.touches:
         plans, spent = {}, {}
         budget = settings.touches - len(out.touches)
-        for f in cfg.fingers[:budget]:
+        for f in [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]:
             psi = choose_psi(f, model, settings, used[f.name])
             if psi is None:
                 message = (f"{f.name}: no untouched pad orientation left for which the felt lines predict a "
@@ -226,6 +230,12 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             felt = feel(cfg, results[name], settings.samples_per_touch)
             touch, problem = felt.touch, felt.problem
             out.touches.append(felt)
+            off_curve[name] = off_curve[name] + 1 if felt.off_curve else 0
+            if off_curve[name] == OFF_CURVE_RETIRE:
+                message = (f"{name}: its last {OFF_CURVE_RETIRE} touches fell on corners or closing segments: "
+                           f"no more touches with this finger")
+                emit({"type": "event", "kind": "finger_retired", "message": message})
+                say(message)
             if problem is None:
                 out.used.append(felt)
                 model.add([s.psi_measured for s in touch.samples], [s.d for s in touch.samples])

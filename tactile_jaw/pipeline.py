@@ -50,6 +50,7 @@ class FeltTouch:
     problem: str | None  # why the touch cannot be used, or None
     samples: SamplesTouch | None  # the recognizer's samples touch when usable
     fit: EnvelopeFit | None = None  # the envelope fit's curvature, radius and smoothness
+    off_curve: bool = False  # it fell on a corner or across a closing segment (off_curve_reason)
 
     @property
     def finger(self) -> str:
@@ -85,12 +86,12 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         ticks = np.array([s.ticks for s in touch.samples], dtype=float)
         lines = kin.finger_pad_line_from_ticks(config, finger, ticks)
 
-    def out(problem, contacts=None, pad_u=None, fit=None):
+    def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False):
         samples_touch = None
         if problem is None and fit is not None:
             samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
                                          curvature=(fit.kappa, fit.kappa_s, fit.cov))
-        return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit)
+        return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve)
 
     cut_short = touch.outcome in CUT_SHORT
     if touch.outcome != "ok" and not cut_short:
@@ -108,7 +109,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         fit = fit_envelope(f, kin.ticks_to_angles(f.joints, ticks))
         off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)))
         if off_curve is not None:
-            return out(f"{finger}: {off_curve}", c, u, fit)
+            return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True)
     if np.any(np.diff(c.s) <= 0.0):
         return out(f"{finger}: arc length not increasing: the pad rolled on an edge or corner", c, u, fit)
     length = f.pad.length_mm

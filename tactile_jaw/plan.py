@@ -22,6 +22,13 @@ from tactile_jaw.settings import ExploreSettings
 
 #: a rolling touch starts this far (mm) outside the predicted tangent line
 APPROACH_MARGIN_MM = 10.0
+#: a planned roll's lines must be reachable this far (mm) beyond the predicted tangent: a
+#: re-approach reaches at most 2·1 + 3 − 1 = 4 mm past the last contact's line (hand_driver.
+#: motion.rolling_touch); the first approach travels APPROACH_MARGIN_MM beyond it where it
+#: can and ends `unreachable` where it cannot (was APPROACH_MARGIN_MM: that ruled out the
+#: orientations at the edge of a finger's reach, e.g. left pad normals −68…−63° on the
+#: parabola example)
+PLAN_OVERSHOOT_MM = 4.0
 #: rolling touches are planned at pad normals within ± CANDIDATE_SPREAD_DEG of the pad's
 #: normal at zero joint angles, every CANDIDATE_STEP_DEG
 CANDIDATE_SPREAD_DEG = 75.0
@@ -97,7 +104,7 @@ def nominal_psi(finger) -> float:
 def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings) -> bool:
     """Every roll orientation around ψ has a predicted tangent (:meth:`ObjectModel.tangent`)
     that puts the pad on it, with the predicted contact on the pad, inside the joint
-    limits, and also ``APPROACH_MARGIN_MM`` beyond it; the edge line is reachable."""
+    limits, and also ``PLAN_OVERSHOOT_MM`` beyond it; the edge line is reachable."""
     length = finger.pad.length_mm
     for a in roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]:
         predicted = model.tangent(float(a))
@@ -106,7 +113,7 @@ def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings) 
         d, p = predicted
         try:
             kin.ik_line(finger, float(a), d, contact=p, margin_rad=LIMIT_MARGIN_RAD)
-            kin.ik_line(finger, float(a), d + APPROACH_MARGIN_MM, margin_rad=LIMIT_MARGIN_RAD)
+            kin.ik_line(finger, float(a), d + PLAN_OVERSHOOT_MM, margin_rad=LIMIT_MARGIN_RAD)
             kin.ik_line(finger, float(a), model.edge(float(a)), margin_rad=LIMIT_MARGIN_RAD)
         except kin.Unreachable:
             return False
