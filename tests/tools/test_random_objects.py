@@ -63,3 +63,20 @@ def test_random_objects_are_valid_and_face_the_fingers():
     a = random_scene("parabola", np.random.default_rng(3), CFG)
     b = random_scene("parabola", np.random.default_rng(3), CFG)
     assert a == b and a["classes"] == list(CLASSES)
+
+
+@pytest.mark.parametrize("cls", CLASSES)
+def test_example_scenes_stay_reachable_moved_turned_resized(cls):
+    """Each example moved 5 mm, turned 6° and resized 10 % (the corners of that box) stays
+    clear of the opened jaw and keeps its curved part facing a finger (a line: touchable flat)."""
+    q_open = open_pose(CFG)
+    raw = example_object(cls)
+    pose = raw["pose"]
+    theta = pose.get("theta", math.radians(pose.get("theta_deg", 0.0)))
+    for dx, dy, dth, k in [(5, 5, 6, 1.1), (-5, -5, -6, 0.9), (5, -5, -6, 1.1), (-5, 5, 6, 0.9),
+                           (5, 5, -6, 0.9), (-5, -5, 6, 1.1)]:
+        moved = {**scaled(raw, k), "pose": {"theta": theta + math.radians(dth), "x": pose["x"] + dx, "y": pose["y"] + dy}}
+        obj = load_scene({"object": moved}).object
+        assert not ContactWorld(CFG, obj).penetrates(q_open), (dx, dy, dth, k)
+        spans = [v for v in facing_deg(CFG, obj, q_open).values() if not math.isnan(v)]
+        assert spans and (cls == "line" or max(spans) >= 40.0), (dx, dy, dth, k, spans)
