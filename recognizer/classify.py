@@ -81,20 +81,27 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
 
 
 def options_for(request: Request, overrides: dict | None = None) -> RecognizeOptions:
-    """RecognizeOptions of a request: ``overrides`` (e.g. command-line flags) > the request's
-    explicit options > the request's profile > the scene's profile
-    (recognizer.profiles.resolve_options); defaults for whatever none of them sets."""
+    """RecognizeOptions of a request: ``overrides`` (command-line flags; a ``profile`` there
+    sets all of that profile's options) > the request's explicit options > the request's
+    profile > the scene's profile > ``DEFAULT_PROFILE`` (``balanced``) for a request with
+    samples-touches (or none yet); a request of contacts only keeps the invariants-only
+    defaults (``RecognizeOptions``)."""
     from tactile_common.errors import InputError
-    from recognizer.profiles import resolve_options
+    from recognizer.profiles import DEFAULT_PROFILE, get_profile, resolve_options
 
-    opts = resolve_options(request.options, request.scene)
-    opts.update(overrides or {})
+    overrides = dict(overrides or {})
+    contacts_only = bool(request.touches) and all(isinstance(t, ContactTouch) for t in request.touches)
+    opts = resolve_options(request.options, request.scene, None if contacts_only else DEFAULT_PROFILE)
+    flag_profile = overrides.pop("profile", None)
+    if flag_profile is not None:
+        opts.update(get_profile(flag_profile, "--profile").options())
+    opts.update(overrides)
     alpha = float(opts.get("alpha", 1e-3))
     if not 0.0 < alpha < 0.5:
         raise InputError(f"alpha: must be in (0, 0.5), got {alpha}")
-    profile = opts.get("profile") or (request.scene.profile if request.scene is not None else None)
     return RecognizeOptions(estimator=opts.get("estimator", "auto"), refine=bool(opts.get("refine", False)),
-                            alpha=alpha, noise=request.noise, profile=profile)
+                            alpha=alpha, noise=request.noise, profile=opts.get("profile"),
+                            reach=request.options.get("reach"))
 
 
 def _pair_invariants(d: Contacts) -> dict:
@@ -213,7 +220,7 @@ def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: 
 def recognize(request: Request, options: RecognizeOptions | None = None) -> Recognition:
     """Recognize the class, parameters, pose and contacts from a validated request."""
     t0 = time.perf_counter()
-    options = options or RecognizeOptions()
+    options = options or options_for(request)
     d = contacts_of(request, options)
     t_est = time.perf_counter()
     cands: list[Candidate] = []

@@ -127,14 +127,16 @@ def get_profile(name: str, where: str = "profile") -> Profile:
     return PROFILES[name]
 
 
-def resolve_options(options: Mapping[str, Any] | None = None, scene: Any = None) -> dict:
+def resolve_options(options: Mapping[str, Any] | None = None, scene: Any = None, default: str | None = None) -> dict:
     """RecognizeOptions keywords for a request: its ``options.profile`` (else the scene's
-    ``profile``) sets estimator, refine and alpha; keys given explicitly in ``options``
-    override the profile's. Without any profile the options pass through unchanged."""
+    ``profile``, else ``default``) sets estimator, refine and alpha; keys given explicitly
+    in ``options`` override the profile's. Without any profile the options pass through
+    unchanged."""
     options = dict(options or {})
-    name = options.get("profile") or getattr(scene, "profile", None)
+    name = options.get("profile") or getattr(scene, "profile", None) or default
     if name is None:
         return options
-    out = get_profile(name, "options.profile" if options.get("profile") else "scene profile").options()
+    where = "options.profile" if options.get("profile") else "scene profile" if getattr(scene, "profile", None) else "profile"
+    out = get_profile(name, where).options()
     out.update({k: v for k, v in options.items() if k != "profile"})
     return out

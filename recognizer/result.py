@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from recognizer.curves import CURVES, Pose
-from recognizer.touches import NoiseModel
+from recognizer.touches import NoiseModel, Reach
 
 __all__ = ["Recognition", "Ranked", "Candidate", "RecognizeOptions"]
 
@@ -19,13 +19,15 @@ class RecognizeOptions:
     ``refine`` (least squares over every sample, recognizer.refine), ``alpha`` the
     false-rejection rate of each χ² consistency test, ``noise`` the measurement noise
     (None: exact contacts; a default for samples-touches, docs/recognition.md), ``profile`` a name
-    of recognizer.profiles.PROFILES or None."""
+    of recognizer.profiles.PROFILES or None, ``reach`` the hand-frame disk the robot can
+    touch (``next_touch`` stays inside it) or None."""
 
     estimator: str = "auto"
     refine: bool = False
     alpha: float = 1e-3
     noise: NoiseModel | None = None
     profile: str | None = None
+    reach: Reach | None = None
 
 
 @dataclass

@@ -5,7 +5,7 @@ A request is ``{"scene": path|mapping (optional), "touches": [...], "noise": {..
 equal lengths, >= 3 samples) or ``{"contact": {x, y, phi, kappa, kappa_s}}`` with
 optional ``cov`` (2×2 covariance of κ, κ_s) or ``sigma_kappa`` / ``sigma_kappa_s``.
 Extensions: top-level ``noise: {phi: rad, pos: mm}`` and ``options: {refine, estimator,
-profile, alpha}``. Every problem raises a one-line :class:`InputError`.
+profile, alpha, reach: {x, y, radius}}``. Every problem raises a one-line :class:`InputError`.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ import numpy as np
 from recognizer import limits
 from tactile_common.errors import InputError
 
-__all__ = ["NoiseModel", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
+__all__ = ["NoiseModel", "Reach", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
            "MIN_TOUCHES", "check_touch_count"]
 
 #: touches a class needs before its invariants can be cross-checked (>= 2 pairs for the
@@ -32,7 +32,7 @@ MIN_TOUCHES: dict[str, int] = {
 _TOP_KEYS = {"scene", "touches", "noise", "options", "meta"}
 _SAMPLE_KEYS = {"phi", "x", "y", "s", "finger", "meta"}
 _CONTACT_KEYS = {"x", "y", "phi", "kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s"}
-_OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float}
+_OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float, "reach": dict}
 ESTIMATORS = ("auto", "central", "poly")
 
 
@@ -57,6 +57,38 @@ class NoiseModel:
         if self.pos_along is not None:
             out["pos_along"] = self.pos_along
         return out
+
+
+@dataclass(frozen=True)
+class Reach:
+    """Where the robot can touch: a hand-frame disk (mm) around (x, y) of ``radius``."""
+
+    x: float
+    y: float
+    radius: float
+
+    def contains(self, px, py):
+        return np.hypot(np.asarray(px, float) - self.x, np.asarray(py, float) - self.y) <= self.radius
+
+    def to_json(self) -> dict:
+        return {"x": self.x, "y": self.y, "radius": self.radius}
+
+
+def parse_reach(raw, where: str = "options.reach") -> Reach:
+    """A reach disk {x, y, radius}: finite numbers, radius > 0."""
+    if not isinstance(raw, Mapping):
+        raise InputError(f"{where}: must be a mapping {{x: mm, y: mm, radius: mm}}")
+    extra = sorted(map(str, set(raw) - {"x", "y", "radius"}))
+    if extra:
+        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: x, y, radius")
+    vals = {}
+    for k in ("x", "y", "radius"):
+        if k not in raw:
+            raise InputError(f"{where}: missing key {k!r} (a reach is {{x, y, radius}})")
+        vals[k] = _num(raw[k], f"{where}.{k}")
+    if vals["radius"] <= 0:
+        raise InputError(f"{where}.radius: must be > 0, got {vals['radius']}")
+    return Reach(**vals)
 
 
 @dataclass(frozen=True)
@@ -202,6 +234,8 @@ def _parse_options(raw, where: str = "options") -> dict:
             raise InputError(f"{where}.{k}: must be a string")
         if _OPTION_KEYS[k] is float:
             v = _num(v, f"{where}.{k}")
+        if _OPTION_KEYS[k] is dict:
+            v = parse_reach(v, f"{where}.{k}")
         out[k] = v
     if "estimator" in out and out["estimator"] not in ESTIMATORS:
         raise InputError(f"{where}.estimator: unknown {out['estimator']!r}; allowed: {', '.join(ESTIMATORS)}")

@@ -17,6 +17,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--stream", action="store_true",
                         help="recognition service: one request per line in, one compact JSON answer per line out")
     parser.add_argument("--json", action="store_true", help="accepted for symmetry: the output is always JSON")
+    parser.add_argument("--profile", choices=("fast", "balanced", "accurate"), default=None,
+                        help="speed/accuracy profile (estimator, refinement, alpha); default: the request's, else "
+                             "its scene's, else balanced for samples-touches (contacts only: invariants, no refinement)")
     parser.add_argument("--refine", action="store_true", help="least-squares refinement over every sample")
     parser.add_argument("--estimator", choices=("auto", "central", "poly"), default=None,
                         help="kappa, kappa_s estimator for samples-touches (default: the request's, else auto)")
@@ -28,11 +31,13 @@ def add_arguments(parser) -> None:
 
 
 def _options(args, request):
-    """Explicit command-line options > the request's options > its profile > the scene's
-    profile (recognizer.classify.options_for)."""
+    """Explicit command-line options (--profile sets all of its profile's) > the request's
+    options > its profile > the scene's profile > balanced for samples-touches
+    (recognizer.classify.options_for)."""
     from recognizer.classify import options_for
 
-    cli = {"estimator": args.estimator, "alpha": args.alpha, "refine": True if args.refine else None}
+    cli = {"profile": args.profile, "estimator": args.estimator, "alpha": args.alpha,
+           "refine": True if args.refine else None}
     return options_for(request, {k: v for k, v in cli.items() if v is not None})
 
 

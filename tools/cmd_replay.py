@@ -42,7 +42,10 @@ def run(args) -> int:
         raise InputError(f"{args.log}: line 1: header settings lack touches/samples_per_touch/roll_span_deg") from None
     touches = logged_touches(config, contents, settings)
     if args.touches:
-        request = {"scene": header.get("scene"), "touches": [t.to_json() for t in touches], "noise": header["settings"].get("noise", TOUCH_NOISE)}
+        # the run's recognizer options (its profile's) travel with the touches: tactile recognize
+        # then answers with the same settings as this replay
+        request = {"scene": header.get("scene"), "touches": [t.to_json() for t in touches],
+                   "noise": header["settings"].get("noise", TOUCH_NOISE), "options": dict(settings.recognize)}
         atomic_write(args.touches, json.dumps(request), flag="--touches")
     if not touches:
         raise InputError(f"{args.log}: no usable touch in the log ({len(contents.touches)} touches logged)")

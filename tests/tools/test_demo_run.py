@@ -82,6 +82,21 @@ def test_replay_reproduces_the_demo(demo):
     assert rc == 0 and out.startswith("recognized: ellipse")
 
 
+def test_replay_touches_recognize_the_same(demo, tmp_path):
+    """The request replay --touches writes carries the run's options: tactile recognize on it
+    answers what replay answered (class and parameters)."""
+    req = tmp_path / "touches.json"
+    rc, out, err = _run(["replay", str(demo["log"]), "--json", "--touches", str(req)])
+    assert rc == 0, err
+    replayed = json.loads(out)
+    assert json.loads(req.read_text())["options"]["profile"] == "balanced"
+    rc, out, err = _run(["recognize", str(req)])
+    assert rc == 0, err
+    answer = json.loads(out)
+    assert answer["class"] == replayed["class"] == "ellipse"
+    assert answer["params"] == pytest.approx(replayed["params"], rel=1e-12)
+
+
 def test_truth_lines_report_relative_error(demo):
     lines = truth_lines(json.loads(demo["out"]), TRUTH)
     assert lines[0].startswith("true:       ellipse a=28.000 b=17.000")

@@ -104,3 +104,40 @@ def test_samples_touches_recognized_with_estimator():
 
     ans = recognize(parse_request({"touches": touches, "scene": {"classes": ["line", "circle", "ellipse"]}})).to_json()
     assert ans["class"] == "circle" and ans["params"]["r"] == pytest.approx(20, rel=1e-3)
+
+
+SAMPLES_REQ = {"touches": [{"phi": (t + np.pi / 2).tolist(), "x": (100 + 20 * np.cos(t)).tolist(),
+                            "y": (20 * np.sin(t)).tolist()}
+                           for t in (t0 + np.linspace(-0.05, 0.05, 9) for t0 in (0.2, 1.6, 3.0))]}
+
+
+@pytest.mark.parametrize("flags,refine,profile", [([], True, "balanced"), (["--profile", "fast"], False, "fast"),
+                                                  (["--profile", "accurate"], True, "accurate")])
+def test_profile_flag_and_samples_default(flags, refine, profile):
+    """Samples-touches get the balanced profile unless a flag (or the request, or its scene)
+    says otherwise; --profile sets every option of its profile."""
+    from tools.cli import build_parser
+    from tools.cmd_recognize import _options
+
+    args = build_parser().parse_args(["recognize", *flags, "-"])
+    opts = _options(args, parse_request(SAMPLES_REQ))
+    assert opts.refine is refine and opts.profile == profile
+
+
+@pytest.mark.parametrize("reach,msg", [({"x": 1, "y": 2, "radius": 0}, "radius: must be > 0"),
+                                       ({"x": 1, "y": 2, "radius": -3}, "radius: must be > 0"),
+                                       ({"x": float("nan"), "y": 2, "radius": 3}, "finite"),
+                                       ({"x": 1, "y": float("inf"), "radius": 3}, "finite"),
+                                       ({"x": 1, "y": 2}, "missing key 'radius'"),
+                                       ({"x": 1, "y": 2, "radius": 3, "z": 0}, "unknown key"),
+                                       ([1, 2, 3], "must be a mapping")])
+def test_bad_reach_is_bad_input(reach, msg):
+    with pytest.raises(InputError, match=msg):
+        parse_request({**SAMPLES_REQ, "options": {"reach": reach}})
+
+
+def test_bad_reach_exits_2_one_line():
+    payload = json.dumps({**SAMPLES_REQ, "options": {"reach": {"x": 100, "y": 0, "radius": -1}}})
+    r = subprocess.run([sys.executable, "-m", "tools.cli", "recognize", "-"], input=payload, text=True,
+                       capture_output=True, cwd=ROOT, timeout=60)
+    assert r.returncode == 2 and r.stdout == "" and r.stderr.count("\n") == 1 and "radius" in r.stderr
