@@ -32,7 +32,8 @@ from recognizer import invariants as inv
 from recognizer.contacts import EPS_FLOOR, Contacts
 from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start
 from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
-from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request
+from recognizer.next_touch import next_touch
+from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request, SamplesTouch
 
 __all__ = ["recognize", "contacts_of", "options_for", "DEFAULT_SAMPLES_NOISE"]
 
@@ -252,15 +253,31 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
     consistent = [c for c in cands if c.consistent]
     ranking = sorted(cands, key=lambda c: (not c.consistent, c.bic))
     ranked = [Ranked(c.cls, c.consistent, c.chi2, c.dof, c.bic, c.p_value) for c in ranking]
-    timing = {"estimate_ms": 1e3 * (t_est - t0), "total_ms": 1e3 * (time.perf_counter() - t0)}
+    timing = {"estimate_ms": 1e3 * (t_est - t0)}
     if not consistent:
         pairs = _pair_invariants(d)
         reason = _unclassified_reason(cands, skipped, pairs, d)
+        leader = min(cands, key=lambda c: c.chi2 / chi2_limit(options.alpha, c.dof), default=None)
+        nxt = _suggest(request, options, cands, leader, d, timing)
         timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
-                           {}, reason, ranked, timing)
+                           {}, reason, ranked, timing, nxt)
     best = choose(consistent)
     pairs = _pair_invariants(d) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
+    nxt = _suggest(request, options, cands, best, d, timing)
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, d, pairs),
-                       dict(best.uncertainty), None, ranked, timing)
+                       dict(best.uncertainty), None, ranked, timing, nxt)
+
+
+def _suggest(request: Request, options: RecognizeOptions, cands: list[Candidate], leader: Candidate | None,
+             d: Contacts, timing: dict) -> dict | None:
+    """recognizer.next_touch for a request with samples-touches (None otherwise)."""
+    sizes = [len(t.phi) for t in request.touches if isinstance(t, SamplesTouch)]
+    if not sizes or leader is None:
+        return None
+    t0 = time.perf_counter()
+    noise = options.noise or request.noise or DEFAULT_SAMPLES_NOISE
+    out = next_touch(cands, leader, d, noise, int(np.median(sizes)), options.reach)
+    timing["next_touch_ms"] = 1e3 * (time.perf_counter() - t0)
+    return out

@@ -69,9 +69,12 @@ _POSITIVE = {"circle": ("r",), "ellipse": ("a", "b"), "parabola": ("a",), "hyper
 class RefinedCandidate(Candidate):
     """A Candidate after refinement: ``cov`` the covariance of the shape parameters (in
     ``param_names`` order), ``t_samples`` the fitted t of every sample per touch,
-    ``sigma`` the σ_φ and σ_pos used, ``nfev`` the function evaluations."""
+    ``sigma`` the σ_φ and σ_pos used, ``nfev`` the function evaluations, ``cov_pose`` the
+    covariance of (shape parameters, θ, x, y) together (what recognizer.next_touch
+    propagates to predicted touches)."""
 
     cov: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    cov_pose: np.ndarray | None = None
     t_samples: list = field(default_factory=list)
     sigma: dict = field(default_factory=dict)
     nfev: int = 0
@@ -387,6 +390,30 @@ def _residual_sigmas(problem: _Problem, z: np.ndarray, scale: float) -> tuple[fl
             max(math.sqrt(float(rf @ rf) / dof_phi), SIGMA_FLOOR_PHI))
 
 
+def _shape_pose_cov(problem: _Problem, cls: str, z: np.ndarray, cov_z: np.ndarray) -> np.ndarray:
+    """Covariance of the canonical (shape parameters, θ, x, y) from the unknowns' covariance:
+    T·C·Tᵀ with T the forward-difference Jacobian of that vector in the shape and pose
+    unknowns (log parameters, the circle's and line's gauges, the ellipse's axis swap)."""
+    ng = problem.n_glob
+
+    def vec(zz: np.ndarray) -> np.ndarray:
+        params, pose, t = problem.unpack(zz)
+        params, pose, _, _ = _canonical(cls, params, pose, t)
+        return np.array([params[nm] for nm in CURVES[cls].param_names] + [pose.theta, pose.x, pose.y])
+
+    v0 = vec(z)
+    T = np.zeros((v0.size, ng))
+    for i in range(ng):
+        h = 1e-7 * max(abs(z[i]), 1.0)
+        zp = z.copy()
+        zp[i] += h
+        d = vec(zp) - v0
+        d[-3] = _wrap(d[-3])
+        T[:, i] = d / h
+    with np.errstate(over="ignore", invalid="ignore"):
+        return T @ cov_z[:ng, :ng] @ T.T
+
+
 def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, alpha: float = 1e-3) -> RefinedCandidate:
     """Refine one candidate over every sample of ``touches`` (see module docstring)."""
     cls = candidate.cls
@@ -473,7 +500,8 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
                             f"(p = {p_value:.2g} < α = {alpha:g})")
     elif fields["consistent"]:
         fields["reason"] = None
-    return RefinedCandidate(**fields, cov=cov_p, t_samples=t_samples,
+    cov_pose = _shape_pose_cov(problem, cls, z, cov_z)
+    return RefinedCandidate(**fields, cov=cov_p, cov_pose=cov_pose, t_samples=t_samples,
                             sigma={"phi": float(sig_phi), "pos": float(sig_pos)}, nfev=nfev)
 
 

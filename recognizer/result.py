@@ -106,6 +106,7 @@ class Recognition:
     reason: str | None = None
     ranking: list[Ranked] = field(default_factory=list)  # every fitted class, best first
     timing: dict = field(default_factory=dict)
+    next_touch: dict | None = None  # recognizer.next_touch: where one more touch tells most
 
     def to_json(self) -> dict:
         out = {
@@ -116,6 +117,7 @@ class Recognition:
             "invariants": _clean(self.invariants),
             "uncertainty": _clean(self.uncertainty),
             "reason": self.reason,
+            "next_touch": _clean(self.next_touch),
         }
         out["ranking"] = _clean([r.to_json() for r in self.ranking])
         if self.timing:

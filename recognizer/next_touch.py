@@ -1,0 +1,238 @@
+"""Where one more touch tells the most (CONTRACTS §3 ``next_touch``).
+
+The candidates are the classes fitted to the touches, each with its parameters, pose and
+their joint covariance C (recognizer.refine; the stated σ's of an unrefined fit), weighted
+w ∝ exp(−BIC/2). Places on the leading candidate's curve (the answer, else the class of
+least χ² against its limit) are scored; a touch there measures, with its n samples, the
+boundary's offset across the tangent and its tangent angle, with noise
+R = diag(σ_pos², σ_φ²)/n. Every candidate predicts that measurement: its curve's closest
+point to the place, the offset along the leader's normal and the tangent angle there
+(mod π), with the predictive covariance P = G·C·Gᵀ (G by forward differences of the
+prediction in the shape parameters and the pose).
+
+Expected information gain (nats) of a place:
+- classes: for each other candidate c, χ²_c = Δᵀ(R + P_ℓ + P_c)⁻¹Δ is the expected
+  separation of the two predictions Δ; the pair's class entropy (w_ℓ + w_c)·H(w_ℓ/(w_ℓ + w_c))
+  is resolved in proportion 1 − exp(−χ²_c/8) (the Bhattacharyya bound on the error of
+  telling two Gaussians apart);
+- parameters: w_ℓ · ½ ln det(I + R⁻¹P_ℓ), the entropy the leader's parameters and pose
+  lose (the determinant lemma for the linearized update C' = C − C Gᵀ(GCGᵀ + R)⁻¹GC).
+
+Greedy: the place of largest gain is suggested (one touch at a time; adaptive-submodular
+selection, so greedy is near-optimal). A place helps when its class gain is at least
+``CLASS_GAIN_MIN`` nats or it shrinks the leader's largest relative parameter σ by at least
+``SHRINK_MIN`` while that σ is above ``REL_SIGMA_ENOUGH``; ``None`` when no place helps.
+Places: the leader's curve over its touched span widened by the span on each side (a closed
+curve all round), no farther than the touches' extent from the nearest touch, inside
+``options.reach`` when given.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+
+from recognizer.contacts import Contacts
+from recognizer.curves import CURVES, Pose
+from recognizer.result import Candidate
+from recognizer.touches import NoiseModel, Reach
+
+__all__ = ["next_touch", "CLASS_GAIN_MIN", "SHRINK_MIN", "REL_SIGMA_ENOUGH"]
+
+CLASS_GAIN_MIN = 0.01
+"""nats of class entropy a touch must be expected to resolve to count as telling classes apart."""
+SHRINK_MIN = 1.1
+"""factor by which the largest relative parameter σ must be expected to shrink."""
+REL_SIGMA_ENOUGH = 1e-3
+"""a largest relative parameter σ below this needs no further touch."""
+N_PLACES = 240
+N_DENSE = 1500
+MIN_WEIGHT = 1e-4
+
+
+def _wrap(a):
+    return np.remainder(np.asarray(a, float) + np.pi, 2 * np.pi) - np.pi
+
+
+def _wrap_half(a):
+    """Angle difference of two undirected lines, in [−π/2, π/2)."""
+    return np.remainder(np.asarray(a, float) + np.pi / 2, np.pi) - np.pi / 2
+
+
+def _posed(cls: str, vec: np.ndarray):
+    names = CURVES[cls].param_names
+    k = len(names)
+    return CURVES[cls]({n: float(v) for n, v in zip(names, vec[:k])}), Pose(*(float(v) for v in vec[k:k + 3]))
+
+
+def _vec(c: Candidate) -> np.ndarray:
+    names = CURVES[c.cls].param_names
+    return np.array([c.params[n] for n in names] + [c.pose.theta, c.pose.x, c.pose.y], float)
+
+
+def _cov(c: Candidate) -> np.ndarray:
+    """Joint covariance of (shape, θ, x, y): refine's, else the stated σ's (diagonal)."""
+    cov = getattr(c, "cov_pose", None)
+    names = CURVES[c.cls].param_names
+    if cov is None or cov.shape != (len(names) + 3,) * 2:
+        sig = [c.uncertainty.get(n, 0.0) or 0.0 for n in names] + \
+              [c.uncertainty.get(f"pose_{k}", 0.0) or 0.0 for k in ("theta", "x", "y")]
+        cov = np.diag(np.square(sig))
+    return np.where(np.isfinite(cov), cov, 0.0)
+
+
+def _t_span(c: Candidate, widen: float = 1.0, n: int = N_PLACES) -> np.ndarray:
+    curve = CURVES[c.cls]
+    t = np.asarray(c.t, float)
+    if curve.t_period is not None:
+        return np.linspace(-np.pi, np.pi, n, endpoint=False)
+    lo, hi = float(t.min()), float(t.max())
+    w = max(hi - lo, 1e-9)
+    return np.linspace(lo - widen * w, hi + widen * w, n)
+
+
+def _closest(curve, pose: Pose, t_dense: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
+    """t of the curve's point closest to each (px, py): the nearest dense sample, then two
+    Newton steps along the tangent."""
+    cx, cy = pose.apply(*curve.point(t_dense))
+    d2 = (px[:, None] - cx[None, :]) ** 2 + (py[:, None] - cy[None, :]) ** 2
+    t = t_dense[np.argmin(d2, axis=1)]
+    return _newton(curve, pose, t, px, py)
+
+
+def _newton(curve, pose: Pose, t: np.ndarray, px: np.ndarray, py: np.ndarray, steps: int = 2) -> np.ndarray:
+    for _ in range(steps):
+        qx, qy = pose.apply(*curve.point(t))
+        ang = np.asarray(curve.tangent_angle(t), float) + pose.theta
+        sp = np.asarray(curve.speed(t), float)
+        step = ((px - qx) * np.cos(ang) + (py - qy) * np.sin(ang)) / np.where(sp > 1e-12, sp, np.inf)
+        t_new = t + (np.clip(step, -0.5, 0.5) if curve.t_period is not None else step)
+        if curve.name == "semicubical_parabola":  # never across the cusp
+            t_new = np.where(np.sign(t_new) == np.sign(t), t_new, t)
+        t = np.where(np.isfinite(t_new), t_new, t)
+    return t
+
+
+def _measure(cls: str, vec: np.ndarray, t: np.ndarray, px, py, nx, ny, lead_phi) -> np.ndarray:
+    """(offset along the leader's normal, tangent angle − leader's mod π) of the posed curve
+    at its points t near the places (px, py)."""
+    curve, pose = _posed(cls, vec)
+    qx, qy = pose.apply(*curve.point(t))
+    ang = np.asarray(curve.tangent_angle(t), float) + pose.theta
+    return np.stack([(qx - px) * nx + (qy - py) * ny, _wrap_half(ang - lead_phi)], axis=-1)
+
+
+def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi):
+    """(mean (m, 2), covariance (m, 2, 2)) of candidate c's measurement at every place."""
+    vec, C = _vec(c), _cov(c)
+    curve, pose = _posed(c.cls, vec)
+    t = _closest(curve, pose, t_dense, px, py)
+    mean = _measure(c.cls, vec, t, px, py, nx, ny, lead_phi)
+    G = np.zeros(mean.shape + (vec.size,))
+    for i in range(vec.size):
+        if C[i, i] <= 0:
+            continue
+        h = 1e-6 * max(abs(vec[i]), 1e-3 * math.sqrt(C[i, i]), 1e-12)
+        vp = vec.copy()
+        vp[i] += h
+        cp, pp = _posed(c.cls, vp)
+        tp = _newton(cp, pp, t, px, py, steps=1)
+        G[..., i] = (_measure(c.cls, vp, tp, px, py, nx, ny, lead_phi) - mean) / h
+    return mean, np.einsum("mai,ij,mbj->mab", G, C, G), G
+
+
+def _entropy2(p):
+    p = np.clip(p, 1e-300, 1.0)
+    q = np.clip(1.0 - p, 1e-300, 1.0)
+    return -(p * np.log(p) + q * np.log(q))
+
+
+def _direction(c: Candidate, d: Contacts) -> int:
+    curve = c.curve()
+    ang = np.asarray(curve.tangent_angle(np.asarray(c.t, float)), float) + c.pose.theta
+    return 1 if float(np.sum(np.cos(d.phi - ang))) >= 0 else -1
+
+
+def next_touch(cands: Sequence[Candidate], leader: Candidate, d: Contacts, noise: NoiseModel,
+               samples: int, reach: Reach | None = None) -> dict | None:
+    """The suggested next touch (module docstring) or None when no touch helps."""
+    with np.errstate(all="ignore"):
+        return _next_touch(cands, leader, d, noise, samples, reach)
+
+
+def _next_touch(cands, leader, d, noise, samples, reach):
+    bic = np.array([c.bic for c in cands], float)
+    ok = np.isfinite(bic)
+    if not ok.any():
+        return None
+    w = np.where(ok, np.exp(-0.5 * (bic - bic[ok].min())), 0.0)
+    w /= w.sum()
+    lead_i = next(i for i, c in enumerate(cands) if c is leader)
+    others = [(c, w[i]) for i, c in enumerate(cands) if i != lead_i and w[i] > MIN_WEIGHT]
+    w_lead = max(float(w[lead_i]), MIN_WEIGHT)
+    # places on the leader's curve
+    curve = leader.curve()
+    t = _t_span(leader)
+    px, py = leader.pose.apply(*curve.point(t))
+    phi = np.asarray(curve.tangent_angle(t), float) + leader.pose.theta
+    keep = np.isfinite(px) & np.isfinite(py) & np.isfinite(phi)
+    if curve.t_period is None:
+        near = np.min(np.hypot(px[:, None] - d.x[None, :], py[:, None] - d.y[None, :]), axis=1)
+        keep &= near <= d.scale
+    if reach is not None:
+        keep &= reach.contains(px, py)
+    if not keep.any():
+        return None
+    t, px, py, phi = t[keep], px[keep], py[keep], phi[keep]
+    nx, ny = -np.sin(phi), np.cos(phi)
+    R = np.diag([max(noise.pos, 1e-12) ** 2, max(noise.phi, 1e-12) ** 2]) / max(samples, 1)
+    _, P_lead, G_lead = _prediction(leader, _t_span(leader, 1.0, N_DENSE), px, py, nx, ny, phi)
+    # parameters: entropy lost, and the shrink of the largest relative σ
+    Rinv = np.linalg.inv(R)
+    ig_param = 0.5 * np.log(np.linalg.det(np.eye(2)[None] + Rinv[None] @ P_lead))
+    C = _cov(leader)
+    k = len(CURVES[leader.cls].param_names)
+    shrink = np.ones(t.size)
+    rel_now = 0.0
+    if k:
+        vals = np.abs(_vec(leader)[:k])
+        rel = np.sqrt(np.clip(np.diag(C)[:k], 0, None)) / np.where(vals > 0, vals, 1.0)
+        i_max = int(np.argmax(rel))
+        rel_now = float(rel[i_max])
+        S = P_lead + R[None]
+        CG = np.einsum("ij,maj->mia", C, G_lead)  # C·Gᵀ per place
+        K = np.einsum("mia,mab->mib", CG, np.linalg.inv(S))
+        var_after = C[i_max, i_max] - np.einsum("mb,mb->m", K[:, i_max, :], CG[:, i_max, :])
+        shrink = math.sqrt(max(C[i_max, i_max], 0.0)) / np.sqrt(np.clip(var_after, 1e-300, None))
+    # classes
+    ig_class = np.zeros(t.size)
+    best_sep = {}
+    for c, wc in others:
+        mean_c, P_c, _ = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi)
+        S = R[None] + P_lead + P_c
+        chi2 = np.einsum("ma,mab,mb->m", mean_c, np.linalg.inv(S), mean_c)
+        chi2 = np.where(np.isfinite(chi2), chi2, 1e6)
+        ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0))
+        best_sep[c.cls] = chi2
+    gain = ig_class + w_lead * np.where(np.isfinite(ig_param), ig_param, 0.0)
+    helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
+    if not helps.any():
+        return None
+    j = int(np.argmax(np.where(helps, gain, -np.inf)))
+    direction = _direction(leader, d)
+    why = _why(leader, best_sep, j, ig_class[j], shrink[j], rel_now)
+    return {"x": float(px[j]), "y": float(py[j]), "phi": float(_wrap(phi[j] + (np.pi if direction < 0 else 0.0))),
+            "gain": float(gain[j]), "why": why}
+
+
+def _why(leader: Candidate, sep: dict, j: int, ig_class: float, shrink: float, rel_now: float) -> str:
+    parts = []
+    if ig_class >= CLASS_GAIN_MIN and sep:
+        cls, chi2 = max(((c, float(v[j])) for c, v in sep.items()), key=lambda kv: kv[1])
+        parts.append(f"tells {leader.cls} from {cls} (expected chi2 separation {chi2:.3g})")
+    if rel_now >= REL_SIGMA_ENOUGH and shrink >= SHRINK_MIN:
+        parts.append(f"shrinks the largest relative parameter uncertainty ({100 * rel_now:.2g} %) "
+                     f"by {shrink:.2g}x")
+    return "a touch here " + " and ".join(parts) if parts else "the most informative place left"

@@ -1,0 +1,64 @@
+"""next_touch: on the answered curve, in the request's direction, inside options.reach,
+null when no touch helps (exact data) and for contacts-only requests."""
+
+import math
+
+import numpy as np
+import pytest
+
+from recognizer import synth
+from recognizer.classify import recognize
+from recognizer.curves import CURVES, Pose
+from recognizer.result import RecognizeOptions
+from recognizer.touches import NoiseModel, Reach, Request, SamplesTouch, parse_request
+from tools.bench_recognizer import exact_request
+
+ELLIPSE = {"a": 40.0, "b": 22.0}
+POSE = Pose(0.4, 120.0, -10.0)
+
+
+def _request(ts, direction=1, noise=(1.5e-3, 0.05), reach=None, seed=3):
+    curve = CURVES["ellipse"](ELLIPSE)
+    shape = synth.Shape("ellipse", ELLIPSE, POSE, 80.0, (-math.pi, math.pi), curve)
+    nz = synth.SynthNoise(*noise) if noise else None
+    touches, _ = synth.sample_shape(shape, ts, 9, 1.5, direction, nz, np.random.default_rng(seed), with_s=not noise)
+    nm = NoiseModel(*noise) if noise else NoiseModel()
+    req = Request(tuple(SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, tuple(CURVES), nm,
+                  {"reach": reach} if reach else {})
+    return recognize(req, RecognizeOptions(refine=True, noise=nm, reach=reach))
+
+
+@pytest.mark.parametrize("direction", [1, -1])
+def test_suggestion_lies_on_the_answer_in_the_direction_of_travel(direction):
+    rec = _request([0.2, 0.5, 0.8], direction)  # three touches bunched on one side
+    assert rec.cls == "ellipse"
+    nt = rec.next_touch
+    assert nt is not None and nt["gain"] > 0 and nt["why"]
+    curve = CURVES["ellipse"](rec.params)
+    t = np.linspace(-math.pi, math.pi, 20001)
+    x, y = rec.pose.apply(*curve.point(t))
+    j = int(np.argmin(np.hypot(x - nt["x"], y - nt["y"])))
+    assert math.hypot(x[j] - nt["x"], y[j] - nt["y"]) < 0.05  # on the answered curve
+    phi = float(curve.tangent_angle(t[j])) + rec.pose.theta + (math.pi if direction < 0 else 0.0)
+    assert abs(math.remainder(nt["phi"] - phi, 2 * math.pi)) < 1e-3
+    assert rec.timing["next_touch_ms"] < 1000  # the bench measures the real budget (50 ms) unloaded
+
+
+def test_suggestion_stays_inside_reach_and_null_when_reach_holds_nothing_useful():
+    reach = Reach(110.0, -30.0, 25.0)
+    rec = _request([0.2, 0.5, 0.8], reach=reach)
+    nt = rec.next_touch
+    assert nt is not None and math.hypot(nt["x"] - 110.0, nt["y"] + 30.0) <= 25.0
+    far = _request([0.2, 0.5, 0.8], reach=Reach(1000.0, 1000.0, 5.0))
+    assert far.next_touch is None
+
+
+def test_exact_data_needs_no_touch():
+    rec = _request([-2.0, 0.3, 2.2], noise=None)
+    assert rec.cls == "ellipse" and rec.next_touch is None
+
+
+def test_contacts_only_answer_has_null_next_touch():
+    req = parse_request(exact_request("ellipse", ELLIPSE, [0.36, 1.86, 4.23], POSE, False))
+    out = recognize(req).to_json()
+    assert out["class"] == "ellipse" and "next_touch" in out and out["next_touch"] is None
