@@ -1,4 +1,4 @@
-"""Where one more touch tells the most (CONTRACTS §3 ``next_touch``).
+"""Where one more touch tells the most (the answer's ``next_touch``, docs/formats.md).
 
 The candidates are the classes fitted to the touches, each with its parameters, pose and
 their joint covariance C (recognizer.refine; the stated σ's of an unrefined fit), weighted
