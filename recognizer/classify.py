@@ -246,7 +246,11 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
         # touches can reject a right class that all samples together fit within their noise
         from recognizer.refine import refine_candidates
 
-        near = [i for i, c in enumerate(cands) if c.chi2 <= REFINE_WITHIN * chi2_limit(options.alpha, c.dof)]
+        # exact positions and angles (noise-free samples): the invariant stage's κ, κ_s from
+        # arc lengths of chords can be off by more than their stated floor, and the refined
+        # fit of positions and angles judges every class the invariants solved
+        near = [i for i, c in enumerate(cands)
+                if d.eased or c.chi2 <= REFINE_WITHIN * chi2_limit(options.alpha, c.dof)]
         for i, c in zip(near, refine_candidates([cands[i] for i in near], request, options)):
             cands[i] = c
     cands = _best_per_class(cands)
@@ -278,6 +282,9 @@ def _suggest(request: Request, options: RecognizeOptions, cands: list[Candidate]
         return None
     t0 = time.perf_counter()
     noise = options.noise or request.noise or DEFAULT_SAMPLES_NOISE
-    out = next_touch(cands, leader, d, noise, int(np.median(sizes)), options.reach)
+    try:
+        out = next_touch(cands, leader, d, noise, int(np.median(sizes)), options.reach)
+    except (np.linalg.LinAlgError, ValueError, ArithmeticError):  # numerics of a degenerate candidate:
+        out = None  # no suggestion rather than no answer
     timing["next_touch_ms"] = 1e3 * (time.perf_counter() - t0)
     return out

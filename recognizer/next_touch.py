@@ -143,6 +143,17 @@ def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi):
     return mean, np.einsum("mai,ij,mbj->mab", G, C, G), G
 
 
+def _inv2(S: np.ndarray) -> np.ndarray:
+    """Inverses of 2×2 covariances (m, 2, 2) in closed form; 0 (no information) where one is
+    not finite or not positive definite (a prediction without a usable covariance)."""
+    a, b, c, d = S[:, 0, 0], S[:, 0, 1], S[:, 1, 0], S[:, 1, 1]
+    det = a * d - b * c
+    good = np.isfinite(det) & (det > 0) & np.isfinite(a) & np.isfinite(d)
+    det = np.where(good, det, 1.0)
+    out = np.stack([np.stack([d, -b], -1), np.stack([-c, a], -1)], -2) / det[:, None, None]
+    return np.where(good[:, None, None], out, 0.0)
+
+
 def _entropy2(p):
     p = np.clip(p, 1e-300, 1.0)
     q = np.clip(1.0 - p, 1e-300, 1.0)
@@ -191,6 +202,7 @@ def _next_touch(cands, leader, d, noise, samples, reach):
     _, P_lead, G_lead = _prediction(leader, _t_span(leader, 1.0, N_DENSE), px, py, nx, ny, phi)
     # parameters: entropy lost, and the shrink of the largest relative σ
     Rinv = np.linalg.inv(R)
+    P_lead = np.where(np.isfinite(P_lead), P_lead, 0.0)
     ig_param = 0.5 * np.log(np.linalg.det(np.eye(2)[None] + Rinv[None] @ P_lead))
     C = _cov(leader)
     k = len(CURVES[leader.cls].param_names)
@@ -203,7 +215,7 @@ def _next_touch(cands, leader, d, noise, samples, reach):
         rel_now = float(rel[i_max])
         S = P_lead + R[None]
         CG = np.einsum("ij,maj->mia", C, G_lead)  # C·Gᵀ per place
-        K = np.einsum("mia,mab->mib", CG, np.linalg.inv(S))
+        K = np.einsum("mia,mab->mib", CG, _inv2(S))
         var_after = C[i_max, i_max] - np.einsum("mb,mb->m", K[:, i_max, :], CG[:, i_max, :])
         shrink = math.sqrt(max(C[i_max, i_max], 0.0)) / np.sqrt(np.clip(var_after, 1e-300, None))
     # classes
@@ -212,7 +224,7 @@ def _next_touch(cands, leader, d, noise, samples, reach):
     for c, wc in others:
         mean_c, P_c, _ = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi)
         S = R[None] + P_lead + P_c
-        chi2 = np.einsum("ma,mab,mb->m", mean_c, np.linalg.inv(S), mean_c)
+        chi2 = np.einsum("ma,mab,mb->m", mean_c, _inv2(S), mean_c)
         chi2 = np.where(np.isfinite(chi2), chi2, 1e6)
         ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0))
         best_sep[c.cls] = chi2

@@ -49,6 +49,11 @@ SIGMA_FLOOR_PHI = 1e-9
 SIGMA_FLOOR_POS = 1e-9
 """mm: σ_pos used when the noise model says 0."""
 MAX_NFEV = 40
+MAX_NFEV_EXACT, TOL_EXACT, EXACT_GO_ON = 400, 1e-15, 1e4
+"""exact data (every stated deviation zero: the σ floors) are fitted on to rounding when,
+after MAX_NFEV evaluations, χ² per residual is below EXACT_GO_ON (a right class on the
+way; a wrong one is ~1e6 and more): a short stretch of boundary (an ill-conditioned fit)
+gets there only after hundreds of steps."""
 FD_STEP = 1.5e-8
 """relative forward-difference step for the shape parameters' Jacobian columns (√ε)."""
 TOL = 1e-10
@@ -426,6 +431,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     t0 = _initial_t(cls, params, candidate.pose, t_contacts, data, direction)
     sig_phi, sig_pos = _sigmas(noise)
     known = sig_phi is not None
+    exact = known and not (getattr(noise, "phi", 0.0) or getattr(noise, "pos", 0.0) or getattr(noise, "pos_along", 0.0))
     pos_along = getattr(noise, "pos_along", None) if known else None
     sig_along = None if pos_along is None else max(float(pos_along), SIGMA_FLOOR_POS)
     scale = max(float(np.ptp(data.x)), float(np.ptp(data.y)), 1.0)
@@ -446,6 +452,11 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
                                      x_scale="jac", max_nfev=MAX_NFEV, xtol=TOL, ftol=TOL, gtol=TOL)
         nfev += int(res.nfev)
         z = res.x
+        if exact and 2.0 * res.cost < EXACT_GO_ON * res.fun.size:  # the right class, not yet at rounding
+            res = optimize.least_squares(problem.residuals, z, jac=problem.jacobian, method=method, x_scale="jac",
+                                         max_nfev=MAX_NFEV_EXACT, xtol=TOL_EXACT, ftol=TOL_EXACT, gtol=TOL_EXACT)
+            nfev += int(res.nfev)
+            z = res.x
         if not known:
             sig_pos, sig_phi = _residual_sigmas(problem, z, scale)
     assert problem is not None and res is not None and z is not None

@@ -1,0 +1,294 @@
+"""Where a hand touches: the recognizer on a widened distribution, per class and per region,
+with an oracle for every wrong answer, suggested against random extra touches, and the
+honesty of the stated σ's (not a test).
+
+    python -m tools.bench_wide [--trials 40] [--seed 1] [--jobs 2] [--out FILE.md]
+
+Each trial draws a shape of one class and a region of it (``REGIONS``: one branch of a
+semicubical near or far from its cusp or both branches, a hyperbola near its vertex or out
+on an arm, a cubical parabola on one side of its inflection or across it, a short or long
+stretch of an ellipse or circle, a parabola on one side or across its vertex, a line), three
+contacts spread over the region, 3 touches × 9 samples 2 % of the region's extent L apart
+(a semicubical touch never reaches across the cusp), standard noise (φ 1.5 mrad,
+positions 0.1 % of L), the balanced profile, every class allowed. Rows:
+
+- ``3 touches``: right class, median relative error; compute time per recognition.
+- oracle, for every wrong answer: the true class refined from the truth and the answered
+  class from the answer; *data-limited* when the answer fits at least as well after the
+  penalty for parameters (BIC, or the likelihood-ratio test of a nested answer), else a
+  *search miss*; an ``unclassified`` answer is a search miss when the truth, refined from
+  itself, passes its consistency test.
+- ``3 + 2 random``: two more touches at random places of the region.
+- ``3 + ≤2 suggested``: up to two more touches where ``next_touch`` says (the real object
+  touched at its point closest to the suggestion), stopping when it says null.
+- coverage: on right answers of ``3 touches``, the fraction of shape parameters within
+  1.96 stated σ and the RMS of (p̂ − p)/σ.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import multiprocessing
+import sys
+import time
+from collections import defaultdict
+
+import numpy as np
+
+from recognizer import synth
+from recognizer.curves import CURVES, Pose
+
+CLASSES = tuple(CURVES)
+SPEC_PHI, SPEC_POS_FRAC, SPACING, SAMPLES = 1.5e-3, 1e-3, 0.02, 9
+#: per class: region name → (canonical shape at unit scale, contact range of t, branch sign)
+REGIONS = {
+    "line": {"segment": ({}, (-0.5, 0.5))},
+    "circle": {"short arc": ({"r": 0.5}, "short"), "all round": ({"r": 0.5}, (-np.pi, np.pi))},
+    "ellipse": {"short stretch": ({"a": 0.5, "b": None}, "short"), "long stretch": ({"a": 0.5, "b": None}, (-np.pi, np.pi))},
+    "parabola": {"one side": ({"a": 1.0}, (0.3, 2.5)), "across vertex": ({"a": 1.0}, (-1.5, 1.5)),
+                 "far out": ({"a": 1.0}, (2.0, 5.0))},
+    "hyperbola": {"near vertex": ({"a": 1.0, "b": None}, (-1.0, 1.0)), "out on an arm": ({"a": 1.0, "b": None}, (1.2, 3.0)),
+                  "both arms far": ({"a": 1.0, "b": None}, (-2.8, 2.8))},
+    "cubical_parabola": {"one side of inflection": ({"a": None, "c": None}, (0.15, 1.2)),
+                         "across inflection": ({"a": None, "c": None}, (-1.0, 1.0))},
+    "semicubical_parabola": {"one branch near cusp": ({"a": 1.0, "b": None}, (0.0, 0.6)),
+                             "one branch far": ({"a": 1.0, "b": None}, (0.8, 2.5)),
+                             "both branches": ({"a": 1.0, "b": None}, "both")},
+}
+
+
+def _rng(seed: int, *keys: int) -> np.random.Generator:
+    return np.random.default_rng([seed, *keys])
+
+
+def draw_case(cls: str, i: int, seed: int):
+    """(region name, shape, contact ts (3), rng for noise) of trial i of a class."""
+    rs = _rng(seed, CLASSES.index(cls), i, 77)
+    names = list(REGIONS[cls])
+    region = names[i % len(names)]
+    params, span = REGIONS[cls][region]
+    params = dict(params)
+    for k, v in params.items():
+        if v is None:
+            params[k] = {"b": {"ellipse": 0.5 * rs.uniform(0.35, 0.9), "hyperbola": rs.uniform(0.4, 2.0),
+                               "semicubical_parabola": float(rs.choice([-1, 1]) * rs.uniform(0.1, 1.5))}.get(cls),
+                         "a": float(rs.choice([-1, 1]) * rs.uniform(0.25, 0.75)),
+                         "c": float(rs.choice([-1, 1]) * rs.uniform(0.3, 1.0))}[k]
+    if span == "short":
+        t0 = rs.uniform(-np.pi, np.pi)
+        span = (t0, t0 + rs.uniform(0.5, 1.2))
+    both = span == "both"
+    if both:
+        span = (0.3, 2.0)
+    L = rs.uniform(30.0, 120.0)
+    curve = CURVES[cls](params)
+    region_t = np.linspace(*span, 400)
+    if both:
+        region_t = np.concatenate((-region_t[::-1], region_t))
+    k = L / synth.extent(curve, region_t)
+    params, span = synth._scaled(cls, params, span, k)
+    curve = CURVES[cls](params)
+    pose = Pose(rs.uniform(-np.pi, np.pi), 150.0 + rs.uniform(-30, 30), rs.uniform(-30, 30))
+    shape = synth.Shape(cls, params, pose, L, span, curve)
+    reach = synth.touch_reach(SAMPLES, SPACING * L)
+    lo, hi = span
+    if cls == "semicubical_parabola":  # no touch reaches across the cusp
+        clear = synth._clear_of_cusp(curve, 1.02 * reach, max(abs(hi), 1e-9))
+        lo, hi = max(lo, clear), max(hi, max(lo, clear) + 0.3 * (hi - lo))
+    edges = np.linspace(lo, hi, 4)
+    ts = np.array([rs.uniform(a + 0.05 * (b - a), b - 0.05 * (b - a)) for a, b in zip(edges[:-1], edges[1:])])
+    sign = 1.0
+    if cls == "semicubical_parabola":
+        sign = float(rs.choice([-1, 1]))
+        ts = np.sort(ts * (rs.choice([-1.0, 1.0], 3) if both else sign))
+    clear = 0.0
+    if cls == "semicubical_parabola":
+        clear = synth._clear_of_cusp(curve, 1.02 * reach, max(abs(hi), 1e-9))
+    return region, shape, ts, (lo, hi, sign, both, clear), rs
+
+
+def _touches(shape, ts, rs, direction):
+    noise = synth.SynthNoise(SPEC_PHI, SPEC_POS_FRAC * shape.size)
+    touches, _ = synth.sample_shape(shape, ts, SAMPLES, SPACING * shape.size, direction, noise, rs, with_s=False)
+    return touches, noise
+
+
+def _recognize(touches, nm, reach=None):
+    from recognizer.classify import recognize
+    from recognizer.result import RecognizeOptions
+    from recognizer.profiles import PROFILES
+    from recognizer.touches import Request, SamplesTouch
+
+    req = Request(tuple(SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, CLASSES, nm,
+                  {"reach": reach} if reach else {})
+    opts = RecognizeOptions(noise=nm, reach=reach, **PROFILES["balanced"].options())
+    t0 = time.process_time()
+    out = recognize(req, opts)
+    return out, time.process_time() - t0, req
+
+
+def _rel(truth: dict, got: dict) -> float:
+    return float(math.sqrt(sum(((got[k] - v) / v) ** 2 for k, v in truth.items()))) if truth else 0.0
+
+
+def _oracle(shape, ts, direction, rec, req, nm) -> str:
+    """'data-limited' or 'search miss' for a wrong answer (module docstring)."""
+    from recognizer.classify import LIMIT_OF, MODEL_ALPHA, chi2_limit
+    from recognizer.localize import N_SHAPE
+    from recognizer.refine import refine_one
+    from recognizer.result import Candidate
+
+    t_true = np.asarray(ts if direction > 0 else ts[::-1], float)
+    truth = refine_one(Candidate(shape.cls, dict(shape.params), shape.pose, t_true, 0.0, 0, 0), req.touches, nm)
+    if rec.cls == "unclassified":
+        return "search miss" if truth.consistent else "data-limited"
+    t_ans = np.array([c["t"] for c in rec.contacts], float)
+    ans = refine_one(Candidate(rec.cls, dict(rec.params), rec.pose, t_ans, 0.0, 0, 0), req.touches, nm)
+    if ans.bic <= truth.bic * (1 + 1e-9) + 1e-9:
+        return "data-limited"
+    if shape.cls in LIMIT_OF.get(rec.cls, ()) and \
+            2.0 * (truth.loglik - ans.loglik) <= chi2_limit(MODEL_ALPHA, N_SHAPE[shape.cls] - N_SHAPE[rec.cls]):
+        return "data-limited"
+    return "search miss"
+
+
+def _extra_touch(shape, t, rs, direction):
+    touches, _ = _touches(shape, [t], rs, direction)
+    return touches[0]
+
+
+def _closest_t(shape, x, y, lo, hi, sign, both, clear):
+    """The true curve's parameter closest to a suggested point (a semicubical touch kept
+    clear of the cusp: a pad cannot roll through it)."""
+    span = hi - lo
+    t = np.linspace(lo - 0.5 * span, hi + 0.5 * span, 4000)
+    if shape.cls == "semicubical_parabola":
+        t = np.maximum(np.abs(t), clear)
+        t = np.concatenate((t, -t)) if both else sign * t
+    if shape.curve.t_period is not None:
+        t = np.linspace(-np.pi, np.pi, 4000)
+    px, py = shape.pose.apply(*shape.curve.point(t))
+    return float(t[int(np.argmin(np.hypot(px - x, py - y)))])
+
+
+def run_trial(task) -> dict:
+    from recognizer.touches import NoiseModel
+
+    cls, i, seed = task
+    region, shape, ts, (lo, hi, sign, both, clear), rs = draw_case(cls, i, seed)
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = _touches(shape, ts, rs, direction)
+    nm = NoiseModel(noise.phi, noise.pos)
+    out = {"cls": cls, "region": region, "i": i}
+    rec, dt, req = _recognize(touches, nm)
+    out.update(got3=rec.cls, err3=_rel(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
+               nt_ms=rec.timing.get("next_touch_ms", math.nan))
+    if rec.cls == cls:
+        z = [(rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()
+             if rec.uncertainty.get(k) and rec.uncertainty[k] > 0]
+        out["z"] = z
+    else:
+        out["oracle"] = _oracle(shape, ts, direction, rec, req, nm)
+    # two random extra touches in the region
+    def draw_t():
+        t = rs.uniform(lo, hi)
+        if cls == "semicubical_parabola":
+            t = max(abs(t), clear) * (rs.choice([-1.0, 1.0]) if both else sign)
+        return t
+    extra = [_extra_touch(shape, draw_t(), rs, direction) for _ in range(2)]
+    rec5, _, _ = _recognize(list(touches) + extra, nm)
+    out.update(got5=rec5.cls, err5=_rel(shape.params, rec5.params) if rec5.cls == cls else math.nan)
+    # up to two suggested touches
+    cur, tl, used = rec, list(touches), 0
+    for _ in range(2):
+        nt = cur.next_touch
+        if nt is None:
+            break
+        t = _closest_t(shape, nt["x"], nt["y"], lo, hi, sign, both, clear)
+        tl.append(_extra_touch(shape, t, rs, direction))
+        used += 1
+        cur, _, _ = _recognize(tl, nm)
+    out.update(gotS=cur.cls, errS=_rel(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
+    return out
+
+
+def _pct(v) -> str:
+    return f"{100 * float(np.mean(v)):.1f}" if len(v) else "–"
+
+
+def _med(v) -> str:
+    v = [x for x in v if np.isfinite(x)]
+    return f"{100 * float(np.median(v)):.3g}" if v else "–"
+
+
+def report(recs: list[dict]) -> str:
+    lines = []
+    groups = [("all", recs)] + [(c, [r for r in recs if r["cls"] == c]) for c in CLASSES]
+    lines += ["| class | trials | 3 touches: right % | median err % | search misses % | data-limited % | "
+              "3+2 random: right % | median err % | 3+≤2 suggested: right % | median err % | suggested used | "
+              "σ coverage (1.96σ) % | RMS z | compute ms | next_touch ms (mean / max) |",
+              "|---|" + "---|" * 14]
+    for name, rs in groups:
+        if not rs:
+            continue
+        z = np.array([v for r in rs for v in r.get("z", [])], float)
+        cov = _pct(np.abs(z) <= 1.96) if z.size else "–"
+        rms = f"{math.sqrt(float(np.mean(z ** 2))):.2f}" if z.size else "–"
+        nt = np.array([r["nt_ms"] for r in rs], float)
+        nt = nt[np.isfinite(nt)]
+        lines.append(
+            f"| {name} | {len(rs)} | {_pct([r['got3'] == r['cls'] for r in rs])} | {_med([r['err3'] for r in rs])} | "
+            f"{_pct([r.get('oracle') == 'search miss' for r in rs])} | {_pct([r.get('oracle') == 'data-limited' for r in rs])} | "
+            f"{_pct([r['got5'] == r['cls'] for r in rs])} | {_med([r['err5'] for r in rs])} | "
+            f"{_pct([r['gotS'] == r['cls'] for r in rs])} | {_med([r['errS'] for r in rs])} | "
+            f"{np.mean([r['used'] for r in rs]):.2f} | {cov} | {rms} | {np.mean([r['ms'] for r in rs]):.0f} | "
+            f"{(f'{nt.mean():.0f} / {nt.max():.0f}') if nt.size else '–'} |")
+    lines += ["", "Per region (3 touches / 3 + 2 random / 3 + ≤2 suggested, right class %):", "",
+              "| class | region | trials | 3 | 3+2 random | 3+≤2 suggested | search misses | wrong answers |", "|---|---|---|---|---|---|---|---|"]
+    by = defaultdict(list)
+    for r in recs:
+        by[(r["cls"], r["region"])].append(r)
+    for (c, reg), rs in sorted(by.items(), key=lambda kv: (CLASSES.index(kv[0][0]), kv[0][1])):
+        wrong = sorted({r["got3"] for r in rs if r["got3"] != c})
+        lines.append(f"| {c} | {reg} | {len(rs)} | {_pct([r['got3'] == c for r in rs])} | "
+                     f"{_pct([r['got5'] == c for r in rs])} | {_pct([r['gotS'] == c for r in rs])} | "
+                     f"{sum(r.get('oracle') == 'search miss' for r in rs)} | {', '.join(wrong) or '–'} |")
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    from tools.bench import BLAS_ENV, _pool
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--trials", type=int, default=40, help="trials per class (regions in turn)")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--classes", nargs="+", default=list(CLASSES))
+    ap.add_argument("--out", default=None, help="also write the tables to this markdown file")
+    args = ap.parse_args(argv)
+    tasks = [(c, i, args.seed) for c in args.classes for i in range(args.trials)]
+    t0 = time.perf_counter()
+    recs = []
+    pool = _pool(args.jobs) if args.jobs > 1 else None
+    it = pool.imap_unordered(run_trial, tasks) if pool else map(run_trial, tasks)
+    try:
+        for k, r in enumerate(it, 1):
+            recs.append(r)
+            sys.stderr.write(f"\r[bench_wide] {k}/{len(tasks)} ({time.perf_counter() - t0:.0f} s)   ")
+            sys.stderr.flush()
+    finally:
+        if pool:
+            pool.terminate()
+    sys.stderr.write("\n")
+    text = (f"`python -m tools.bench_wide --trials {args.trials} --seed {args.seed}` "
+            f"({len(recs)} trials, {time.perf_counter() - t0:.0f} s wall, {args.jobs} processes)\n\n" + report(recs))
+    print(text)
+    if args.out:
+        with open(args.out, "w", encoding="utf-8") as f:
+            f.write(text + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
