@@ -47,9 +47,9 @@ SHRINK_MIN = 1.1
 """factor by which the largest relative parameter σ must be expected to shrink."""
 REL_SIGMA_ENOUGH = 1e-3
 """a largest relative parameter σ below this needs no further touch."""
-N_PLACES = 240
-N_DENSE = 1500
-MIN_WEIGHT = 1e-4
+N_PLACES = 160
+N_DENSE = 400
+MIN_WEIGHT = 1e-3
 
 
 def _wrap(a):
@@ -94,12 +94,12 @@ def _t_span(c: Candidate, widen: float = 1.0, n: int = N_PLACES) -> np.ndarray:
 
 
 def _closest(curve, pose: Pose, t_dense: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
-    """t of the curve's point closest to each (px, py): the nearest dense sample, then two
+    """t of the curve's point closest to each (px, py): the nearest dense sample, then three
     Newton steps along the tangent."""
     cx, cy = pose.apply(*curve.point(t_dense))
     d2 = (px[:, None] - cx[None, :]) ** 2 + (py[:, None] - cy[None, :]) ** 2
     t = t_dense[np.argmin(d2, axis=1)]
-    return _newton(curve, pose, t, px, py)
+    return _newton(curve, pose, t, px, py, steps=3)
 
 
 def _newton(curve, pose: Pose, t: np.ndarray, px: np.ndarray, py: np.ndarray, steps: int = 2) -> np.ndarray:

@@ -30,7 +30,7 @@ MIN_TOUCHES: dict[str, int] = {
     "cubical_parabola": 3, "semicubical_parabola": 3,
 }
 _TOP_KEYS = {"scene", "touches", "noise", "options", "meta"}
-_SAMPLE_KEYS = {"phi", "x", "y", "s", "finger", "meta"}
+_SAMPLE_KEYS = {"phi", "x", "y", "s", "curvature", "finger", "meta"}
 _CONTACT_KEYS = {"x", "y", "phi", "kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s"}
 _OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float, "reach": dict}
 ESTIMATORS = ("auto", "central", "poly")
@@ -112,6 +112,9 @@ class SamplesTouch:
         out = {"phi": self.phi.tolist(), "x": self.x.tolist(), "y": self.y.tolist()}
         if self.s is not None:
             out["s"] = self.s.tolist()
+        if self.curvature is not None:
+            k, ks, cov = self.curvature
+            out["curvature"] = {"kappa": float(k), "kappa_s": float(ks), "cov": np.asarray(cov, float).tolist()}
         return out
 
 
@@ -186,7 +189,12 @@ def _parse_samples(raw: Mapping, where: str) -> SamplesTouch:
         raise InputError(f"{where}.s: arc length must increase strictly along the samples")
     if "s" not in arrs and np.any(np.hypot(np.diff(arrs["x"]), np.diff(arrs["y"])) == 0):
         raise InputError(f"{where}: two consecutive samples at the same position (give s, or distinct x, y)")
-    return SamplesTouch(arrs["phi"], arrs["x"], arrs["y"], arrs.get("s"))
+    curvature = None
+    if raw.get("curvature") is not None:  # the instrument's own κ, κ_s at the contact sample
+        c = _parse_contact({"x": 0.0, "y": 0.0, "phi": 0.0, **raw["curvature"]}, f"{where}.curvature") \
+            if isinstance(raw["curvature"], Mapping) else _parse_contact(raw["curvature"], f"{where}.curvature")
+        curvature = (c.kappa, c.kappa_s, c.cov)
+    return SamplesTouch(arrs["phi"], arrs["x"], arrs["y"], arrs.get("s"), curvature)
 
 
 def _parse_contact(raw, where: str) -> ContactTouch:

@@ -57,8 +57,9 @@ class FeltTouch:
         return self.touch.finger
 
     def to_json(self) -> dict[str, Any]:
-        """The samples touch (docs/formats.md) with ``finger`` (usable touches only)."""
-        out = self.contacts.to_touch()
+        """The samples touch (docs/formats.md) with ``finger`` and the envelope's ``curvature``
+        (usable touches only): a request of these answers as the run did."""
+        out = self.samples.to_json() if self.samples is not None else self.contacts.to_touch()
         out["finger"] = self.touch.finger
         return out
 

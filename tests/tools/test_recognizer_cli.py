@@ -141,3 +141,13 @@ def test_bad_reach_exits_2_one_line():
     r = subprocess.run([sys.executable, "-m", "tools.cli", "recognize", "-"], input=payload, text=True,
                        capture_output=True, cwd=ROOT, timeout=60)
     assert r.returncode == 2 and r.stdout == "" and r.stderr.count("\n") == 1 and "radius" in r.stderr
+
+
+def test_samples_touch_curvature_round_trips_and_is_validated():
+    raw = dict(SAMPLES_REQ["touches"][0], curvature={"kappa": 0.05, "kappa_s": 0.0, "cov": [[1e-6, 0], [0, 1e-8]]})
+    req = parse_request({"touches": [raw] * 3})
+    k, ks, cov = req.touches[0].curvature
+    assert (k, ks) == (0.05, 0.0) and cov[1, 1] == 1e-8
+    assert req.touches[0].to_json()["curvature"] == raw["curvature"]
+    with pytest.raises(InputError, match="curvature.kappa"):
+        parse_request({"touches": [dict(raw, curvature={"kappa": float("nan"), "kappa_s": 0})] * 3})
