@@ -22,6 +22,7 @@ p_i − R(θ)·p(t_i), and scores it by the position-and-angle χ².
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -248,8 +249,18 @@ def starts(cls: str, d: Contacts, every_pair: bool = False) -> list[tuple[dict, 
     if cls == "parabola":
         if 0.0 in k:  # I_p divides by κ: no start
             return []
-        a = _median([1.0 / (2.0 * inv.I_p_s(ki, ksi) ** 1.5) for ki, ksi in zip(k, ks)])
-        return [({"a": a}, [ksi / (3.0 * ki * ki) for ki, ksi in zip(k, ks)])] if a > 0 and math.isfinite(a) else []
+        each = [1.0 / (2.0 * inv.I_p_s(ki, ksi) ** 1.5) for ki, ksi in zip(k, ks)]
+        a = _median(each)
+        out = [({"a": a}, [ksi / (3.0 * ki * ki) for ki, ksi in zip(k, ks)])] if a > 0 and math.isfinite(a) else []
+        # κ is measured far better than κ_s: for every touch's a (and the median), |t| from
+        # |κ| = 1/(2a(1 + t²)^{3/2}) (eq. 3), each touch's side of the vertex the one whose
+        # tangent angles and positions fit best (κ_s's sign, eq. 4, is noise far out)
+        for ai in sorted({v for v in each + [a] if v > 0 and math.isfinite(v)}):
+            mag = [math.sqrt(max((2.0 * ai * abs(ki)) ** (-2.0 / 3.0) - 1.0, 0.0)) for ki in k]
+            best = min((pose_from("parabola", {"a": ai}, [m * sg for m, sg in zip(mag, signs)], d)[3], signs)
+                       for signs in itertools.product((1.0, -1.0), repeat=len(mag)))
+            out.append(({"a": ai}, [m * sg for m, sg in zip(mag, best[1])]))
+        return out
     return _cubic_starts(cls, d, every_pair)
 
 
