@@ -38,6 +38,7 @@ from recognizer.contacts import Contacts
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Candidate
 from recognizer.touches import NoiseModel, Reach
+from tactile_common.angles import wrap_angle
 
 __all__ = ["next_touch", "CLASS_GAIN_MIN", "SHRINK_MIN", "REL_SIGMA_ENOUGH"]
 
@@ -50,10 +51,6 @@ REL_SIGMA_ENOUGH = 1e-3
 N_PLACES = 160
 N_DENSE = 400
 MIN_WEIGHT = 1e-3
-
-
-def _wrap(a):
-    return np.remainder(np.asarray(a, float) + np.pi, 2 * np.pi) - np.pi
 
 
 def _wrap_half(a):
@@ -235,7 +232,7 @@ def _next_touch(cands, leader, d, noise, samples, reach):
     j = int(np.argmax(np.where(helps, gain, -np.inf)))
     direction = _direction(leader, d)
     why = _why(leader, best_sep, j, ig_class[j], shrink[j], rel_now)
-    return {"x": float(px[j]), "y": float(py[j]), "phi": float(_wrap(phi[j] + (np.pi if direction < 0 else 0.0))),
+    return {"x": float(px[j]), "y": float(py[j]), "phi": float(wrap_angle(phi[j] + (np.pi if direction < 0 else 0.0))),
             "gain": float(gain[j]), "why": why}
 
 

@@ -413,7 +413,7 @@ def _shape_pose_cov(problem: _Problem, cls: str, z: np.ndarray, cov_z: np.ndarra
         zp = z.copy()
         zp[i] += h
         d = vec(zp) - v0
-        d[-3] = _wrap(d[-3])
+        d[-3] = wrap_angle(d[-3])
         T[:, i] = d / h
     with np.errstate(over="ignore", invalid="ignore"):
         return T @ cov_z[:ng, :ng] @ T.T
