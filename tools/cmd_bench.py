@@ -36,6 +36,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--classes", nargs="+", default=None, metavar="CLASS",
                         help="classes to draw and answer among (default: all seven)")
     parser.add_argument("--jobs", type=int, default=None, help="worker processes (default: min(2, CPUs))")
+    parser.add_argument("--wide-trials", type=int, default=0, metavar="N",
+                        help="also run the widened distribution (tools/bench_wide.py: regions per class, oracle, "
+                             "suggested vs random touches, sigma coverage), N trials per class, into OUT/bench_wide.md")
 
 
 def _positive(value: int | None, default: int, name: str) -> int:
@@ -57,6 +60,8 @@ def run(args: argparse.Namespace) -> int:
     shapes = _positive(args.shapes, 3 if args.quick else 100, "--shapes")
     sweep = _positive(args.sweep_shapes, 1 if args.quick else 3, "--sweep-shapes")
     table = _positive(args.table_shapes, 4 if args.quick else 100, "--table-shapes")
+    if args.wide_trials < 0:
+        raise InputError(f"--wide-trials must be >= 0, got {args.wide_trials}")
     profile = _positive(args.profile_shapes, sweep, "--profile-shapes")
     jobs = _positive(args.jobs, bench.default_jobs(), "--jobs")
     if args.out is None:
@@ -89,5 +94,13 @@ def run(args: argparse.Namespace) -> int:
     bench.write_plot(result, out / OUTPUTS[2])
     for c in result.checks:
         print(f"{'met ' if c['pass'] else 'MISS'}  {c['target']}: {c['measured']}")
+    if args.wide_trials:
+        from tools import bench_wide
+
+        t1 = time.perf_counter()
+        recs = bench_wide.run_wide(classes, args.wide_trials, args.seed, jobs, progress)
+        (out / "bench_wide.md").write_text(bench_wide.markdown(
+            recs, f"tactile bench --wide-trials {args.wide_trials} --seed {args.seed}", time.perf_counter() - t1, jobs) + "\n")
+        print(f"wrote {out / 'bench_wide.md'}")
     print(f"wrote {out / 'bench.csv'}, {out / 'bench.md'}, {out / 'bench.png'} in {time.perf_counter() - t0:.0f} s")
     return 0

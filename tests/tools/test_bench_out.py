@@ -34,3 +34,18 @@ def test_bench_out_is_honoured(tmp_path, monkeypatch):
     _stub_bench(monkeypatch)
     assert cli.main(["bench", "--quick", "--out", str(tmp_path / "mine")]) == 0
     assert sorted(p.name for p in (tmp_path / "mine").iterdir()) == ["bench.csv", "bench.md", "bench.png"]
+
+
+def test_bench_wide_trials_writes_bench_wide(tmp_path, monkeypatch, capsys):
+    """--wide-trials N runs the widened distribution (stubbed here: its trials are the
+    benchmark's business) and writes its tables beside the others."""
+    from tools import bench_wide
+
+    _stub_bench(monkeypatch)
+    rec = {"cls": "line", "region": "segment", "i": 0, "got3": "line", "err3": 0.0, "ms": 1.0, "nt_ms": 0.5,
+           "got5": "line", "err5": 0.0, "gotS": "line", "errS": 0.0, "used": 0}
+    monkeypatch.setattr(bench_wide, "run_wide", lambda classes, trials, seed, jobs, progress: [rec] * trials)
+    assert cli.main(["bench", "--quick", "--wide-trials", "2", "--out", str(tmp_path / "w")]) == 0
+    text = (tmp_path / "w" / "bench_wide.md").read_text()
+    assert "--wide-trials 2" in text and "| line | 2 | 100.0 |" in text
+    assert cli.main(["bench", "--quick", "--wide-trials", "-1", "--out", str(tmp_path / "x")]) == 2
