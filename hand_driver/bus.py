@@ -512,9 +512,14 @@ class JointBus:
         a pause of the host longer than ¾ of the watchdog's time (wall clock) the watchdog
         is re-armed first (hand_driver.motion.Jaw does the same in robot time)."""
         ti = self.check_goal_ticks(ticks)
+        self._rearm_after_pause()
+        self._sync_write_field("goal_position", ti)
+
+    def _rearm_after_pause(self) -> None:
+        """Before a goal write: re-arm the watchdog if the host was silent long enough for
+        it to expire (the servos would silently refuse the goal)."""
         if self.watchdog_ms and time.monotonic() - self._last_io > WATCHDOG_REARM_FRACTION * self.watchdog_ms / 1000.0:
             self.rearm_watchdog()
-        self._sync_write_field("goal_position", ti)
 
     def require_current_sensing(self, what: str = "a current-based guarded touch") -> None:
         """CapabilityError unless every joint's model senses current (XL430 does not)."""
@@ -536,6 +541,7 @@ class JointBus:
                 raise InputError(f"goal current {m:g} mA for servo {i} exceeds {s.name}'s limit "
                                  f"{s.current_limit_default * s.current_unit_ma:g} mA")
             raw.append(r)
+        self._rearm_after_pause()
         self._sync_write_field("goal_current", raw)
 
     def set_profile_raw(self, velocity: int, accel: int) -> None:

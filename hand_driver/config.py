@@ -336,9 +336,17 @@ def parse_config(obj: Any, source: str = "<memory>") -> JawConfig:
     bus, motion = _bus(c, m.get("bus")), _motion(c, m.get("motion"))
     period_ms = 1000.0 * motion.approach_step_mm / motion.approach_speed_mm_s
     if bus.watchdog_ms and bus.watchdog_ms < 2.0 * period_ms:
-        c.fail("bus.watchdog_ms", f"{bus.watchdog_ms} ms is less than two motion cycles ({period_ms:g} ms each: "
-                                  f"motion.approach_step_mm / motion.approach_speed_mm_s); the servos would stop "
-                                  f"between cycles")
+        if isinstance(m.get("bus"), dict) and "watchdog_ms" in m["bus"]:
+            c.fail("bus.watchdog_ms", f"{bus.watchdog_ms} ms is less than two motion cycles ({period_ms:g} ms each: "
+                                      f"motion.approach_step_mm / motion.approach_speed_mm_s); the servos would "
+                                      f"stop between cycles")
+        # not given: the default stretches to two cycles (slow approaches)
+        two_cycles = WATCHDOG_STEP_MS * math.ceil(2.0 * period_ms / WATCHDOG_STEP_MS)
+        if two_cycles > 127 * WATCHDOG_STEP_MS:
+            c.fail("motion.approach_speed_mm_s", f"a motion cycle of {period_ms:g} ms is longer than half the "
+                                                 f"longest Bus Watchdog ({127 * WATCHDOG_STEP_MS} ms); approach faster "
+                                                 f"or in smaller steps, or set bus.watchdog_ms: 0")
+        bus = replace(bus, watchdog_ms=two_cycles)
     return JawConfig(bus=bus, fingers=fingers, motion=motion, workspace=_workspace(c, m.get("workspace")),
                      source=source)
 

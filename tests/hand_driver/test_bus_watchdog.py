@@ -33,13 +33,15 @@ HOST = textwrap.dedent("""
 """)
 
 
-def test_open_arms_every_servo_and_close_disarms(sim, bus_joints):
-    with JointBus(sim.port, 1_000_000, bus_joints, timeout_s=0.25) as bus:
+def test_open_arms_every_servo_and_close_disarms(bus_joints):
+    # simulated time stands still (time_scale 0): the test's own pauses cannot expire it
+    with EmulatedBus(bus_joints, time_scale=0.0) as sim:
+        with JointBus(sim.port, 1_000_000, bus_joints, timeout_s=0.25) as bus:
+            sim.wait_idle()
+            assert bus.watchdog_ms == 100
+            assert [s.get("bus_watchdog") for s in sim.servos.values()] == [5, 5, 5]  # 5 × 20 ms
         sim.wait_idle()
-        assert bus.watchdog_ms == 100
-        assert [s.get("bus_watchdog") for s in sim.servos.values()] == [5, 5, 5]  # 5 × 20 ms
-    sim.wait_idle()
-    assert [(s.get("bus_watchdog"), s.torque_on) for s in sim.servos.values()] == [(0, False)] * 3
+        assert [(s.get("bus_watchdog"), s.torque_on) for s in sim.servos.values()] == [(0, False)] * 3
 
 
 def test_killed_host_stops_the_jaw_and_the_next_open_clears_it(make_joint, caplog):
@@ -99,9 +101,21 @@ def test_watchdog_time_is_a_config_key(tmp_path):
     (tmp_path / "jaw.yaml").write_text(text)
     cfg = load_config(tmp_path / "jaw.yaml")
     assert cfg.bus.watchdog_ms == 260
-    with EmulatedBus(cfg) as sim, JointBus.for_config(cfg, sim.port, timeout_s=0.5, handle_signals=False):
+    with EmulatedBus(cfg, time_scale=0.0) as sim, JointBus.for_config(cfg, sim.port, timeout_s=0.5, handle_signals=False):
         sim.wait_idle()
         assert [s.get("bus_watchdog") for s in sim.servos.values()] == [13] * 4  # 260 ms / 20 ms
     (tmp_path / "bad.yaml").write_text(text.replace("260", "250"))
     with pytest.raises(Exception, match="watchdog_ms: 250 is not a multiple of 20 ms"):
         load_config(tmp_path / "bad.yaml")
+
+
+def test_default_watchdog_stretches_to_two_slow_cycles_but_an_explicit_one_must_fit():
+    from hand_driver.config import parse_config
+    from tactile_common.yamlfile import read_yaml
+
+    raw = read_yaml("config/jaw.yaml", "jaw config")
+    raw["motion"]["approach_speed_mm_s"] = 2.0  # 0.5 mm steps: a 250 ms cycle
+    with pytest.raises(Exception, match="bus.watchdog_ms: 100 ms is less than two motion cycles"):
+        parse_config(raw)
+    del raw["bus"]["watchdog_ms"]
+    assert parse_config(raw).bus.watchdog_ms == 500
