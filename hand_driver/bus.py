@@ -72,6 +72,8 @@ log = logging.getLogger(__name__)
 BROADCAST_ID = 0xFE
 _ERR_CRC = 3
 _REBOOT_WAIT_S = 3.0
+#: how late an answer may come (the SDK's own status timeout: 2 × 16 ms latency + 2 ms)
+_LATE_ANSWER_S = 0.034
 #: scan: pings in a row without an answer before an id counts as absent (a lost reply
 #: looks like an absent servo), and attempts of the read of a servo found
 SCAN_SILENT_PINGS = 4
@@ -369,9 +371,15 @@ class JointBus:
         raise BusError(f"{what}: {self._ph.getTxRxResult(result)} ({result})")
 
     def _attempt(self, what: str, fn: Callable, attempts: int | None = None):
-        """Run fn with bounded retries of transient faults; serial errors become PortError."""
+        """Run fn with bounded retries of transient faults; serial errors become PortError.
+
+        A success after a timeout may have taken the late answer to the timed-out attempt:
+        the answer to the successful one may still come and would then pass for the answer
+        to the next transaction (the SDK matches answers by servo ID only). So the input is
+        left to settle for a status timeout and flushed before anything else is sent."""
         n = self.retries + 1 if attempts is None else attempts
         last: BusError | None = None
+        timed_out = False
         with self._lock:
             if self._port is None:
                 raise PortError(f"{what}: the bus on {self.port_name} is not open")
@@ -379,9 +387,14 @@ class JointBus:
                 self.stats.transactions += 1
                 self._last_io = time.monotonic()
                 try:
-                    return fn()
+                    out = fn()
+                    if timed_out:
+                        time.sleep(_LATE_ANSWER_S if self.timeout_s is None else max(_LATE_ANSWER_S, self.timeout_s))
+                        self._port.clearPort()
+                    return out
                 except (BusTimeout, CrcError) as exc:
                     last = exc
+                    timed_out = timed_out or isinstance(exc, BusTimeout)
                     if k + 1 < n:
                         self.stats.retries += 1
                 except self._serial_errors as exc:
