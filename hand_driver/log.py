@@ -38,6 +38,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any, Iterable
 
+from hand_driver.config import parse_config
 from tactile_common.errors import InputError
 from tactile_common.files import create_exclusive
 from tactile_common.inputs import decode_utf8, loads_json, read_bounded
@@ -240,8 +241,6 @@ def _short(v: Any) -> str:
 def _jaw_shape(header: dict) -> tuple[int | None, set[str] | None]:
     """Joint count and finger names of the header's jaw config, if it is one (replay
     refuses a header whose config is not)."""
-    from hand_driver.config import parse_config
-
     try:
         cfg = parse_config(header.get("config"), "header config")
     except InputError:

@@ -245,6 +245,7 @@ def run(n: int, seed: int, hang_s: float, progress) -> dict:
                 stats[key] += 1
                 kinds = stats["hang_kinds" if fault == "hang" else "crash_kinds"]
                 kinds[kind] = kinds.get(kind, 0) + 1
+                stats.setdefault("fault_lines", []).append(i)
                 proc.kill()
                 proc.wait()
                 proc, buf = start(), b""
@@ -302,6 +303,8 @@ def main(argv=None) -> int:
     print(f"latency per line      median {np.median(lat):.2f} ms, p99 {np.percentile(lat, 99):.1f} ms, "
           f"worst {lat.max():.0f} ms ({s['worst'][0]})")
     print(f"wall time             {s['wall_s']:.0f} s")
+    if s.get("fault_lines"):
+        print(f"lines that crashed or hung (0-based): {s['fault_lines'][:20]}")
     if s["stderr"]:
         print("stderr tail:", *s["stderr"], sep="\n  ")
     return 0 if s["crashes"] == s["hangs"] == s["bad_answers"] == s["tracebacks"] == 0 else 1
