@@ -246,13 +246,16 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
         # touches can reject a right class that all samples together fit within their noise
         from recognizer.refine import refine_candidates
 
-        # exact positions and angles (noise-free samples): the invariant stage's κ, κ_s from
-        # arc lengths of chords can be off by more than their stated floor, and the refined
-        # fit of positions and angles judges every class the invariants solved
-        near = [i for i, c in enumerate(cands)
-                if d.eased or c.chi2 <= REFINE_WITHIN * chi2_limit(options.alpha, c.dof)]
+        near = [i for i, c in enumerate(cands) if c.chi2 <= REFINE_WITHIN * chi2_limit(options.alpha, c.dof)]
         for i, c in zip(near, refine_candidates([cands[i] for i in near], request, options)):
             cands[i] = c
+        if d.eased and not any(c.consistent for c in cands):
+            # exact positions and angles (noise-free samples) and no class consistent: the
+            # invariant stage's κ, κ_s from arc lengths of chords can miss their 1e-7 floor,
+            # so the refined fit of positions and angles judges every other class it solved
+            rest = [i for i in range(len(cands)) if i not in set(near)]
+            for i, c in zip(rest, refine_candidates([cands[i] for i in rest], request, options)):
+                cands[i] = c
     cands = _best_per_class(cands)
     consistent = [c for c in cands if c.consistent]
     ranking = sorted(cands, key=lambda c: (not c.consistent, c.bic))

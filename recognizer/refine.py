@@ -51,9 +51,10 @@ SIGMA_FLOOR_POS = 1e-9
 MAX_NFEV = 40
 MAX_NFEV_EXACT, TOL_EXACT, EXACT_GO_ON = 400, 1e-15, 1e4
 """exact data (every stated deviation zero: the σ floors) are fitted on to rounding when,
-after MAX_NFEV evaluations, χ² per residual is below EXACT_GO_ON (a right class on the
-way; a wrong one is ~1e6 and more): a short stretch of boundary (an ill-conditioned fit)
-gets there only after hundreds of steps."""
+after MAX_NFEV evaluations, χ² per residual is between 1 (not yet consistent) and
+EXACT_GO_ON (a right class on the way; a wrong one is ~1e6 and more): a short stretch of
+boundary or touches far out on an arm (ill-conditioned fits) get there only after
+hundreds of steps."""
 FD_STEP = 1.5e-8
 """relative forward-difference step for the shape parameters' Jacobian columns (√ε)."""
 TOL = 1e-10
@@ -452,7 +453,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
                                      x_scale="jac", max_nfev=MAX_NFEV, xtol=TOL, ftol=TOL, gtol=TOL)
         nfev += int(res.nfev)
         z = res.x
-        if exact and 2.0 * res.cost < EXACT_GO_ON * res.fun.size:  # the right class, not yet at rounding
+        if exact and res.fun.size < 2.0 * res.cost < EXACT_GO_ON * res.fun.size:  # a right class, not yet there
             res = optimize.least_squares(problem.residuals, z, jac=problem.jacobian, method=method, x_scale="jac",
                                          max_nfev=MAX_NFEV_EXACT, xtol=TOL_EXACT, ftol=TOL_EXACT, gtol=TOL_EXACT)
             nfev += int(res.nfev)
