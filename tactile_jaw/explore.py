@@ -37,6 +37,7 @@ from tactile_jaw.plan import (
     nominal_psi,
     probe_face_contact,
     probe_psis,
+    retreat_offset,
 )
 from tactile_jaw.settings import ExploreSettings
 
@@ -73,7 +74,9 @@ class Exploration:
 
 
 def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
-    """Retreat to the workspace edge along the pad normal, then turn along the edge to ψ.
+    """Retreat to the workspace edge along the pad normal, then turn along the edge to ψ
+    (where the joints cannot reach the edge, along the farthest-out line they reach that
+    keeps clear of the object: tactile_jaw.plan.retreat_offset).
     Where the edge is out of the joints' reach along this normal (a pad turned far past its
     nominal direction), the pad retreats as far as it can and the finger swings open in
     joint space to its edge pose at the nominal ψ, and turns from there: without this, one
@@ -89,9 +92,14 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
         yield from move_to(jaw, finger, q_open)
     delta = math.remainder(psi_to - psi_from, 2 * math.pi)
     steps = max(1, math.ceil(abs(math.degrees(delta)) / EDGE_TURN_STEP_DEG))
+    f = jaw.config.finger(finger)
     for k in range(1, steps + 1):
         a = psi_from + delta * k / steps
-        yield from move_line(jaw, finger, a, model.edge(a), *TRANSIT_STEPS)
+        d = retreat_offset(f, model, a)
+        if d is None:
+            raise kin.Unreachable(f"finger {finger}: no pad line of psi={math.degrees(a):.1f} deg within the joint "
+                                  f"limits keeps clear of the object")
+        yield from move_line(jaw, finger, a, d, *TRANSIT_STEPS)
 
 
 def _transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float,
@@ -118,7 +126,7 @@ def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings:
     if problem is not None:
         return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
     d_pred, _ = model.tangent(start)
-    d_start = max(model.edge(start), d_pred - APPROACH_MARGIN_MM)
+    d_start = max(retreat_offset(jaw.config.finger(finger), model, start), d_pred - APPROACH_MARGIN_MM)
     travel = d_pred + APPROACH_MARGIN_MM - d_start
     return (yield from rolling_touch(jaw, finger, touch_index, psi, settings.roll_span_rad,
                                      settings.samples_per_touch, d_start, travel, on_event=emit))
@@ -148,6 +156,13 @@ def _memo(recognize_touches: RecognizeTouches) -> RecognizeTouches:
         return seen[key]
 
     return run
+
+
+def _spent(out: Exploration) -> int:
+    """Touches that count against the budget: all but those that fell on a corner or across
+    a closing segment of a finite object (a finger retires after OFF_CURVE_RETIRE in a row,
+    so these stay few); the touches on the curved part are what the budget is for."""
+    return sum(not t.off_curve for t in out.touches)
 
 
 def _timed(jaw: Jaw, plans: dict, spent: dict[str, float], time_s: dict[str, float], total: str, transits: str):
@@ -208,9 +223,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                    probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
-    while len(out.touches) < settings.touches:
+    while _spent(out) < settings.touches:
         plans, spent = {}, {}
-        budget = settings.touches - len(out.touches)
+        budget = settings.touches - _spent(out)
         for f in [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]:
             psi = choose_psi(f, model, settings, used[f.name])
             if psi is None:
@@ -245,7 +260,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 if touch.outcome == "ok":
                     touch.outcome = "rejected"
                 emit({"type": "event", "kind": "touch_rejected", "message": problem, "touch": touch.touch})
-            say(f"touch {len(out.touches)}/{settings.touches}: {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
+            say(f"touch {len(out.touches)} ({_spent(out)}/{settings.touches} of the budget): {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
                 f"{len(touch.samples)} samples, {'used' if problem is None else 'not used: ' + problem}")
         if len(out.used) >= settings.min_touches:
             recognition, why = decide(recognize_touches, out.used, settings)

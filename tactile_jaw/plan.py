@@ -101,10 +101,30 @@ def nominal_psi(finger) -> float:
     return finger.base.angle + finger.pad.side_sign * math.pi / 2
 
 
+def retreat_offset(finger, model: ObjectModel, psi: float) -> float | None:
+    """The farthest-out pad line of normal ψ that the joints reach and that keeps clear of
+    the object: the workspace edge's line where reachable, else the first reachable line
+    inward in 1 mm steps, at most up to ``APPROACH_MARGIN_MM`` outside the model's predicted
+    tangent (none inward where nothing is predicted); None if no such line exists. A pad
+    turned far from its zero-angle normal cannot stretch out to the workspace edge, yet may
+    roll nearer the object (the far arms of open curves)."""
+    d = model.edge(psi)
+    predicted = model.tangent(psi)
+    limit = d if predicted is None else max(d, predicted[0] - APPROACH_MARGIN_MM)
+    while d <= limit + 1e-9:
+        try:
+            kin.ik_line(finger, psi, d, margin_rad=LIMIT_MARGIN_RAD)
+            return d
+        except kin.Unreachable:
+            d += 1.0
+    return None
+
+
 def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings) -> bool:
     """Every roll orientation around ψ has a predicted tangent (:meth:`ObjectModel.tangent`)
     that puts the pad on it, with the predicted contact on the pad, inside the joint
-    limits, and also ``PLAN_OVERSHOOT_MM`` beyond it; the edge line is reachable."""
+    limits, and also ``PLAN_OVERSHOOT_MM`` beyond it; a line to retreat to is reachable
+    (:func:`retreat_offset`)."""
     length = finger.pad.length_mm
     for a in roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]:
         predicted = model.tangent(float(a))
@@ -114,8 +134,9 @@ def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings) 
         try:
             kin.ik_line(finger, float(a), d, contact=p, margin_rad=LIMIT_MARGIN_RAD)
             kin.ik_line(finger, float(a), d + PLAN_OVERSHOOT_MM, margin_rad=LIMIT_MARGIN_RAD)
-            kin.ik_line(finger, float(a), model.edge(float(a)), margin_rad=LIMIT_MARGIN_RAD)
         except kin.Unreachable:
+            return False
+        if retreat_offset(finger, model, float(a)) is None:
             return False
         u = [float(kin.finger_pad_line(finger, q).pad_coordinate(p))
              for q in kin.ik_line_solutions(finger, float(a), d)

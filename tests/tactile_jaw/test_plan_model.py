@@ -11,7 +11,8 @@ from hypothesis import given, settings, strategies as st
 
 from hand_driver import kinematics as kin
 from hand_driver.config import load_config
-from tactile_jaw.plan import MODEL_EXTRAPOLATE_DEG, ObjectModel, open_pose
+from hand_driver.motion import LIMIT_MARGIN_RAD
+from tactile_jaw.plan import MODEL_EXTRAPOLATE_DEG, ObjectModel, open_pose, retreat_offset
 
 CONFIG = load_config("config/jaw.yaml")
 
@@ -81,3 +82,26 @@ def test_open_pose_puts_every_pad_on_the_workspace_edge_outside_the_disk():
         assert float(line.normal @ centre) - float(line.d) == pytest.approx(ws.radius_mm, abs=1e-9)
         for end in (line.proximal, line.distal):
             assert np.hypot(*(end - centre)) >= ws.radius_mm - 1e-9
+
+
+def test_retreat_offset_where_the_workspace_edge_is_out_of_reach():
+    """At a pad normal far past its zero-angle normal the left finger cannot stretch out to
+    the workspace edge; where the model knows the object (an ellipse felt there) the pad
+    retreats to the farthest line it reaches, still ≥ 10 mm outside the predicted tangent;
+    where nothing was felt it may not come inward at all."""
+    left = CONFIG.finger("left")
+    ws = CONFIG.workspace
+    a, b, theta, c = 20.0, 12.0, 0.0, np.array(ws.center_mm, dtype=float)
+    psi = math.radians(-128.0)
+    bare = ObjectModel(ws.center_mm, ws.radius_mm)
+    with pytest.raises(kin.Unreachable):
+        kin.ik_line(left, psi, bare.edge(psi), margin_rad=LIMIT_MARGIN_RAD)
+    assert retreat_offset(left, bare, psi) is None
+    model = ObjectModel(ws.center_mm, ws.radius_mm)
+    for k in range(-4, 5):
+        model.add(psi + math.radians(3.0 * k), ellipse_support(psi + math.radians(3.0 * k), a, b, theta, c)[0])
+    d = retreat_offset(left, model, psi)
+    assert d is not None and model.edge(psi) < d <= ellipse_support(psi, a, b, theta, c)[0] - 10.0 + 0.1
+    kin.ik_line(left, psi, d, margin_rad=LIMIT_MARGIN_RAD)  # reachable
+    with pytest.raises(kin.Unreachable):
+        kin.ik_line(left, psi, d - 1.0, margin_rad=LIMIT_MARGIN_RAD)  # and the farthest out that is
