@@ -8,8 +8,10 @@ it (:func:`transit`). Every touch is felt once (tactile_jaw.pipeline.feel).
 
 After every round with at least ``settings.min_touches`` usable touches the recognizer
 runs on all of them; exploration stops as soon as its answer is decisive
-(tactile_jaw.decide) or when the touch budget is spent; then the answer on the usable
-touches is the class if decisive, else ``unclassified`` with the reason. docs/exploration.md.
+(tactile_jaw.decide) or when the touch budget is spent. While it is not, the next touch of
+the finger that can reach it goes where the recognizer's ``next_touch`` points (the other
+finger's where the planner picks). Once it ends, the answer on the usable touches is the
+class if decisive, else ``unclassified`` with the reason. docs/exploration.md.
 """
 
 from __future__ import annotations
@@ -34,7 +36,9 @@ from tactile_jaw.plan import (
     PROBE_SPAN_DEG,
     ObjectModel,
     choose_psi,
+    feasible,
     nominal_psi,
+    predicted_tangent,
     probe_face_contact,
     probe_psis,
     retreat_offset,
@@ -44,6 +48,8 @@ from tactile_jaw.settings import ExploreSettings
 #: a finger whose last this many touches fell on corners or closing segments stops touching:
 #: its side of the object is not the curved part, and the touch budget goes to the others
 OFF_CURVE_RETIRE = 2
+#: a suggested next touch this near (mm) one already aimed at is not aimed at again
+AIM_AGAIN_MM = 1.0
 #: a transit turns along the workspace edge in steps of at most this many degrees
 EDGE_TURN_STEP_DEG = 15.0
 #: largest turn (rad) and shift (mm) per cycle of a transit outside the workspace disk
@@ -73,7 +79,7 @@ class Exploration:
 
 
 
-def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
+def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None):
     """Retreat to the workspace edge along the pad normal, then turn along the edge to ψ
     (where the joints cannot reach the edge, along the farthest-out line they reach that
     keeps clear of the object: tactile_jaw.plan.retreat_offset).
@@ -95,7 +101,7 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
     f = jaw.config.finger(finger)
     for k in range(1, steps + 1):
         a = psi_from + delta * k / steps
-        d = retreat_offset(f, model, a)
+        d = retreat_offset(f, model, a, aim)
         if d is None:
             raise kin.Unreachable(f"finger {finger}: no pad line of psi={math.degrees(a):.1f} deg within the joint "
                                   f"limits keeps clear of the object")
@@ -103,12 +109,12 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float):
 
 
 def _transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float,
-                        spent: dict[str, float] | None = None):
+                        spent: dict[str, float] | None = None, aim=None):
     """:func:`transit`; why it could not go on (the path left the joint limits), or None.
     The robot time it took goes to ``spent[finger]``."""
     t0 = jaw.robot_time()
     try:
-        yield from transit(jaw, finger, model, psi_to)
+        yield from transit(jaw, finger, model, psi_to, aim)
     except kin.Unreachable as exc:
         return f"{finger}: transit to psi={math.degrees(psi_to):.1f} deg: {exc}"
     finally:
@@ -118,15 +124,16 @@ def _transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float
 
 
 def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings: ExploreSettings,
-                touch_index: int, emit, spent: dict[str, float]):
+                touch_index: int, emit, spent: dict[str, float], aim=None):
     """Transit, then one rolling touch around ψ from ``APPROACH_MARGIN_MM`` outside the
-    predicted tangent line; returns the TouchResult."""
+    predicted tangent line (tactile_jaw.plan.predicted_tangent, ``aim`` a boundary point the
+    touch is aimed at); returns the TouchResult."""
     start = float(roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[0])
-    problem = yield from _transit_or_problem(jaw, finger, model, start, spent)
+    problem = yield from _transit_or_problem(jaw, finger, model, start, spent, aim)
     if problem is not None:
         return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
-    d_pred, _ = model.tangent(start)
-    d_start = max(retreat_offset(jaw.config.finger(finger), model, start), d_pred - APPROACH_MARGIN_MM)
+    d_pred, _ = predicted_tangent(model, start, aim)
+    d_start = max(retreat_offset(jaw.config.finger(finger), model, start, aim), d_pred - APPROACH_MARGIN_MM)
     travel = d_pred + APPROACH_MARGIN_MM - d_start
     return (yield from rolling_touch(jaw, finger, touch_index, psi, settings.roll_span_rad,
                                      settings.samples_per_touch, d_start, travel, on_event=emit))
@@ -156,6 +163,17 @@ def _memo(recognize_touches: RecognizeTouches) -> RecognizeTouches:
         return seen[key]
 
     return run
+
+
+def _aimed_finger(fingers, model: ObjectModel, settings: ExploreSettings, aim):
+    """The finger that can roll at the recognizer's ``next_touch`` (pad normal = its
+    tangent angle + 90°, the roll through its point feasible: tactile_jaw.plan.feasible),
+    nearest its zero-angle normal; None if none can or there is no suggestion."""
+    if aim is None:
+        return None
+    psi = aim["phi"] + math.pi / 2
+    ok = [f for f in fingers if feasible(f, model, psi, settings, aim=(aim["x"], aim["y"]))]
+    return min(ok, key=lambda f: abs(math.remainder(psi - nominal_psi(f), 2 * math.pi)), default=None)
 
 
 def _spent(out: Exploration) -> int:
@@ -223,11 +241,22 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                    probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
+    aim = None  # the recognizer's next_touch while its answer is not decisive
+    aimed_at: list[tuple[float, float]] = []
     while _spent(out) < settings.touches:
         plans, spent = {}, {}
         budget = settings.touches - _spent(out)
-        for f in [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]:
-            psi = choose_psi(f, model, settings, used[f.name])
+        active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]
+        aimed = _aimed_finger(active, model, settings, aim)
+        for f in active:
+            point = None
+            if f is aimed:
+                psi, point = aim["phi"] + math.pi / 2, (aim["x"], aim["y"])
+                aimed_at.append(point)
+                say(f"{f.name}: next touch at ({aim['x']:.1f}, {aim['y']:.1f}) mm where the recognizer points: "
+                    f"{aim['why']}")
+            else:
+                psi = choose_psi(f, model, settings, used[f.name])
             if psi is None:
                 message = (f"{f.name}: no untouched pad orientation left for which the felt lines predict a "
                            f"{math.degrees(settings.roll_span_rad):g} deg roll on the pad's face")
@@ -235,7 +264,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 say(message)
                 continue
             used[f.name].append(psi)
-            plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent)
+            plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent, point)
         if not plans:
             break
         index += len(plans)
@@ -269,6 +298,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(f"after {len(out.used)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
             if why is None:
                 break
+            aim = recognition.next_touch
+            if aim is not None and any(math.hypot(aim["x"] - x, aim["y"] - y) < AIM_AGAIN_MM for x, y in aimed_at):
+                aim = None  # touched there already: the planner's own choice instead
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
     t_retreat = jaw.robot_time()
     run_together(jaw, {name: _transit_or_problem(jaw, name, model, psi) for name, psi in here.items()})  # to the edge

@@ -21,7 +21,7 @@ from hand_driver.motion import EDGE_MARGIN_MM, Sample, TouchResult
 from recognizer.classify import chi2_limit, recognize
 from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
-from recognizer.touches import Request, SamplesTouch, check_touch_count, parse_noise
+from recognizer.touches import Reach, Request, SamplesTouch, check_touch_count, parse_noise
 from tactile_common.errors import InputError
 from tactile_jaw.envelope import EnvelopeFit, fit_envelope
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, TOUCH_NOISE, ExploreSettings
@@ -137,8 +137,15 @@ def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float) -> str | None:
     return None
 
 
-def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings,
-                    noise: dict[str, float] | None = None) -> Callable[[Sequence[FeltTouch]], Recognition]:
+def workspace_reach(config) -> Reach:
+    """The jaw's workspace disk (config ``workspace``) as the recognizer's reach: where its
+    ``next_touch`` may point."""
+    (x, y), radius = config.workspace.center_mm, config.workspace.radius_mm
+    return Reach(float(x), float(y), float(radius))
+
+
+def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noise: dict[str, float] | None = None,
+                    reach: Reach | None = None) -> Callable[[Sequence[FeltTouch]], Recognition]:
     """Usable felt rolling touches → Recognition, with the scene (a mapping, validated here once),
     ``noise`` (default ``TOUCH_NOISE``) and the settings' recognizer options. Each call
     extends one validated request with the touches' samples (already checked by
@@ -147,7 +154,7 @@ def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings,
     loaded = load_scene(scene) if scene is not None else None
     stated = parse_noise(dict(noise or TOUCH_NOISE), f"{source}.noise")
     base = Request((), loaded, loaded.classes if loaded is not None else ALL_CLASSES, stated, {}, source)
-    options = RecognizeOptions(noise=stated, **settings.recognize)
+    options = RecognizeOptions(noise=stated, reach=reach, **settings.recognize)
 
     def run(touches: Sequence[FeltTouch]) -> Recognition:
         check_touch_count(len(touches), base.classes, source)

@@ -101,15 +101,27 @@ def nominal_psi(finger) -> float:
     return finger.base.angle + finger.pad.side_sign * math.pi / 2
 
 
-def retreat_offset(finger, model: ObjectModel, psi: float) -> float | None:
+def predicted_tangent(model: ObjectModel, psi: float, aim=None) -> tuple[float, np.ndarray] | None:
+    """The pad line offset d and contact point predicted for normal ψ: the object model's
+    (:meth:`ObjectModel.tangent`), or, for a touch aimed at a boundary point ``aim`` (the
+    recognizer's ``next_touch``, from the curve it fitted to every touch, which knows more
+    there than the model's extrapolation), the line of normal ψ through that point (the
+    true tangent over a roll of ±Δψ about it is at most ρ·Δψ²/2 nearer)."""
+    if aim is None:
+        return model.tangent(psi)
+    p = np.asarray(aim, dtype=float)
+    return float(np.array([math.cos(psi), math.sin(psi)]) @ p), p
+
+
+def retreat_offset(finger, model: ObjectModel, psi: float, aim=None) -> float | None:
     """The farthest-out pad line of normal ψ that the joints reach and that keeps clear of
     the object: the workspace edge's line where reachable, else the first reachable line
-    inward in 1 mm steps, at most up to ``APPROACH_MARGIN_MM`` outside the model's predicted
-    tangent (none inward where nothing is predicted); None if no such line exists. A pad
+    inward in 1 mm steps, at most up to ``APPROACH_MARGIN_MM`` outside the predicted
+    tangent (:func:`predicted_tangent`; none inward where nothing is predicted); None if no such line exists. A pad
     turned far from its zero-angle normal cannot stretch out to the workspace edge, yet may
     roll nearer the object (the far arms of open curves)."""
     d = model.edge(psi)
-    predicted = model.tangent(psi)
+    predicted = predicted_tangent(model, psi, aim)
     limit = d if predicted is None else max(d, predicted[0] - APPROACH_MARGIN_MM)
     while d <= limit + 1e-9:
         try:
@@ -120,14 +132,14 @@ def retreat_offset(finger, model: ObjectModel, psi: float) -> float | None:
     return None
 
 
-def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings) -> bool:
-    """Every roll orientation around ψ has a predicted tangent (:meth:`ObjectModel.tangent`)
+def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings, aim=None) -> bool:
+    """Every roll orientation around ψ has a predicted tangent (:func:`predicted_tangent`)
     that puts the pad on it, with the predicted contact on the pad, inside the joint
     limits, and also ``PLAN_OVERSHOOT_MM`` beyond it; a line to retreat to is reachable
     (:func:`retreat_offset`)."""
     length = finger.pad.length_mm
     for a in roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]:
-        predicted = model.tangent(float(a))
+        predicted = predicted_tangent(model, float(a), aim)
         if predicted is None:
             return False
         d, p = predicted
@@ -136,7 +148,7 @@ def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings) 
             kin.ik_line(finger, float(a), d + PLAN_OVERSHOOT_MM, margin_rad=LIMIT_MARGIN_RAD)
         except kin.Unreachable:
             return False
-        if retreat_offset(finger, model, float(a)) is None:
+        if retreat_offset(finger, model, float(a), aim) is None:
             return False
         u = [float(kin.finger_pad_line(finger, q).pad_coordinate(p))
              for q in kin.ik_line_solutions(finger, float(a), d)

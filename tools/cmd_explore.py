@@ -80,11 +80,11 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     from hand_driver.log import RunLog
     from hand_driver.motion import Jaw
     from tactile_jaw.explore import explore
-    from tactile_jaw.pipeline import make_recognizer
+    from tactile_jaw.pipeline import make_recognizer, workspace_reach
     from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
 
     settings = ExploreSettings.from_profile(profile)
-    recognize_touches = make_recognizer(scene_mapping, settings)
+    recognize_touches = make_recognizer(scene_mapping, settings, reach=workspace_reach(config))
     t0 = time.monotonic()
     log = None
     if log_path is not None:
