@@ -143,7 +143,8 @@ def _damage(rng: random.Random, raw: bytes) -> bytes:
         b[i:i] = bytes(rng.randrange(256) for _ in range(rng.randint(1, 20)))
     else:
         b = bytearray(rng.randrange(256) for _ in range(rng.randint(1, 200)))
-    return bytes(b).replace(b"\n", b" ")
+    out = bytes(b).replace(b"\n", b" ")
+    return out if out.strip() else b"{" + out  # a blank line is rightly not answered: not a probe
 
 
 def hostile_lines(n: int, seed: int) -> list[tuple[str, bytes]]:
