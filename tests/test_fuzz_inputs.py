@@ -17,6 +17,7 @@ from hand_driver.log import read_log
 from recognizer.curves import Pose
 from recognizer.scene import load_scene
 from tactile_common.errors import InputError
+from tools.bench_fuzz import json_paths, replace_at
 from tools.bench_recognizer import exact_request
 from tools.cli import main
 
@@ -34,30 +35,10 @@ values = st.recursive(scalars, lambda c: st.lists(c, max_size=5) | st.dictionari
                       max_leaves=20)
 
 
-def _paths(obj, prefix=()):
-    yield prefix
-    if isinstance(obj, dict):
-        for k, v in obj.items():
-            yield from _paths(v, prefix + (k,))
-    elif isinstance(obj, list):
-        for i, v in enumerate(obj):
-            yield from _paths(v, prefix + (i,))
-
-
 @st.composite
 def mutated(draw, base):
     """``base`` with the value at one path replaced by an arbitrary JSON-like value."""
-    paths = list(_paths(base))
-    path = draw(st.sampled_from(paths))
-    new = draw(values)
-    if not path:
-        return new
-    obj = json.loads(json.dumps(base))
-    node = obj
-    for k in path[:-1]:
-        node = node[k]
-    node[path[-1]] = new
-    return obj
+    return replace_at(base, draw(st.sampled_from(list(json_paths(base)))), draw(values))
 
 
 def _line(obj) -> bytes:

@@ -76,17 +76,20 @@ def _hostile_values(rng: random.Random) -> list:
             rng.uniform(-1e6, 1e6), [rng.random() for _ in range(7)]]
 
 
-def _paths(obj, prefix=()):
+def json_paths(obj, max_items: int | None = None, prefix: tuple = ()):
+    """Every path (tuple of keys and indices) into a decoded JSON value, the root first;
+    ``max_items`` limits how many items of each list are entered."""
     yield prefix
     if isinstance(obj, dict):
         for k, v in obj.items():
-            yield from _paths(v, prefix + (k,))
+            yield from json_paths(v, max_items, prefix + (k,))
     elif isinstance(obj, list):
-        for i, v in enumerate(obj[:8]):
-            yield from _paths(v, prefix + (i,))
+        for i, v in enumerate(obj[:max_items]):
+            yield from json_paths(v, max_items, prefix + (i,))
 
 
-def _replace(obj, path, value):
+def replace_at(obj, path: tuple, value):
+    """A copy of ``obj`` with the value at ``path`` replaced by ``value``."""
     if not path:
         return value
     obj = json.loads(json.dumps(obj))
@@ -158,8 +161,8 @@ def hostile_lines(n: int, seed: int) -> list[tuple[str, bytes]]:
         if r < 0.05:
             lines.append(("valid", _encode(base)))
         elif r < 0.70:
-            path = rng.choice(list(_paths(base)))
-            lines.append(("value " + "/".join(map(str, path[:2])), _encode(_replace(base, path, rng.choice(values)))))
+            path = rng.choice(list(json_paths(base, 8)))
+            lines.append(("value " + "/".join(map(str, path[:2])), _encode(replace_at(base, path, rng.choice(values)))))
         else:
             lines.append(("bytes", _damage(rng, _encode(base))))
     return lines[:max(n, len(lines))]
