@@ -29,10 +29,11 @@ from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, TOUCH_NOISE, ExploreSett
 #: a touch whose radius of curvature at the contact is below this (mm), or below
 #: CORNER_SIGMAS of its deviation, rolled on a corner (the contact stayed put while the pad
 #: turned), not on the curved part. A corner's measured radius scatters about 0 by σ_ρ
-#: (1.3 mm over a 30° roll of 9 samples, ~4 mm over 18°): 2.5 σ misses 0.6 % of corners and
-#: also refuses boundary bent tighter than ~2.5 σ_ρ, whose κ is too uncertain to use
+#: (1.3 mm over a 30° roll of 9 samples, ~4 mm over 18°): 2 σ misses 2.3 % of corners and
+#: also refuses boundary bent tighter than ~2 σ_ρ, whose κ is too uncertain to use (2.5 σ
+#: rejected the cubical example's hump, ρ 14.5 mm measured 8.25 ± 3.77 mm)
 CORNER_RADIUS_MM = 1.0
-CORNER_SIGMAS = 2.5
+CORNER_SIGMAS = 2.0
 #: false-rejection rate of the test that a touch's pad lines are one smooth curve's tangents
 SMOOTH_ALPHA = 1e-3
 #: outcomes of a touch cut short whose samples so far may still be used
