@@ -54,7 +54,8 @@ def random_case(cls: str, rng: np.random.Generator, n: int | None = None):
         if vertex:
             t[np.argmin(np.abs(t))] = 0.0
     elif cls == "hyperbola":
-        params = {"a": size, "b": size * 10 ** rng.uniform(-3, 3)}
+        aspect = 10 ** rng.uniform(-3, 3)  # b / a; the larger semi-axis is the size
+        params = {"a": size, "b": size * aspect} if aspect <= 1 else {"a": size / aspect, "b": size}
         t = _sorted_spread(rng, -2.5, 2.5, n, 0.1)
         if vertex:
             t[np.argmin(np.abs(t))] = 0.0

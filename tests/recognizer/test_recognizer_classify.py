@@ -2,6 +2,7 @@
 contacts, both directions, extremes of scale and aspect, distractors."""
 
 import math
+import zlib
 
 import numpy as np
 import pytest
@@ -21,7 +22,7 @@ def _run(obj, **opts):
 
 @pytest.mark.parametrize("cls", list(CURVES))
 def test_random_exact_cases(cls):
-    rng = np.random.default_rng(hash(cls) % 2**32)
+    rng = np.random.default_rng(zlib.crc32(cls.encode()))  # str hash() differs per process
     rels = []
     for _ in range(12):
         params, t, pose, rev, size = random_case(cls, rng)
