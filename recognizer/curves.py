@@ -19,7 +19,7 @@ from typing import ClassVar, Mapping
 import numpy as np
 from scipy import integrate, optimize, special
 
-from tactile_common.errors import InputError
+from tactile_common.errors import InputError, check_keys
 
 __all__ = ["CURVES", "Curve", "Pose", "validate_params", "DEFAULT_SIDE"]
 
@@ -374,9 +374,7 @@ def validate_params(cls: str, params: Mapping[str, object], where: str = "params
     if not isinstance(params, Mapping):
         raise InputError(f"{where}: must be a mapping of {', '.join(CURVES[cls].param_names) or 'nothing'}")
     names = CURVES[cls].param_names
-    extra = sorted(set(params) - set(names))
-    if extra:
-        raise InputError(f"{where}: unknown key(s) {', '.join(map(str, extra))} for {cls}; allowed: {', '.join(names) or 'none'}")
+    check_keys(params, names, where, f"allowed for {cls}: {', '.join(names) or 'none'}")
     out: dict[str, float] = {}
     for k in names:
         if k not in params:

@@ -22,7 +22,7 @@ from typing import Mapping
 import numpy as np
 
 from recognizer.curves import CURVES, DEFAULT_SIDE, Pose, validate_params
-from tactile_common.errors import InputError
+from tactile_common.errors import InputError, check_keys
 from recognizer.touches import NoiseModel, parse_noise
 from tactile_common.inputs import check_path_text
 from tactile_common.yamlfile import read_yaml
@@ -34,7 +34,7 @@ _TOP_KEYS = {"name", "classes", "object", "profile", "noise", "description"}
 _OBJECT_KEYS = {"class", "params", "pose", "side", "extent", "closure"}
 #: curve samples of a finite object's outline (the self-crossing check and plots)
 OUTLINE_SAMPLES = 1025
-_POSE_KEYS = {"theta", "theta_deg", "x", "y"}
+_POSE_KEYS = ("theta", "theta_deg", "x", "y")
 
 
 @dataclass(frozen=True)
@@ -98,9 +98,7 @@ def _parse_pose(raw, where: str) -> Pose:
         return Pose()
     if not isinstance(raw, Mapping):
         raise InputError(f"{where}: must be a mapping with theta (or theta_deg), x, y")
-    extra = sorted(map(str, set(raw) - _POSE_KEYS))
-    if extra:
-        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: theta, theta_deg, x, y")
+    check_keys(raw, _POSE_KEYS, where)
     if "theta" in raw and "theta_deg" in raw:
         raise InputError(f"{where}: give theta or theta_deg, not both")
     theta = _num(raw["theta"], f"{where}.theta") if "theta" in raw else 0.0
@@ -112,9 +110,7 @@ def _parse_pose(raw, where: str) -> Pose:
 def _parse_object(raw, where: str) -> SceneObject:
     if not isinstance(raw, Mapping):
         raise InputError(f"{where}: must be a mapping with class, params, pose")
-    extra = sorted(map(str, set(raw) - _OBJECT_KEYS))
-    if extra:
-        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: {', '.join(sorted(_OBJECT_KEYS))}")
+    check_keys(raw, sorted(_OBJECT_KEYS), where)
     if "class" not in raw:
         raise InputError(f"{where}.class: missing; allowed: {', '.join(CURVES)}")
     cls = raw["class"]
@@ -265,9 +261,7 @@ def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Sce
     else:
         raise InputError(f"scene: must be a path or a mapping, got {type(path_or_mapping).__name__}")
 
-    extra = sorted(map(str, set(raw) - _TOP_KEYS))
-    if extra:
-        raise InputError(f"{source}: unknown key(s) {', '.join(extra)}; allowed: {', '.join(sorted(_TOP_KEYS))}")
+    check_keys(raw, sorted(_TOP_KEYS), source)
     name = raw.get("name", stem)
     if not isinstance(name, str) or not name:
         raise InputError(f"{source}: name must be a non-empty string")

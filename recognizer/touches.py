@@ -18,7 +18,7 @@ from typing import Mapping
 import numpy as np
 
 from recognizer import limits
-from tactile_common.errors import InputError
+from tactile_common.errors import InputError, check_keys
 
 __all__ = ["NoiseModel", "Reach", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
            "MIN_TOUCHES", "check_touch_count"]
@@ -78,9 +78,7 @@ def parse_reach(raw, where: str = "options.reach") -> Reach:
     """A reach disk {x, y, radius}: finite numbers, radius > 0."""
     if not isinstance(raw, Mapping):
         raise InputError(f"{where}: must be a mapping {{x: mm, y: mm, radius: mm}}")
-    extra = sorted(map(str, set(raw) - {"x", "y", "radius"}))
-    if extra:
-        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: x, y, radius")
+    check_keys(raw, ("x", "y", "radius"), where)
     vals = {}
     for k in ("x", "y", "radius"):
         if k not in raw:
@@ -157,9 +155,7 @@ def _vec(v, where: str) -> np.ndarray:
 def parse_noise(raw, where: str = "noise") -> NoiseModel:
     if not isinstance(raw, Mapping):
         raise InputError(f"{where}: must be a mapping {{phi: rad, pos: mm, pos_along: mm (optional)}}")
-    extra = sorted(map(str, set(raw) - {"phi", "pos", "pos_along"}))
-    if extra:
-        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: phi, pos, pos_along")
+    check_keys(raw, ("phi", "pos", "pos_along"), where)
     vals = {k: _num(raw.get(k, 0.0), f"{where}.{k}") for k in ("phi", "pos")}
     if raw.get("pos_along") is not None:
         vals["pos_along"] = _num(raw["pos_along"], f"{where}.pos_along")
@@ -170,9 +166,7 @@ def parse_noise(raw, where: str = "noise") -> NoiseModel:
 
 
 def _parse_samples(raw: Mapping, where: str) -> SamplesTouch:
-    extra = sorted(map(str, set(raw) - _SAMPLE_KEYS))
-    if extra:
-        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; a samples touch has phi, x, y, optional s")
+    check_keys(raw, _SAMPLE_KEYS, where, "a samples touch has phi, x, y, optional s")
     for k in ("phi", "x", "y"):
         if k not in raw:
             raise InputError(f"{where}: missing key {k!r} (a samples touch has phi, x, y, optional s)")
@@ -200,9 +194,7 @@ def _parse_samples(raw: Mapping, where: str) -> SamplesTouch:
 def _parse_contact(raw, where: str) -> ContactTouch:
     if not isinstance(raw, Mapping):
         raise InputError(f"{where}: must be a mapping with x, y, phi, kappa, kappa_s")
-    extra = sorted(map(str, set(raw) - _CONTACT_KEYS))
-    if extra:
-        raise InputError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: {', '.join(sorted(_CONTACT_KEYS))}")
+    check_keys(raw, sorted(_CONTACT_KEYS), where)
     vals = {}
     for k in ("x", "y", "phi", "kappa", "kappa_s"):
         if k not in raw:
@@ -268,9 +260,7 @@ def parse_request(obj, base_dir=None, source: str = "request") -> Request:
 
     if not isinstance(obj, Mapping):
         raise InputError(f"{source}: must be a JSON object with 'touches'")
-    extra = sorted(map(str, set(obj) - _TOP_KEYS))
-    if extra:
-        raise InputError(f"{source}: unknown key(s) {', '.join(extra)}; allowed: {', '.join(sorted(_TOP_KEYS))}")
+    check_keys(obj, sorted(_TOP_KEYS), source)
     scene = None
     if obj.get("scene") is not None:
         sc = obj["scene"]
@@ -288,9 +278,7 @@ def parse_request(obj, base_dir=None, source: str = "request") -> Request:
         if not isinstance(t, Mapping):
             raise InputError(f"{where}: must be an object (samples phi/x/y or contact)")
         if "contact" in t:
-            extra = sorted(map(str, set(t) - {"contact", "finger", "meta"}))
-            if extra:
-                raise InputError(f"{where}: unknown key(s) {', '.join(extra)} beside 'contact'")
+            check_keys(t, ("contact", "finger", "meta"), where, "beside 'contact' only finger and meta")
             touches.append(_parse_contact(t["contact"], f"{where}.contact"))
         else:
             touches.append(_parse_samples(t, where))

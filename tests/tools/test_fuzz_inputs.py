@@ -21,7 +21,7 @@ from tools.bench_fuzz import json_paths, replace_at
 from tools.bench_recognizer import exact_request
 from tools.cli import main
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 GOOD = exact_request("ellipse", {"a": 28.6, "b": 17.3}, [0.36, 1.86, 4.23], Pose(0.3, 120.0, 15.0), False)
 JAW = config_to_mapping(load_config(ROOT / "config/jaw.yaml"))
 FAST = settings(max_examples=60, deadline=None, derandomize=True,

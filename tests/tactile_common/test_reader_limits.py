@@ -12,7 +12,7 @@ from tactile_common.errors import InputError
 from tactile_common.inputs import loads_json
 from tactile_common.yamlfile import MAX_ALIASES, MAX_YAML_BYTES, read_yaml
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 BOMB = "a: &a [lol, lol, lol, lol, lol, lol, lol, lol, lol]\n" + "".join(
     f"{n}: &{n} [{', '.join([f'*{p}'] * 9)}]\n" for p, n in zip("abcdefgh", "bcdefghi"))
 
