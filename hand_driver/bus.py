@@ -20,7 +20,7 @@ so), then arms every servo with ``watchdog_ms`` (the jaw config's ``bus.watchdog
 100 ms by default, 0: off). Each servo then stops by itself when no instruction packet
 reaches it for that long, e.g. after ``kill -9`` of the host; every cycle's read and write
 keeps it fed. After a longer pause of the host (a recognition between touches)
-:meth:`JointBus.rearm_watchdog` clears the error before motion goes on (hand_driver.motion
+:meth:`JointBus.rearm_watchdog` clears the error before motion goes on (hand_driver.cycle
 does it). A clean close disarms it with torque off.
 """
 
@@ -523,7 +523,7 @@ class JointBus:
     def write_goal_ticks(self, ticks) -> None:
         """Every joint's Goal Position in one sync write, after checking all of them; after
         a pause of the host longer than ¾ of the watchdog's time (wall clock) the watchdog
-        is re-armed first (hand_driver.motion.Jaw does the same in robot time)."""
+        is re-armed first (hand_driver.cycle.Jaw does the same in robot time)."""
         ti = self.check_goal_ticks(ticks)
         self._rearm_after_pause()
         self._sync_write_field("goal_position", ti)

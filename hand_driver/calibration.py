@@ -17,7 +17,8 @@ from hand_driver import kinematics as kin
 from hand_driver.calibration_fit import CalibrationRefused, ContactModel, Reading, pack_params
 from hand_driver.calibration_plan import PlannedTouch, plan_touches
 from hand_driver.config import JawConfig
-from hand_driver.motion import LIMIT_MARGIN_RAD, guarded_approach, move_to, run_together
+from hand_driver.cycle import LIMIT_MARGIN_RAD, run_together
+from hand_driver.motion import guarded_approach, move_to
 from tactile_common.angles import wrap_angle
 
 #: pre-contact gap (mm) from which every calibration touch approaches, and its travel

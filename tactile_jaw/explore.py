@@ -23,7 +23,8 @@ from typing import Any, Callable
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.motion import LIMIT_MARGIN_RAD, Jaw, TouchResult, move_line, move_to, roll_angles, rolling_touch, run_together
+from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
+from hand_driver.motion import TouchResult, move_line, move_to, roll_angles, rolling_touch
 from recognizer.result import Recognition
 from tactile_common.errors import InputError
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer

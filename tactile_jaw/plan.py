@@ -16,7 +16,8 @@ import math
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.motion import LIMIT_MARGIN_RAD, roll_angles
+from hand_driver.cycle import LIMIT_MARGIN_RAD
+from hand_driver.motion import roll_angles
 from tactile_jaw.pipeline import FeltTouch
 from tactile_jaw.settings import ExploreSettings
 

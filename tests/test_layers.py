@@ -90,7 +90,7 @@ def test_imports_point_down(path):
     ("import yaml\nfrom hand_driver import kinematics\n", "tactile_common/x.py",
      ["tactile_common imports hand_driver", "tactile_common imports hand_driver.kinematics"]),
     ("from .. import classify\n", "hand_driver/sim/x.py", []),  # hand_driver.classify: not another package
-    ("from recognizer.scene import load_scene\nfrom hand_driver.motion import Jaw\n", "tactile_jaw/x.py", []),
+    ("from recognizer.scene import load_scene\nfrom hand_driver.cycle import Jaw\n", "tactile_jaw/x.py", []),
 ])
 def test_the_rule_catches_forbidden_imports(tmp_path, source, where, expected):
     """The check itself can fail: hand-written modules, module-level and function-local."""

@@ -40,7 +40,7 @@ def calibrate(cfg, truth, rng, faces: int, corners: int):
     off it by up to ±3 mm) and fit."""
     from hand_driver.calibration_fit import fit
     from hand_driver.calibration_plan import DEFAULT_PLACEMENTS
-    from hand_driver.motion import LockstepClock
+    from hand_driver.cycle import LockstepClock
     from hand_driver.sim.server import EmulatedBus
     from recognizer.curves import Pose
     from recognizer.scene import load_scene

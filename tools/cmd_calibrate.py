@@ -58,7 +58,7 @@ def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, cloc
     own. ``clock_for(k)`` makes the Jaw's clock for placement k."""
     from hand_driver import calibration as cal
     from hand_driver.bus import JointBus
-    from hand_driver.motion import Jaw
+    from hand_driver.cycle import Jaw
 
     ask = len(ports) == 1 and len(places) > 1
     if ask and wait_for_user is None:
@@ -82,7 +82,7 @@ def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, cloc
 def run(args) -> int:
     from hand_driver.calibration_fit import fit
     from hand_driver.config import dump_config, load_config
-    from hand_driver.motion import WallClock
+    from hand_driver.cycle import WallClock
     from recognizer.scene import load_scene
     from tactile_common.files import check_output
 

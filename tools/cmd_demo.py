@@ -3,7 +3,7 @@
 The emulator (hand_driver.sim.server.EmulatedBus) runs in this process on a
 pseudo-terminal that the Dynamixel SDK opens like a USB adapter; the exploration talks
 Protocol 2.0 to it exactly as to a real jaw. The emulator runs in lockstep with the
-exploration's cycles (hand_driver.motion.LockstepClock): robot time is its simulated
+exploration's cycles (hand_driver.cycle.LockstepClock): robot time is its simulated
 time, the same on any host, and wall time is only the computation. The emulated jaw starts
 opened (tactile_jaw.plan.open_pose: every pad outside the workspace disk); an object
 that overlaps those pads is refused (exit 2).
@@ -56,7 +56,7 @@ def run(args) -> int:
 
     from hand_driver import kinematics as kin
     from hand_driver.config import load_config
-    from hand_driver.motion import LockstepClock
+    from hand_driver.cycle import LockstepClock
     from hand_driver.sim.server import EmulatedBus
     from tactile_common.errors import InputError
     from recognizer.scene import load_scene

@@ -78,7 +78,7 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     from hand_driver.bus import JointBus
     from hand_driver.config import config_to_mapping
     from hand_driver.log import RunLog
-    from hand_driver.motion import Jaw
+    from hand_driver.cycle import Jaw
     from tactile_jaw.explore import explore
     from tactile_jaw.pipeline import make_recognizer, workspace_reach
     from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
@@ -168,7 +168,7 @@ def progress_printer(quiet: bool = False) -> Callable[[str], None]:
 
 def run(args) -> int:
     from hand_driver.config import load_config
-    from hand_driver.motion import WallClock
+    from hand_driver.cycle import WallClock
 
     config = load_config(args.config or default_path("config/jaw.yaml"))
     log_path = args.log or default_log_path()

@@ -158,7 +158,7 @@ class EmulatedBus:
     def advance(self, dt: float) -> None:
         """Jump simulated time dt seconds ahead of the clock, integrating motion, without
         waiting for the pty to go quiet: for a client in lockstep that has had every
-        answer it waits for (hand_driver.motion.LockstepClock)."""
+        answer it waits for (hand_driver.cycle.LockstepClock)."""
         with self.lock:
             self._offset += dt
             self._integrate(dt)

@@ -14,7 +14,8 @@ import pytest
 
 from hand_driver.bus import JointBus
 from hand_driver.config import load_config
-from hand_driver.motion import Jaw, LockstepClock, move_to, run_together
+from hand_driver.cycle import Jaw, LockstepClock, run_together
+from hand_driver.motion import move_to
 from hand_driver.sim.server import EmulatedBus
 
 #: the host process: arms the watchdog on open, moves servo 1 slowly toward tick 3000 and

@@ -13,7 +13,8 @@ from hand_driver.bus import JointBus
 from hand_driver.config import load_config
 from hand_driver.errors import BusTimeout, CrcError, PortError, ServoHardwareError
 from hand_driver.log import RunLog, read_log
-from hand_driver.motion import Jaw, LockstepClock, guarded_approach, move_line, rolling_touch, run_together
+from hand_driver.cycle import Jaw, LockstepClock, run_together
+from hand_driver.motion import guarded_approach, move_line, rolling_touch
 from hand_driver.sim.server import EmulatedBus
 from recognizer.curves import CURVES
 from recognizer.scene import load_scene

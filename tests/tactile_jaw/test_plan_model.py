@@ -11,7 +11,7 @@ from hypothesis import given, settings, strategies as st
 
 from hand_driver import kinematics as kin
 from hand_driver.config import load_config
-from hand_driver.motion import LIMIT_MARGIN_RAD
+from hand_driver.cycle import LIMIT_MARGIN_RAD
 from tactile_jaw.plan import MODEL_EXTRAPOLATE_DEG, ObjectModel, open_pose, retreat_offset
 
 CONFIG = load_config("config/jaw.yaml")

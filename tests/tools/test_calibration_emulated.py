@@ -19,7 +19,7 @@ import pytest
 from hand_driver import calibration_fit as cal
 from hand_driver import calibration_plan as cp
 from hand_driver.config import dump_config, load_config, perturbed as perturbed_config
-from hand_driver.motion import LockstepClock
+from hand_driver.cycle import LockstepClock
 from hand_driver.sim.server import EmulatedBus
 from recognizer.curves import Pose
 from recognizer.scene import load_scene
