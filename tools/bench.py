@@ -27,8 +27,6 @@ Paper protocol, side by side with ours:
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 import multiprocessing
 import multiprocessing.pool
@@ -37,7 +35,6 @@ import sys
 import time
 import warnings
 from dataclasses import dataclass, replace
-from pathlib import Path
 from typing import Callable, Iterable
 
 import numpy as np
@@ -45,7 +42,7 @@ import numpy as np
 from recognizer import synth
 from recognizer.curves import CURVES, Pose
 from recognizer.profiles import PROFILES, robot_time_s
-from tactile_common.files import atomic_path, atomic_write
+from tools.ellipse_reference import fit_ellipse_reference
 
 CLASSES = tuple(CURVES)
 SPEC_PHI = 1.5e-3
@@ -152,75 +149,6 @@ def run_trial(task: tuple) -> dict:
     if bad:
         rec["error"] = "non-finite parameter in the answer"
     return rec
-
-
-# -- least-squares ellipse fits -------------------------------------------------------------
-
-def fit_ellipse_halir_flusser(x: np.ndarray, y: np.ndarray) -> tuple[float, float] | None:
-    """Semi-axes (a ≥ b) of the Halír–Flusser (1998) direct least-squares ellipse fit
-    (Fitzgibbon's constraint 4AC − B² = 1, numerically stable split), or None."""
-    mx, my, sc = x.mean(), y.mean(), max(float(np.ptp(x)), float(np.ptp(y)), 1e-12)
-    u, v = (x - mx) / sc, (y - my) / sc
-    d1 = np.stack([u * u, u * v, v * v], axis=1)
-    d2 = np.stack([u, v, np.ones_like(u)], axis=1)
-    s1, s2, s3 = d1.T @ d1, d1.T @ d2, d2.T @ d2
-    try:
-        t = -np.linalg.solve(s3, s2.T)
-    except np.linalg.LinAlgError:
-        return None
-    m = s1 + s2 @ t
-    m = np.array([m[2] / 2, -m[1], m[0] / 2])
-    w, vecs = np.linalg.eig(m)
-    vecs = np.real(vecs)
-    cond = 4 * vecs[0] * vecs[2] - vecs[1] ** 2
-    ok = np.flatnonzero(cond > 0)
-    if ok.size == 0:
-        return None
-    a1 = vecs[:, ok[0]]
-    coef = np.concatenate([a1, t @ a1])
-    return _conic_axes(coef, sc)
-
-
-def _conic_axes(coef: np.ndarray, scale: float) -> tuple[float, float] | None:
-    """Semi-axes of the ellipse A u² + B uv + C v² + D u + E v + F = 0 (scaled by ``scale``)."""
-    a, b, c, d, e, f = coef
-    mat = np.array([[a, b / 2], [b / 2, c]])
-    try:
-        center = np.linalg.solve(2 * mat, -np.array([d, e]))
-    except np.linalg.LinAlgError:
-        return None
-    f0 = f + 0.5 * (d * center[0] + e * center[1])
-    ev = np.linalg.eigvalsh(mat)
-    if np.any(ev * -f0 <= 0):
-        return None
-    axes = np.sqrt(-f0 / ev) * scale
-    return float(max(axes)), float(min(axes))
-
-
-def fit_ellipse_reference(x: np.ndarray, y: np.ndarray) -> tuple[tuple[float, float] | None, str]:
-    """A general least-squares ellipse fit of points: scikit-image's EllipseModel when
-    importable, else Halír–Flusser. Returns (semi-axes or None, which)."""
-    try:
-        from skimage.measure import EllipseModel
-    except ImportError:
-        return fit_ellipse_halir_flusser(x, y), "Halír–Flusser direct least squares (tools/bench.py)"
-    import skimage
-
-    name = f"scikit-image {skimage.__version__} EllipseModel"
-    pts = np.stack([x, y], axis=1)
-    if hasattr(EllipseModel, "from_estimate"):
-        model = EllipseModel.from_estimate(pts)
-        if not model:
-            return None, name
-        axes = tuple(float(v) for v in model.axis_lengths)
-    else:  # scikit-image < 0.26
-        model = EllipseModel()
-        if not model.estimate(pts):
-            return None, name
-        axes = tuple(float(v) for v in model.params[2:4])
-    if not all(np.isfinite(axes)):
-        return None, name
-    return (max(axes), min(axes)), name
 
 
 # -- the paper's protocol ------------------------------------------------------------------
@@ -479,144 +407,6 @@ def _checks(rows: list[dict], classes: tuple[str, ...], ellipse: dict) -> list[d
                                 f"{ellipse['ratio_mean']:.3f} ({ellipse['which']})",
                     "pass": bool(ellipse["ratio_median"] <= 1.0)})
     return out
-
-
-# -- outputs --------------------------------------------------------------------------------
-
-CSV_KEYS = ("label", "group", "noise_x", "touches", "samples", "spacing_pct", "roll_span_deg", "estimator", "refine",
-            "trials", "class_acc_pct", "unclassified_pct", "exceptions", "nonfinite", "median_err_pct",
-            "mean_err_pct", "p90_err_pct", "max_err_pct", "robot_s", "compute_ms")
-
-
-def write_csv(result: BenchResult, path: Path) -> None:
-    keys = list(CSV_KEYS) + [k for k in result.rows[0] if k not in CSV_KEYS and k != "failures"] + ["failures"]
-    buf = io.StringIO(newline="")
-    w = csv.DictWriter(buf, fieldnames=keys)
-    w.writeheader()
-    for r in result.rows:
-        w.writerow({k: (f"{v:.6g}" if isinstance(v, float) else v) for k, v in r.items()})
-    atomic_write(path, buf.getvalue())
-
-
-def _f(v: float, fmt: str = ".3g") -> str:
-    return "–" if v is None or (isinstance(v, float) and not math.isfinite(v)) else format(v, fmt)
-
-
-def write_markdown(result: BenchResult, path: Path, command: str) -> None:
-    m = result.meta
-    lines = [
-        "# Speed–accuracy benchmark",
-        "",
-        f"Generated by `{command}` (seed {m['seed']}; {m['shapes']} shapes per class for the baseline and "
-        f"noise-free rows, {m['profile_shapes']} for the profile rows, {m['sweep_shapes']} for the other rows, "
-        f"{m['table_shapes']} for the paper tables; "
-        f"{m['jobs']} processes, {m['wall_s']:.0f} s wall). Standard noise: φ 1.5 mrad, positions 0.1 % of the "
-        "shape's size L; noisy trials take arc length from the positions, noise-free ones are given the exact s. "
-        "Relative error is the paper's √Σ((p − p̂)/p)² over the class's parameters, on the right answers. "
-        "Robot time is modelled (recognizer/profiles.py), compute time measured per recognition.",
-        "",
-        "## Targets",
-        "",
-        "| target | measured | met |",
-        "|---|---|---|",
-    ]
-    lines += [f"| {c['target']} | {c['measured']} | {'yes' if c['pass'] else 'no'} |" for c in result.checks]
-    lines += ["", "## Sweep (one setting changed from the baseline at a time)", "",
-              "| configuration | touches × samples | spacing % L | roll span ° | estimator | refine | right class % | "
-              "median err % | mean err % | p90 err % | robot s | compute ms | trials |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for r in result.rows:
-        lines.append(f"| {r['label']} | {r['touches']} × {r['samples']} | {r['spacing_pct']:.2g} | "
-                     f"{r['roll_span_deg']:.1f} | {r['estimator']} | {'on' if r['refine'] else 'off'} | "
-                     f"{_f(r['class_acc_pct'], '.1f')} | {_f(r['median_err_pct'])} | {_f(r['mean_err_pct'])} | "
-                     f"{_f(r['p90_err_pct'])} | {r['robot_s']:.1f} | {_f(r['compute_ms'], '.0f')} | {r['trials']} |")
-    classes = m["classes"]
-    lines += ["", "## Per class (baseline and noise-free)", "",
-              "| row | " + " | ".join(classes) + " |", "|---|" + "---|" * len(classes)]
-    for r in result.rows:
-        if r["label"] in ("baseline", "noise-free"):
-            lines.append(f"| {r['label']}: right class % | " + " | ".join(_f(r[f'acc_{c}'], '.1f') for c in classes) + " |")
-            lines.append(f"| {r['label']}: mean err % | " + " | ".join(_f(r[f'mean_err_{c}'], '.2e') for c in classes) + " |")
-            lines.append(f"| {r['label']}: median err % | " + " | ".join(_f(r[f'median_err_{c}'], '.2e') for c in classes) + " |")
-    lines += ["", "## Paper Table 1: invariant spread over random contact points (standard noise)", "",
-              "One fixed shape per invariant (the paper gives only the invariant's value; the second parameter "
-              "is ours). Paper method: central differences on 3 samples; ours: `auto` on 9 samples; 2 % spacing.", "",
-              "| invariant | shape | real | paper printed min / max / mean | paper method min / max / mean (std) | "
-              "ours min / max / mean (std) |", "|---|---|---|---|---|---|"]
-    for t in result.table1:
-        pp, pm, ou = t["paper_printed"], t["paper_method"], t["ours"]
-        shape = f"{t['class']} " + ", ".join(f"{k}={v:.4g}" for k, v in t["params"].items())
-        lines.append(f"| {t['invariant']} | {shape} | {t['real']:.4f} | {pp[0]:.4f} / {pp[1]:.4f} / {pp[2]:.4f} | "
-                     f"{_f(pm['min'], '.4f')} / {_f(pm['max'], '.4f')} / {_f(pm['mean'], '.4f')} ({_f(t['paper_method_std'], '.2g')}) | "
-                     f"{_f(ou['min'], '.4f')} / {_f(ou['max'], '.4f')} / {_f(ou['mean'], '.4f')} ({_f(t['ours_std'], '.2g')}) |")
-    lines += ["", "## Paper Table 3: relative error of the parameters, class known (standard noise)", "",
-              "Paper method: 3 touches × 3 samples, central differences, invariants only. Ours: 3 touches × 9 "
-              "samples, `auto`, refinement. Same shapes and noise.", "",
-              "| class | paper printed min / max / mean % | paper method min / max / mean / median % | "
-              "ours min / max / mean / median % | failed (paper, ours) |", "|---|---|---|---|---|"]
-    for t in result.table3:
-        pp, pm, ou = t["paper_printed"], t["paper_method"], t["ours"]
-        lines.append(f"| {t['class']} | {pp[0]:.2f} / {pp[1]:.2f} / {pp[2]:.2f} | "
-                     + " / ".join(_f(100 * pm[k], '.3g') for k in ("min", "max", "mean", "median")) + " | "
-                     + " / ".join(_f(100 * ou[k], '.3g') for k in ("min", "max", "mean", "median"))
-                     + f" | {t['paper_failed']}, {t['ours_failed']} of {t['n']} |")
-    e = result.ellipse
-    if e:
-        lines += ["", "## Ellipses: refined fit against a least-squares ellipse fit on the same contact points", "",
-                  f"Reference: {e['which']}, fitted to all 27 sample positions of the 3 touches "
-                  f"({e['n_both']} of {e['n']} shapes where both answered; reference failed on {e['lsq_failed']}).", "",
-                  "| fit | median err % | mean err % | p90 err % | max err % |", "|---|---|---|---|---|",
-                  f"| ours (refined) | {_f(100 * e['ours']['median'])} | {_f(100 * e['ours']['mean'])} | "
-                  f"{_f(100 * e['ours']['p90'])} | {_f(100 * e['ours']['max'])} |",
-                  f"| least-squares ellipse | {_f(100 * e['lsq']['median'])} | {_f(100 * e['lsq']['mean'])} | "
-                  f"{_f(100 * e['lsq']['p90'])} | {_f(100 * e['lsq']['max'])} |", "",
-                  f"Ratio ours / least squares: median {_f(e['ratio_median'])}, mean {_f(e['ratio_mean'])}; "
-                  f"ours at least as good on {_f(e['ours_better_pct'], '.0f')} % of shapes."]
-    fails = [r for r in result.rows if r["failures"]]
-    if fails:
-        lines += ["", "## Failures", ""] + [f"- {r['label']}: {r['failures']}" for r in fails]
-    lines += ["", "![accuracy against cost](bench.png)", ""]
-    atomic_write(path, "\n".join(lines))
-
-
-def write_plot(result: BenchResult, path: Path) -> None:
-    """Median error and class accuracy against robot time and compute time (noisy rows;
-    the noise-free row's error is ~1e-13 % and would flatten the scale)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    rows = [r for r in result.rows if r["noise_x"] > 0 and math.isfinite(r["median_err_pct"])]
-    fig, axes = plt.subplots(2, 2, figsize=(13, 9), sharex="col")
-    groups = sorted({r["group"] for r in rows})
-    colors = {g: plt.cm.tab10(i) for i, g in enumerate(groups)}
-    for col, (xkey, xlabel) in enumerate((("robot_s", "robot time per exploration, s (model)"),
-                                          ("compute_ms", "compute time per recognition, ms (measured)"))):
-        for row, (ykey, ylabel, log) in enumerate((("median_err_pct", "median relative parameter error, %", True),
-                                                   ("class_acc_pct", "right class, % (mixed classes)", False))):
-            ax = axes[row, col]
-            for r in rows:
-                ax.scatter(r[xkey], r[ykey], s=36, color=colors[r["group"]], edgecolor="k", linewidth=0.5,
-                           label=r["group"])
-                ax.annotate(r["label"], (r[xkey], r[ykey]), fontsize=6, xytext=(3, 2), textcoords="offset points")
-            if log:
-                ax.set_yscale("log")
-            if col == 1:
-                ax.set_xscale("log")
-            ax.set_ylabel(ylabel)
-            ax.grid(True, which="both", alpha=0.3)
-        axes[1, col].set_xlabel(xlabel)
-    handles, labels = axes[0, 0].get_legend_handles_labels()
-    uniq = dict(zip(labels, handles))
-    axes[0, 0].legend(uniq.values(), uniq.keys(), fontsize=7, title="sweep", title_fontsize=7)
-    fig.suptitle("tactile bench: accuracy against cost (standard noise unless the label says otherwise)")
-    fig.tight_layout()
-    try:
-        with atomic_path(path) as tmp:
-            fig.savefig(tmp, dpi=110, format="png")
-    finally:
-        plt.close(fig)
 
 
 def default_jobs() -> int:

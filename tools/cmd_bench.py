@@ -51,7 +51,7 @@ def _positive(value: int | None, default: int, name: str) -> int:
 
 def run(args: argparse.Namespace) -> int:
     from recognizer.curves import CURVES
-    from tools import bench
+    from tools import bench, bench_report
 
     classes = tuple(args.classes) if args.classes else bench.CLASSES
     unknown = [c for c in classes if c not in CURVES]
@@ -89,9 +89,9 @@ def run(args: argparse.Namespace) -> int:
         (f" --table-shapes {args.table_shapes}" if args.table_shapes else "") + \
         (f" --seed {args.seed}" if args.seed != 1 else "") + \
         (f" --classes {' '.join(args.classes)}" if args.classes else "")
-    bench.write_csv(result, out / OUTPUTS[0])
-    bench.write_markdown(result, out / OUTPUTS[1], command)
-    bench.write_plot(result, out / OUTPUTS[2])
+    bench_report.write_csv(result, out / OUTPUTS[0])
+    bench_report.write_markdown(result, out / OUTPUTS[1], command)
+    bench_report.write_plot(result, out / OUTPUTS[2])
     for c in result.checks:
         print(f"{'met ' if c['pass'] else 'MISS'}  {c['target']}: {c['measured']}")
     if args.wide_trials:

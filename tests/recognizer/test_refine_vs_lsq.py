@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 
 from recognizer.curves import CURVES, Pose
-from tools.bench import _conic_axes, fit_ellipse_halir_flusser, fit_ellipse_reference, rel_error
+from tools.bench import rel_error
+from tools.ellipse_reference import _conic_axes, fit_ellipse_halir_flusser, fit_ellipse_reference
 
 
 def _arc_points(a, b, t0, t1, n=27):

@@ -4,14 +4,14 @@ overwrites the committed docs/bench results."""
 import tempfile
 from types import SimpleNamespace
 
-from tools import bench, cli
+from tools import bench, bench_report, cli
 
 
 def _stub_bench(monkeypatch):
     """The measurement itself is the benchmark's business; here only where it writes."""
     monkeypatch.setattr(bench, "run_bench", lambda *a, **k: SimpleNamespace(checks=[]))
     for name in ("write_csv", "write_markdown", "write_plot"):
-        monkeypatch.setattr(bench, name, lambda result, path, *a: path.write_text(name))
+        monkeypatch.setattr(bench_report, name, lambda result, path, *a: path.write_text(name))
 
 
 def test_bench_without_out_writes_to_scratch_not_docs(tmp_path, monkeypatch, capsys):
