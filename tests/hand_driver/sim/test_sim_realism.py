@@ -3,33 +3,17 @@ checked through the real dynamixel_sdk: ID and baud changes, factory reset, clea
 indirect addressing, Startup Configuration, Secondary ID, Bus Watchdog, overload."""
 
 import pytest
-from dynamixel_sdk import COMM_RX_TIMEOUT, COMM_SUCCESS, GroupSyncWrite, PacketHandler, PortHandler
+from dynamixel_sdk import COMM_RX_TIMEOUT, COMM_SUCCESS, GroupSyncWrite
 
-from hand_driver.config import JointConfig
 from hand_driver.sim import protocol as P
-from hand_driver.sim.server import EmulatedBus
 from hand_driver.sim.servo import OVERLOAD_TIME_S
 
 ERR_RESULT_FAIL, ERR_DATA_RANGE = 1, 4
 
 
-class Port(PortHandler):
-    """The SDK's port with 1 s of timeout margin: the emulator shares a loaded host."""
-
-    def setPacketTimeout(self, packet_length):  # noqa: N802 - SDK name
-        super().setPacketTimeout(packet_length)
-        self.packet_timeout += 1000.0
-
-
 @pytest.fixture
-def link():
-    joints = [JointConfig(1, "XM430-W350", 2048, 50.0), JointConfig(2, "XC330-T288", 1000, 50.0),
-              JointConfig(5, "XL430-W250", 3000, 50.0)]
-    with EmulatedBus(joints, time_scale=0.0) as sim:  # simulated time moves only by sim.step
-        port = Port(sim.port)
-        assert port.openPort()
-        yield sim, port, PacketHandler(2.0)
-        port.closePort()
+def link(sdk_link):
+    return sdk_link(time_scale=0.0, slack_ms=1000.0)  # simulated time moves only by sim.step
 
 
 def test_new_id_answers_this_packet_under_the_old_id_then_only_the_new(link):

@@ -8,33 +8,12 @@ from dynamixel_sdk import (
     GroupBulkWrite,
     GroupSyncRead,
     GroupSyncWrite,
-    PacketHandler,
-    PortHandler,
 )
-
-from hand_driver.config import JointConfig
-from hand_driver.sim.server import EmulatedBus
-
-JOINTS = [JointConfig(1, "XM430-W350", 2048, 50.0), JointConfig(2, "XC330-T288", 1000, 50.0),
-          JointConfig(5, "XL430-W250", 3000, 50.0)]
-
-
-class Port(PortHandler):
-    """The SDK's port with 250 ms of timeout margin (instead of 34 ms): tests run on a
-    loaded machine with the emulator in the same process."""
-
-    def setPacketTimeout(self, packet_length):  # noqa: N802 - SDK name
-        super().setPacketTimeout(packet_length)
-        self.packet_timeout += 216.0
 
 
 @pytest.fixture
-def link():
-    with EmulatedBus(JOINTS, time_scale=20.0) as sim:
-        port = Port(sim.port)
-        assert port.openPort()
-        yield sim, port, PacketHandler(2.0)
-        port.closePort()
+def link(sdk_link):
+    return sdk_link(time_scale=20.0)
 
 
 def test_ping_reports_model_numbers_and_missing_id_times_out(link):
