@@ -175,6 +175,10 @@ def _candidate(fit, alpha: float) -> Candidate:
 #: with refinement on, a class whose invariant-stage χ² is within this factor of its limit
 #: is refined and judged on the refined fit
 REFINE_WITHIN = 100.0
+#: with refinement on, classes fitted from every start, each fit refined (one start's fit can
+#: sit in the wrong basin: the cubic classes' branches and slope roots; the hyperbola's scan
+#: far out on an arm against its invariants' and conic's starts near the vertex)
+EVERY_START = ("hyperbola", "cubical_parabola", "semicubical_parabola")
 
 
 def _best_per_class(cands: list[Candidate]) -> list[Candidate]:
@@ -232,7 +236,7 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
             continue
         limit = chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[cls] + d.n), 1))  # as in _candidate
         give_up = 1e4 * limit
-        if options.refine and cls in ("cubical_parabola", "semicubical_parabola"):
+        if options.refine and cls in EVERY_START:
             fits = fit_class_every_start(cls, d, give_up=give_up, sigma_below=limit)
         else:
             fits = [f for f in (fit_class(cls, d, give_up=give_up, sigma_below=limit),) if f is not None]

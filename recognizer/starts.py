@@ -8,7 +8,9 @@ recognizer.localize flips them first), each start is (params, t per touch):
   sin²t = ((ab/κ)^{2/3} − b²)/(a² − b²) (quadrant from sign(sin t cos t) = −sign κ_s and
   the half-turn from the tangent), sinh²t = ((ab/|κ|)^{2/3} − b²)/(a² + b²),
   sign t = sign κ_s; and the conic through the touches' positions and tangents
-  (``conic_start``), which does not lean on κ_s;
+  (``conic_start``), which does not lean on κ_s; the hyperbola also from a scan of its
+  branch's shape and location (``hyperbola_scan``), far out on an arm where κ, κ_s are
+  barely measured;
 - parabola: a from I_p, t = κ_s/(3κ²);
 - cubical and semicubical parabolas: the canonical tangent angle ψ from
   ``invariants.slope_angles`` (both roots; for the semicubical both branches t ≷ 0), then
@@ -33,7 +35,7 @@ from recognizer.curves import CURVES
 from recognizer.solver import KERNELS
 from tactile_common.angles import wrap_angle
 
-__all__ = ["starts", "pose_from", "conic_start", "semicubical_scan"]
+__all__ = ["starts", "pose_from", "conic_start", "semicubical_scan", "hyperbola_scan"]
 
 _PI = math.pi
 
@@ -226,10 +228,69 @@ def semicubical_scan(d: Contacts, n_best: int = 4) -> list[tuple[dict, list]]:
     return [start for *_, start in found[:n_best]]
 
 
+#: the hyperbola scan: shape e = b/a on a log grid over SCAN_E, the first touch's t over ±SCAN_T
+SCAN_E, SCAN_NE = (1e-2, 1e2), 49
+SCAN_T, SCAN_NT = 7.0, 71
+
+
+def hyperbola_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
+    """Starts for the hyperbola from the tangent angles and positions first.
+
+    Far out on an arm κ and κ_s are small and poorly measured: the invariants and the
+    conic through the touches can miss the right basin altogether. The scale-free branch
+    (cosh t, e sinh t) (e = b/a) is scanned over e and the first touch's t: its tangent
+    angle ψ(t) = atan2(e cosh t, sinh t) is monotonic, so φ₀ fixes the frame
+    θ = φ₀ − ψ(t₀) and every other touch's t from tanh tᵢ = e·cot ψᵢ (a touch whose
+    ψᵢ lies outside the branch's range makes the point inadmissible); the scale a and the
+    translation follow from the positions by linear least squares, and the point is scored
+    by the χ² of the positions and of κ = −e/(a h³), κ_s = 3e(1 + e²) sinh t cosh t/(a² h⁶)
+    (h = hypot(sinh t, e cosh t), eqs. 6–7's quantities) under their stated deviations.
+    The best ``n_best`` separated points are returned (``semicubical_scan``'s scheme)."""
+    x, y, phi, k, ks = (np.asarray(c, float) for c in d.cols())
+    rows = d.rows()
+    w_pos = np.array([1.0 / r[5] ** 2 for r in rows])
+    W = d.whitener()
+    e = np.geomspace(*SCAN_E, SCAN_NE)[:, None, None]
+    t0 = np.linspace(-SCAN_T, SCAN_T, SCAN_NT)[None, :, None]
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        th = phi[0] - np.arctan2(e * np.cosh(t0), np.sinh(t0))
+        psi = wrap_angle(phi - th)
+        ok = np.all((psi > 0) & (psi < _PI), axis=-1)
+        tt = np.arctanh(e * np.cos(psi) / np.sin(psi))
+        ok &= np.all(np.isfinite(tt), axis=-1)
+        ch, sh = np.cosh(tt), np.sinh(tt)
+        px, py = ch, e * sh
+        c, s_ = np.cos(th), np.sin(th)
+        qx, qy = c * px - s_ * py, s_ * px + c * py
+        wsum = w_pos.sum()
+        dx, dy = x - (w_pos * x).sum() / wsum, y - (w_pos * y).sum() / wsum
+        dqx = qx - (w_pos * qx).sum(-1, keepdims=True) / wsum
+        dqy = qy - (w_pos * qy).sum(-1, keepdims=True) / wsum
+        scale = (w_pos * (dx * dqx + dy * dqy)).sum(-1) / (w_pos * (dqx**2 + dqy**2)).sum(-1)
+        ok &= scale > 0
+        sc = scale[..., None]
+        cost = (w_pos * ((dx - sc * dqx) ** 2 + (dy - sc * dqy) ** 2)).sum(-1)
+        h = np.hypot(sh, e * ch)
+        rk = k + e / (sc * h**3)
+        rks = ks - 3 * e * (1 + e * e) * sh * ch / (sc * sc * h**6)
+        r0 = W[:, 0, 0] * rk + W[:, 0, 1] * rks
+        r1 = W[:, 1, 0] * rk + W[:, 1, 1] * rks
+        cost = np.where(ok & np.isfinite(cost), cost + (r0 * r0 + r1 * r1).sum(-1), np.inf)
+    found = []
+    for flat in np.argsort(cost, axis=None)[: 50 * n_best]:
+        i, j = np.unravel_index(flat, cost.shape)
+        if not np.isfinite(cost[i, j]) or len(found) == n_best:
+            break
+        if not any(abs(i - ii) <= 4 and abs(j - jj) <= 6 for ii, jj, _ in found):
+            a = float(scale[i, j])
+            found.append((int(i), int(j), ({"a": a, "b": float(e[i, 0, 0]) * a}, tt[i, j].tolist())))
+    return [start for *_, start in found]
+
+
 def starts(cls: str, d: Contacts, every_pair: bool = False) -> list[tuple[dict, list]]:
     """Closed-form (params, t) starting points for a class (data in canonical direction):
     ellipse and hyperbola from the invariants and from the conic through the touches
-    (``conic_start``); the cubic classes by ``_cubic_starts``."""
+    (``conic_start``), the hyperbola also from ``hyperbola_scan``; the cubic classes by ``_cubic_starts``."""
     x, y, phi, k, ks = d.cols()
     if cls == "line":
         th = _circmean_s(phi)
@@ -245,7 +306,8 @@ def starts(cls: str, d: Contacts, every_pair: bool = False) -> list[tuple[dict, 
         cy = _mean([yi + r * math.cos(f) for yi, f in zip(y, phi)])
         return [({"r": r}, [math.atan2(yi - cy, xi - cx) for xi, yi in zip(x, y)])]
     if cls in ("ellipse", "hyperbola"):  # the invariants divide by κ; the conic through the touches does not
-        return (_conic_invariant_starts(cls, d) if 0.0 not in k else []) + conic_start(cls, d)
+        out = (_conic_invariant_starts(cls, d) if 0.0 not in k else []) + conic_start(cls, d)
+        return out + (hyperbola_scan(d) if cls == "hyperbola" and d.n >= 2 else [])
     if cls == "parabola":
         if 0.0 in k:  # I_p divides by κ: no start
             return []
