@@ -36,6 +36,9 @@ CORNER_RADIUS_MM = 1.0
 CORNER_SIGMAS = 2.0
 #: false-rejection rate of the test that a touch's pad lines are one smooth curve's tangents
 SMOOTH_ALPHA = 1e-3
+#: degree of d(ψ) whose envelope (constant radius of curvature over the roll) gives a
+#: rolling touch's arc length when the default cubic's is not increasing
+SMOOTH_DEGREE = 2
 #: outcomes of a touch cut short whose samples so far may still be used
 CUT_SHORT = ("unreachable", "no_contact", "blocked")
 
@@ -77,7 +80,8 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
     envelope (and, for rolling touches, its :class:`EnvelopeFit`), and why it cannot be used, or None: at least ``MIN_SAMPLES_PER_TOUCH``
     samples (all ``samples`` planned ones, or those taken before the roll ran out of reach
     or contact), arc length strictly increasing (the pad rolled on a boundary convex toward
-    it, not on an edge or a corner) and every envelope contact on the pad,
+    it, not on an edge or a corner; for rolling touches from the degree-``SMOOTH_DEGREE``
+    fit when the cubic's is not) and every envelope contact on the pad,
     ``EDGE_MARGIN_MM`` from its ends (a pad end resting on the object is not a tangent
     contact); and, with ``curve_checks`` (rolling touches; not probes, whose short rolls
     cannot measure a radius of curvature), that it rolled on the curved part
@@ -112,6 +116,13 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)))
         if off_curve is not None:
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True)
+    if fit is not None and np.any(np.diff(c.s) <= 0.0):
+        # the cubic's ρ(ψ) = −(d + d'') is linear in ψ and its slope is mostly noise over a
+        # short roll (σ_ρ ≈ 4 mm over 18°): at the roll's ends it can dip below 0 on a
+        # boundary of ρ ≈ 20 mm. The roll passed the corner test (ρ > 2 σ_ρ at the contact),
+        # so its arc length comes from the smoother fit of constant ρ (degree 2)
+        c = kin.touch_from_pad_lines(lines.psi, lines.d, degree=SMOOTH_DEGREE)
+        u = np.sum((np.stack([c.x, c.y], axis=-1) - lines.proximal[c.order]) * lines.tangent[c.order], axis=-1)
     if np.any(np.diff(c.s) <= 0.0):
         return out(f"{finger}: arc length not increasing: the pad rolled on an edge or corner", c, u, fit)
     length = f.pad.length_mm
