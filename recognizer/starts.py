@@ -159,15 +159,42 @@ SCAN_B, SCAN_NB = 20.0, 75
 SCAN_V, SCAN_NV = (1e-2, 1e2), 81
 
 
+def _scan_data(d: Contacts):
+    """What both scans score against: positions, φ, κ, κ_s, the positions' weights
+    1/σ_pos² and the (κ, κ_s) whitener."""
+    x, y, phi, k, ks = (np.asarray(c, float) for c in d.cols())
+    w_pos = np.array([1.0 / r[5] ** 2 for r in d.rows()])
+    return x, y, phi, k, ks, w_pos, d.whitener()
+
+
+def _similarity_fit(x, y, w_pos, th, px, py):
+    """Weighted least squares of the touches' positions by scale · R(θ)·(px, py) +
+    translation over broadcast scan points (θ broadcastable against px): (scale, χ² of
+    the positions)."""
+    c, s_ = np.cos(th), np.sin(th)
+    qx, qy = c * px - s_ * py, s_ * px + c * py
+    wsum = w_pos.sum()
+    dx, dy = x - (w_pos * x).sum() / wsum, y - (w_pos * y).sum() / wsum
+    dqx = qx - (w_pos * qx).sum(-1, keepdims=True) / wsum
+    dqy = qy - (w_pos * qy).sum(-1, keepdims=True) / wsum
+    scale = (w_pos * (dx * dqx + dy * dqy)).sum(-1) / (w_pos * (dqx**2 + dqy**2)).sum(-1)
+    sc = scale[..., None]
+    return scale, (w_pos * ((dx - sc * dqx) ** 2 + (dy - sc * dqy) ** 2)).sum(-1)
+
+
+def _curvature_chi2(W, rk, rks):
+    """χ² of the κ, κ_s residuals under the whitener ``W`` (one 2×2 per touch)."""
+    r0 = W[:, 0, 0] * rk + W[:, 0, 1] * rks
+    r1 = W[:, 1, 0] * rk + W[:, 1, 1] * rks
+    return (r0 * r0 + r1 * r1).sum(-1)
+
+
 def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
     """The semicubical scan's score at shapes b and first-touch coordinates v0 on branch
     sg (broadcast arrays): χ² of positions, κ and κ_s with φ fitted exactly; returns
     (cost, v per touch, scale 1/a²), cost inf where a touch's v is not on the branch its
     tangent angle points to (the other touches may lie on either branch)."""
-    x, y, phi, k, ks = (np.asarray(c, float) for c in d.cols())
-    rows = d.rows()
-    w_pos = np.array([1.0 / r[5] ** 2 for r in rows])
-    W = d.whitener()
+    x, y, phi, k, ks, w_pos, W = _scan_data(d)
     b = b[..., None]
     th = phi[0] - np.arctan2(sg * (3 * v0 + 2 * b[..., 0]), 2 * sg)
     psi = wrap_angle(phi - th[..., None])
@@ -175,24 +202,14 @@ def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
         v = (2 * np.tan(psi) - 2 * b) / 3
         # each touch on the branch its tangent points to: ψ within ±π/2 on v > 0, beyond on v < 0
         ok = np.all((np.abs(psi) < _PI / 2) == (v > 0), axis=-1)
-        px, py = v * v, v**3 + b * v * v
-        c, s_ = np.cos(th)[..., None], np.sin(th)[..., None]
-        qx, qy = c * px - s_ * py, s_ * px + c * py
-        wsum = w_pos.sum()
-        dx, dy = x - (w_pos * x).sum() / wsum, y - (w_pos * y).sum() / wsum
-        dqx = qx - (w_pos * qx).sum(-1, keepdims=True) / wsum
-        dqy = qy - (w_pos * qy).sum(-1, keepdims=True) / wsum
-        scale = (w_pos * (dx * dqx + dy * dqy)).sum(-1) / (w_pos * (dqx**2 + dqy**2)).sum(-1)
+        scale, cost = _similarity_fit(x, y, w_pos, th[..., None], v * v, v**3 + b * v * v)
         ok &= scale > 0
         sc = scale[..., None]
-        cost = (w_pos * ((dx - sc * dqx) ** 2 + (dy - sc * dqy) ** 2)).sum(-1)
         u = 3 * v + 2 * b
         q = 4.0 + u * u
         rk = k - 6.0 / (np.abs(v) * q**1.5) / sc
         rks = ks + 6.0 * (q + 9 * u * v) / (v**3 * q**3) / (sc * sc)
-        r0 = W[:, 0, 0] * rk + W[:, 0, 1] * rks
-        r1 = W[:, 1, 0] * rk + W[:, 1, 1] * rks
-        cost = cost + (r0 * r0 + r1 * r1).sum(-1)
+        cost = cost + _curvature_chi2(W, rk, rks)
     return np.where(ok & np.isfinite(cost), cost, np.inf), v, scale
 
 
@@ -246,10 +263,7 @@ def hyperbola_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
     by the χ² of the positions and of κ = −e/(a h³), κ_s = 3e(1 + e²) sinh t cosh t/(a² h⁶)
     (h = hypot(sinh t, e cosh t), eqs. 6–7's quantities) under their stated deviations.
     The best ``n_best`` separated points are returned (``semicubical_scan``'s scheme)."""
-    x, y, phi, k, ks = (np.asarray(c, float) for c in d.cols())
-    rows = d.rows()
-    w_pos = np.array([1.0 / r[5] ** 2 for r in rows])
-    W = d.whitener()
+    x, y, phi, k, ks, w_pos, W = _scan_data(d)
     e = np.geomspace(*SCAN_E, SCAN_NE)[:, None, None]
     t0 = np.linspace(-SCAN_T, SCAN_T, SCAN_NT)[None, :, None]
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
@@ -259,23 +273,13 @@ def hyperbola_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
         tt = np.arctanh(e * np.cos(psi) / np.sin(psi))
         ok &= np.all(np.isfinite(tt), axis=-1)
         ch, sh = np.cosh(tt), np.sinh(tt)
-        px, py = ch, e * sh
-        c, s_ = np.cos(th), np.sin(th)
-        qx, qy = c * px - s_ * py, s_ * px + c * py
-        wsum = w_pos.sum()
-        dx, dy = x - (w_pos * x).sum() / wsum, y - (w_pos * y).sum() / wsum
-        dqx = qx - (w_pos * qx).sum(-1, keepdims=True) / wsum
-        dqy = qy - (w_pos * qy).sum(-1, keepdims=True) / wsum
-        scale = (w_pos * (dx * dqx + dy * dqy)).sum(-1) / (w_pos * (dqx**2 + dqy**2)).sum(-1)
+        scale, cost = _similarity_fit(x, y, w_pos, th, ch, e * sh)
         ok &= scale > 0
         sc = scale[..., None]
-        cost = (w_pos * ((dx - sc * dqx) ** 2 + (dy - sc * dqy) ** 2)).sum(-1)
         h = np.hypot(sh, e * ch)
         rk = k + e / (sc * h**3)
         rks = ks - 3 * e * (1 + e * e) * sh * ch / (sc * sc * h**6)
-        r0 = W[:, 0, 0] * rk + W[:, 0, 1] * rks
-        r1 = W[:, 1, 0] * rk + W[:, 1, 1] * rks
-        cost = np.where(ok & np.isfinite(cost), cost + (r0 * r0 + r1 * r1).sum(-1), np.inf)
+        cost = np.where(ok & np.isfinite(cost), cost + _curvature_chi2(W, rk, rks), np.inf)
     found = []
     for flat in np.argsort(cost, axis=None)[: 50 * n_best]:
         i, j = np.unravel_index(flat, cost.shape)
