@@ -9,12 +9,13 @@ import time
 from pathlib import Path
 
 from tactile_common.errors import InputError
-from tactile_common.files import check_output
+from tactile_common.files import atomic_write, check_output
 
 HELP = "measures the speed–accuracy trade (noise, samples, span, touches, estimator, refinement) and writes a table and a plot"
 
 
 OUTPUTS = ("bench.csv", "bench.md", "bench.png")
+WIDE_OUTPUT = "bench_wide.md"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -72,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
             out.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise InputError(f"--out {out}: cannot create ({exc.strerror})") from exc
-        for name in OUTPUTS:
+        for name in OUTPUTS + ((WIDE_OUTPUT,) if args.wide_trials else ()):
             check_output(out / name, force=args.force, flag="--out")
 
     def progress(msg: str, final: bool) -> None:
@@ -99,8 +100,8 @@ def run(args: argparse.Namespace) -> int:
 
         t1 = time.perf_counter()
         recs = bench_wide.run_wide(classes, args.wide_trials, args.seed, jobs, progress)
-        (out / "bench_wide.md").write_text(bench_wide.markdown(
+        atomic_write(out / WIDE_OUTPUT, bench_wide.markdown(
             recs, f"tactile bench --wide-trials {args.wide_trials} --seed {args.seed}", time.perf_counter() - t1, jobs) + "\n")
-        print(f"wrote {out / 'bench_wide.md'}")
+        print(f"wrote {out / WIDE_OUTPUT}")
     print(f"wrote {out / 'bench.csv'}, {out / 'bench.md'}, {out / 'bench.png'} in {time.perf_counter() - t0:.0f} s")
     return 0
