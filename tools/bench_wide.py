@@ -38,6 +38,7 @@ import numpy as np
 
 from recognizer import synth
 from recognizer.curves import CURVES, Pose
+from tools.bench import _pool, rel_error
 
 CLASSES = tuple(CURVES)
 SPEC_PHI, SPEC_POS_FRAC, SPACING, SAMPLES = 1.5e-3, 1e-3, 0.02, 9
@@ -128,10 +129,6 @@ def _recognize(touches, nm, reach=None):
     return out, time.process_time() - t0, req
 
 
-def _rel(truth: dict, got: dict) -> float:
-    return float(math.sqrt(sum(((got[k] - v) / v) ** 2 for k, v in truth.items()))) if truth else 0.0
-
-
 def _oracle(shape, ts, direction, rec, req, nm) -> str:
     """'data-limited' or 'search miss' for a wrong answer (module docstring)."""
     from recognizer.classify import LIMIT_OF, MODEL_ALPHA, chi2_limit
@@ -182,7 +179,7 @@ def run_trial(task) -> dict:
     nm = NoiseModel(noise.phi, noise.pos)
     out = {"cls": cls, "region": region, "i": i}
     rec, dt, req = _recognize(touches, nm)
-    out.update(got3=rec.cls, err3=_rel(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
+    out.update(got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
                nt_ms=rec.timing.get("next_touch_ms", math.nan))
     if rec.cls == cls:
         z = [(rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()
@@ -198,7 +195,7 @@ def run_trial(task) -> dict:
         return t
     extra = [_extra_touch(shape, draw_t(), rs, direction) for _ in range(2)]
     rec5, _, _ = _recognize(list(touches) + extra, nm)
-    out.update(got5=rec5.cls, err5=_rel(shape.params, rec5.params) if rec5.cls == cls else math.nan)
+    out.update(got5=rec5.cls, err5=rel_error(shape.params, rec5.params) if rec5.cls == cls else math.nan)
     # up to two suggested touches
     cur, tl, used = rec, list(touches), 0
     for _ in range(2):
@@ -209,7 +206,7 @@ def run_trial(task) -> dict:
         tl.append(_extra_touch(shape, t, rs, direction))
         used += 1
         cur, _, _ = _recognize(tl, nm)
-    out.update(gotS=cur.cls, errS=_rel(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
+    out.update(gotS=cur.cls, errS=rel_error(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
     return out
 
 
@@ -259,7 +256,6 @@ def report(recs: list[dict]) -> str:
 
 def run_wide(classes, trials: int, seed: int, jobs: int, progress) -> list[dict]:
     """Every trial's record (``trials`` per class), in ``jobs`` processes."""
-    from tools.bench import _pool
 
     tasks = [(c, i, seed) for c in classes for i in range(trials)]
     recs = []
