@@ -109,7 +109,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
     except InputError as exc:
         return out(f"{finger}: {exc}")
     f = config.finger(finger)
-    u = np.sum((np.stack([c.x, c.y], axis=-1) - lines.proximal[c.order]) * lines.tangent[c.order], axis=-1)
+    u = _pad_u(lines, c)
     fit = None
     if curve_checks:
         fit = fit_envelope(f, kin.ticks_to_angles(f.joints, ticks))
@@ -122,7 +122,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         # boundary of ρ ≈ 20 mm. The roll passed the corner test (ρ > 2 σ_ρ at the contact),
         # so its arc length comes from the smoother fit of constant ρ (degree 2)
         c = kin.touch_from_pad_lines(lines.psi, lines.d, degree=SMOOTH_DEGREE)
-        u = np.sum((np.stack([c.x, c.y], axis=-1) - lines.proximal[c.order]) * lines.tangent[c.order], axis=-1)
+        u = _pad_u(lines, c)
     if np.any(np.diff(c.s) <= 0.0):
         return out(f"{finger}: arc length not increasing: the pad rolled on an edge or corner", c, u, fit)
     length = f.pad.length_mm
@@ -130,6 +130,14 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         return out(f"{finger}: contact {float(np.min(u)):.1f}..{float(np.max(u)):.1f} mm along the pad, "
                    f"not inside {EDGE_MARGIN_MM:g}..{length - EDGE_MARGIN_MM:g} mm (a pad end touched)", c, u, fit)
     return out(None, c, u, fit)
+
+
+def _pad_u(lines: kin.PadLine, contacts: kin.TouchEnvelope) -> np.ndarray:
+    """Each envelope contact's distance along its own reading's pad from the proximal end
+    (PadLine.pad_coordinate), in the contacts' order (by ψ)."""
+    taken = np.empty((contacts.order.size, 2))
+    taken[contacts.order] = np.stack([contacts.x, contacts.y], axis=-1)
+    return lines.pad_coordinate(taken)[contacts.order]
 
 
 def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float) -> str | None:
