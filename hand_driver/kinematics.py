@@ -117,13 +117,6 @@ def finger_pad_line(finger: FingerConfig, q) -> PadLine:
                           finger.pad.side_sign)
 
 
-def jaw_pad_lines(cfg: JawConfig, q) -> dict[str, PadLine]:
-    """Pad lines of every finger from all joint angles (..., n_joints), config order."""
-    q = np.asarray(q, dtype=float)
-    sl = cfg.joint_slices()
-    return {f.name: finger_pad_line(f, q[..., sl[f.name]]) for f in cfg.fingers}
-
-
 def finger_pad_line_from_ticks(cfg: JawConfig, finger: str, ticks) -> PadLine:
     """Pad line(s) of ``finger`` from that finger's encoder ticks (..., 2)."""
     f = cfg.finger(finger)
