@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import sys
 from pathlib import Path
@@ -103,16 +104,16 @@ def run(args) -> int:
     if args.timeout is not None and not 0.0 < args.timeout <= MAX_TIMEOUT_S:
         raise InputError(f"--timeout: must be in (0, {MAX_TIMEOUT_S:g}] s, got {args.timeout}")
     if args.stream:
-        if args.file == "-":
-            src, base = sys.stdin.buffer, Path.cwd()
-        else:
-            try:
-                src = open(args.file, "rb")
-            except OSError as exc:
-                raise InputError(f"{args.file}: cannot read ({exc.strerror or exc})") from None
-            base = Path(args.file).resolve().parent
-        with Worker() as worker:
-            _serve(src, args, base, worker)
+        with contextlib.ExitStack() as stack:
+            if args.file == "-":
+                src, base = sys.stdin.buffer, Path.cwd()
+            else:
+                try:
+                    src = stack.enter_context(open(args.file, "rb"))
+                except OSError as exc:
+                    raise InputError(f"{args.file}: cannot read ({exc.strerror or exc})") from None
+                base = Path(args.file).resolve().parent
+            _serve(src, args, base, stack.enter_context(Worker()))
         return 0
     if args.file == "-":
         raw = sys.stdin.buffer.read(MAX_LINE_BYTES + 1)
