@@ -21,7 +21,7 @@ pad by inverse kinematics, the solution nearest the present joint angles.
   and re-approaches (a blocked turn is retried ``backoff_mm`` further out); a contact at a
   pad end or a pad that does not turn ends the touch; after the last sample the pad backs
   off ``backoff_mm``. The in-contact pad lines give the contacts by their envelope
-  (hand_driver.kinematics.touch_from_ticks).
+  (hand_driver.kinematics.touch_from_pad_lines).
 - Both fingers run these at once in the same cycles: each finger's contact is judged on
   its own joints' currents and motion only.
 """
