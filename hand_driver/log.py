@@ -10,11 +10,13 @@ happened:
   "moving": [...]|null}`` — every joint reading taken, ``t`` on the monotonic clock of
   the header, ``i`` counting readings from 0; joint order is the config's (left finger's
   joints, then the right finger's).
-- ``{"type": "touch_start", "touch": k, "finger": name, "psi": rad, "reading": i}``
+- ``{"type": "touch_start", "touch": k, "finger": name, "psi": rad, "reading": i}`` —
+  with ``"kind": "flat"`` for a flat press (hand_driver.motion.flat_press; default "roll")
 - ``{"type": "sample", "touch": k, "finger": name, "psi": rad, "reading": i}`` — reading
   ``i`` is an in-contact reading of touch ``k``: the pad line it gives is one sample of
   the rolling move.
-- ``{"type": "touch_end", "touch": k, "finger": name, "reading": i, "samples": m, "outcome": str}``
+- ``{"type": "touch_end", "touch": k, "finger": name, "reading": i, "samples": m, "outcome": str}`` —
+  a flat press's also ``"roles"``: each sample's, P, Q, seat or scan
 - ``{"type": "event", "kind": str, "message": str, ...}`` — faults, retries, no-contact
   results, progress.
 - ``{"type": "result", "recognition": {the answer, docs/formats.md}, "robot_time_s": s}``
@@ -165,6 +167,8 @@ class LoggedTouch:
     psi: list[float] = field(default_factory=list)
     readings: list[int] = field(default_factory=list)
     outcome: str | None = None  # from touch_end; None if the run stopped inside the touch
+    kind: str = "roll"  # touch_start's kind: "roll" (a rolling touch) or "flat" (a flat press)
+    roles: list[str] = field(default_factory=list)  # a flat press's sample roles (P, Q, seat, scan), from touch_end
 
 
 @dataclass
@@ -304,6 +308,9 @@ def read_log(path: str | os.PathLike[str]) -> LogContents:
             if kind == "touch_start":
                 touch.psi_center = float(c.number("psi"))
                 c.integer("reading", 0, len(readings), optional=True)
+                touch.kind = c.get("kind", (str,), "a string", optional=True) or "roll"
+                if touch.kind not in ("roll", "flat"):
+                    c.fail(f"touch kind {_short(touch.kind)}, expected roll or flat")
             elif kind == "sample":
                 i = rec.get("reading")
                 if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < len(readings):
@@ -315,6 +322,11 @@ def read_log(path: str | os.PathLike[str]) -> LogContents:
                 c.integer("reading", 0, len(readings), optional=True)
                 c.integer("samples", 0, 10 ** 6, optional=True)
                 touch.outcome = c.get("outcome", (str,), "a string", optional=True) or "ok"
+                if touch.kind == "flat":
+                    roles = c.get("roles", (list,), "a list of sample roles")
+                    if len(roles) != len(touch.readings) or any(r not in ("P", "Q", "seat", "scan") for r in roles):
+                        c.fail(f"roles must name P, Q, seat or scan for each of the touch's {len(touch.readings)} samples")
+                    touch.roles = list(roles)
         elif kind == "event":
             c.get("kind", (str,), "a string")
             c.get("message", (str,), "a string")

@@ -127,6 +127,11 @@ class ContactTouch:
     kappa_s: float
     cov: np.ndarray = field(default_factory=lambda: np.zeros((2, 2)))
 
+    def to_json(self) -> dict:
+        """The touch in the input's contact form (docs/formats.md)."""
+        return {"contact": {"x": self.x, "y": self.y, "phi": self.phi, "kappa": self.kappa, "kappa_s": self.kappa_s,
+                            "cov": np.asarray(self.cov, float).tolist()}}
+
 
 @dataclass(frozen=True)
 class Request:

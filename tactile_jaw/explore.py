@@ -24,10 +24,11 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
-from hand_driver.motion import TouchResult, move_line, move_to, roll_angles, rolling_touch
+from hand_driver.motion import FLAT_STEP_DEG, TouchResult, flat_press, move_line, move_to, roll_angles, rolling_touch
 from recognizer.result import Recognition
 from tactile_common.errors import InputError
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer
+from tactile_jaw.flat import recognized_touches
 from tactile_jaw.pipeline import FeltTouch, feel
 from tactile_jaw.plan import (
     APPROACH_MARGIN_MM,
@@ -55,6 +56,15 @@ AIM_AGAIN_MM = 1.0
 EDGE_TURN_STEP_DEG = 15.0
 #: largest turn (rad) and shift (mm) per cycle of a transit outside the workspace disk
 TRANSIT_STEPS = (math.radians(5.0), 3.0)
+#: flat presses (docs/exploration.md#lines-flat-presses), when no rolling touch was usable:
+#: a finger's first one starts this many degrees before its pad's nominal normal (the
+#: object turned by up to ±10° still seats within the press's 24° turn); a later one
+#: FLAT_RESTART_STEPS turn steps before the face's normal it found, from FLAT_RESTART_MM
+#: outside it; at most settings.min_touches + FLAT_SPARE rounds
+FLAT_SEARCH_DEG = 10.0
+FLAT_RESTART_STEPS = 2.5
+FLAT_RESTART_MM = 3.0
+FLAT_SPARE = 2
 
 
 @dataclass
@@ -194,6 +204,74 @@ def _timed(jaw: Jaw, plans: dict, spent: dict[str, float], time_s: dict[str, flo
     return results
 
 
+def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, touch_index: int, emit, spent: dict[str, float]):
+    """One flat press of ``finger``: the first from the workspace edge (after a transit),
+    FLAT_SEARCH_DEG before the pad's nominal normal; a later one close to the ``face`` it
+    seated on (module constants); returns the FlatResult (or a TouchResult if the transit
+    could not go on)."""
+    step = math.radians(FLAT_STEP_DEG)
+    if face is None:
+        start = nominal_psi(jaw.config.finger(finger)) - math.radians(FLAT_SEARCH_DEG)
+        problem = yield from _transit_or_problem(jaw, finger, model, start, spent)
+        if problem is not None:
+            return TouchResult(finger, touch_index, start, outcome="unreachable", message=problem)
+        d_start = retreat_offset(jaw.config.finger(finger), model, start)
+        travel = 2.0 * model.workspace_radius
+    else:
+        spent[finger] = 0.0
+        start = face.psi - FLAT_RESTART_STEPS * step
+        n = np.array([math.cos(start), math.sin(start)])
+        d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
+        travel = 2.0 * FLAT_RESTART_MM
+    return (yield from flat_press(jaw, finger, touch_index, start, 1.0, d_start, travel, on_event=emit))
+
+
+def _flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: Exploration,
+                  recognize_touches: RecognizeTouches, emit, say, index: int) -> None:
+    """Every finger presses its pad flat on the face before it, round after round, until
+    the recognizer's answer on one face's flat touches (tactile_jaw.flat.recognized_touches)
+    is decisive; a finger whose press did not seat stops. ``out.used`` ends as those touches."""
+    cfg = jaw.config
+    faces = {f.name: None for f in cfg.fingers}
+    active = [f.name for f in cfg.fingers]
+    flat: list[FeltTouch] = []
+    say("no rolling touch was usable: pressing the pads flat on the faces before them")
+    for _ in range(settings.min_touches + FLAT_SPARE):
+        if not active:
+            break
+        spent: dict[str, float] = {}
+        plans = {name: _flat_plan(jaw, name, model, faces[name], index + k, emit, spent)
+                 for k, name in enumerate(active)}
+        index += len(plans)
+        out.rounds += 1
+        results = _timed(jaw, plans, spent, out.time_s, "touches", "touch_transits")
+        for name in plans:
+            felt = feel(cfg, results[name], settings.samples_per_touch)
+            out.touches.append(felt)
+            if felt.problem is None:
+                faces[name] = felt.face
+                flat.append(felt)
+                emit({"type": "event", "kind": "touch_used", "message": f"{name}: flat press {felt.touch.touch} seated",
+                      "touch": felt.touch.touch, "samples": felt.to_json()})
+                say(f"flat press ({name}): seated on a face at psi {math.degrees(felt.face.psi):.2f} deg over "
+                    f"{felt.face.length:.1f} mm")
+            else:
+                active.remove(name)
+                if felt.touch.outcome == "ok":
+                    felt.touch.outcome = "rejected"
+                emit({"type": "event", "kind": "touch_rejected", "message": felt.problem, "touch": felt.touch.touch})
+                say(f"flat press ({name}): not used: {felt.problem}")
+        out.used = recognized_touches(flat)
+        if len(out.used) >= settings.min_touches:
+            recognition, why = decide(recognize_touches, out.used, settings)
+            out.recognition = recognition
+            out.answers.append(recognition.cls)
+            say(f"after {len(out.used)} flat touches of one face: {recognition.cls}"
+                + ("" if why is None else f", not decisive: {why}"))
+            if why is None:
+                break
+
+
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTouches,
             emit: Callable[[dict], None] | None = None,
             progress: Callable[[str], None] | None = None) -> Exploration:
@@ -302,6 +380,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             aim = recognition.next_touch
             if aim is not None and any(math.hypot(aim["x"] - x, aim["y"] - y) < AIM_AGAIN_MM for x, y in aimed_at):
                 aim = None  # touched there already: the planner's own choice instead
+    if not out.used:  # no curved part felt: the faces, by flat presses
+        _flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index)
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
     t_retreat = jaw.robot_time()
     run_together(jaw, {name: _transit_or_problem(jaw, name, model, psi) for name, psi in here.items()})  # to the edge

@@ -17,13 +17,14 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.motion import EDGE_MARGIN_MM, Sample, TouchResult
+from hand_driver.motion import EDGE_MARGIN_MM, FlatResult, Sample, TouchResult
 from recognizer.classify import chi2_limit, recognize
 from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
-from recognizer.touches import Reach, Request, SamplesTouch, check_touch_count, parse_noise
+from recognizer.touches import ContactTouch, Reach, Request, SamplesTouch, check_touch_count, parse_noise
 from tactile_common.errors import InputError
 from tactile_jaw.envelope import EnvelopeFit, fit_envelope
+from tactile_jaw.flat import FLAT_NOISE, Face, feel_flat, recognized_touches
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, TOUCH_NOISE, ExploreSettings
 
 #: a touch whose radius of curvature at the contact is below this (mm), or below
@@ -52,9 +53,10 @@ class FeltTouch:
     contacts: kin.TouchEnvelope | None  # their envelope, ordered by ψ (None when not computed)
     pad_u: np.ndarray | None  # each contact's distance along the pad from its proximal end (contacts' order)
     problem: str | None  # why the touch cannot be used, or None
-    samples: SamplesTouch | None  # the recognizer's samples touch when usable
+    samples: SamplesTouch | ContactTouch | None  # the recognizer's touch when usable (a contact: flat press)
     fit: EnvelopeFit | None = None  # the envelope fit's curvature, radius and smoothness
     off_curve: bool = False  # it fell on a corner or across a closing segment (off_curve_reason)
+    face: Face | None = None  # a flat press's face (tactile_jaw.flat)
 
     @property
     def finger(self) -> str:
@@ -85,7 +87,10 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
     ``EDGE_MARGIN_MM`` from its ends (a pad end resting on the object is not a tangent
     contact); and, with ``curve_checks`` (rolling touches; not probes, whose short rolls
     cannot measure a radius of curvature), that it rolled on the curved part
-    (:func:`off_curve_reason`)."""
+    (:func:`off_curve_reason`). A flat press is felt by tactile_jaw.flat.feel_flat."""
+    if isinstance(touch, FlatResult):
+        lines, problem, contact, face = feel_flat(config, touch)
+        return FeltTouch(touch, lines, None, None, problem, contact, face=face)
     finger = touch.finger
     lines = None
     if touch.samples:
@@ -166,26 +171,33 @@ def workspace_reach(config) -> Reach:
 
 def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noise: dict[str, float] | None = None,
                     reach: Reach | None = None) -> Callable[[Sequence[FeltTouch]], Recognition]:
-    """Usable felt rolling touches → Recognition, with the scene (a mapping, validated here once),
-    ``noise`` (default ``TOUCH_NOISE``) and the settings' recognizer options. Each call
-    extends one validated request with the touches' samples (already checked by
-    :func:`feel`): nothing is parsed again per decision."""
+    """Usable felt touches → Recognition, with the scene (a mapping, validated here once),
+    ``noise`` (default ``TOUCH_NOISE``; flat touches alone state tactile_jaw.flat.FLAT_NOISE)
+    and the settings' recognizer options. Each call extends one validated request with
+    the touches' samples (already checked by :func:`feel`): nothing is parsed again per
+    decision."""
     source = "exploration"
     loaded = load_scene(scene) if scene is not None else None
-    stated = parse_noise(dict(noise or TOUCH_NOISE), f"{source}.noise")
-    base = Request((), loaded, loaded.classes if loaded is not None else ALL_CLASSES, stated, {}, source)
-    options = RecognizeOptions(noise=stated, reach=reach, **settings.recognize)
+    classes = loaded.classes if loaded is not None else ALL_CLASSES
+    rolling = dict(noise or TOUCH_NOISE)
+    setups = {}
+    for flat, raw in ((False, rolling), (True, FLAT_NOISE)):
+        stated = parse_noise(dict(raw), f"{source}.noise")
+        setups[flat] = (Request((), loaded, classes, stated, {}, source),
+                        RecognizeOptions(noise=stated, reach=reach, **settings.recognize))
 
     def run(touches: Sequence[FeltTouch]) -> Recognition:
-        check_touch_count(len(touches), base.classes, source)
+        check_touch_count(len(touches), classes, source)
+        base, options = setups[all(isinstance(t.touch, FlatResult) for t in touches)]
         return recognize(replace(base, touches=tuple(t.samples for t in touches)), options)
 
     return run
 
 
 def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouch]:
-    """The usable touches of a run log (hand_driver.log.read_log), rebuilt from its
-    readings with the same checks the exploration applied, in the same order."""
+    """The touches of a run log (hand_driver.log.read_log) the exploration recognized,
+    rebuilt from its readings with the same checks it applied, in the same order: the
+    usable ones, flat presses among them as tactile_jaw.flat.recognized_touches chooses."""
     slices = config.joint_slices()
     out = []
     for logged in contents.touches:
@@ -194,9 +206,13 @@ def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouc
             ticks = np.asarray(contents.readings[i]["ticks"], dtype=float)[slices[logged.finger]]
             line = kin.finger_pad_line_from_ticks(config, logged.finger, ticks)
             samples.append(Sample(reading=i, psi=psi, ticks=ticks, line=line, current_ma=None, robot_time=0.0))
-        touch = TouchResult(logged.finger, logged.touch, logged.psi_center or 0.0, samples,
-                            outcome=logged.outcome or "interrupted")
+        if logged.kind == "flat":
+            touch = FlatResult(logged.finger, logged.touch, logged.psi_center or 0.0, samples,
+                               outcome=logged.outcome or "interrupted", roles=list(logged.roles))
+        else:
+            touch = TouchResult(logged.finger, logged.touch, logged.psi_center or 0.0, samples,
+                                outcome=logged.outcome or "interrupted")
         felt = feel(config, touch, settings.samples_per_touch)
         if felt.problem is None:
             out.append(felt)
-    return out
+    return recognized_touches(out)

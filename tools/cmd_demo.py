@@ -46,8 +46,14 @@ def truth_lines(recognition: dict, obj) -> list[str]:
         return lines
     errs = [f"{k} {100.0 * (recognition['params'][k] - v) / abs(v):+.2f} %" for k, v in obj.params.items()]
     r = recognition["pose"]
+    x, y, turn = p.x, p.y, ""
+    if obj.cls == "line":  # the answer's line pose is canonical: the foot of the perpendicular from the origin
+        ux, uy = math.cos(p.theta), math.sin(p.theta)
+        tau = x * ux + y * uy
+        x, y = x - tau * ux, y - tau * uy
+        turn = f", angle {1000.0 * math.remainder(r['theta'] - p.theta, 2 * math.pi):+.1f} mrad"
     lines.append(f"error:      {', '.join(errs) or 'no parameters'}; pose offset "
-                 f"{math.hypot(r['x'] - p.x, r['y'] - p.y):.2f} mm")
+                 f"{math.hypot(r['x'] - x, r['y'] - y):.2f} mm{turn}")
     return lines
 
 

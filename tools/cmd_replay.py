@@ -27,6 +27,7 @@ def run(args) -> int:
     from tactile_common.errors import InputError
     from tactile_common.files import atomic_write, check_output
     from tactile_jaw.decide import final_answer
+    from tactile_jaw.flat import stated_noise
     from tactile_jaw.pipeline import logged_touches, make_recognizer, workspace_reach
     from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
     from tools.cmd_explore import describe
@@ -45,7 +46,7 @@ def run(args) -> int:
         # the run's recognizer options (its profile's) travel with the touches: tactile recognize
         # then answers with the same settings as this replay
         request = {"scene": header.get("scene"), "touches": [t.to_json() for t in touches],
-                   "noise": header["settings"].get("noise", TOUCH_NOISE), "options": {**settings.recognize, "reach": workspace_reach(config).to_json()}}
+                   "noise": stated_noise(touches, header["settings"].get("noise", TOUCH_NOISE)), "options": {**settings.recognize, "reach": workspace_reach(config).to_json()}}
         atomic_write(args.touches, json.dumps(request), flag="--touches")
     if not touches:
         raise InputError(f"{args.log}: no usable touch in the log ({len(contents.touches)} touches logged)")

@@ -1,0 +1,186 @@
+"""Flat-press touches: a pad seated on a straight face, as the recognizer's touch.
+
+A flat press (hand_driver.motion.flat_press) leaves pad lines resting on a first support
+P, pad lines resting on a second support Q, and presses at the seat's orientation.
+:func:`feel_flat` fits the face through both supports to all of them at once — each
+line's offset is min(n·P, n·Q), the support function of a straight face between P and Q
+— checks that every seated press lies on that face within ``SEAT_TOL_MM`` at both
+supports, and hands the recognizer one **contact** touch (docs/formats.md): the middle of
+the seated segment PQ, the face's tangent angle φ (travelling with the solid on the
+right, as the canonical line: ψ + π/2), κ = κ_s = 0 with the flatness the seat proves as their deviation
+(:func:`flat_curvature_sd`). The request of flat touches states ``FLAT_NOISE``.
+
+What a face touch means for the answer: every flat touch lies on a straight segment of
+the boundary. A finite curved object's straight segments are its closing segments, so
+flat touches are recognized only when the exploration found no usable rolling touch on
+a curved part, and then only one face's touches — those collinear with each other
+(:func:`same_face`): a block's faces are each a line, two of them together are no curve
+of any class (two parallel faces would pass for a long flat ellipse).
+:func:`recognized_touches` makes this choice for the exploration and for replay.
+docs/exploration.md#lines-flat-presses.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from hand_driver import kinematics as kin
+from hand_driver.motion import FACE_MIN_FRACTION, SEAT_TOL_MM, FlatResult
+from recognizer.touches import ContactTouch
+from tactile_common.angles import wrap_angle
+
+#: the noise a request of flat touches states (measured, docs/exploration.md#lines-flat-presses):
+#: the face's angle from two supports ~40 mm apart whose pad lines the encoders fix to
+#: ~0.07 mm: σ_φ ≈ 3 mrad between flat presses of one face (9 presses of the line example:
+#: 2.5 mrad); the face's offset at the touch ≈ 0.1 mm; along the face (where on the seated
+#: segment the "contact" is) the same, the segment's middle being a convention
+FLAT_NOISE = {"phi": 3.0e-3, "pos": 0.1}
+#: two flat touches are on the same face when their lines differ by less than this in
+#: angle (rad) and each one's contact lies this close (mm) to the other's line
+SAME_FACE_RAD = 0.02
+SAME_FACE_MM = 1.0
+
+
+@dataclass(frozen=True)
+class Face:
+    """A straight face felt by a seated pad: supports P, Q (hand frame, mm) on the line
+    n(ψ)·p = d, ψ the pad's outward normal when seated."""
+
+    psi: float
+    d: float
+    p: np.ndarray
+    q: np.ndarray
+
+    @property
+    def length(self) -> float:
+        return float(np.linalg.norm(self.q - self.p))
+
+    @property
+    def middle(self) -> np.ndarray:
+        return 0.5 * (self.p + self.q)
+
+    @property
+    def phi(self) -> float:
+        """The face's tangent angle travelling with the solid on the right (ψ + π/2), as
+        the canonical line (t, 0) with its solid at y < 0 (docs/formats.md): the answer's
+        pose then maps the canonical solid onto the object's."""
+        return float(wrap_angle(self.psi + math.pi / 2))
+
+
+def flat_curvature_sd(length_mm: float, tol_mm: float = SEAT_TOL_MM) -> tuple[float, float]:
+    """(σ_κ, σ_κs) of a face seated over ``length_mm``: the pad touches both ends within
+    ``tol_mm``, so the boundary between them (convex there: the pad does not cross it)
+    bulges at most ``tol_mm`` from the chord: |κ| ≤ 8·tol/ℓ² for an arc; taken uniform
+    on ±that, σ_κ = 8·tol/(√3·ℓ²); κ_s changes κ by at most that over ℓ/2 either side of
+    the middle: σ_κs = 2·σ_κ/ℓ·√3."""
+    sk = 8.0 * tol_mm / (math.sqrt(3.0) * length_mm ** 2)
+    return sk, 2.0 * math.sqrt(3.0) * sk / length_mm
+
+
+def fit_face(lines: kin.PadLine, roles: Sequence[str]) -> Face:
+    """The face through two supports fitted to every pad line of a flat press: ``P`` and
+    ``Q`` lines through their support, ``seat`` lines through the nearer one
+    (min(n·P, n·Q), re-assigned once after a first fit on P and Q lines alone)."""
+    n, d = np.atleast_2d(lines.normal), np.atleast_1d(lines.d)
+    roles = list(roles)
+    groups = np.array([{"P": 0, "Q": 1}.get(r, -1) for r in roles])
+    for _ in range(2):
+        use = groups >= 0
+        a = np.zeros((int(use.sum()), 4))
+        rows = np.flatnonzero(use)
+        for j, i in enumerate(rows):
+            a[j, 2 * groups[i]:2 * groups[i] + 2] = n[i]
+        sol = np.linalg.lstsq(a, d[rows], rcond=None)[0]
+        p, q = sol[:2], sol[2:]
+        seat = np.array([r == "seat" for r in roles])
+        groups = np.where(seat, (n @ q < n @ p).astype(int), groups)
+    t = (q - p) / np.linalg.norm(q - p)
+    normal = np.array([-t[1], t[0]])
+    if normal @ n[-1] < 0:
+        normal = -normal
+    return Face(float(math.atan2(normal[1], normal[0])), float(0.5 * normal @ (p + q)), p, q)
+
+
+def feel_flat(config, touch: FlatResult) -> tuple[kin.PadLine | None, str | None, ContactTouch | None, Face | None]:
+    """A flat press felt (tactile_jaw.pipeline.feel dispatches it here): its pad lines,
+    why it cannot be used or None, the recognizer's contact touch when usable, and the
+    face (:func:`fit_face`) when fitted (module docstring)."""
+    finger = touch.finger
+    lines = None
+    if touch.samples:
+        ticks = np.array([s.ticks for s in touch.samples], dtype=float)
+        lines = kin.finger_pad_line_from_ticks(config, finger, ticks)
+
+    def out(problem, face=None):
+        contact = None
+        if problem is None:
+            sk, sks = flat_curvature_sd(face.length)
+            contact = ContactTouch(float(face.middle[0]), float(face.middle[1]), face.phi, 0.0, 0.0,
+                                   np.diag([sk * sk, sks * sks]))
+        return lines, problem, contact, face
+
+    if touch.outcome != "ok":
+        return out(touch.message or touch.outcome)
+    roles = list(touch.roles)
+    if not all(roles.count(r) >= need for r, need in (("P", 3), ("Q", 3), ("seat", 1))):
+        return out(f"{finger}: a flat press needs 3 pad lines on each support and a seated press")
+    face = fit_face(lines, roles)
+    length = config.finger(finger).pad.length_mm
+    if face.length < FACE_MIN_FRACTION * length:
+        return out(f"{finger}: the supports are {face.length:.1f} mm apart, under {FACE_MIN_FRACTION:g} of the pad: "
+                   f"a curved boundary, not a face", face)
+    seats = [i for i, r in enumerate(roles) if r == "seat"]
+    gaps = [max(abs(float(lines.normal[i] @ s - lines.d[i])) for s in (face.p, face.q)) for i in seats]
+    if max(gaps) > SEAT_TOL_MM:
+        return out(f"{finger}: the pad did not lie flat: a seated press is {max(gaps):.2f} mm off a support "
+                   f"(over {SEAT_TOL_MM:g} mm): a curved boundary, not a face", face)
+    return out(None, face)
+
+
+def same_face(a: Face, b: Face) -> bool:
+    """Are two felt faces one straight face (SAME_FACE_RAD, SAME_FACE_MM)?"""
+    if abs(math.remainder(a.psi - b.psi, 2 * math.pi)) > SAME_FACE_RAD:
+        return False
+    na = np.array([math.cos(a.psi), math.sin(a.psi)])
+    nb = np.array([math.cos(b.psi), math.sin(b.psi)])
+    return abs(float(na @ b.middle) - a.d) <= SAME_FACE_MM and abs(float(nb @ a.middle) - b.d) <= SAME_FACE_MM
+
+
+def face_groups(touches: Sequence) -> list[list]:
+    """Usable flat touches grouped by face (:func:`same_face` with the group's first),
+    in order felt."""
+    groups: list[list] = []
+    for t in touches:
+        for g in groups:
+            if same_face(g[0].face, t.face):
+                g.append(t)
+                break
+        else:
+            groups.append([t])
+    return groups
+
+
+def is_flat(felt) -> bool:
+    """Is a felt touch (tactile_jaw.pipeline.FeltTouch) a flat press?"""
+    return isinstance(felt.touch, FlatResult)
+
+
+def recognized_touches(usable: Sequence) -> list:
+    """What the recognizer gets of the usable touches (module docstring): the rolling
+    touches if there is any; else the flat touches of the face felt most often (the first
+    felt on a tie)."""
+    rolling = [t for t in usable if not is_flat(t)]
+    if rolling:
+        return rolling
+    groups = face_groups([t for t in usable if is_flat(t)])
+    return max(groups, key=len) if groups else []
+
+
+def stated_noise(touches: Sequence, rolling_noise: dict) -> dict:
+    """The noise a request of these touches states: ``FLAT_NOISE`` for flat touches only,
+    else ``rolling_noise``."""
+    return dict(FLAT_NOISE) if touches and all(is_flat(t) for t in touches) else dict(rolling_noise)

@@ -1,0 +1,72 @@
+"""Flat touches as the recognizer's input: the stated flatness against exact arcs, one
+face's touches recognized as a line with all seven classes candidates, faces never mixed,
+rolling touches first."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hand_driver.motion import SEAT_TOL_MM, FlatResult, TouchResult
+from recognizer.touches import ContactTouch
+from tactile_common.yamlfile import read_yaml
+from tactile_jaw.decide import decide
+from tactile_jaw.flat import FLAT_NOISE, Face, face_groups, flat_curvature_sd, recognized_touches, same_face
+from tactile_jaw.pipeline import FeltTouch, make_recognizer
+from tactile_jaw.settings import ExploreSettings
+
+SCENE = read_yaml("config/scenes/line.yaml", "scene")  # all seven classes; the line y = 10, solid below
+
+
+def _flat(face: Face, finger: str = "left") -> FeltTouch:
+    sk, sks = flat_curvature_sd(face.length)
+    contact = ContactTouch(float(face.middle[0]), float(face.middle[1]), face.phi, 0.0, 0.0, np.diag([sk**2, sks**2]))
+    return FeltTouch(FlatResult(finger, 0, face.psi), None, None, None, None, contact, face=face)
+
+
+def _face(y: float, angle: float, x0: float = 90.0, x1: float = 130.0, below: bool = True) -> Face:
+    """A face along the line through (x0, y) at ``angle`` to +x, the solid below it (the
+    pad's normal pointing into it)."""
+    t = np.array([math.cos(angle), math.sin(angle)])
+    p, q = np.array([x0, y]), np.array([x0, y]) + (x1 - x0) * t
+    n = np.array([t[1], -t[0]]) if below else np.array([-t[1], t[0]])
+    return Face(math.atan2(n[1], n[0]), float(n @ p), p, q)
+
+
+@pytest.mark.parametrize("length", [15.0, 40.0, 52.0])
+def test_stated_flatness_covers_every_arc_that_seats(length):
+    """An arc through both supports that bulges SEAT_TOL_MM from its chord (the most a seat
+    allows) has κ = 8 g / (ℓ² + 4 g²) exactly: within the stated ±√3 σ_κ."""
+    g = SEAT_TOL_MM
+    radius = (length**2 / 4 + g**2) / (2 * g)  # chord ℓ, sagitta g
+    sk, sks = flat_curvature_sd(length)
+    assert 1.0 / radius <= math.sqrt(3.0) * sk <= 1.01 / radius
+    assert sks == pytest.approx(2 * math.sqrt(3.0) * sk / length)
+
+
+def test_one_face_of_flat_touches_is_a_line_with_its_pose():
+    rng = np.random.default_rng(3)
+    settings = ExploreSettings.from_profile("balanced")
+    touches = [_flat(_face(10.0 + rng.normal(0, 0.07), rng.normal(0, 2.5e-3))) for _ in range(4)]
+    recognize = make_recognizer(SCENE, settings)
+    recognition, why = decide(recognize, touches, settings)
+    assert recognition.cls == "line" and why is None
+    pose = recognition.pose
+    # canonical pose: the solid at canonical y < 0 is the block below the face: theta ≈ 0
+    assert abs(math.remainder(pose.theta, 2 * math.pi)) < 0.01
+    assert pose.y + 110.0 * math.tan(pose.theta) == pytest.approx(10.0, abs=0.2)  # at the face's middle
+    assert FLAT_NOISE["phi"] > 2.5e-3
+
+
+def test_faces_are_never_mixed_and_rolling_touches_come_first():
+    top = [_flat(_face(10.0, 0.0)), _flat(_face(10.05, 1e-3))]
+    bottom = [_flat(_face(-10.0, math.pi, x0=130.0, x1=90.0), "right") for _ in range(3)]
+    assert same_face(top[0].face, top[1].face) and not same_face(top[0].face, bottom[0].face)
+    groups = face_groups(top + bottom)
+    assert [len(g) for g in groups] == [2, 3]
+    assert recognized_touches(top + bottom) == bottom  # the face felt most often
+    assert recognized_touches(bottom[:2] + top) == bottom[:2]  # a tie: the first felt
+    rolling = FeltTouch(TouchResult("left", 1, 0.0), None, None, None, None, None)
+    assert recognized_touches(top + [rolling]) == [rolling]
