@@ -51,7 +51,9 @@ from hand_driver.control_table import (
     STATE_BLOCK_LEN,
     STATUS_ERRORS,
     ModelSpec,
+    decode_field,
     decode_hardware_error,
+    encode_field,
 )
 from hand_driver.control_table import model as model_spec
 from hand_driver.errors import (
@@ -416,21 +418,24 @@ class JointBus:
     def _read(self, dxl_id: int, f) -> int:
         data = self._call(f"read of {f.name} from servo {dxl_id}",
                           lambda: self._ph.readTxRx(self._port, dxl_id, f.addr, f.size), dxl_id)[0]
-        v = int.from_bytes(bytes(data[: f.size]), "little")
-        return units.to_signed(v, f.size) if f.signed else v
+        return decode_field(f, data)
 
     def _write(self, dxl_id: int, f, value: int) -> None:
-        data = list(units.to_unsigned(int(value), f.size).to_bytes(f.size, "little"))
+        data = list(encode_field(f, value))
         self._call(f"write of {f.name}={value} to servo {dxl_id}",
                    lambda: self._ph.writeTxRx(self._port, dxl_id, f.addr, f.size, data), dxl_id)
 
     def _sync_write_raw(self, f, values) -> None:
-        g = self._sdk.GroupSyncWrite(self._port, self._ph, f.addr, f.size)
-        for i, v in zip(self.ids, values):
-            g.addParam(i, list(units.to_unsigned(int(v), f.size).to_bytes(f.size, "little")))
+        self._sync_write_bytes(f.name, f.addr, [encode_field(f, v) for v in values])
+
+    def _sync_write_bytes(self, what: str, addr: int, blocks: Sequence[bytes]) -> None:
+        """One sync write of ``blocks[k]`` (all of one length) at ``addr`` of servo ``ids[k]``."""
+        g = self._sdk.GroupSyncWrite(self._port, self._ph, addr, len(blocks[0]))
+        for i, b in zip(self.ids, blocks):
+            g.addParam(i, list(b))
         result = g.txPacket()
         if result != self._sdk.COMM_SUCCESS:
-            self._check(result, 0, f"sync write of {f.name}")
+            self._check(result, 0, f"sync write of {what}")
 
     def _sync_write_field(self, name: str, values) -> None:
         f = self.specs[0].field(name)
@@ -447,8 +452,7 @@ class JointBus:
             out = []
             for b, s in zip(raw, self.specs):
                 f = s.field(name)
-                v = int.from_bytes(b[f.addr - STATE_BLOCK_ADDR : f.addr - STATE_BLOCK_ADDR + f.size], "little")
-                out.append(units.to_signed(v, f.size) if f.signed else v)
+                out.append(decode_field(f, b, f.addr - STATE_BLOCK_ADDR))
             return np.array(out, dtype=np.int64)
 
         ticks = field("present_position")
@@ -562,10 +566,11 @@ class JointBus:
         for name, v in (("profile velocity", velocity), ("profile acceleration", accel)):
             if not 0 <= int(v) <= 32767:
                 raise InputError(f"{name} {v} outside 0..32767 (raw units; 0 = unlimited)")
-        f = self.specs[0].field("profile_acceleration")
-        data = [(int(accel) | (int(velocity) << 32))] * len(self.ids)  # 108..115 in one write
-        self._attempt("sync write of profile", lambda: self._sync_write_raw(
-            type(f)("profile", f.addr, 8, "RW"), data))
+        fa, fv = self.specs[0].field("profile_acceleration"), self.specs[0].field("profile_velocity")
+        # 108..115 in one write: Profile Velocity (112) follows Profile Acceleration (108)
+        block = encode_field(fa, int(accel)) + encode_field(fv, int(velocity))
+        self._attempt("sync write of profile", lambda: self._sync_write_bytes(
+            "profile", fa.addr, [block] * len(self.ids)))
 
     def set_profile(self, velocity_rad_s: float, accel_rad_s2: float) -> None:
         """Profile in SI units (rad/s, rad/s² of the output shaft)."""

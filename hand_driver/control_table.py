@@ -10,12 +10,18 @@ in the motor as the XM430 (2.69 mA units) does.
 
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass
+
+#: the widths a control-table item can have, bytes
+FIELD_SIZES = (1, 2, 4)
 
 
 @dataclass(frozen=True)
 class Field:
-    """One control-table item. ``lo``/``hi`` is the static value range (None: any)."""
+    """One control-table item. ``lo``/``hi`` is the static value range (None: any); the
+    item's bytes are little-endian, two's complement when ``signed`` (e-Manual, Protocol
+    2.0 control table): :func:`decode_field` / :func:`encode_field`."""
 
     name: str
     addr: int
@@ -26,6 +32,42 @@ class Field:
     lo: int | None = None
     hi: int | None = None
     default: int = 0
+
+    def __post_init__(self) -> None:
+        if self.size not in FIELD_SIZES:
+            raise ValueError(f"control-table item {self.name}: size {self.size} is not one of {FIELD_SIZES} bytes")
+
+    @property
+    def bounds(self) -> tuple[int, int]:
+        """The values the item's width and signedness can hold (not its static range)."""
+        bits = 8 * self.size
+        return (-(1 << (bits - 1)), (1 << (bits - 1)) - 1) if self.signed else (0, (1 << bits) - 1)
+
+
+def decode_field(f: Field, data, offset: int = 0) -> int:
+    """The value of item ``f`` from its ``f.size`` bytes at ``data[offset:]`` (bytes,
+    bytearray or a list of byte values, as the SDK returns): little-endian, two's complement
+    when ``f.signed``. ValueError when fewer than ``f.size`` bytes are there."""
+    raw = data[offset : offset + f.size]
+    if len(raw) != f.size:
+        raise ValueError(f"{f.name} needs {f.size} byte(s) at offset {offset}, got {len(raw)}")
+    return int.from_bytes(raw, "little", signed=f.signed)
+
+
+def encode_field(f: Field, value) -> bytes:
+    """The ``f.size`` little-endian bytes of ``value`` in item ``f`` (two's complement when
+    ``f.signed``). ValueError when ``value`` is not an integer or does not fit the item's
+    width and signedness (:attr:`Field.bounds`); the static range ``lo``/``hi`` is the
+    servo's check, not this one."""
+    try:
+        v = operator.index(value)
+    except TypeError:
+        raise ValueError(f"{f.name}: {value!r} is not an integer") from None
+    lo, hi = f.bounds
+    if not lo <= v <= hi:
+        kind = "signed" if f.signed else "unsigned"
+        raise ValueError(f"{f.name}: {v} does not fit in {f.size} {kind} byte(s) ({lo}..{hi})")
+    return v.to_bytes(f.size, "little", signed=f.signed)
 
 
 def _common_fields() -> list[Field]:

@@ -92,17 +92,3 @@ def rad_s2_to_accel(a, spec: ModelSpec):
     r = np.rint(np.asarray(a, dtype=float) / (spec.accel_unit_rpm2 * _RPM2_TO_RAD_S2)).astype(np.int64)
     return int(r) if r.ndim == 0 else r
 
-
-def to_signed(value: int, size: int) -> int:
-    """Two's-complement interpretation of an unsigned little-endian field of ``size`` bytes."""
-    bits = 8 * size
-    value &= (1 << bits) - 1
-    return value - (1 << bits) if value >= 1 << (bits - 1) else value
-
-
-def to_unsigned(value: int, size: int) -> int:
-    """The unsigned bit pattern of a signed value in ``size`` bytes (range-checked)."""
-    bits = 8 * size
-    if not -(1 << (bits - 1)) <= value < (1 << bits):
-        raise ValueError(f"{value} does not fit in {size} byte(s)")
-    return value & ((1 << bits) - 1)

@@ -37,6 +37,7 @@ from __future__ import annotations
 import math
 
 from hand_driver.control_table import (
+    COMMON_FIELDS,
     INDIRECT_BLOCKS,
     MODE_CURRENT,
     MODE_CURRENT_BASED_POSITION,
@@ -44,9 +45,11 @@ from hand_driver.control_table import (
     MODE_POSITION,
     TABLE_SIZE,
     ModelSpec,
+    decode_field,
+    encode_field,
 )
 from hand_driver.sim import protocol as P
-from hand_driver.units import TICKS_PER_REV, WATCHDOG_STEP_MS, accel_unit_ticks_s2, to_signed, to_unsigned, velocity_unit_ticks_s
+from hand_driver.units import TICKS_PER_REV, WATCHDOG_STEP_MS, accel_unit_ticks_s2, velocity_unit_ticks_s
 
 # Present Current per tick of trajectory-following error when blocked (raw current units).
 CURRENT_PER_TICK = 8.0
@@ -59,8 +62,8 @@ OVERLOAD_TIME_S = 5.0
 #: Hardware Error Status (70) / Shutdown (63) bit of the overload error
 OVERLOAD_BIT = 0x20
 #: Indirect Data address → the Indirect Address item pointing for it
-_INDIRECT = {data0 + k - first: addr0 + 2 * (k - first)
-             for first, last, addr0, data0 in INDIRECT_BLOCKS for k in range(first, last + 1)}
+_INDIRECT = {COMMON_FIELDS[f"indirect_data_{k}"].addr: COMMON_FIELDS[f"indirect_address_{k}"]
+             for first, last, _, _ in INDIRECT_BLOCKS for k in range(first, last + 1)}
 
 
 class EmulatedServo:
@@ -106,12 +109,11 @@ class EmulatedServo:
 
     def get(self, name: str) -> int:
         f = self.spec.field(name)
-        v = int.from_bytes(self.mem[f.addr : f.addr + f.size], "little")
-        return to_signed(v, f.size) if f.signed else v
+        return decode_field(f, self.mem, f.addr)
 
     def _put(self, name: str, value: int) -> None:
         f = self.spec.field(name)
-        self.mem[f.addr : f.addr + f.size] = to_unsigned(int(value), f.size).to_bytes(f.size, "little")
+        self.mem[f.addr : f.addr + f.size] = encode_field(f, value)
 
     @property
     def dxl_id(self) -> int:
@@ -133,7 +135,7 @@ class EmulatedServo:
         """Where a byte access at ``addr`` lands: through Indirect Data, the address its
         Indirect Address points to; elsewhere ``addr`` itself."""
         ptr = _INDIRECT.get(addr)
-        return addr if ptr is None else int.from_bytes(self.mem[ptr : ptr + 2], "little")
+        return addr if ptr is None else decode_field(ptr, self.mem, ptr.addr)
 
     def read(self, addr: int, length: int) -> tuple[int, bytes]:
         """(error code, data) of a Read of ``length`` bytes from ``addr``."""
@@ -175,8 +177,7 @@ class EmulatedServo:
             if f.access != "RW" or (f.eeprom and self.torque_on):
                 return P.ERR_ACCESS
         for f in touched:
-            raw = int.from_bytes(data[f.addr - addr : f.addr - addr + f.size], "little")
-            v = to_signed(raw, f.size) if f.signed else raw
+            v = decode_field(f, data, f.addr - addr)
             if (f.lo is not None and v < f.lo) or (f.hi is not None and v > f.hi):
                 return P.ERR_DATA_RANGE
             if self._beyond_limit(f.name, v):

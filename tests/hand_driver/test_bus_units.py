@@ -43,12 +43,6 @@ def test_velocity_and_acceleration_units():
     assert np.array_equal(units.rad_s_to_velocity(w, XM), np.rint(w / (0.229 * 2 * math.pi / 60)))
 
 
-def test_signed_fields():
-    assert units.to_signed(0xFFFF, 2) == -1 and units.to_signed(0x7FFF, 2) == 32767
-    assert units.to_unsigned(-1, 4) == 0xFFFFFFFF
-    assert all(units.to_signed(units.to_unsigned(v, 4), 4) == v for v in (-2**31, -5, 0, 2**31 - 1))
-
-
 def test_control_table_facts():
     for spec in MODELS.values():
         for name, addr in (("torque_enable", 64), ("goal_position", 116), ("present_position", 132),
