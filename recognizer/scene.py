@@ -23,7 +23,7 @@ import numpy as np
 
 from recognizer.curves import CURVES, DEFAULT_SIDE, Pose, validate_params
 from tactile_common.errors import InputError, check_keys
-from recognizer.touches import NoiseModel, parse_noise
+from recognizer.touches import NoiseModel, finite_number, parse_noise
 from tactile_common.inputs import check_path_text
 from tactile_common.yamlfile import read_yaml
 
@@ -87,12 +87,6 @@ class Scene:
     extra: dict = field(default_factory=dict)
 
 
-def _num(value, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(f"{where}: must be a finite number, got {value!r}")
-    return float(value)
-
-
 def _parse_pose(raw, where: str) -> Pose:
     if raw is None:
         return Pose()
@@ -101,10 +95,10 @@ def _parse_pose(raw, where: str) -> Pose:
     check_keys(raw, _POSE_KEYS, where)
     if "theta" in raw and "theta_deg" in raw:
         raise InputError(f"{where}: give theta or theta_deg, not both")
-    theta = _num(raw["theta"], f"{where}.theta") if "theta" in raw else 0.0
+    theta = finite_number(raw["theta"], f"{where}.theta") if "theta" in raw else 0.0
     if "theta_deg" in raw:
-        theta = math.radians(_num(raw["theta_deg"], f"{where}.theta_deg"))
-    return Pose(theta, _num(raw.get("x", 0.0), f"{where}.x"), _num(raw.get("y", 0.0), f"{where}.y"))
+        theta = math.radians(finite_number(raw["theta_deg"], f"{where}.theta_deg"))
+    return Pose(theta, finite_number(raw.get("x", 0.0), f"{where}.x"), finite_number(raw.get("y", 0.0), f"{where}.y"))
 
 
 def _parse_object(raw, where: str) -> SceneObject:
@@ -146,7 +140,7 @@ def _parse_bounds(raw, cls: str, where: str):
     ext = raw["extent"]
     if isinstance(ext, (str, Mapping)) or not isinstance(ext, (list, tuple)) or len(ext) != 2:
         raise InputError(f"{where}.extent: must be [t0, t1], the curve's parameter range, got {ext!r}")
-    t0, t1 = (_num(v, f"{where}.extent") for v in ext)
+    t0, t1 = (finite_number(v, f"{where}.extent") for v in ext)
     if not t0 < t1:
         raise InputError(f"{where}.extent: needs t0 < t1, got [{t0:g}, {t1:g}] (a reversed or empty range)")
     closure = raw.get("closure")
@@ -160,7 +154,7 @@ def _parse_bounds(raw, cls: str, where: str):
     for k, p in enumerate(closure):
         if isinstance(p, (str, Mapping)) or not isinstance(p, (list, tuple)) or len(p) != 2:
             raise InputError(f"{where}.closure[{k}]: must be [x, y] (mm, canonical frame), got {p!r}")
-        pts.append((_num(p[0], f"{where}.closure[{k}]"), _num(p[1], f"{where}.closure[{k}]")))
+        pts.append((finite_number(p[0], f"{where}.closure[{k}]"), finite_number(p[1], f"{where}.closure[{k}]")))
     return (t0, t1), tuple(pts)
 
 

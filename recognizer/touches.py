@@ -21,7 +21,7 @@ from recognizer import limits
 from tactile_common.errors import InputError, check_keys
 
 __all__ = ["NoiseModel", "Reach", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
-           "MIN_TOUCHES", "check_touch_count"]
+           "MIN_TOUCHES", "check_touch_count", "finite_number"]
 
 #: touches a class needs before its invariants can be cross-checked (>= 2 pairs for the
 #: two-parameter and cubic classes, >= 1 pair for the others)
@@ -31,7 +31,8 @@ MIN_TOUCHES: dict[str, int] = {
 }
 _TOP_KEYS = {"scene", "touches", "noise", "options", "meta"}
 _SAMPLE_KEYS = {"phi", "x", "y", "s", "curvature", "finger", "meta"}
-_CONTACT_KEYS = {"x", "y", "phi", "kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s"}
+_CURVATURE_KEYS = ("kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s")
+_CONTACT_KEYS = ("x", "y", "phi") + _CURVATURE_KEYS
 _OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float, "reach": dict}
 ESTIMATORS = ("auto", "central", "poly")
 
@@ -83,7 +84,7 @@ def parse_reach(raw, where: str = "options.reach") -> Reach:
     for k in ("x", "y", "radius"):
         if k not in raw:
             raise InputError(f"{where}: missing key {k!r} (a reach is {{x, y, radius}})")
-        vals[k] = _num(raw[k], f"{where}.{k}")
+        vals[k] = finite_number(raw[k], f"{where}.{k}")
     if vals["radius"] <= 0:
         raise InputError(f"{where}.radius: must be > 0, got {vals['radius']}")
     return Reach(**vals)
@@ -143,27 +144,27 @@ class Request:
     source: str = "<request>"
 
 
-def _num(v, where: str) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)):
-        raise InputError(f"{where}: must be a number, got {v!r}")
-    if not math.isfinite(v):
-        raise InputError(f"{where}: must be finite, got {v!r}")
+def finite_number(v, where: str) -> float:
+    """``v`` as a float when it is a finite int or float (not a bool); else a one-line
+    InputError naming ``where``. The one number check of the request and scene readers."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise InputError(f"{where}: must be a finite number, got {v!r}")
     return float(v)
 
 
 def _vec(v, where: str) -> np.ndarray:
     if not isinstance(v, (list, tuple)):
         raise InputError(f"{where}: must be a list of numbers")
-    return np.array([_num(e, f"{where}[{i}]") for i, e in enumerate(v)], dtype=float)
+    return np.array([finite_number(e, f"{where}[{i}]") for i, e in enumerate(v)], dtype=float)
 
 
 def parse_noise(raw, where: str = "noise") -> NoiseModel:
     if not isinstance(raw, Mapping):
         raise InputError(f"{where}: must be a mapping {{phi: rad, pos: mm, pos_along: mm (optional)}}")
     check_keys(raw, ("phi", "pos", "pos_along"), where)
-    vals = {k: _num(raw.get(k, 0.0), f"{where}.{k}") for k in ("phi", "pos")}
+    vals = {k: finite_number(raw.get(k, 0.0), f"{where}.{k}") for k in ("phi", "pos")}
     if raw.get("pos_along") is not None:
-        vals["pos_along"] = _num(raw["pos_along"], f"{where}.pos_along")
+        vals["pos_along"] = finite_number(raw["pos_along"], f"{where}.pos_along")
     for k, v in vals.items():
         if v < 0:
             raise InputError(f"{where}.{k}: must be >= 0, got {v}")
@@ -190,21 +191,39 @@ def _parse_samples(raw: Mapping, where: str) -> SamplesTouch:
         raise InputError(f"{where}: two consecutive samples at the same position (give s, or distinct x, y)")
     curvature = None
     if raw.get("curvature") is not None:  # the instrument's own κ, κ_s at the contact sample
-        c = _parse_contact({"x": 0.0, "y": 0.0, "phi": 0.0, **raw["curvature"]}, f"{where}.curvature") \
-            if isinstance(raw["curvature"], Mapping) else _parse_contact(raw["curvature"], f"{where}.curvature")
-        curvature = (c.kappa, c.kappa_s, c.cov)
+        curvature = _parse_curvature(raw["curvature"], f"{where}.curvature")
     return SamplesTouch(arrs["phi"], arrs["x"], arrs["y"], arrs.get("s"), curvature)
+
+
+def _required(raw: Mapping, keys, where: str, what: str) -> dict[str, float]:
+    """The finite numbers at ``keys`` of ``raw``; a missing one names ``what`` has."""
+    vals = {}
+    for k in keys:
+        if k not in raw:
+            raise InputError(f"{where}: missing key {k!r} ({what} has {', '.join(keys)})")
+        vals[k] = finite_number(raw[k], f"{where}.{k}")
+    return vals
+
+
+def _parse_curvature(raw, where: str) -> tuple[float, float, np.ndarray]:
+    """A samples touch's measured ``{kappa, kappa_s, cov | sigma_kappa, sigma_kappa_s}``."""
+    if not isinstance(raw, Mapping):
+        raise InputError(f"{where}: must be a mapping with kappa, kappa_s and cov or sigma_kappa, sigma_kappa_s")
+    check_keys(raw, _CURVATURE_KEYS, where)
+    vals = _required(raw, ("kappa", "kappa_s"), where, "a curvature")
+    return vals["kappa"], vals["kappa_s"], _parse_cov(raw, where)
 
 
 def _parse_contact(raw, where: str) -> ContactTouch:
     if not isinstance(raw, Mapping):
         raise InputError(f"{where}: must be a mapping with x, y, phi, kappa, kappa_s")
     check_keys(raw, sorted(_CONTACT_KEYS), where)
-    vals = {}
-    for k in ("x", "y", "phi", "kappa", "kappa_s"):
-        if k not in raw:
-            raise InputError(f"{where}: missing key {k!r} (a contact has x, y, phi, kappa, kappa_s)")
-        vals[k] = _num(raw[k], f"{where}.{k}")
+    vals = _required(raw, ("x", "y", "phi", "kappa", "kappa_s"), where, "a contact")
+    return ContactTouch(cov=_parse_cov(raw, where), **vals)
+
+
+def _parse_cov(raw: Mapping, where: str) -> np.ndarray:
+    """The 2×2 covariance of (κ, κ_s) from ``cov`` or ``sigma_kappa``/``sigma_kappa_s`` (zeros: exact)."""
     cov = np.zeros((2, 2))
     if "cov" in raw:
         if "sigma_kappa" in raw or "sigma_kappa_s" in raw:
@@ -219,11 +238,11 @@ def _parse_contact(raw, where: str) -> ContactTouch:
             raise InputError(f"{where}.cov: must be positive semi-definite")
     for i, k in enumerate(("sigma_kappa", "sigma_kappa_s")):
         if k in raw:
-            sig = _num(raw[k], f"{where}.{k}")
+            sig = finite_number(raw[k], f"{where}.{k}")
             if sig < 0:
                 raise InputError(f"{where}.{k}: must be >= 0, got {sig}")
             cov[i, i] = sig * sig
-    return ContactTouch(cov=cov, **vals)
+    return cov
 
 
 def _parse_options(raw, where: str = "options") -> dict:
@@ -238,7 +257,7 @@ def _parse_options(raw, where: str = "options") -> dict:
         if _OPTION_KEYS[k] is str and not isinstance(v, str):
             raise InputError(f"{where}.{k}: must be a string")
         if _OPTION_KEYS[k] is float:
-            v = _num(v, f"{where}.{k}")
+            v = finite_number(v, f"{where}.{k}")
         if _OPTION_KEYS[k] is dict:
             v = parse_reach(v, f"{where}.{k}")
         out[k] = v

@@ -7,6 +7,7 @@ import pytest
 from recognizer.curves import CURVES, DEFAULT_SIDE
 from tactile_common.errors import InputError
 from recognizer.scene import load_scene
+from recognizer.touches import parse_noise
 
 SCENES = Path(__file__).resolve().parents[2] / "config" / "scenes"
 PARABOLA = {"class": "parabola", "params": {"a": 8.0}, "pose": {"x": 85.0}}
@@ -76,6 +77,17 @@ def test_bad_scenes_one_line(raw, msg):
     with pytest.raises(InputError, match=msg) as e:
         load_scene(raw)
     assert "\n" not in str(e.value)
+
+
+@pytest.mark.parametrize("bad", ["1", True, None, float("inf"), float("nan")])
+def test_scene_and_request_numbers_share_one_check(bad):
+    """A bad number gets the same words in a scene and in a request (one finite_number)."""
+    with pytest.raises(InputError) as in_scene:
+        load_scene({"object": {**PARABOLA, "pose": {"x": bad}}})
+    with pytest.raises(InputError) as in_request:
+        parse_noise({"phi": 0.001, "pos": bad})
+    assert str(in_scene.value).endswith(f"pose.x: must be a finite number, got {bad!r}")
+    assert str(in_request.value) == f"noise.pos: must be a finite number, got {bad!r}"
 
 
 def test_bad_file(tmp_path):

@@ -151,3 +151,10 @@ def test_samples_touch_curvature_round_trips_and_is_validated():
     assert req.touches[0].to_json()["curvature"] == raw["curvature"]
     with pytest.raises(InputError, match="curvature.kappa"):
         parse_request({"touches": [dict(raw, curvature={"kappa": float("nan"), "kappa_s": 0})] * 3})
+    # the curvature is its own record: a contact's x, y, phi are not among its keys
+    with pytest.raises(InputError, match=r"curvature: unknown key\(s\) x; allowed: kappa, kappa_s, cov"):
+        parse_request({"touches": [dict(raw, curvature={"kappa": 0.05, "kappa_s": 0, "x": 1.0})] * 3})
+    with pytest.raises(InputError, match=r"curvature: missing key 'kappa_s' \(a curvature has kappa, kappa_s\)$"):
+        parse_request({"touches": [dict(raw, curvature={"kappa": 0.05})] * 3})
+    with pytest.raises(InputError, match=r"curvature: must be a mapping with kappa, kappa_s and cov or sigma_kappa"):
+        parse_request({"touches": [dict(raw, curvature=[0.05, 0.0])] * 3})
