@@ -229,10 +229,14 @@ def _parse_cov(raw: Mapping, where: str) -> np.ndarray:
         if "sigma_kappa" in raw or "sigma_kappa_s" in raw:
             raise InputError(f"{where}: give cov or sigma_kappa/sigma_kappa_s, not both")
         c = raw["cov"]
+        shape = f"{where}.cov: must be a 2x2 list [[var_k, cov], [cov, var_ks]]"
         if not isinstance(c, (list, tuple)) or len(c) != 2:
-            raise InputError(f"{where}.cov: must be a 2x2 list [[var_k, cov], [cov, var_ks]]")
-        cov = np.array([_vec(r, f"{where}.cov[{i}]") for i, r in enumerate(c)])
-        if cov.shape != (2, 2) or abs(cov[0, 1] - cov[1, 0]) > 1e-12 * (abs(cov[0, 1]) + 1e-300):
+            raise InputError(shape)
+        rows = [_vec(r, f"{where}.cov[{i}]") for i, r in enumerate(c)]
+        if any(len(r) != 2 for r in rows):
+            raise InputError(shape)
+        cov = np.array(rows)
+        if abs(cov[0, 1] - cov[1, 0]) > 1e-12 * (abs(cov[0, 1]) + 1e-300):
             raise InputError(f"{where}.cov: must be a symmetric 2x2 matrix")
         if cov[0, 0] < 0 or cov[1, 1] < 0 or cov[0, 0] * cov[1, 1] - cov[0, 1] ** 2 < -1e-12 * (cov[0, 0] * cov[1, 1] + 1e-300):
             raise InputError(f"{where}.cov: must be positive semi-definite")

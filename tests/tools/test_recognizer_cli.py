@@ -158,3 +158,6 @@ def test_samples_touch_curvature_round_trips_and_is_validated():
         parse_request({"touches": [dict(raw, curvature={"kappa": 0.05})] * 3})
     with pytest.raises(InputError, match=r"curvature: must be a mapping with kappa, kappa_s and cov or sigma_kappa"):
         parse_request({"touches": [dict(raw, curvature=[0.05, 0.0])] * 3})
+    for cov in ([[1e-6, 0], []], [[1e-6], [0, 1e-8]], [[1e-6, 0, 0], [0, 1e-8]], [[1e-6, 0], [0, 1e-8, 0]]):
+        with pytest.raises(InputError, match=r"curvature\.cov: must be a 2x2 list"):
+            parse_request({"touches": [dict(raw, curvature={"kappa": 0.05, "kappa_s": 0, "cov": cov})] * 3})
