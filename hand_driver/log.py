@@ -40,7 +40,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any, Iterable
 
-from hand_driver.config import parse_config
+from hand_driver.config import JawConfig, parse_config
 from tactile_common.errors import InputError
 from tactile_common.files import create_exclusive
 from tactile_common.inputs import decode_utf8, loads_json, read_bounded
@@ -179,6 +179,16 @@ class LogContents:
     events: list[dict[str, Any]]
     result: dict[str, Any] | None
     truncated: bool
+    #: the header's jaw config, parsed once by :func:`read_log`; None when it is not a valid
+    #: one (``config_error`` says why: :meth:`jaw_config` raises it)
+    config: JawConfig | None = None
+    config_error: str | None = None
+
+    def jaw_config(self) -> JawConfig:
+        """The header's jaw config; InputError naming what is wrong when it is not a valid one."""
+        if self.config is None:
+            raise InputError(self.config_error or "the log's header has no jaw config")
+        return self.config
 
 
 #: a 10-minute exploration logs ~10 MB; the header (config and scene) is a few kB
@@ -242,14 +252,13 @@ def _short(v: Any) -> str:
     return text if len(text) <= 40 else text[:37] + "..."
 
 
-def _jaw_shape(header: dict) -> tuple[int | None, set[str] | None]:
-    """Joint count and finger names of the header's jaw config, if it is one (replay
-    refuses a header whose config is not)."""
+def _header_config(path: Path, header: dict) -> tuple[JawConfig | None, str | None]:
+    """The header's jaw config, or None and why it is not one: the log is still read
+    (its records are checked without the jaw's shape), and replay refuses it."""
     try:
-        cfg = parse_config(header.get("config"), "header config")
-    except InputError:
-        return None, None
-    return len(cfg.joints), {f.name for f in cfg.fingers}
+        return parse_config(header.get("config"), f"{path}: header config"), None
+    except InputError as exc:
+        return None, str(exc)
 
 
 def read_log(path: str | os.PathLike[str]) -> LogContents:
@@ -277,7 +286,9 @@ def read_log(path: str | os.PathLike[str]) -> LogContents:
     c.get("scene", (dict,), "a mapping or null", optional=True)
     c.get("settings", (dict,), "a mapping", optional=True)
     c.number("monotonic_origin", optional=True)
-    n_joints, fingers = _jaw_shape(header)
+    config, config_error = _header_config(path, header)
+    n_joints = len(config.joints) if config else None
+    fingers = {f.name for f in config.fingers} if config else None
     readings: list[dict[str, Any]] = []
     touches: dict[int, LoggedTouch] = {}
     events: list[dict[str, Any]] = []
@@ -339,7 +350,8 @@ def read_log(path: str | os.PathLike[str]) -> LogContents:
             c.fail(f"unknown record type {_short(kind)}")
     return LogContents(header=header, readings=readings,
                        touches=[touches[k] for k in sorted(touches)],
-                       events=events, result=result, truncated=truncated)
+                       events=events, result=result, truncated=truncated, config=config,
+                       config_error=config_error)
 
 
 def _parse_lines(path: Path, lines: Iterable[bytes]) -> list[dict[str, Any]]:
@@ -348,11 +360,7 @@ def _parse_lines(path: Path, lines: Iterable[bytes]) -> list[dict[str, Any]]:
         where = f"{path}: line {lineno}"
         if len(line) > MAX_LINE_BYTES:
             raise InputError(f"{where}: a line of {len(line)} bytes (at most {MAX_LINE_BYTES})")
-        try:
-            rec = loads_json(decode_utf8(line, where), where)
-        except InputError as exc:
-            msg = str(exc)
-            raise InputError(msg.replace(f"{where}: not valid JSON", f"{where}: not JSON")) from None
+        rec = loads_json(decode_utf8(line, where), where)
         if not isinstance(rec, dict):
             raise InputError(f"{where}: not a JSON object")
         records.append(rec)

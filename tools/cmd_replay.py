@@ -22,7 +22,6 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
-    from hand_driver.config import parse_config
     from hand_driver.log import read_log
     from tactile_common.errors import InputError
     from tactile_common.files import atomic_write, check_output
@@ -36,7 +35,7 @@ def run(args) -> int:
         check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
     contents = read_log(args.log)
     header = contents.header
-    config = parse_config(header.get("config"), f"{args.log}: header config")
+    config = contents.jaw_config()
     try:
         settings = ExploreSettings.from_json(header.get("settings") or {})
     except (KeyError, TypeError, ValueError):

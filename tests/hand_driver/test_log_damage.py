@@ -38,6 +38,23 @@ def test_valid_log_reads(tmp_path):
     _write(tmp_path / "l.jsonl", _records())
     c = read_log(tmp_path / "l.jsonl")
     assert len(c.readings) == 2 and c.touches[0].psi == [0.5]
+    assert c.jaw_config() == c.config == load_config(ROOT / "config/jaw.yaml")  # parsed once, by the reader
+
+
+def test_header_without_a_jaw_config_is_read_and_refused_by_replay(tmp_path, capsys):
+    """The records are still checked (without the jaw's shape); replay refuses the log with
+    the config parser's one line, once."""
+    recs = _records()
+    recs[0]["config"] = {**CONFIG, "fingers": CONFIG["fingers"][:1]}
+    p = tmp_path / "l.jsonl"
+    _write(p, recs)
+    c = read_log(p)
+    assert c.config is None and len(c.readings) == 2
+    with pytest.raises(InputError, match=r"l\.jsonl: header config: fingers: expected a list of exactly 2 fingers$"):
+        c.jaw_config()
+    assert main(["replay", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "header config: fingers: expected a list of exactly 2 fingers" in err
 
 
 @pytest.mark.parametrize("line,change,msg", [

@@ -73,7 +73,7 @@ def test_cut_last_line_is_dropped_other_damage_is_an_input_error(tmp_path):
     lines = text.splitlines()
     lines[2] = "{oops"
     path.write_text("\n".join(lines) + "\n")
-    with pytest.raises(InputError, match="line 3: not JSON"):
+    with pytest.raises(InputError, match="line 3: not valid JSON"):
         read_log(path)
     path.write_text('{"type": "reading"}\n')
     with pytest.raises(InputError, match="line 1 is not a tactile-jaw-log header"):
