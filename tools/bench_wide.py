@@ -37,7 +37,13 @@ from collections import defaultdict
 import numpy as np
 
 from recognizer import synth
+from recognizer.classify import LIMIT_OF, MODEL_ALPHA, chi2_limit, recognize
 from recognizer.curves import CURVES, Pose
+from recognizer.localize import N_SHAPE
+from recognizer.profiles import PROFILES
+from recognizer.refine import refine_one
+from recognizer.result import Candidate, RecognizeOptions
+from recognizer.touches import NoiseModel, Request, SamplesTouch
 from tools.bench import _pool, rel_error
 
 CLASSES = tuple(CURVES)
@@ -116,11 +122,6 @@ def _touches(shape, ts, rs, direction):
 
 
 def _recognize(touches, nm, reach=None):
-    from recognizer.classify import recognize
-    from recognizer.result import RecognizeOptions
-    from recognizer.profiles import PROFILES
-    from recognizer.touches import Request, SamplesTouch
-
     req = Request(tuple(SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, CLASSES, nm,
                   {"reach": reach} if reach else {})
     opts = RecognizeOptions(noise=nm, reach=reach, **PROFILES["balanced"].options())
@@ -131,11 +132,6 @@ def _recognize(touches, nm, reach=None):
 
 def _oracle(shape, ts, direction, rec, req, nm) -> str:
     """'data-limited' or 'search miss' for a wrong answer (module docstring)."""
-    from recognizer.classify import LIMIT_OF, MODEL_ALPHA, chi2_limit
-    from recognizer.localize import N_SHAPE
-    from recognizer.refine import refine_one
-    from recognizer.result import Candidate
-
     t_true = np.asarray(ts if direction > 0 else ts[::-1], float)
     truth = refine_one(Candidate(shape.cls, dict(shape.params), shape.pose, t_true, 0.0, 0, 0), req.touches, nm)
     if rec.cls == "unclassified":
@@ -170,8 +166,6 @@ def _closest_t(shape, x, y, lo, hi, sign, both, clear):
 
 
 def run_trial(task) -> dict:
-    from recognizer.touches import NoiseModel
-
     cls, i, seed = task
     region, shape, ts, (lo, hi, sign, both, clear), rs = draw_case(cls, i, seed)
     direction = int(rs.choice([-1, 1]))

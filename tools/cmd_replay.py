@@ -10,6 +10,10 @@ from __future__ import annotations
 import json
 import sys
 
+from tactile_common.errors import InputError
+from tactile_common.files import atomic_write, check_output
+from tools.cmd_explore import describe
+
 HELP = "recognizes from a recorded run log (tactile explore/demo --log), no hardware"
 
 
@@ -22,14 +26,13 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
+    # here, not at the top: tactile --help imports every command module (tools.cli), and these
+    # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
     from hand_driver.log import read_log
-    from tactile_common.errors import InputError
-    from tactile_common.files import atomic_write, check_output
     from tactile_jaw.decide import final_answer
     from tactile_jaw.flat import stated_noise
     from tactile_jaw.pipeline import logged_touches, make_recognizer, workspace_reach
     from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
-    from tools.cmd_explore import describe
 
     if args.touches:
         check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
