@@ -201,9 +201,10 @@ class EmulatedBus:
                 s.publish(dt)
             self.sim_time += dt
 
-    def wait_idle(self, quiet_s: float = 0.02, timeout: float = 2.0) -> None:
+    def wait_idle(self, quiet_s: float = 0.02, timeout: float = 10.0) -> None:
         """Return once the bus has had nothing to serve for ``quiet_s`` (for tests: the pty
-        hands bytes over asynchronously)."""
+        hands bytes over asynchronously); TimeoutError after ``timeout`` s still busy (bounded
+        and generous: the thread serving the bus may be starved on a loaded host)."""
         deadline = time.monotonic() + timeout
         quiet_since = time.monotonic()
         while time.monotonic() < deadline:

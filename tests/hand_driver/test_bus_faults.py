@@ -1,10 +1,18 @@
-"""Every injected fault: bounded retry then a typed error, torque off, readings kept."""
+"""Every injected fault: bounded retry then a typed error, torque off, readings kept.
+
+The emulator shares a loaded host with the tests, so the transactions that must succeed get
+a generous status timeout (``TIMEOUT_S``, not the SDK's 34 ms): a late answer from a starved
+emulator thread is not a fault. A fault that must time out is made certain to (a delay of
+twice the timeout, replies dropped), whatever the load."""
 
 import pytest
 
 from hand_driver.bus import JointBus
 from hand_driver.errors import BusTimeout, CrcError, PortError, ServoHardwareError
 from hand_driver.sim.server import EmulatedBus
+
+#: status timeout of every bus in these tests (bounded: each expected timeout costs it)
+TIMEOUT_S = 0.5
 
 
 def run_until_fault(sim, arm, fast=True, retries=3):
@@ -13,7 +21,7 @@ def run_until_fault(sim, arm, fast=True, retries=3):
     readings, returned = [], []
     err = None
     bus = JointBus(sim.port, 1_000_000, sim.joints, fast_read=fast, retries=retries,
-                   on_reading=readings.append, timeout_s=0.1)
+                   on_reading=readings.append, timeout_s=TIMEOUT_S)
     try:
         with bus:
             returned += [bus.read_state() for _ in range(3)]
@@ -58,9 +66,12 @@ def test_corrupt_instruction_is_retried(sim):
 
 def test_short_delay_passes_long_delay_times_out(sim):
     readings, err, bus = run_until_fault(sim, lambda: sim.faults.delay(0.005, n=1))
-    assert err is None and bus.fault_retries == 0
-    readings, err, bus = run_until_fault(sim, lambda: sim.faults.delay(0.3, n=100), retries=1)
-    assert isinstance(err, (BusTimeout, CrcError)) and len(readings) == 3
+    assert err is None and len(readings) == 4
+    # the answer leaves the emulator a whole timeout after the bus stopped waiting for it,
+    # whatever the load (one attempt: a retry's window could catch a late first answer, which
+    # the SDK matches by servo ID only; bounded retries are tested with dropped answers above)
+    readings, err, bus = run_until_fault(sim, lambda: sim.faults.delay(2 * TIMEOUT_S, n=1), retries=0)
+    assert isinstance(err, BusTimeout) and "gave up after 1 attempts" in str(err) and len(readings) == 3
 
 
 def test_hardware_error_raises_decoded_and_reboot_clears(sim):
@@ -68,17 +79,17 @@ def test_hardware_error_raises_decoded_and_reboot_clears(sim):
     assert isinstance(err, ServoHardwareError) and err.servo_id == 2 and err.bits == 0x24
     assert err.names == ["overheating error", "overload error"]  # bits 2 and 5
     assert len(readings) == 4  # the reading that carried the alert is logged too
-    with JointBus(sim.port, 1_000_000, [], handle_signals=False) as bare:
+    with JointBus(sim.port, 1_000_000, [], handle_signals=False, timeout_s=TIMEOUT_S) as bare:
         bare.reboot(2)
         assert bare.read_hardware_error(2).bits == 0
-    with JointBus(sim.port, 1_000_000, sim.joints) as bus:
+    with JointBus(sim.port, 1_000_000, sim.joints, timeout_s=TIMEOUT_S) as bus:
         assert bus.read_state().ticks.tolist() == [2048, 2048, 1500]
 
 
 def test_vanished_adapter_is_a_port_error_and_not_masked(sim):
     readings = []
     with pytest.raises(PortError, match="adapter unplugged"):
-        with JointBus(sim.port, 1_000_000, sim.joints, on_reading=readings.append) as bus:
+        with JointBus(sim.port, 1_000_000, sim.joints, on_reading=readings.append, timeout_s=TIMEOUT_S) as bus:
             bus.read_state()
             sim.vanish()
             bus.read_state()

@@ -126,7 +126,8 @@ def test_fault_mid_touch_keeps_every_reading_and_ends_torque_off(tmp_path, fault
     servos = None
     with pytest.raises(expected):
         with RunLog(path).open(config={}, scene=None) as log:
-            with emulated_jaw(log=log, on_reading=inject, timeout_s=0.1) as (sim, jaw):
+            # a status timeout a loaded host meets (a late corrupt answer must stay a CRC error)
+            with emulated_jaw(log=log, on_reading=inject, timeout_s=0.5) as (sim, jaw):
                 servos = sim.servos
                 run_together(jaw, {"left": move_line(jaw, "left", psi, _edge(psi), math.radians(5), 3.0)})
                 run_together(jaw, {"left": guarded_approach(jaw, "left", psi, _edge(psi), 45.0)})

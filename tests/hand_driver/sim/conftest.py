@@ -16,9 +16,10 @@ SDK_JOINTS = (JointConfig(1, "XM430-W350", 2048, 50.0), JointConfig(2, "XC330-T2
 
 class SlackPort(PortHandler):
     """The SDK's port with ``slack_ms`` of timeout margin beyond its own (34 ms at 1 Mbps):
-    the emulator shares a loaded host with the tests."""
+    the emulator's thread shares a loaded host with the tests (216 ms was missed at load 16).
+    Bounded: every answer a test expects to be missing costs it."""
 
-    slack_ms = 216.0
+    slack_ms = 1000.0
 
     def setPacketTimeout(self, packet_length):  # noqa: N802 - SDK name
         super().setPacketTimeout(packet_length)
