@@ -80,11 +80,7 @@ def parse_reach(raw, where: str = "options.reach") -> Reach:
     if not isinstance(raw, Mapping):
         raise InputError(f"{where}: must be a mapping {{x: mm, y: mm, radius: mm}}")
     check_keys(raw, ("x", "y", "radius"), where)
-    vals = {}
-    for k in ("x", "y", "radius"):
-        if k not in raw:
-            raise InputError(f"{where}: missing key {k!r} (a reach is {{x, y, radius}})")
-        vals[k] = finite_number(raw[k], f"{where}.{k}")
+    vals = _required(raw, ("x", "y", "radius"), where, "a reach")
     if vals["radius"] <= 0:
         raise InputError(f"{where}.radius: must be > 0, got {vals['radius']}")
     return Reach(**vals)

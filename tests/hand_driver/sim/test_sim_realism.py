@@ -7,8 +7,18 @@ from dynamixel_sdk import COMM_RX_TIMEOUT, COMM_SUCCESS, GroupSyncWrite
 
 from hand_driver.sim import protocol as P
 from hand_driver.sim.servo import OVERLOAD_TIME_S
+from hand_driver.units import ticks_to_rad
 
 ERR_RESULT_FAIL, ERR_DATA_RANGE = 1, 4
+
+
+class WallAtTick2100:
+    """The world of the overload tests: joint 1 (servo 1, zero tick 2048) cannot pass tick 2100."""
+
+    def constrain(self, q_from, q_to):
+        q = list(q_to)
+        q[0] = min(q[0], float(ticks_to_rad(2100, 2048, 1)))
+        return q
 
 
 @pytest.fixture
@@ -142,14 +152,7 @@ def test_packets_keep_the_bus_watchdog_fed(link):
 
 def test_sustained_stall_raises_the_overload_error(link):
     sim, port, ph = link
-
-    class Wall:  # joint 1 cannot pass tick 2100
-        def constrain(self, q_from, q_to):
-            q = list(q_to)
-            q[0] = min(q[0], (2100 - 2048) * 2 * 3.141592653589793 / 4096)
-            return q
-
-    sim.world = Wall()
+    sim.world = WallAtTick2100()
     assert ph.write1ByteTxRx(port, 1, 64, 1) == (COMM_SUCCESS, 0)  # position mode (3): no current cap
     assert ph.write4ByteTxRx(port, 1, 116, 2100 + 60) == (COMM_SUCCESS, 0)  # 60 ticks short: 480 units, 1.3 A
     sim.step(OVERLOAD_TIME_S - 0.5)
@@ -162,14 +165,7 @@ def test_sustained_stall_raises_the_overload_error(link):
 
 def test_pressing_at_a_low_goal_current_never_overloads(link):
     sim, port, ph = link
-
-    class Wall:
-        def constrain(self, q_from, q_to):
-            q = list(q_to)
-            q[0] = min(q[0], (2100 - 2048) * 2 * 3.141592653589793 / 4096)
-            return q
-
-    sim.world = Wall()
+    sim.world = WallAtTick2100()
     assert ph.write1ByteTxRx(port, 1, 11, 5) == (COMM_SUCCESS, 0)  # current-based position
     assert ph.write2ByteTxRx(port, 1, 102, 111) == (COMM_SUCCESS, 0)  # 300 mA cap
     w = GroupSyncWrite(port, ph, 64, 1)
