@@ -7,6 +7,8 @@ from __future__ import annotations
 import math
 from typing import Any, Callable, Sequence
 
+import numpy as np
+
 from recognizer.classify import LIMIT_OF, chi2_limit
 from recognizer.result import Recognition
 from tactile_common.errors import InputError
@@ -15,15 +17,31 @@ from tactile_jaw.settings import ExploreSettings
 #: a consistent rival class whose χ² exceeds the answer's by this much (likelihood ratio
 #: e^-5, "very strong" evidence on Kass & Raftery's scale) no longer keeps exploration going
 DECISIVE_CHI2 = 10.0
-#: (answer, rival): the answer is a special case or a limit of the rival (the recognizer's
-#: one definition, recognizer.classify.LIMIT_OF: a circle of ellipses, a parabola of
-#: ellipses and hyperbolas, a line of every curved class). The richer rival always fits at
-#: least as well, so its χ² being close is no evidence against the answer: rule (a), the
-#: likelihood ratio, decides, once the answer is stable. (Only circle → ellipse until this
-#: version: a parabola answer could never be decisive; the parabola example's simulated
-#: ideal touches were then undecided 3 of 3 seeds, decisive 3 of 3 with the limits, error
-#: ≤ 0.44 %.)
-SUBMODELS = frozenset((answer, rival) for answer, rivals in LIMIT_OF.items() for rival in rivals)
+#: limits the exploration adds to the recognizer's (recognizer.classify.LIMIT_OF): far from
+#: the cubical's inflection or the semicubical's cusp an arc of either tends to a parabola's
+#: (the semicubical (t², a t³ + b t²) fitted to the parabola example's touches: a = 0.48,
+#: b = 4.3 at t ≈ −6, χ² 51.09 against the parabola's 51.14 on 140 dof), so a cubic fitting
+#: as well is no evidence against a parabola answer: none could ever lead it by
+#: ``DECISIVE_CHI2``. Such an answer must in addition have been felt on both sides of its
+#: vertex (:func:`vertex_sides`).
+EXPLORATION_LIMITS = {"parabola": frozenset({"cubical_parabola", "semicubical_parabola"})}
+#: (answer, rival): the answer is a special case or a limit of the rival (``LIMIT_OF``: a
+#: circle of ellipses, a parabola of ellipses and hyperbolas, a line of every curved class;
+#: and ``EXPLORATION_LIMITS``). The richer rival always fits at least as well, so its χ²
+#: being close is no evidence against the answer: rule (a), the likelihood ratio, decides,
+#: once the answer is stable. (Only circle → ellipse until #10's first version: a parabola
+#: answer could never be decisive; the parabola example's simulated ideal touches were then
+#: undecided 3 of 3 seeds, decisive 3 of 3 with the limits, error ≤ 0.44 %.)
+SUBMODELS = frozenset((answer, rival) for limits in (LIMIT_OF, EXPLORATION_LIMITS)
+                      for answer, rivals in limits.items() for rival in rivals)
+#: a parabola answer with a cubic rival as close as the answer needs touches reaching at
+#: least this tangent turn (deg) on each side of its vertex: a parabola's curvature falls
+#: off alike on both sides (κ₀ cos³α), while on one side only a branch of a semicubical
+#: (its curvature growing monotonically toward the cusp) or a cubical's hump looks the same.
+#: Measured on the example scenes' touches (re-recognized from the logs): the parabola felt
+#: 28–35° either side of the fitted vertex; the semicubical, answered parabola, 46–48° on
+#: one side and 16–17° on the other.
+VERTEX_SIDE_DEG = 20.0
 #: an answer is decisive only once every shape parameter's standard deviation is at most
 #: this fraction of its magnitude (of max(|p|, 1) for the dimensionless ``DIMENSIONLESS``)
 DECISIVE_REL_SIGMA = 0.02
@@ -32,15 +50,19 @@ DIMENSIONLESS = frozenset({("cubical_parabola", "c"), ("semicubical_parabola", "
 RecognizeTouches = Callable[[Sequence[Any]], Recognition]
 
 
-def indecision(recognition: Recognition, shorter: Recognition | None, settings: ExploreSettings) -> str | None:
+def indecision(recognition: Recognition, shorter: Recognition | None, settings: ExploreSettings,
+               touched: tuple[np.ndarray, np.ndarray] | None = None) -> str | None:
     """Why a class answer is not yet decisive, or None when it is. ``recognition`` is on
-    every usable touch, ``shorter`` on all but the last (None if too few). Decisive: (a) no
+    every usable touch, ``shorter`` on all but the last (None if too few), ``touched`` the
+    touches' sample positions (x, y) (None: unknown). Decisive: (a) no
     consistent class with more free parameters fits significantly better (likelihood ratio:
     Δχ² below the χ²_Δk limit at the recognizer's alpha); (b) every other consistent class
     is ruled out by the data, its χ² ``DECISIVE_CHI2`` above the answer's, except a class
     the answer is a special case or limit of (``SUBMODELS``: a circle is an ellipse with
     a = b, a parabola the limit of ellipses and hyperbolas), for which (a) decides once the
-    answer is stable, the same class without the last touch; (c) its shape parameters are determined (:func:`imprecision`). A class the
+    answer is stable, the same class without the last touch, and, for a parabola with a
+    cubic rival that close (``EXPLORATION_LIMITS``), it was felt ``VERTEX_SIDE_DEG`` on
+    both sides of its vertex; (c) its shape parameters are determined (:func:`imprecision`). A class the
     answer is only a limit of (a parabola of long ellipses and hyperbolas) or that fits as
     well is no evidence either way: BIC's parameter penalty alone would always pick the
     limit."""
@@ -60,7 +82,23 @@ def indecision(recognition: Recognition, shorter: Recognition | None, settings: 
     if rivals and (shorter is None or shorter.cls != recognition.cls):
         return (f"{best.cls} and {rivals[0].cls} both fit and the answer "
                 + ("changed with the last touch" if shorter is not None else "was not yet checked with one touch fewer"))
+    cubic = next((r for r in rivals if r.cls in EXPLORATION_LIMITS.get(best.cls, ())), None)
+    if cubic is not None:
+        sides = vertex_sides(recognition, touched) if touched is not None else (0.0, 0.0)
+        if min(sides) < VERTEX_SIDE_DEG:
+            return (f"{best.cls} and {cubic.cls} both fit and the touches reach {sides[0]:.0f} and {sides[1]:.0f} deg "
+                    f"either side of the parabola's vertex (less than {VERTEX_SIDE_DEG:g} on one side: a cubic's arc "
+                    f"looks like a parabola's there)")
     return imprecision(recognition)
+
+
+def vertex_sides(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray]) -> tuple[float, float]:
+    """How far (deg of tangent turn) the touched positions reach on either side of a
+    parabola answer's vertex: the canonical parabola (a t², 2a t) turns by atan(t) from its
+    vertex, t = y/(2a) in its own frame."""
+    _, cy = recognition.pose.inverse(*touched)
+    turn = np.degrees(np.arctan(np.asarray(cy, float) / (2.0 * recognition.params["a"])))
+    return max(-float(turn.min()), 0.0), max(float(turn.max()), 0.0)
 
 
 def imprecision(recognition: Recognition) -> str | None:
@@ -94,7 +132,16 @@ def decide(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings
             shorter = recognize_touches(touches[:-1])
         except InputError:
             shorter = None
-    return recognition, indecision(recognition, shorter, settings)
+    return recognition, indecision(recognition, shorter, settings, _positions(touches))
+
+
+def _positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | None:
+    """Every sample position (x, y) of felt touches (tactile_jaw.pipeline.FeltTouch); None
+    for touches without samples."""
+    samples = [getattr(t, "samples", None) for t in touches]
+    if not samples or any(s is None for s in samples):
+        return None
+    return np.concatenate([np.asarray(s.x, float) for s in samples]), np.concatenate([np.asarray(s.y, float) for s in samples])
 
 
 def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings) -> Recognition:

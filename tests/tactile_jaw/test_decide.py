@@ -4,10 +4,12 @@ reasoned refusal rather than a class."""
 
 import math
 
+import numpy as np
 from scipy import stats
 
+from recognizer.curves import CURVES, Pose
 from recognizer.result import Ranked, Recognition
-from tactile_jaw.decide import DECISIVE_CHI2, final_answer, indecision
+from tactile_jaw.decide import DECISIVE_CHI2, VERTEX_SIDE_DEG, final_answer, indecision, vertex_sides
 from tactile_jaw.settings import ExploreSettings
 
 SETTINGS = ExploreSettings(touches=8, samples_per_touch=9, roll_span_rad=math.radians(30), min_touches=3,
@@ -26,10 +28,44 @@ def test_runner_up_rejected_is_decisive():
 
 
 def test_close_runner_up_is_not_decisive_even_when_stable():
-    # a parabola answer whose cubical rival fits alike, stably: no class is the other's limit
-    r = rec("parabola", ("parabola", True, 25.6, 68, 458.7), ("cubical_parabola", True, 26.4, 67, 470.4))
-    why = indecision(r, rec("parabola", ("parabola", True, 21.2, 50, 356.8)), SETTINGS)
-    assert why is not None and "parabola" in why and "cubical_parabola" in why
+    # an ellipse answer whose hyperbola rival fits alike, stably: neither is the other's limit
+    r = rec("ellipse", ("ellipse", True, 25.6, 68, 458.7), ("hyperbola", True, 26.4, 68, 470.4))
+    why = indecision(r, rec("ellipse", ("ellipse", True, 21.2, 50, 356.8)), SETTINGS)
+    assert why is not None and "ellipse" in why and "hyperbola" in why
+
+
+def _parabola_touched(turns_deg, a=8.0, pose=Pose(-math.pi / 2, 105.0, 12.0)):
+    """Sample positions on the parabola (a t², 2a t) at the given tangent turns from its vertex."""
+    t = np.tan(np.radians(turns_deg))
+    return pose.apply(*CURVES["parabola"]({"a": a}).point(t))
+
+
+def test_vertex_sides_of_a_parabola():
+    pose = Pose(0.7, 100.0, -3.0)
+    r = Recognition("parabola", {"a": 5.0}, pose=pose)
+    left, right = vertex_sides(r, _parabola_touched([-33.0, -10.0, 4.0, 21.0], a=5.0, pose=pose))
+    assert math.isclose(left, 33.0, abs_tol=1e-9) and math.isclose(right, 21.0, abs_tol=1e-9)
+    assert vertex_sides(r, _parabola_touched([5.0, 30.0], a=5.0, pose=pose))[0] == 0.0
+
+
+def test_a_parabola_against_a_cubic_needs_both_sides_of_its_vertex():
+    """The parabola is also a limit of both cubic families (decide.EXPLORATION_LIMITS): a cubic
+    fitting as well is no evidence against a stable parabola answer felt on both sides of its
+    vertex (the parabola example: 28-35 deg either side), but felt on one side only (the
+    semicubical example, answered parabola: 47 and 16 deg) the answer is not decisive."""
+    pose = Pose(-math.pi / 2, 105.0, 12.0)
+    rows = (("parabola", True, 51.14, 140, 400.0), ("semicubical_parabola", True, 51.09, 139, 405.0),
+            ("cubical_parabola", True, 52.0, 139, 406.0))
+    r = Recognition("parabola", {"a": 8.0}, uncertainty={"a": 0.05}, pose=pose,
+                    ranking=[Ranked(c, ok, chi2, dof, bic, 0.5) for c, ok, chi2, dof, bic in rows])
+    stable = rec("parabola", ("parabola", True, 40.0, 120, 350.0))
+    both = _parabola_touched(np.linspace(-35.0, 34.0, 50))
+    assert indecision(r, stable, SETTINGS, both) is None
+    one = _parabola_touched(np.linspace(-47.0, VERTEX_SIDE_DEG - 4.0, 50))
+    why = indecision(r, stable, SETTINGS, one)
+    assert why is not None and "vertex" in why and "semicubical_parabola" in why
+    assert indecision(r, stable, SETTINGS, None) is not None  # positions unknown: not decisive
+    assert indecision(r, None, SETTINGS, both) is not None  # not yet checked with one touch fewer
 
 
 def test_a_limit_of_the_rival_needs_a_stable_answer():
