@@ -136,12 +136,13 @@ def decide(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings
 
 
 def _positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | None:
-    """Every sample position (x, y) of felt touches (tactile_jaw.pipeline.FeltTouch); None
-    for touches without samples."""
+    """Every sample position (x, y) of felt touches (tactile_jaw.pipeline.FeltTouch: a rolling
+    touch's samples, a flat press's one contact); None for touches without samples."""
     samples = [getattr(t, "samples", None) for t in touches]
     if not samples or any(s is None for s in samples):
         return None
-    return np.concatenate([np.asarray(s.x, float) for s in samples]), np.concatenate([np.asarray(s.y, float) for s in samples])
+    return (np.concatenate([np.atleast_1d(np.asarray(s.x, float)) for s in samples]),
+            np.concatenate([np.atleast_1d(np.asarray(s.y, float)) for s in samples]))
 
 
 def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings) -> Recognition:
