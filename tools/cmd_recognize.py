@@ -7,6 +7,8 @@ import json
 import sys
 from pathlib import Path
 
+from tools.recognize_worker import DEFAULT_TIMEOUT_S
+
 #: bytes of one request (a stream line or a file): 64 touches of 500 samples fit in ~2 MB
 MAX_LINE_BYTES = 2 * 2 ** 20
 
@@ -28,7 +30,7 @@ def add_arguments(parser) -> None:
                         help="false-rejection rate of each consistency test, in (0, 0.5) (default 1e-3)")
     parser.add_argument("--timeout", type=float, default=None, metavar="S",
                         help="cut a recognition off after S seconds with an error answer "
-                             "(default: the request's options.timeout_s, else 10)")
+                             f"(default: the request's options.timeout_s, else {DEFAULT_TIMEOUT_S:g})")
 
 
 def _options(args, request):

@@ -29,7 +29,11 @@ from tactile_common.errors import InputError
 
 __all__ = ["Worker", "DEFAULT_TIMEOUT_S", "WORKER_MEMORY"]
 
-DEFAULT_TIMEOUT_S = 10.0
+#: the slowest valid requests measured (docs/benchmarks.md#recognition-time): 1.7 s CPU (8
+#: semicubical touches of 15 samples, accurate), ≤ 0.8 s CPU for bench_fuzz's valid requests;
+#: on 2 cores at load 5 that is ~4 s of wall time, and 7–9 s was seen at load 16–19 for
+#: 0.6–0.8 s CPU: 10 s left too little margin
+DEFAULT_TIMEOUT_S = 30.0
 WORKER_MEMORY = 2 * 2 ** 30
 _CTX = multiprocessing.get_context("fork")
 
