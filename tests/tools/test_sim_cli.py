@@ -10,11 +10,13 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import replace
 
 import pytest
 
-from hand_driver.config import JointConfig
+from hand_driver.config import JointConfig, dump_config
 from hand_driver.sim.server import EmulatedBus
+from recognizer.scene import load_scene
 
 
 def tactile(*args, **kw):
@@ -34,12 +36,15 @@ def scan(port, ids, want, *flags, scans=3):
     return out
 
 
-def wait_for_readings(log, n, deadline_s=60.0):
-    """Wait until the run log holds ``n`` joint readings (the bus is open and cycling)."""
+def wait_for_readings(log, n, proc, deadline_s=60.0):
+    """Wait until the run log holds ``n`` joint readings (the bus is open and cycling);
+    fails at once, with its errors, if ``proc`` ends first."""
     deadline = time.monotonic() + deadline_s
     while time.monotonic() < deadline:
         if log.exists() and log.read_text().count('"type":"reading"') >= n:
             return
+        if proc.poll() is not None:
+            raise AssertionError(f"the run ended (exit {proc.returncode}) before {n} readings: {proc.stderr.read()}")
         time.sleep(0.05)
     raise AssertionError(f"{log}: fewer than {n} readings after {deadline_s:g} s")
 
@@ -72,15 +77,17 @@ def test_scan_table_and_errors():
 
 
 def test_bus_vanishing_during_explore_is_one_error_line(jaw_config, tmp_path):
-    from recognizer.scene import load_scene
-
+    # the jaw's own config but a status timeout a starved emulator meets (the config's 50 ms
+    # is for hardware): the run must end on the vanished adapter, not on a late answer
+    config = tmp_path / "jaw.yaml"
+    dump_config(replace(jaw_config, bus=replace(jaw_config.bus, timeout_s=1.0)), config)
     with EmulatedBus(jaw_config, load_scene("config/scenes/default.yaml")) as sim:
-        proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "explore", "--port", sim.port,
+        proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "explore", "--port", sim.port, "--config", str(config),
                                  "--log", str(tmp_path / "run.jsonl")],
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         try:
             assert "exploring" in proc.stderr.readline() + proc.stderr.readline()
-            wait_for_readings(tmp_path / "run.jsonl", 20)  # the bus is open, its watchdog armed
+            wait_for_readings(tmp_path / "run.jsonl", 20, proc)  # the bus is open, its watchdog armed
             sim.vanish()
             err = proc.stderr.read()
             assert proc.wait(timeout=30) == 1
