@@ -100,9 +100,11 @@ class MotionConfig:
     """How the jaw moves and how it feels a contact (used by hand_driver.motion)."""
 
     profile_velocity: int = 100  # raw, 0.229 rev/min units
-    profile_acceleration: int = 20  # raw, 214.577 rev/min² units
-    approach_speed_mm_s: float = 10.0
+    profile_acceleration: int = 100  # raw, 214.577 rev/min² units
+    approach_speed_mm_s: float = 25.0
     approach_step_mm: float = 0.5
+    move_speed_mm_s: float = 60.0  # Cartesian moves (hand_driver.motion.move_line): pad shift
+    turn_speed_deg_s: float = 100.0  # ... and pad turn
     contact_current_ma: float = 150.0
     goal_current_ma: float = 300.0
     backoff_mm: float = 3.0
@@ -288,6 +290,8 @@ def _motion(c: _Checker, obj: Any) -> MotionConfig:
         profile_acceleration=c.number(m, k, "profile_acceleration", d.profile_acceleration, 0, 32767, integer=True),
         approach_speed_mm_s=c.number(m, k, "approach_speed_mm_s", d.approach_speed_mm_s, 0.0, 200.0, lo_open=True),
         approach_step_mm=c.number(m, k, "approach_step_mm", d.approach_step_mm, 0.0, 10.0, lo_open=True),
+        move_speed_mm_s=c.number(m, k, "move_speed_mm_s", d.move_speed_mm_s, 0.0, 1000.0, lo_open=True),
+        turn_speed_deg_s=c.number(m, k, "turn_speed_deg_s", d.turn_speed_deg_s, 0.0, 1000.0, lo_open=True),
         contact_current_ma=c.number(m, k, "contact_current_ma", d.contact_current_ma, 0.0, 5000.0, lo_open=True),
         goal_current_ma=c.number(m, k, "goal_current_ma", d.goal_current_ma, 0.0, 5000.0, lo_open=True),
         backoff_mm=c.number(m, k, "backoff_mm", d.backoff_mm, 0.0, 50.0),

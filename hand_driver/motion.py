@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -110,37 +110,46 @@ def move_to(jaw: Jaw, finger: str, q_goal, max_cycles: int = 200) -> Motion:
     return False
 
 
-def move_line(jaw: Jaw, finger: str, psi: float, d: float, max_turn_rad: float = math.radians(1.0),
-              max_shift_mm: float = 1.0) -> Motion:
-    """Put the pad on the line (ψ, d) by a coordinated Cartesian move: the pad line is
-    interpolated from where it is, turning about the pad's middle by at most
-    ``max_turn_rad`` and shifting at most ``max_shift_mm`` per cycle (a straight
-    joint-space move would sweep the pad off the path between the two lines); then
-    :func:`move_to` the final goal. Returns True when reached."""
+def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tuple[float, float]] = (),
+              shift_mm_s: float | None = None, turn_deg_s: float | None = None) -> Motion:
+    """Put the pad on the line (ψ, d) by a coordinated Cartesian move, through the pad
+    lines ``via`` (ψ, d) in turn without stopping: the pad line is interpolated from where
+    it is, turning about the pad's middle at ``turn_deg_s`` and shifting at ``shift_mm_s``
+    (default: the config's ``motion.turn_speed_deg_s``, ``motion.move_speed_mm_s``) per
+    second of robot time (a straight joint-space move would sweep the pad off the path
+    between the two lines); then :func:`move_to` the final goal. Returns True when reached."""
+    m = jaw.config.motion
+    max_turn = math.radians(turn_deg_s if turn_deg_s is not None else m.turn_speed_deg_s) * jaw.period_s
+    max_shift = (shift_mm_s if shift_mm_s is not None else m.move_speed_mm_s) * jaw.period_s
     line = jaw.pad_line(jaw.last_state, finger)
     center = 0.5 * (line.proximal + line.distal)
     psi0 = float(line.psi)
-    turn = math.remainder(psi - psi0, 2 * math.pi)
     shift0 = float(line.d) - float(line.normal @ center)  # 0: the pad's middle is on its line
-    shift1 = d - float(_unit(psi) @ center)
-    steps = max(1, math.ceil(max(abs(turn) / max_turn_rad, abs(shift1 - shift0) / max_shift_mm)))
     q = jaw.finger_q(jaw.last_state, finger)
-    for k in range(1, steps):
-        a = psi0 + turn * k / steps
-        q = jaw.solve(finger, a, shift0 + (shift1 - shift0) * k / steps + float(_unit(a) @ center), q)
-        yield q
-    q = jaw.solve(finger, psi, d, q)
+    lines = [*via, (psi, d)]
+    for i, (psi1, d1) in enumerate(lines):
+        turn = math.remainder(psi1 - psi0, 2 * math.pi)
+        shift1 = d1 - float(_unit(psi1) @ center)
+        steps = max(1, math.ceil(max(abs(turn) / max_turn, abs(shift1 - shift0) / max_shift)))
+        for k in range(1, steps + 1):
+            a = psi0 + turn * k / steps
+            q = jaw.solve(finger, a, shift0 + (shift1 - shift0) * k / steps + float(_unit(a) @ center), q)
+            if k < steps or i < len(lines) - 1:
+                yield q
+        psi0, shift0 = psi0 + turn, shift1
     return (yield from move_to(jaw, finger, q))
 
 
 def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_mm: float) -> Motion:
     """Advance the pad along its normal from line (ψ, d_start) until contact or
-    ``travel_mm``; returns an :class:`ApproachResult` (module docstring)."""
+    ``travel_mm``; returns an :class:`ApproachResult` (module docstring). The first goal is
+    already one step in (the pad is on its start line)."""
     m = jaw.config.motion
     step = m.approach_step_mm
     n = _unit(psi)
-    t0 = jaw.robot_time()
-    d_goal = d_start
+    t0 = jaw.robot_time() - jaw.period_s
+    d_meas = float(n @ jaw.pad_line(jaw.last_state, finger).distal)
+    d_goal = min(d_start + step, d_meas + 2.0 * step, d_start + travel_mm)
     state, i = yield jaw.solve(finger, psi, d_goal, jaw.finger_q(jaw.last_state, finger))
     history: list[float] = []
     while True:
@@ -198,25 +207,6 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
         d_from = d_start
         for k, psi in enumerate(angles):
             psi = float(psi)
-            if k > 0:
-                pivot, u = contact_on_pad(result.samples)
-                length = jaw.config.finger(finger).pad.length_mm
-                if u is not None and not EDGE_MARGIN_MM <= u <= length - EDGE_MARGIN_MM:
-                    result.outcome = "edge"
-                    result.message = (f"{finger}: the contact is {u:.1f} mm along a {length:g} mm pad: "
-                                      f"a pad end, not the pad's face, touched")
-                    break
-                unsure = 0.5 * length if u is None else 0.0
-                clearance = ROLL_CLEARANCE_MM + unsure * abs(psi - result.samples[-1].psi)
-                d_from = float(_unit(psi) @ pivot) - clearance
-                reach = 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM
-                if not (yield from move_line(jaw, finger, psi, d_from)):
-                    # the object was in the way of the turn: back off further and turn again
-                    here = jaw.pad_line(jaw.last_state, finger)
-                    yield from move_line(jaw, finger, float(here.psi), float(here.d) - m.backoff_mm)
-                    d_from -= m.backoff_mm
-                    reach += m.backoff_mm
-                    yield from move_line(jaw, finger, psi, d_from)
             approach = yield from guarded_approach(jaw, finger, psi, d_from, reach)
             turned = (approach.contact is None or k == 0 or abs(math.remainder(
                 approach.contact.psi_measured - result.samples[-1].psi_measured, 2 * math.pi))
@@ -234,8 +224,31 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
             result.samples.append(approach.contact)
             emit({"type": "sample", "touch": touch, "finger": finger, "psi": psi,
                   "reading": approach.contact.reading, "by": approach.reason})
-            last = k == len(angles) - 1
-            yield from move_line(jaw, finger, psi, approach.contact.d - (m.backoff_mm if last else ROLL_CLEARANCE_MM))
+            if k == len(angles) - 1:
+                break
+            pivot, u = contact_on_pad(result.samples)
+            length = jaw.config.finger(finger).pad.length_mm
+            if u is not None and not EDGE_MARGIN_MM <= u <= length - EDGE_MARGIN_MM:
+                result.outcome = "edge"
+                result.message = (f"{finger}: the contact is {u:.1f} mm along a {length:g} mm pad: "
+                                  f"a pad end, not the pad's face, touched")
+                break
+            # off the contact and turned to the next orientation in one move
+            psi = float(angles[k + 1])
+            unsure = 0.5 * length if u is None else 0.0
+            clearance = ROLL_CLEARANCE_MM + unsure * abs(psi - result.samples[-1].psi)
+            d_from = float(_unit(psi) @ pivot) - clearance
+            reach = 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM
+            if not (yield from move_line(jaw, finger, psi, d_from)):
+                # the object was in the way of the turn: back off further and turn again
+                here = jaw.pad_line(jaw.last_state, finger)
+                yield from move_line(jaw, finger, float(here.psi), float(here.d) - m.backoff_mm)
+                d_from -= m.backoff_mm
+                reach += m.backoff_mm
+                yield from move_line(jaw, finger, psi, d_from)
+        if result.samples and result.outcome in ("ok", "edge"):  # the pad is in contact: back off
+            last = result.samples[-1]
+            yield from move_line(jaw, finger, last.psi, last.d - m.backoff_mm)
     except kin.Unreachable as exc:
         result.outcome, result.message = "unreachable", str(exc)
     emit({"type": "touch_end", "touch": touch, "finger": finger, "reading": jaw.log_index(),

@@ -52,10 +52,8 @@ from tactile_jaw.settings import ExploreSettings
 OFF_CURVE_RETIRE = 2
 #: a suggested next touch this near (mm) one already aimed at is not aimed at again
 AIM_AGAIN_MM = 1.0
-#: a transit turns along the workspace edge in steps of at most this many degrees
+#: a transit turns along the workspace edge through pad lines at most this many degrees apart
 EDGE_TURN_STEP_DEG = 15.0
-#: largest turn (rad) and shift (mm) per cycle of a transit outside the workspace disk
-TRANSIT_STEPS = (math.radians(5.0), 3.0)
 #: flat presses (docs/exploration.md#lines-flat-presses), when no rolling touch was usable:
 #: a finger's first one starts this many degrees before its pad's nominal normal (the
 #: object turned by up to ±10° still seats within the press's 24° turn); a later one
@@ -100,23 +98,25 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None):
     such pose made every later transit of the finger fail and spent the touch budget."""
     line = jaw.pad_line(jaw.last_state, finger)
     psi_from = float(line.psi)
+    f = jaw.config.finger(finger)
+    via = [(psi_from, min(float(line.d), model.edge(psi_from)))]
     try:
-        yield from move_line(jaw, finger, psi_from, min(float(line.d), model.edge(psi_from)), *TRANSIT_STEPS)
+        jaw.solve(finger, *via[0], jaw.finger_q(jaw.last_state, finger))
     except kin.Unreachable:
-        f = jaw.config.finger(finger)
         psi_from = nominal_psi(f)
         q_open = kin.ik_line(f, psi_from, model.edge(psi_from), margin_rad=LIMIT_MARGIN_RAD)
         yield from move_to(jaw, finger, q_open)
+        via = []
     delta = math.remainder(psi_to - psi_from, 2 * math.pi)
     steps = max(1, math.ceil(abs(math.degrees(delta)) / EDGE_TURN_STEP_DEG))
-    f = jaw.config.finger(finger)
     for k in range(1, steps + 1):
         a = psi_from + delta * k / steps
         d = retreat_offset(f, model, a, aim)
         if d is None:
             raise kin.Unreachable(f"finger {finger}: no pad line of psi={math.degrees(a):.1f} deg within the joint "
                                   f"limits keeps clear of the object")
-        yield from move_line(jaw, finger, a, d, *TRANSIT_STEPS)
+        via.append((a, d))
+    yield from move_line(jaw, finger, *via[-1], via=via[:-1])
 
 
 def _transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float,

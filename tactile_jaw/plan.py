@@ -18,6 +18,7 @@ import numpy as np
 from hand_driver import kinematics as kin
 from hand_driver.cycle import LIMIT_MARGIN_RAD
 from hand_driver.motion import roll_angles
+from tactile_common.errors import InputError
 from tactile_jaw.pipeline import FeltTouch
 from tactile_jaw.settings import ExploreSettings
 
@@ -204,14 +205,26 @@ def probe_psis(finger, model: ObjectModel) -> list[float]:
 
 
 def probe_face_contact(config, felt: FeltTouch) -> float | None:
-    """Where a probe touched along the pad (mm from its proximal end, the middle sample's
-    envelope contact) if the probe is usable (tactile_jaw.pipeline.feel with
-    ``PROBE_SAMPLES``: all samples, arc length increasing: a pad end sliding on the boundary
-    moves the envelope backwards) and every contact is ``PROBE_PAD_MARGIN`` of the pad's
-    length from either end; else None."""
-    if len(felt.touch.samples) < PROBE_SAMPLES or felt.problem is not None:
+    """Where a probe touched along the pad (mm from its proximal end, at its middle sample)
+    if it took all ``PROBE_SAMPLES`` and the point its pad lines turned about lies
+    ``PROBE_PAD_MARGIN`` of the pad's length from either end (a pad end resting on the
+    object turns the pad about that end); else None. The point is the envelope of constant
+    radius of curvature (degree 2, kinematics.touch_from_pad_lines), whose uncertain radius
+    (~20 mm over 6°) barely moves the middle sample's point. A probe's short roll cannot
+    measure the arc length (the pipeline's test for rolling touches): its pad lines, true to
+    ±0.05 mm, make the radius of a cubic envelope over 6° uncertain by ~100 mm, and on the
+    circle example 8 of 12 face contacts failed that test."""
+    touch = felt.touch
+    if touch.outcome != "ok" or len(touch.samples) < PROBE_SAMPLES or felt.lines is None:
         return None
-    u = felt.pad_u
+    lines = felt.lines
+    try:
+        c = kin.touch_from_pad_lines(lines.psi, lines.d, degree=2)
+    except InputError:
+        return None
+    taken = np.empty((c.order.size, 2))
+    taken[c.order] = np.stack([c.x, c.y], axis=-1)
+    u = lines.pad_coordinate(taken)
     length = config.finger(felt.finger).pad.length_mm
     if np.any(u < PROBE_PAD_MARGIN * length) or np.any(u > (1 - PROBE_PAD_MARGIN) * length):
         return None

@@ -12,7 +12,10 @@ from hypothesis import given, settings, strategies as st
 from hand_driver import kinematics as kin
 from hand_driver.config import load_config
 from hand_driver.cycle import LIMIT_MARGIN_RAD
-from tactile_jaw.plan import MODEL_EXTRAPOLATE_DEG, ObjectModel, open_pose, retreat_offset
+from hand_driver.motion import Sample, TouchResult
+from tactile_jaw.pipeline import FeltTouch
+from tactile_jaw.plan import (MODEL_EXTRAPOLATE_DEG, PROBE_PAD_MARGIN, PROBE_SAMPLES, PROBE_SPAN_DEG, ObjectModel, open_pose,
+                              probe_face_contact, retreat_offset)
 
 CONFIG = load_config("config/jaw.yaml")
 
@@ -105,3 +108,62 @@ def test_retreat_offset_where_the_workspace_edge_is_out_of_reach():
     kin.ik_line(left, psi, d, margin_rad=LIMIT_MARGIN_RAD)  # reachable
     with pytest.raises(kin.Unreachable):
         kin.ik_line(left, psi, d - 1.0, margin_rad=LIMIT_MARGIN_RAD)  # and the farthest out that is
+
+
+def _probe(points, psis) -> tuple[FeltTouch, np.ndarray]:
+    """A left-finger probe whose samples put the pad through ``points`` with normals ``psis``
+    (two joints: the line fixes the pad), read through whole encoder ticks as the jaw reads
+    them; and each point's position along its sample's pad (mm)."""
+    left = CONFIG.finger("left")
+    q = [kin.ik_tangent(left, p, a, margin_rad=LIMIT_MARGIN_RAD) for p, a in zip(points, psis)]
+    ticks = np.rint([kin.angles_to_ticks(left.joints, qk) for qk in q])
+    samples = [Sample(k, float(a), t, kin.finger_pad_line_from_ticks(CONFIG, "left", t), None, 0.0)
+               for k, (a, t) in enumerate(zip(psis, ticks))]
+    touch = TouchResult("left", 0, float(np.mean(psis)), samples)
+    u = np.array([float(kin.finger_pad_line(left, qk).pad_coordinate(p)) for qk, p in zip(q, points)])
+    return FeltTouch(touch, kin.finger_pad_line_from_ticks(CONFIG, "left", ticks), None, None, None, None), u
+
+
+def left_pad_length() -> float:
+    return CONFIG.finger("left").pad.length_mm
+
+
+def _probe_psis(psi0_deg: float) -> np.ndarray:
+    return math.radians(psi0_deg) + np.radians(np.linspace(-PROBE_SPAN_DEG / 2, PROBE_SPAN_DEG / 2, PROBE_SAMPLES))
+
+
+@pytest.mark.parametrize("radius", [8.0, 15.0, 25.0, 40.0])
+@pytest.mark.parametrize("psi0_deg", [-110.0, -90.0, -70.0])
+def test_a_probe_rolling_on_a_circle_is_a_face_contact(radius, psi0_deg):
+    """A probe's 4 samples over 6° on circles of radius 8–25 mm at the workspace's centre,
+    pad lines through whole ticks (up to 0.1 mm off, so the slope d' over 6° and with it
+    the point along the pad are uncertain by ~2 mm): a face contact, found where it was
+    (the cubic envelope's arc length, noise ~100 mm in ρ over 6°, refused most of these)."""
+    c = np.array(CONFIG.workspace.center_mm)
+    psis = _probe_psis(psi0_deg)
+    try:
+        felt, u_true = _probe([c - radius * np.array([math.cos(a), math.sin(a)]) for a in psis], psis)
+    except kin.Unreachable:
+        pytest.skip("this circle's contact is off the pad at this pad normal")
+    margin, length = PROBE_PAD_MARGIN * left_pad_length(), left_pad_length()
+    u = probe_face_contact(CONFIG, felt)
+    if np.all((u_true > margin + 2.5) & (u_true < length - margin - 2.5)):  # well on the pad's face
+        assert u == pytest.approx(u_true[PROBE_SAMPLES // 2], abs=2.5)
+    elif np.any((u_true < margin - 2.5) | (u_true > length - margin + 2.5)):  # well past the margin
+        assert u is None
+
+
+@pytest.mark.parametrize("pad_u, face", [(1.5, False), (50.5, False), (26.0, True)])
+def test_a_probe_pivoting_about_one_point_is_a_face_contact_only_off_the_pad_ends(pad_u, face):
+    """Pad lines turning about one point: a pad end resting on the object (refused) or a
+    corner on the pad's face (its lines are the solid's support lines: kept for the model)."""
+    left = CONFIG.finger("left")
+    psis = _probe_psis(-90.0)
+    line = kin.finger_pad_line(left, kin.ik_line(left, float(np.mean(psis)), -20.0, margin_rad=LIMIT_MARGIN_RAD))
+    corner = line.proximal + pad_u * line.tangent
+    felt, u_true = _probe([corner] * PROBE_SAMPLES, psis)
+    assert np.allclose(u_true, pad_u, atol=1.0)
+    u = probe_face_contact(CONFIG, felt)
+    assert (u is not None) == face
+    if face:
+        assert u == pytest.approx(pad_u, abs=2.5)
