@@ -60,6 +60,8 @@ def test_fractional_zero_tick_round_trips_exactly(tmp_path):
     (lambda r: r["bus"].__setitem__("baudrate", "fast"), ["bus.baudrate", "not a Dynamixel baud rate", "57600"]),
     (lambda r: r["bus"].__setitem__("baudrate", 250000), ["bus.baudrate", "choose from 9600, 57600"]),
     (lambda r: r["motion"].__setitem__("goal_current_ma", 10), ["goal_current_ma", "contact_current_ma"]),
+    (lambda r: r["motion"].__setitem__("move_speed_mm_s", 0), ["motion.move_speed_mm_s", "(0, 1000]"]),
+    (lambda r: r["motion"].__setitem__("turn_speed_deg_s", -5), ["motion.turn_speed_deg_s", "(0, 1000]"]),
     (lambda r: r["workspace"].__setitem__("center_mm", [1]), ["workspace.center_mm"]),
     (lambda r: r["fingers"][0]["joints"][0].__setitem__("zero_tick", 100), ["max_deg", "outside 0..4095"]),
 ])
