@@ -167,7 +167,8 @@ class _Checker:
             self.fail(key or "<top>", f"expected a mapping with keys {', '.join(allowed)}")
         for k in obj:
             if k not in allowed:
-                self.fail(f"{key}.{k}" if key else str(k), f"unknown key; allowed: {', '.join(allowed)}")
+                name = str(k) if str(k).isprintable() else repr(str(k))  # the message stays one line
+                self.fail(f"{key}.{name}" if key else name, f"unknown key; allowed: {', '.join(allowed)}")
         for k in required:
             if k not in obj:
                 self.fail(f"{key}.{k}" if key else k, "missing (required)")

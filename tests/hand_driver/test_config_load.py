@@ -48,6 +48,7 @@ def test_fractional_zero_tick_round_trips_exactly(tmp_path):
 
 @pytest.mark.parametrize("edit, words", [
     (lambda r: r.__setitem__("colour", 1), ["colour", "unknown key"]),
+    (lambda r: r["motion"].__setitem__("a\nb", 1), ["motion.'a\\nb'", "unknown key"]),
     (lambda r: r["fingers"][0]["joints"][0].__setitem__("zero_tick", 5000), ["fingers[0].joints[0].zero_tick", "[0, 4095]"]),
     (lambda r: r["fingers"][1]["joints"][0].__setitem__("id", 1), ["fingers[1].joints[0].id", "used twice"]),
     (lambda r: r["fingers"][0]["joints"][1].__setitem__("min_deg", 10), ["min_deg", "[-180, 0]"]),
