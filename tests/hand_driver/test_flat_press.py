@@ -68,7 +68,7 @@ def test_flat_press_seats_on_the_line_face_and_replays(tmp_path):
     psi0 = -math.pi / 2 - math.radians(10.0)
     with RunLog(path).open(config={}, scene=None) as log:
         with emulated_jaw(scene=LINE, log=log) as (sim, jaw):
-            run_together(jaw, {"left": move_line(jaw, "left", psi0, _edge(psi0), math.radians(5), 3.0)})
+            run_together(jaw, {"left": move_line(jaw, "left", psi0, _edge(psi0))})
             t0 = sim.sim_time
             result = run_together(jaw, {"left": flat_press(jaw, "left", 0, psi0, 1.0, _edge(psi0), 45.0,
                                                            on_event=log.write)})["left"]
@@ -101,19 +101,22 @@ def test_flat_press_seats_on_the_line_face_and_replays(tmp_path):
 @pytest.mark.parametrize("scene", [
     {"name": "small circle", "classes": ["circle"], "object": {"class": "circle", "params": {"r": 20.0},
                                                                 "pose": {"theta": 0.0, "x": 110.0, "y": -10.0}}},
-    {"name": "gentle arc", "classes": ["circle"], "object": {"class": "circle", "params": {"r": 300.0},
-                                                              "pose": {"theta": 0.0, "x": 110.0, "y": -290.0}}},
+    {"name": "gentle arc", "classes": ["circle"], "object": {"class": "circle", "params": {"r": 200.0},
+                                                              "pose": {"theta": 0.0, "x": 110.0, "y": -190.0}}},
 ])
 def test_a_curve_never_seats(scene):
-    """A circle of radius 20 mm and one of 300 mm (it bulges 0.67 mm over 40 mm of pad,
-    ~3× the seat tolerance): the press either turns its whole span without seating or
-    its seat is refused."""
+    """A circle of radius 20 mm and one of 200 mm (it bulges 1 mm over 40 mm of pad, 5× the
+    seat tolerance): the press either turns its whole span without seating or its seat is
+    refused. (Radius 300 mm, as until the 20 ms cycles, is a limit, not a property: its
+    supports land 19–27 mm apart, a bulge of 0.15–0.3 mm, and with presses started 9, 10
+    and 11° off the face it was accepted as a face 1 of 3 times, on main's 50 ms cycles as on
+    20 ms ones; 250 and 350 mm 3 of 3 on main.)"""
     scene = load_scene(scene)
     psi0 = -math.pi / 2 - math.radians(10.0)
     with emulated_jaw(scene=scene) as (sim, jaw):
-        run_together(jaw, {"left": move_line(jaw, "left", psi0, _edge(psi0), math.radians(5), 3.0)})
+        run_together(jaw, {"left": move_line(jaw, "left", psi0, _edge(psi0))})
         result = run_together(jaw, {"left": flat_press(jaw, "left", 0, psi0, 1.0, _edge(psi0), 45.0)})["left"]
     felt = feel(CONFIG, result, 9)
     assert felt.problem is not None and felt.samples is None
     assert result.outcome == "no_seat" or "not a face" in felt.problem
-    assert SEAT_TOL_MM < 0.67 / 3 + 0.1
+    assert SEAT_TOL_MM < 1.0 / 3
