@@ -275,11 +275,17 @@ def contact_on_pad(samples: list[Sample]) -> tuple[np.ndarray, float | None]:
 # ------------------------------------------------------------------------------ flat press
 
 #: a flat press (:func:`flat_press`) turns the pad in steps of this many degrees between
-#: its guarded approaches, and at most FLAT_MAX_TURN_DEG from where it started
-FLAT_STEP_DEG = 2.0
+#: its guarded approaches, and at most FLAT_MAX_TURN_DEG from where it started. An arc that
+#: offers two supports ℓ apart bulges ~ℓ·Δψ/8 between them, Δψ ≥ 3 steps: with 3° steps
+#: arcs of radius 100–1000 mm stopped seated presses 0.25–0.98 mm early (2° steps: from
+#: 0.15 mm, within the encoders' scatter of a flat seat)
+FLAT_STEP_DEG = 3.0
 FLAT_MAX_TURN_DEG = 24.0
-#: a pad line passes through a support point when the point is within this (mm) of it:
-#: three times the scatter measured on seated pads of the emulated jaw (docs/driver.md)
+#: a pad line passes through a support point when the point is within this (mm) of it;
+#: the mean of a press's seated stops must be this close to where its two supports say
+#: (tactile_jaw.flat): on 32 presses of the emulated jaw's line example 0.043 mm rms, at
+#: most 0.124 (single stops 0.06 rms, at most 0.22); arcs of radius 100–1000 mm that
+#: offered two supports stopped them 0.30–0.93 mm early on average (docs/driver.md#flat-press)
 SEAT_TOL_MM = 0.2
 #: the two supports of a seat are at least this fraction of the pad's length apart
 FACE_MIN_FRACTION = 0.35

@@ -46,15 +46,34 @@ def truth_lines(recognition: dict, obj) -> list[str]:
         return lines
     errs = [f"{k} {100.0 * (recognition['params'][k] - v) / abs(v):+.2f} %" for k, v in obj.params.items()]
     r = recognition["pose"]
-    x, y, turn = p.x, p.y, ""
-    if obj.cls == "line":  # the answer's line pose is canonical: the foot of the perpendicular from the origin
-        ux, uy = math.cos(p.theta), math.sin(p.theta)
-        tau = x * ux + y * uy
-        x, y = x - tau * ux, y - tau * uy
-        turn = f", angle {1000.0 * math.remainder(r['theta'] - p.theta, 2 * math.pi):+.1f} mrad"
+    if obj.cls == "line":
+        lines.append(f"error:      {line_pose_error(r, obj)}")
+        return lines
     lines.append(f"error:      {', '.join(errs) or 'no parameters'}; pose offset "
-                 f"{math.hypot(r['x'] - x, r['y'] - y):.2f} mm{turn}")
+                 f"{math.hypot(r['x'] - p.x, r['y'] - p.y):.2f} mm")
     return lines
+
+
+def line_pose_error(pose: dict, obj) -> str:
+    """How far a line answer (canonical pose: the foot of the perpendicular from the
+    origin, θ the direction with the solid on the right) lies from the object's nearest
+    straight edge: its line, or a closing segment of the block (each one a line; the jaw
+    recognizes one face, docs/exploration.md#lines-flat-presses)."""
+    xs, ys = obj.pose.apply(*obj.corners().T)  # P(t1), closure..., P(t0): the solid on the right
+    corners = [(float(x), float(y)) for x, y in zip(xs, ys)]
+    edges = [("the line", corners[-1], corners[0])]
+    edges += [(f"closing segment {k + 1}", corners[k], corners[k + 1]) for k in range(len(corners) - 1)]
+    best = None
+    for name, (ax, ay), (bx, by) in edges:
+        theta = math.atan2(by - ay, bx - ax)
+        ux, uy = math.cos(theta), math.sin(theta)
+        along = ax * ux + ay * uy
+        turn = math.remainder(pose["theta"] - theta, 2 * math.pi)
+        offset = math.hypot(pose["x"] - (ax - along * ux), pose["y"] - (ay - along * uy))
+        if best is None or offset + 100.0 * abs(turn) < best[0]:
+            best = (offset + 100.0 * abs(turn), name, offset, turn)
+    _, name, offset, turn = best
+    return f"no parameters; pose offset {offset:.2f} mm, angle {1000.0 * turn:+.1f} mrad from {name}"
 
 
 def run(args) -> int:
