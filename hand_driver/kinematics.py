@@ -16,8 +16,9 @@ The envelope (:class:`TouchEnvelope`). A pad rolled on a boundary that is convex
 ``φ = ψ − π/2`` (the solid on the left of the traversal: increasing ψ is
 counter-clockwise around the object), and since the radius of curvature is
 ``ρ = −(d + d'')``, arc length is ``s(ψ) = −∫(d + d'') dψ`` (exact identity). d' and d''
-come from one least-squares polynomial of d(ψ) over the touch, in a local origin at the
-touch so the polynomial only has to follow the boundary's own shape.
+come from one least-squares polynomial of d(ψ) over the touch, about the touch's centre of
+curvature so the polynomial only has to follow the change of the boundary's curvature; the
+same fit gives ρ and dρ/dψ at every sample (tactile_jaw.envelope reads κ, κ_s from them).
 
 Accuracy: the only data error is encoder quantization, ±½ tick = ±π/4096 rad per joint.
 :func:`quantization_bound` propagates it to first order (worst case over all joints,
@@ -90,6 +91,18 @@ class PadLine:
     def pad_coordinate(self, p) -> np.ndarray:
         """Position of point(s) p along the pad, measured from the proximal end (mm)."""
         return np.sum((np.asarray(p, dtype=float) - self.proximal) * self.tangent, axis=-1)
+
+    def at(self, i) -> "PadLine":
+        """The pad line(s) of reading(s) ``i`` (an index or index array of the leading axis)."""
+        return PadLine(*(np.asarray(getattr(self, f))[i] for f in _PAD_FIELDS))
+
+    @staticmethod
+    def stack(lines) -> "PadLine":
+        """One PadLine of a sequence of single readings' pad lines (a touch's samples)."""
+        return PadLine(*(np.stack([np.asarray(getattr(ln, f)) for ln in lines]) for f in _PAD_FIELDS))
+
+
+_PAD_FIELDS = ("psi", "d", "normal", "tangent", "proximal", "distal", "joint2")
 
 
 def chain_pad_line(base, q, links, pad_offset, pad_length, side_sign) -> PadLine:
@@ -204,7 +217,8 @@ def ik_corner(finger: FingerConfig, point, margin_rad: float = 0.0, end: str = "
 
 @dataclass(frozen=True)
 class TouchEnvelope:
-    """Envelope of a rolled pad: samples ordered by increasing ψ (CCW around the solid)."""
+    """Envelope of a rolled pad: samples ordered by increasing ψ (CCW around the solid),
+    with the fit's radius of curvature and its residuals."""
 
     psi: np.ndarray
     phi: np.ndarray
@@ -212,6 +226,11 @@ class TouchEnvelope:
     y: np.ndarray
     s: np.ndarray
     order: np.ndarray  # indices of the input readings in output order
+    rho: np.ndarray  # radius of curvature −(d + d'') of the fit at each sample (mm; ≈ 0 on a corner)
+    rho_psi: np.ndarray  # its derivative dρ/dψ at each sample (mm/rad)
+    residual: np.ndarray  # each pad line's d minus the fitted d(ψ) (mm)
+    origin: np.ndarray  # the fit's local origin: the centre of curvature at the middle sample
+    degree: int  # of the polynomial d(ψ)
 
     def to_touch(self) -> dict:
         """The samples touch of the input format (docs/formats.md)."""
@@ -224,10 +243,18 @@ def default_degree(n: int) -> int:
     return 3 if n >= 6 else max(1, n - 2)
 
 
+#: a pass whose radius of curvature at the middle sample is beyond this (mm) or not finite
+#: keeps its own origin: a boundary this flat has its centre of curvature too far out to fit about
+FLAT_RHO_MM = 1e4
+
+
 def touch_from_pad_lines(psi, d, origin=None, degree: int | None = None) -> TouchEnvelope:
     """The envelope of one rolling touch from its pad lines ``n(ψ_i)·p = d_i`` (≥ 3 readings,
-    distinct ψ). ``origin`` is the local origin of the fit (default: the mean of the
-    lines' feet, close to the touch)."""
+    distinct ψ): one least-squares polynomial of the support values d(ψ) − n(ψ)·o, about a
+    local origin o. ``origin`` None: two passes, the first about the lines' mean foot, the
+    second about the first pass's centre of curvature at the middle sample (about it a
+    circle's support values are constant, so the polynomial only follows the change of
+    curvature; tactile_jaw.envelope differentiates the fit with ``origin`` fixed)."""
     psi = np.unwrap(np.asarray(psi, dtype=float))
     d = np.asarray(d, dtype=float)
     if psi.shape != d.shape or psi.ndim != 1 or psi.size < 3:
@@ -238,30 +265,38 @@ def touch_from_pad_lines(psi, d, origin=None, degree: int | None = None) -> Touc
     psi, d = psi[order], d[order]
     if np.any(np.diff(psi) <= 0):
         raise InputError("a rolling touch needs distinct pad angles psi; the pad did not roll")
-    n = _e(psi)
-    nperp = np.stack([-n[:, 1], n[:, 0]], axis=-1)
     deg = default_degree(psi.size) if degree is None else degree
     if not 1 <= deg <= psi.size - 1:
         raise InputError(f"polynomial degree {deg} out of range [1, {psi.size - 1}] for {psi.size} readings")
     c0 = 0.5 * (psi[0] + psi[-1])
     scale = max(0.5 * (psi[-1] - psi[0]), 1e-12)
     x = (psi - c0) / scale
-    if origin is None:  # two passes: a rough envelope gives the local origin
-        p0, _ = _envelope(x, scale, d, n, nperp, np.mean(n * d[:, None], axis=0), deg)
-        origin = np.median(p0, axis=0)
-    p, s = _envelope(x, scale, d, n, nperp, np.asarray(origin, dtype=float), deg)
-    return TouchEnvelope(psi=psi, phi=wrap_angle(psi - np.pi / 2), x=p[:, 0], y=p[:, 1], s=s, order=order)
+    n = _e(psi)
+    nperp = np.stack([-n[:, 1], n[:, 0]], axis=-1)
+    m = psi.size // 2
+    if origin is None:
+        first = _envelope(x, scale, d, n, nperp, np.mean(n * d[:, None], axis=0), deg)
+        rho_m = first[3][m]
+        origin = (np.array([first[0][m], first[1][m]]) + n[m] * rho_m  # into the object
+                  if np.isfinite(rho_m) and abs(rho_m) < FLAT_RHO_MM else first[6])
+    px, py, s, rho, rho_psi, residual, o = _envelope(x, scale, d, n, nperp, np.asarray(origin, dtype=float), deg)
+    return TouchEnvelope(psi=psi, phi=wrap_angle(psi - np.pi / 2), x=px, y=py, s=s, order=order, rho=rho,
+                         rho_psi=rho_psi, residual=residual, origin=o, degree=deg)
 
 
 def _envelope(x, scale, d, n, nperp, o, deg):
-    """Envelope points and arc lengths from a degree-``deg`` fit of d(ψ) about origin o."""
+    """(x, y, arc length, ρ, dρ/dψ, residual, origin) of the samples from a degree-``deg``
+    fit of the support values d(ψ) − n·o about origin o: the envelope point
+    ``o + f n + f' n⊥``, ρ = −(f + f''), s = ∫ρ dψ."""
     dl = d - n @ o  # support values about the local origin
     poly = np.polynomial.Polynomial.fit(x, dl, deg, domain=[-1, 1], window=[-1, 1])
     f0 = poly(x)
     f1 = poly.deriv(1)(x) / scale
-    integral = (poly + poly.deriv(2) / scale**2).integ()  # ∫(d + d'') dψ, in x
+    radius = poly + poly.deriv(2) / scale**2  # d + d'' = −ρ, in x
+    integral = radius.integ()
     s = -(integral(x) - integral(x[0])) * scale
-    return o + n * f0[:, None] + nperp * f1[:, None], s
+    p = o + n * f0[:, None] + nperp * f1[:, None]
+    return p[:, 0], p[:, 1], s, -radius(x), -radius.deriv(1)(x) / scale, dl - f0, o
 
 
 def touch_from_ticks(cfg: JawConfig, finger: str, ticks, degree: int | None = None) -> TouchEnvelope:

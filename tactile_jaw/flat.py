@@ -185,9 +185,3 @@ def recognized_touches(usable: Sequence) -> list:
         return rolling
     groups = face_groups([t for t in usable if is_flat(t)])
     return max(groups, key=len) if groups else []
-
-
-def stated_noise(touches: Sequence, rolling_noise: dict) -> dict:
-    """The noise a request of these touches states: ``FLAT_NOISE`` for flat touches only,
-    else ``rolling_noise``."""
-    return dict(FLAT_NOISE) if touches and all(is_flat(t) for t in touches) else dict(rolling_noise)

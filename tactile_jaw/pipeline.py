@@ -21,11 +21,11 @@ from hand_driver.motion import EDGE_MARGIN_MM, FlatResult, Sample, TouchResult
 from recognizer.classify import chi2_limit, recognize
 from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
-from recognizer.touches import ContactTouch, Reach, Request, SamplesTouch, check_touch_count, parse_noise
+from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, SamplesTouch, check_touch_count, parse_noise
 from tactile_common.errors import InputError
 from tactile_jaw.envelope import EnvelopeFit, fit_envelope
 from tactile_jaw.flat import FLAT_NOISE, Face, feel_flat, recognized_touches
-from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, TOUCH_NOISE, ExploreSettings
+from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, PHI_SIGMA, ExploreSettings
 
 #: a touch whose radius of curvature at the contact is below this (mm), or below
 #: CORNER_SIGMAS of its deviation, rolled on a corner (the contact stayed put while the pad
@@ -92,10 +92,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         lines, problem, contact, face = feel_flat(config, touch)
         return FeltTouch(touch, lines, None, None, problem, contact, face=face)
     finger = touch.finger
-    lines = None
-    if touch.samples:
-        ticks = np.array([s.ticks for s in touch.samples], dtype=float)
-        lines = kin.finger_pad_line_from_ticks(config, finger, ticks)
+    lines = kin.PadLine.stack([s.line for s in touch.samples]) if touch.samples else None
 
     def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False):
         samples_touch = None
@@ -109,15 +106,19 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         return out(touch.message or touch.outcome)
     if len(touch.samples) < max(3, min(samples, MIN_SAMPLES_PER_TOUCH)):  # an envelope needs 3 lines
         return out(touch.message if cut_short else f"{finger}: {len(touch.samples)} of {samples} samples")
+    f = config.finger(finger)
+    q = kin.ticks_to_angles(f.joints, np.array([s.ticks for s in touch.samples], dtype=float))
+    fit = None
     try:
-        c = kin.touch_from_pad_lines(lines.psi, lines.d)
+        if curve_checks:
+            fit = fit_envelope(f, q, lines)
+            c = fit.contacts
+        else:
+            c = kin.touch_from_pad_lines(lines.psi, lines.d)
     except InputError as exc:
         return out(f"{finger}: {exc}")
-    f = config.finger(finger)
     u = _pad_u(lines, c)
-    fit = None
     if curve_checks:
-        fit = fit_envelope(f, kin.ticks_to_angles(f.joints, ticks))
         off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)))
         if off_curve is not None:
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True)
@@ -125,8 +126,12 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         # the cubic's ρ(ψ) = −(d + d'') is linear in ψ and its slope is mostly noise over a
         # short roll (σ_ρ ≈ 4 mm over 18°): at the roll's ends it can dip below 0 on a
         # boundary of ρ ≈ 20 mm. The roll passed the corner test (ρ > 2 σ_ρ at the contact),
-        # so its arc length comes from the smoother fit of constant ρ (degree 2)
-        c = kin.touch_from_pad_lines(lines.psi, lines.d, degree=SMOOTH_DEGREE)
+        # so its samples (and their deviations) come from the smoother fit of constant ρ
+        # (degree 2); κ, κ_s stay the cubic's
+        smooth = fit_envelope(f, q, lines, degree=SMOOTH_DEGREE)
+        fit = replace(fit, contacts=smooth.contacts, sigma_across=smooth.sigma_across,
+                      sigma_along=smooth.sigma_along)
+        c = fit.contacts
         u = _pad_u(lines, c)
     if np.any(np.diff(c.s) <= 0.0):
         return out(f"{finger}: arc length not increasing: the pad rolled on an edge or corner", c, u, fit)
@@ -169,27 +174,43 @@ def workspace_reach(config) -> Reach:
     return Reach(float(x), float(y), float(radius))
 
 
+def stated_noise(touches: Sequence[FeltTouch]) -> NoiseModel:
+    """The per-sample noise the jaw states for these usable touches, from what they show
+    themselves (docs/exploration.md#the-stated-noise): σ_φ of the pad angle (two joints, each
+    quantized to a tick), and the RMS over every sample of its position's deviation across
+    and along its pad line, propagated from the ticks through its touch's envelope fit
+    (tactile_jaw.envelope); flat presses alone (tactile_jaw.flat) state ``FLAT_NOISE``."""
+    if _flat_only(touches):
+        return parse_noise(dict(FLAT_NOISE), "flat touches' noise")
+    rolling = [t for t in touches if t.fit is not None]
+    across = np.concatenate([t.fit.sigma_across for t in rolling])
+    along = np.concatenate([t.fit.sigma_along for t in rolling])
+    return NoiseModel(phi=PHI_SIGMA, pos=float(np.sqrt(np.mean(across**2))),
+                      pos_along=float(np.sqrt(np.mean(along**2))))
+
+
+def _flat_only(touches: Sequence[FeltTouch]) -> bool:
+    return bool(touches) and all(isinstance(t.touch, FlatResult) for t in touches)
+
+
 def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noise: dict[str, float] | None = None,
                     reach: Reach | None = None) -> Callable[[Sequence[FeltTouch]], Recognition]:
     """Usable felt touches → Recognition, with the scene (a mapping, validated here once),
-    ``noise`` (default ``TOUCH_NOISE``; flat touches alone state tactile_jaw.flat.FLAT_NOISE)
-    and the settings' recognizer options. Each call extends one validated request with
-    the touches' samples (already checked by :func:`feel`): nothing is parsed again per
-    decision."""
+    the stated noise (``noise``, a fixed noise mapping for rolling touches such as an old
+    log's; default: each call's :func:`stated_noise` of its touches) and the settings'
+    recognizer options. Each call extends one validated request with the touches' samples
+    (already checked by :func:`feel`): nothing is parsed again per decision."""
     source = "exploration"
     loaded = load_scene(scene) if scene is not None else None
-    classes = loaded.classes if loaded is not None else ALL_CLASSES
-    rolling = dict(noise or TOUCH_NOISE)
-    setups = {}
-    for flat, raw in ((False, rolling), (True, FLAT_NOISE)):
-        stated = parse_noise(dict(raw), f"{source}.noise")
-        setups[flat] = (Request((), loaded, classes, stated, {}, source),
-                        RecognizeOptions(noise=stated, reach=reach, **settings.recognize))
+    fixed = parse_noise(dict(noise), f"{source}.noise") if noise is not None else None
+    base = Request((), loaded, loaded.classes if loaded is not None else ALL_CLASSES, fixed, {}, source)
+    options = RecognizeOptions(noise=fixed, reach=reach, **settings.recognize)
 
     def run(touches: Sequence[FeltTouch]) -> Recognition:
-        check_touch_count(len(touches), classes, source)
-        base, options = setups[all(isinstance(t.touch, FlatResult) for t in touches)]
-        return recognize(replace(base, touches=tuple(t.samples for t in touches)), options)
+        check_touch_count(len(touches), base.classes, source)
+        stated = stated_noise(touches) if fixed is None or _flat_only(touches) else fixed
+        return recognize(replace(base, touches=tuple(t.samples for t in touches), noise=stated),
+                         replace(options, noise=stated))
 
     return run
 
@@ -202,10 +223,12 @@ def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouc
     out = []
     for logged in contents.touches:
         samples = []
-        for i, psi in zip(logged.readings, logged.psi):
-            ticks = np.asarray(contents.readings[i]["ticks"], dtype=float)[slices[logged.finger]]
-            line = kin.finger_pad_line_from_ticks(config, logged.finger, ticks)
-            samples.append(Sample(reading=i, psi=psi, ticks=ticks, line=line, current_ma=None, robot_time=0.0))
+        if logged.readings:
+            ticks = np.array([np.asarray(contents.readings[i]["ticks"], dtype=float)[slices[logged.finger]]
+                              for i in logged.readings])
+            lines = kin.finger_pad_line_from_ticks(config, logged.finger, ticks)  # one pass over the touch
+            samples = [Sample(reading=i, psi=psi, ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0)
+                       for k, (i, psi) in enumerate(zip(logged.readings, logged.psi))]
         if logged.kind == "flat":
             touch = FlatResult(logged.finger, logged.touch, logged.psi_center or 0.0, samples,
                                outcome=logged.outcome or "interrupted", roles=list(logged.roles))

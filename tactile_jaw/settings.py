@@ -13,17 +13,14 @@ from recognizer.profiles import get_profile
 #: a touch cut short (out of reach or contact) is still used with this many samples
 #: (with all of them when fewer were planned)
 MIN_SAMPLES_PER_TOUCH = 7
-#: per-sample noise the explorer states in its requests (docs/exploration.md): φ is the
-#: pad's angle q1 + q2, each joint quantized to a tick (uniform, σ = tick/√12), so
-#: σ_φ = √2 · (2π/4096)/√12 = 6.3e-4 rad. Positions: a contact point lies on its pad line,
-#: which the encoders fix to ~0.03 mm, but where along the line comes from the envelope of
-#: neighbouring lines (a difference of quantized readings): at the true shape, emulated
-#: touches of the default ellipse miss it by 0.029–0.031 mm RMS across the tangent and
-#: 0.32–0.53 mm along it (perfect and calibrated configs). Stated: 0.06 mm across
-#: (``pos``) and 0.6 mm along (``pos_along``); one isotropic 0.3 mm made calibrated
-#: configs fail the χ² test (168 on 103 dof at the true shape) and weighted the along-track
-#: errors like the shape information across the tangent
-TOUCH_NOISE = {"phi": math.sqrt(2.0) * RAD_PER_TICK / math.sqrt(12.0), "pos": 0.06, "pos_along": 0.6}
+#: deviation of a pad's angle ψ (and of a sample's tangent angle φ = ψ − π/2): ψ = β + q1 +
+#: q2, each joint quantized to a tick (uniform, σ = tick/√12), so σ_φ = √2·(2π/4096)/√12 =
+#: 6.3e-4 rad. The samples' position deviations come from each touch's own envelope fit
+#: (tactile_jaw.pipeline.stated_noise; docs/exploration.md#the-stated-noise)
+PHI_SIGMA = math.sqrt(2.0) * RAD_PER_TICK / math.sqrt(12.0)
+#: what a run log's header ``settings.noise`` says when the noise was stated from the touches
+#: (older logs hold the fixed noise mapping their run stated, and replay with it)
+NOISE_FROM_TOUCHES = "per-touch"
 
 
 @dataclass(frozen=True)

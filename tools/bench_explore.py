@@ -7,10 +7,10 @@ with ``--finite N``, N finite objects per class drawn from the example scenes
 scene is explored by ``tactile demo --scene S --json --log L`` (balanced profile unless
 ``--profile``), two at a time. Scenes whose object overlaps the opened jaw (exit 2) are
 redrawn. Per scene: the answer, right class or not, parameter error, usable/tried
-touches, robot and wall time. With ``--chi2 POS [POS ...]`` it also re-recognizes every
-scene's logged touches with each stated position deviation (φ as ``TOUCH_NOISE``) and
-prints the true class's χ² tail probability, to calibrate the stated noise
-(docs/exploration.md). Run: ``python -m tools.bench_explore [--n 12] [--seed 1]``.
+touches, robot and wall time. With ``--chi2 [POS ...]`` it also re-recognizes every
+scene's logged touches with the true class only, with the noise the jaw states and with
+each isotropic position deviation POS (φ as ``PHI_SIGMA``), and prints the true class's χ²
+tail probability (χ²/dof), to calibrate the stated noise (docs/exploration.md). Run: ``python -m tools.bench_explore [--n 12] [--seed 1]``.
 """
 
 from __future__ import annotations
@@ -93,12 +93,14 @@ def param_error(obj: dict, rec: dict) -> str:
     return ", ".join(f"{k} {100 * (rec['params'][k] - v) / v:+.2f} %" for k, v in obj["params"].items())
 
 
-def true_chi2(log: Path, obj: dict, pos_values: list[float]) -> list[float | None]:
-    """The true class's χ² tail probability on the log's usable touches, per stated pos σ."""
+def true_chi2(log: Path, obj: dict, pos_values: list[float]) -> list[tuple[float, float, int] | None]:
+    """The true class's (χ² tail probability, χ², dof) on the log's usable touches: first with
+    the noise the jaw states (tactile_jaw.pipeline.stated_noise), then per stated pos σ
+    (φ as ``PHI_SIGMA``, isotropic positions)."""
     from hand_driver.config import parse_config
     from hand_driver.log import read_log
     from tactile_jaw.pipeline import logged_touches, make_recognizer
-    from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
+    from tactile_jaw.settings import PHI_SIGMA, ExploreSettings
 
     contents = read_log(str(log))
     header = contents.header
@@ -106,23 +108,24 @@ def true_chi2(log: Path, obj: dict, pos_values: list[float]) -> list[float | Non
     settings = ExploreSettings.from_json(header["settings"])
     touches = logged_touches(config, contents, settings)
     out = []
-    for pos in pos_values:
+    for pos in [None, *pos_values]:
         if len(touches) < 3:
             out.append(None)
             continue
         scene = {**header["scene"], "classes": [obj["class"]]}
-        rec = make_recognizer(scene, settings, {"phi": TOUCH_NOISE["phi"], "pos": pos})(touches)
-        out.append(rec.ranking[0].p_value if rec.ranking else None)
+        rec = make_recognizer(scene, settings, None if pos is None else {"phi": PHI_SIGMA, "pos": pos})(touches)
+        top = rec.ranking[0] if rec.ranking else None
+        out.append(None if top is None or top.cls != obj["class"] else (top.p_value, top.chi2, top.dof))
     return out
 
 
 def true_geometry(obj: dict, x: float, y: float) -> tuple[float, float]:
-    """κ, κ_s of the scene's closed curve at the point nearest (x, y)."""
+    """κ, κ_s of the scene's curve (over its ``extent`` when it has one) at the point nearest (x, y)."""
     from recognizer.curves import CURVES, Pose
 
     curve = CURVES[obj["class"]](obj["params"])
     cx, cy = Pose(**obj["pose"]).inverse(x, y)
-    t = np.linspace(*curve.t_period, 200001)
+    t = np.linspace(*(obj.get("extent") or curve.t_period), 200001)
     px, py = curve.point(t)
     k = int(np.argmin(np.hypot(px - cx, py - cy)))
     return float(curve.kappa(t[k])), float(curve.kappa_s(t[k]))
@@ -136,17 +139,18 @@ def kappa_comparison(log: Path, obj: dict) -> dict:
     from hand_driver.config import parse_config
     from hand_driver.log import read_log
     from recognizer.estimate import estimate_local
-    from recognizer.touches import parse_noise
     from tactile_jaw.decide import final_answer
-    from tactile_jaw.pipeline import logged_touches, make_recognizer
-    from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
+    from tactile_jaw.pipeline import logged_touches, make_recognizer, stated_noise
+    from tactile_jaw.settings import ExploreSettings
 
     contents = read_log(str(log))
     header = contents.header
     config = parse_config(header["config"], str(log))
     settings = ExploreSettings.from_json(header["settings"])
     felt = logged_touches(config, contents, settings)
-    noise = parse_noise(header["settings"].get("noise", TOUCH_NOISE))
+    if not felt:
+        return {"rows": []}
+    noise = stated_noise(felt)
     rows = []
     for t in felt:
         k_env, ks_env, cov = t.samples.curvature
@@ -159,7 +163,7 @@ def kappa_comparison(log: Path, obj: dict) -> dict:
                      "sks_smp": math.sqrt(g.cov[1][1])})
     out = {"rows": rows}
     if len(felt) >= 2:
-        recognize = make_recognizer(header["scene"], settings, header["settings"].get("noise", TOUCH_NOISE))
+        recognize = make_recognizer(header["scene"], settings)
         without = [replace(t, samples=replace(t.samples, curvature=None)) for t in felt]
         try:
             out["envelope"] = final_answer(recognize, felt, settings)
@@ -175,8 +179,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--profile", default="balanced")
     ap.add_argument("--jobs", type=int, default=2)
-    ap.add_argument("--chi2", type=float, nargs="*", default=[], metavar="POS",
-                    help="stated position deviations (mm) at which to report the true class's χ² p-value")
+    ap.add_argument("--chi2", type=float, nargs="*", default=None, metavar="POS",
+                    help="report the true class's χ² p-value with the noise the jaw states and, with "
+                         "values, with each of these isotropic position deviations (mm)")
     ap.add_argument("--kappa", action="store_true",
                     help="compare each usable touch's κ, κ_s from the envelope fit (with its quantization "
                          "covariance) and from the samples against the truth, and recognize both ways")
@@ -213,9 +218,10 @@ def main(argv: list[str] | None = None) -> int:
         scenes.append((path, obj))
     with ThreadPoolExecutor(args.jobs) as pool:
         results = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), args.profile), scenes))
+    chi2_columns = [] if args.chi2 is None else ["stated"] + [f"pos {p:g}" for p in args.chi2]
     print("| # | object | answer | right | parameter error | touches used/tried | robot time | wall time |"
-          + "".join(f" p(χ²) pos {p:g} |" for p in args.chi2))
-    print("|---" * (8 + len(args.chi2)) + "|")
+          + "".join(f" p(χ²) {p} |" for p in chi2_columns))
+    print("|---" * (8 + len(chi2_columns)) + "|")
     right = 0
     for k, ((path, obj), res) in enumerate(zip(scenes, results)):
         rec = res.get("recognition")
@@ -229,9 +235,9 @@ def main(argv: list[str] | None = None) -> int:
         robot = f"{res['robot_s']:.1f} s" if res.get("robot_s") is not None else "—"
         row = (f"| {k} | {desc} | {answer} | {verdict} | {param_error(obj, rec) if rec else '—'} | "
                f"{res.get('used')}/{res.get('tried')} | {robot} | {res['wall_s']:.1f} s |")
-        if args.chi2:
+        if args.chi2 is not None:
             ps = true_chi2(path.with_suffix(".log"), obj, args.chi2)
-            row += "".join(f" {'—' if v is None else f'{v:.3g}'} |" for v in ps)
+            row += "".join(" — |" if v is None else f" {v[0]:.3g} ({v[1]:.1f}/{v[2]}) |" for v in ps)
         print(row, flush=True)
     print(f"right class on {right} of {len(scenes)} scenes; scenes and logs in {work}")
     print_class_summary(scenes, results)

@@ -81,7 +81,7 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     from hand_driver.cycle import Jaw
     from tactile_jaw.explore import explore
     from tactile_jaw.pipeline import make_recognizer, workspace_reach
-    from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
+    from tactile_jaw.settings import NOISE_FROM_TOUCHES, ExploreSettings
 
     settings = ExploreSettings.from_profile(profile)
     recognize_touches = make_recognizer(scene_mapping, settings, reach=workspace_reach(config))
@@ -89,7 +89,7 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     log = None
     if log_path is not None:
         log = RunLog(log_path).open(config=config_to_mapping(config), scene=scene_mapping, command=sys.argv,
-                                    settings={**settings.to_json(), "noise": TOUCH_NOISE}, force=force)
+                                    settings={**settings.to_json(), "noise": NOISE_FROM_TOUCHES}, force=force)
     with log if log is not None else nullcontext():
         with JointBus.for_config(config, port, timeout_s=bus_timeout_s,
                                  on_reading=log.reading if log is not None else None) as bus:

@@ -30,9 +30,9 @@ def run(args) -> int:
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
     from hand_driver.log import read_log
     from tactile_jaw.decide import final_answer
-    from tactile_jaw.flat import stated_noise
-    from tactile_jaw.pipeline import logged_touches, make_recognizer, workspace_reach
-    from tactile_jaw.settings import TOUCH_NOISE, ExploreSettings
+    from tactile_jaw.flat import is_flat
+    from tactile_jaw.pipeline import logged_touches, make_recognizer, stated_noise, workspace_reach
+    from tactile_jaw.settings import ExploreSettings
 
     if args.touches:
         check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
@@ -44,15 +44,19 @@ def run(args) -> int:
     except (KeyError, TypeError, ValueError):
         raise InputError(f"{args.log}: line 1: header settings lack touches/samples_per_touch/roll_span_deg") from None
     touches = logged_touches(config, contents, settings)
+    logged_noise = header["settings"].get("noise")
+    fixed_noise = logged_noise if isinstance(logged_noise, dict) else None  # an older run's fixed noise
     if args.touches:
         # the run's recognizer options (its profile's) travel with the touches: tactile recognize
         # then answers with the same settings as this replay
         request = {"scene": header.get("scene"), "touches": [t.to_json() for t in touches],
-                   "noise": stated_noise(touches, header["settings"].get("noise", TOUCH_NOISE)), "options": {**settings.recognize, "reach": workspace_reach(config).to_json()}}
+                   "noise": (fixed_noise if fixed_noise and not all(is_flat(t) for t in touches)
+                             else stated_noise(touches).to_json() if touches else None),
+                   "options": {**settings.recognize, "reach": workspace_reach(config).to_json()}}
         atomic_write(args.touches, json.dumps(request), flag="--touches")
     if not touches:
         raise InputError(f"{args.log}: no usable touch in the log ({len(contents.touches)} touches logged)")
-    recognize_touches = make_recognizer(header.get("scene"), settings, header["settings"].get("noise", TOUCH_NOISE),
+    recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
                                         reach=workspace_reach(config))
     recognition = final_answer(recognize_touches, touches, settings).to_json()
     if args.json:
