@@ -15,6 +15,10 @@ shape parameters. Gauge freedoms are removed: a circle's θ is held (its t's abs
 rotation); a line's pose moves only across the line.
 
 Weights: the request's (or options') NoiseModel; a zero σ is floored (``SIGMA_FLOOR_*``).
+A samples touch with a ``noise_factor`` F (its samples' errors have covariance F·Fᵀ,
+correlated: the jaw's samples come from one fit) is weighed by the pseudo-inverse of F
+instead (generalized least squares: rank(F) whitened residuals for the touch's 3n raw
+ones), after a first solve weighted per sample as a robust start.
 Without a noise model σ_φ and σ_pos are estimated from the residuals (two rounds) and
 the log-likelihood is the profile one, −2 ln L = Σ_groups n_g ln(RSS_g / n_g).
 
@@ -65,6 +69,9 @@ RESIDUAL_CAP = 1e30
 χ² = Σr², JᵀJ and Jᵀr cannot overflow (a wild start of a cubic class); exact data
 (σ = 1e-9) puts a fair start at 1e8–1e12 σ, far below the cap."""
 JACOBIAN_CAP = 1e120
+FACTOR_RCOND = 1e-6
+"""a noise factor's singular values below this fraction of its largest are its null space (the
+jaw's, by central differences, has its rank's smallest at ~2e-4 and the null ones at ~1e-11)."""
 
 
 _POSITIVE = {"circle": ("r",), "ellipse": ("a", "b"), "parabola": ("a",), "hyperbola": ("a", "b"),
@@ -101,6 +108,7 @@ class _Data:
     sig_kappa: np.ndarray
     sig_kappa_s: np.ndarray
     s_rel: np.ndarray             # arc length of each row from its touch's contact (0 for contacts)
+    factors: list = field(default_factory=list)  # per samples-touch: (its rows, noise factor or None)
 
 
 def _arrays(touch: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
@@ -113,6 +121,7 @@ def _arrays(touch: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray 
 def _collect(touches: Sequence[Any]) -> _Data:
     xs, ys, ps, tof, mid, srel = [], [], [], [], [], []
     crows, ck, cks, sk, sks = [], [], [], [], []
+    factors = []
     row = 0
     for i, tch in enumerate(touches):
         if hasattr(tch, "kappa"):  # a contact-touch
@@ -140,16 +149,18 @@ def _collect(touches: Sequence[Any]) -> _Data:
         tof.append(np.full(n, i))
         srel.append(s - s[n // 2])
         mid.append(row + n // 2)
+        factors.append((np.arange(row, row + n), getattr(tch, "noise_factor", None)))
         row += n
     return _Data(np.concatenate(xs), np.concatenate(ys), np.concatenate(ps), np.concatenate(tof).astype(int),
-                 mid, crows, np.array(ck), np.array(cks), np.array(sk), np.array(sks), np.concatenate(srel))
+                 mid, crows, np.array(ck), np.array(cks), np.array(sk), np.array(sks), np.concatenate(srel),
+                 factors)
 
 
 class _Problem:
     """Packs unknowns, evaluates residuals and the Jacobian for one class."""
 
     def __init__(self, cls: str, data: _Data, pose: Pose, direction: int, sig_phi: float, sig_pos: float,
-                 sig_along: float | None = None):
+                 sig_along: float | None = None, factors: bool = False):
         self.cls = cls
         self.names = CURVES[cls].param_names
         self.pos_names = _POSITIVE.get(cls, ())
@@ -170,8 +181,46 @@ class _Problem:
         # pose unknowns: circle (x, y); line (θ, d across the line); others (θ, x, y)
         self.n_pose = {"circle": 2, "line": 2}.get(cls, 3)
         self.n_glob = k + self.n_pose
-        self.n_res = 3 * self.n_rows + 2 * len(data.contact_rows)
+        self.n_raw = 3 * self.n_rows + 2 * len(data.contact_rows)
+        self.whiten = self._whitening(sig_phi, sig_pos, sig_along) if factors else None
+        if self.whiten is not None:  # sample rows are whitened per touch from raw (mm, rad) residuals
+            self.sig_phi = self.sig_pos = 1.0
+            self.aniso = False
+        self.n_res = self.n_raw if self.whiten is None else (
+            sum(w.shape[0] for _, w in self.whiten) + 2 * len(data.contact_rows))
         self._memo: tuple[bytes, tuple] | None = None
+
+    def _whitening(self, sig_phi: float, sig_pos: float, sig_along: float | None) -> list:
+        """Per samples-touch (raw rows of x, y, φ; W): W·r is that touch's residuals whitened,
+        W the pseudo-inverse of its noise factor F (sample errors' covariance F·Fᵀ, rows x…,
+        y…, φ…); a touch without F gets the noise model's per-sample weights (across and
+        along its measured tangent)."""
+        n = self.n_rows
+        out = []
+        for rows, factor in self.data.factors:
+            idx = np.concatenate([rows, n + rows, 2 * n + rows])
+            if factor is not None:
+                u, sv, _ = np.linalg.svd(np.asarray(factor, float), full_matrices=False)
+                keep = sv > FACTOR_RCOND * sv[0]
+                out.append((idx, (u[:, keep] / sv[keep]).T))
+                continue
+            k = rows.size
+            c, s_ = np.cos(self.data.phi[rows]), np.sin(self.data.phi[rows])
+            along = sig_pos if sig_along is None else sig_along
+            w = np.zeros((3 * k, 3 * k))
+            j = np.arange(k)
+            w[j, j], w[j, k + j] = -s_ / sig_pos, c / sig_pos  # across the measured tangent
+            w[k + j, j], w[k + j, k + j] = c / along, s_ / along  # along it
+            w[2 * k + j, 2 * k + j] = 1.0 / sig_phi
+            out.append((idx, w))
+        return out
+
+    def _whitened(self, a: np.ndarray) -> np.ndarray:
+        """Raw residuals (or Jacobian rows) → whitened: each touch's W·rows, contact rows kept."""
+        if self.whiten is None:
+            return a
+        parts = [w @ a[idx] for idx, w in self.whiten]
+        return np.concatenate(parts + [a[3 * self.n_rows :]])
 
     def _model_at(self, z: np.ndarray):
         """``unpack`` and ``_model`` at z, memoized for the last z (least_squares asks for the
@@ -228,7 +277,7 @@ class _Problem:
             parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, wrap_angle(d.phi - phi) / self.sig_phi]
             if extra is not None:
                 parts += [(d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s]
-            r = np.concatenate(parts)
+            r = self._whitened(np.concatenate(parts))
             if self.aniso:
                 self._across_along(r)
         return np.where(np.isfinite(r), np.clip(r, -RESIDUAL_CAP, RESIDUAL_CAP), 1e8)
@@ -251,7 +300,7 @@ class _Problem:
         n = self.n_rows
         nc = len(self.data.contact_rows)
         rows = 3 * n + 2 * nc
-        jac = np.zeros((rows, z.size))
+        jac = np.zeros((rows, z.size))  # raw rows (whitened at the end)
         with np.errstate(all="ignore"):
             speed = np.asarray(curve.speed(t), float)
             kap = np.asarray(curve.kappa(t), float)
@@ -301,6 +350,7 @@ class _Problem:
                 zm[c] -= h
                 jac[3 * n :, c] = ((self._raw(zp) - self._raw(zm)) / (2 * h))[3 * n :]
         jac[~np.isfinite(jac)] = 0.0
+        jac = self._whitened(jac)
         if self.aniso:
             self._across_along(jac)
         return np.clip(jac, -JACOBIAN_CAP, JACOBIAN_CAP, out=jac)
@@ -314,7 +364,7 @@ class _Problem:
     def _raw_from(self, hx: np.ndarray, hy: np.ndarray, phi: np.ndarray, extra) -> np.ndarray:
         d = self.data
         n = self.n_rows
-        r = np.empty(self.n_res)
+        r = np.empty(self.n_raw)
         np.subtract(d.x, hx, out=r[:n])
         np.subtract(d.y, hy, out=r[n : 2 * n])
         r[: 2 * n] *= 1.0 / self.sig_pos
@@ -448,11 +498,20 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     for _round in range(1 if known else 3):
         problem = _Problem(cls, data, candidate.pose, direction, sig_phi, sig_pos, sig_along)
         z0 = problem.pack(params, candidate.pose, t0) if z is None else z
-        method = "lm" if problem.n_rows * 3 + 2 * len(data.contact_rows) >= z0.size else "trf"
+        method = "lm" if problem.n_res >= z0.size else "trf"
         res = optimize.least_squares(problem.residuals, z0, jac=problem.jacobian, method=method,
                                      x_scale="jac", max_nfev=MAX_NFEV, xtol=TOL, ftol=TOL, gtol=TOL)
         nfev += int(res.nfev)
         z = res.x
+        if known and any(f is not None for _, f in data.factors):
+            # touches that state their samples' error covariance: from the per-sample weighted
+            # optimum (a robust start), the fit in their own metric
+            problem = _Problem(cls, data, candidate.pose, direction, sig_phi, sig_pos, sig_along, factors=True)
+            method = "lm" if problem.n_res >= z.size else "trf"
+            res = optimize.least_squares(problem.residuals, z, jac=problem.jacobian, method=method,
+                                         x_scale="jac", max_nfev=MAX_NFEV, xtol=TOL, ftol=TOL, gtol=TOL)
+            nfev += int(res.nfev)
+            z = res.x
         if exact and res.fun.size < 2.0 * res.cost < EXACT_GO_ON * res.fun.size:  # a right class, not yet there
             res = optimize.least_squares(problem.residuals, z, jac=problem.jacobian, method=method, x_scale="jac",
                                          max_nfev=MAX_NFEV_EXACT, xtol=TOL_EXACT, ftol=TOL_EXACT, gtol=TOL_EXACT)

@@ -30,7 +30,7 @@ MIN_TOUCHES: dict[str, int] = {
     "cubical_parabola": 3, "semicubical_parabola": 3,
 }
 _TOP_KEYS = {"scene", "touches", "noise", "options", "meta"}
-_SAMPLE_KEYS = {"phi", "x", "y", "s", "curvature", "finger", "meta"}
+_SAMPLE_KEYS = {"phi", "x", "y", "s", "curvature", "noise_factor", "finger", "meta"}
 _CURVATURE_KEYS = ("kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s")
 _CONTACT_KEYS = ("x", "y", "phi") + _CURVATURE_KEYS
 _OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float, "reach": dict}
@@ -97,6 +97,9 @@ class SamplesTouch:
     #: (κ, κ_s, 2×2 covariance) at the contact sample when the instrument measured them
     #: itself (the jaw's envelope fit); None: estimated from the samples (recognizer.estimate)
     curvature: tuple[float, float, np.ndarray] | None = None
+    #: (3n, k) factor F of the samples' error covariance F·Fᵀ (rows x…, y…, φ…; mm, rad) when
+    #: the instrument states it (the jaw: each joint angle's quantization through its fit)
+    noise_factor: np.ndarray | None = None
 
     @property
     def contact_index(self) -> int:
@@ -110,6 +113,8 @@ class SamplesTouch:
         if self.curvature is not None:
             k, ks, cov = self.curvature
             out["curvature"] = {"kappa": float(k), "kappa_s": float(ks), "cov": np.asarray(cov, float).tolist()}
+        if self.noise_factor is not None:
+            out["noise_factor"] = np.asarray(self.noise_factor, float).tolist()
         return out
 
 
@@ -188,7 +193,24 @@ def _parse_samples(raw: Mapping, where: str) -> SamplesTouch:
     curvature = None
     if raw.get("curvature") is not None:  # the instrument's own κ, κ_s at the contact sample
         curvature = _parse_curvature(raw["curvature"], f"{where}.curvature")
-    return SamplesTouch(arrs["phi"], arrs["x"], arrs["y"], arrs.get("s"), curvature)
+    factor = _parse_noise_factor(raw["noise_factor"], n, f"{where}.noise_factor") \
+        if raw.get("noise_factor") is not None else None
+    return SamplesTouch(arrs["phi"], arrs["x"], arrs["y"], arrs.get("s"), curvature, factor)
+
+
+def _parse_noise_factor(raw, n: int, where: str) -> np.ndarray:
+    """A samples touch's noise factor F: 3n rows (x…, y…, φ…) of k ≤ 3n finite numbers each,
+    not all zero (the samples' error covariance is F·Fᵀ)."""
+    if not isinstance(raw, (list, tuple)) or len(raw) != 3 * n:
+        raise InputError(f"{where}: must be a list of 3n = {3 * n} rows (x..., y..., phi... of the {n} samples)")
+    rows = [_vec(r, f"{where}[{i}]") for i, r in enumerate(raw)]
+    k = len(rows[0])
+    if not 1 <= k <= 3 * n or any(len(r) != k for r in rows):
+        raise InputError(f"{where}: rows must all have the same length, 1 to {3 * n}")
+    factor = np.array(rows)
+    if np.max(np.abs(factor)) > limits.MAX_COORD_MM or not np.any(factor):
+        raise InputError(f"{where}: entries must be within {limits.MAX_COORD_MM:g} and not all zero")
+    return factor
 
 
 def _required(raw: Mapping, keys, where: str, what: str) -> dict[str, float]:

@@ -12,8 +12,9 @@ central differences with the fit's origin held); and the χ² of the pad lines a
 fitted curve, each line by its own quantization deviation. tactile_jaw.pipeline.feel uses
 ρ to tell a corner (the contact fixed while the pad turns: ρ ≈ 0), the χ² to tell a roll
 across a corner or a closing segment (the lines are no smooth curve's tangents), and
-hands the recognizer κ, κ_s with their covariance and the samples with their deviations.
-docs/exploration.md#the-stated-noise.
+hands the recognizer κ, κ_s with their covariance and the samples with the factor F of
+their errors' covariance F·Fᵀ (x…, y…, φ… of all samples: they come from one fit, so their
+errors are correlated, rank degree + 1 + n). docs/exploration.md#the-stated-noise.
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ class EnvelopeFit:
     dof: int  # readings − fitted coefficients
     sigma_across: np.ndarray  # each sample's position across its pad line (mm), contacts' order
     sigma_along: np.ndarray  # and along it (mm): from the fit's slope d', U-shaped over the roll
+    noise_factor: np.ndarray  # (3n, 2n) F: the samples' (x…, y…, φ…) errors = F · (joint errors / σ)
 
 
 def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None) -> EnvelopeFit:
@@ -61,16 +63,16 @@ def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None) -> En
         line = kin.finger_pad_line(finger, qq)
         c = kin.touch_from_pad_lines(line.psi, line.d, origin=base.origin, degree=base.degree)
         rho = c.rho[m]
-        return np.concatenate(([1.0 / rho, -c.rho_psi[m] / rho**3, rho], c.x, c.y))
+        return np.concatenate(([1.0 / rho, -c.rho_psi[m] / rho**3, rho], c.x, c.y, c.psi))
 
-    jac = np.empty((3 + 2 * n, q.size))
+    jac = np.empty((3 + 3 * n, q.size))
     for j in range(q.size):
         dq = np.zeros(q.size)
         dq[j] = STEP_RAD
         dq = dq.reshape(q.shape)
         jac[:, j] = (outputs(q + dq) - outputs(q - dq)) / (2.0 * STEP_RAD)
     normal = np.stack([np.cos(base.psi), np.sin(base.psi)], axis=-1)
-    jx, jy = jac[3 : 3 + n], jac[3 + n :]
+    jx, jy = jac[3 : 3 + n], jac[3 + n : 3 + 2 * n]
     across = normal[:, :1] * jx + normal[:, 1:] * jy
     along = -normal[:, 1:] * jx + normal[:, :1] * jy
     cov = QUANTIZATION_VAR * jac[:3] @ jac[:3].T
@@ -78,7 +80,8 @@ def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None) -> En
     return EnvelopeFit(base, 1.0 / rho, float(-base.rho_psi[m] / rho**3), cov[:2, :2], rho,
                        float(np.sqrt(cov[2, 2])), _line_chi2(finger, q, base), n - base.degree - 1,
                        np.sqrt(QUANTIZATION_VAR * np.sum(across**2, axis=1)),
-                       np.sqrt(QUANTIZATION_VAR * np.sum(along**2, axis=1)))
+                       np.sqrt(QUANTIZATION_VAR * np.sum(along**2, axis=1)),
+                       np.sqrt(QUANTIZATION_VAR) * jac[3:])
 
 
 def _line_chi2(finger, q, base: kin.TouchEnvelope) -> float:

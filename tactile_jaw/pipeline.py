@@ -98,7 +98,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         samples_touch = None
         if problem is None and fit is not None:
             samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
-                                         curvature=(fit.kappa, fit.kappa_s, fit.cov))
+                                         curvature=(fit.kappa, fit.kappa_s, fit.cov), noise_factor=fit.noise_factor)
         return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve)
 
     cut_short = touch.outcome in CUT_SHORT
@@ -130,7 +130,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         # (degree 2); κ, κ_s stay the cubic's
         smooth = fit_envelope(f, q, lines, degree=SMOOTH_DEGREE)
         fit = replace(fit, contacts=smooth.contacts, sigma_across=smooth.sigma_across,
-                      sigma_along=smooth.sigma_along)
+                      sigma_along=smooth.sigma_along, noise_factor=smooth.noise_factor)
         c = fit.contacts
         u = _pad_u(lines, c)
     if np.any(np.diff(c.s) <= 0.0):
