@@ -2,7 +2,7 @@
 with an oracle for every wrong answer, suggested against random extra touches, and the
 honesty of the stated σ's (not a test).
 
-    python -m tools.bench_wide [--trials 40] [--seed 1] [--jobs 2] [--out FILE.md]
+    python -m tools.bench_wide [--trials 40] [--seed 1] [--jobs 2] [--out FILE.md] [--records FILE.json]
     tactile bench --wide-trials N        (writes OUT/bench_wide.md beside the other results)
 
 Each trial draws a shape of one class and a region of it (``REGIONS``: one branch of a
@@ -29,6 +29,7 @@ positions 0.1 % of L), the balanced profile, every class allowed. Rows:
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
 import time
@@ -146,6 +147,11 @@ def _oracle(shape, ts, direction, rec, req, nm) -> str:
     return "search miss"
 
 
+def _ranking(rec) -> list:
+    """(class, consistent, χ², dof, BIC) of every candidate: enough to replay the model choice."""
+    return [[r.cls, bool(r.consistent), float(r.chi2), int(r.dof), float(r.bic)] for r in rec.ranking]
+
+
 def _extra_touch(shape, t, rs, direction):
     touches, _ = _touches(shape, [t], rs, direction)
     return touches[0]
@@ -173,8 +179,8 @@ def run_trial(task) -> dict:
     nm = NoiseModel(noise.phi, noise.pos)
     out = {"cls": cls, "region": region, "i": i}
     rec, dt, req = _recognize(touches, nm)
-    out.update(got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
-               nt_ms=rec.timing.get("next_touch_ms", math.nan))
+    out.update(rank3=_ranking(rec), got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
+               nt_ms=rec.timing.get("next_touch_cpu_ms", math.nan))
     if rec.cls == cls:
         z = [(rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()
              if rec.uncertainty.get(k) and rec.uncertainty[k] > 0]
@@ -189,7 +195,7 @@ def run_trial(task) -> dict:
         return t
     extra = [_extra_touch(shape, draw_t(), rs, direction) for _ in range(2)]
     rec5, _, _ = _recognize(list(touches) + extra, nm)
-    out.update(got5=rec5.cls, err5=rel_error(shape.params, rec5.params) if rec5.cls == cls else math.nan)
+    out.update(rank5=_ranking(rec5), got5=rec5.cls, err5=rel_error(shape.params, rec5.params) if rec5.cls == cls else math.nan)
     # up to two suggested touches
     cur, tl, used = rec, list(touches), 0
     for _ in range(2):
@@ -197,10 +203,13 @@ def run_trial(task) -> dict:
         if nt is None:
             break
         t = _closest_t(shape, nt["x"], nt["y"], lo, hi, sign, both, clear)
+        out.setdefault("suggested", []).append({"t": t, "why": nt["why"], "leader": cur.cls,
+                                                "ms": cur.timing.get("next_touch_cpu_ms")})
         tl.append(_extra_touch(shape, t, rs, direction))
         used += 1
         cur, _, _ = _recognize(tl, nm)
-    out.update(gotS=cur.cls, errS=rel_error(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
+    out.update(rankS=_ranking(cur), t3=[float(v) for v in ts], span=[float(lo), float(hi)],
+               params=dict(shape.params), gotS=cur.cls, errS=rel_error(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
     return out
 
 
@@ -278,6 +287,7 @@ def main(argv=None) -> int:
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--classes", nargs="+", default=list(CLASSES))
     ap.add_argument("--out", default=None, help="also write the tables to this markdown file")
+    ap.add_argument("--records", default=None, help="also write every trial's record to this JSON file")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
 
@@ -292,6 +302,9 @@ def main(argv=None) -> int:
     if args.out:
         with open(args.out, "w", encoding="utf-8") as f:
             f.write(text + "\n")
+    if args.records:
+        with open(args.records, "w", encoding="utf-8") as f:
+            json.dump(sorted(recs, key=lambda r: (CLASSES.index(r["cls"]), r["i"])), f, default=float)
     return 0
 
 
