@@ -21,7 +21,7 @@ from scipy import integrate, optimize, special
 
 from tactile_common.errors import InputError, check_keys
 
-__all__ = ["CURVES", "Curve", "Pose", "validate_params", "DEFAULT_SIDE"]
+__all__ = ["CURVES", "Curve", "Pose", "validate_params", "DEFAULT_SIDE", "travel_direction"]
 
 
 def _arr(t):
@@ -126,6 +126,30 @@ class Curve:
         """(x, y, φ, κ, κ_s) at t: what a touch at t measures in the canonical frame."""
         x, y = self.point(t)
         return x, y, self.tangent_angle(t), self.kappa(t), self.kappa_s(t)
+
+    def project(self, t, px, py, steps: int):
+        """The parameters of the curve's points nearest the canonical-frame points (px, py),
+        from the parameters t: ``steps`` Newton steps along the tangent, Δt = (p − c(t))·T/speed.
+        A periodic curve moves at most 0.5 a step; where the speed is ≤ 1e-12 (a cusp) or a
+        step is not finite, t stays; a step never leaves its branch (``keep_branch``)."""
+        t = np.array(t, dtype=float)
+        px, py = _arr(px), _arr(py)
+        with np.errstate(all="ignore"):
+            for _ in range(steps):
+                cx, cy = self.point(t)
+                ang = np.asarray(self.tangent_angle(t), float)
+                sp = np.asarray(self.speed(t), float)
+                step = ((px - cx) * np.cos(ang) + (py - cy) * np.sin(ang)) / np.where(sp > 1e-12, sp, np.inf)
+                if self.t_period is not None:
+                    step = np.clip(step, -0.5, 0.5)
+                t_new = self.keep_branch(t, t + step)
+                t = np.where(np.isfinite(t_new), t_new, t)
+        return t
+
+    def keep_branch(self, t, t_new):
+        """t_new where it lies on t's branch of the curve, else t (every class but the
+        semicubical parabola has one branch)."""
+        return t_new
 
 
 class Line(Curve):
@@ -315,6 +339,10 @@ class SemicubicalParabola(Curve):
     def _u(self, t):
         return 3 * self.a * _arr(t) + 2 * self.b
 
+    def keep_branch(self, t, t_new):
+        """Never across the cusp: the branches t < 0 and t > 0 are apart."""
+        return np.where(np.sign(t_new) == np.sign(t), t_new, t)
+
     def point(self, t):
         t = _arr(t)
         return t * t, self.a * t**3 + self.b * t * t
@@ -349,6 +377,14 @@ class SemicubicalParabola(Curve):
             return (r**3 / 3 - 2 * b * (u * r / 2 + 2 * np.arcsinh(u / 2))) / (9 * a * a)
 
         return np.where(t < 0, -1.0, 1.0) * (f(self._u(t)) - f(2 * b))
+
+
+def travel_direction(curve: Curve, pose: Pose, t, phi) -> int:
+    """+1 when touches measuring tangent angles ``phi`` (hand frame) at the posed curve's
+    parameters ``t`` run in increasing t, else −1 (the majority of cos(φ − tangent))."""
+    with np.errstate(all="ignore"):
+        ang = np.asarray(curve.tangent_angle(_arr(t)), float) + pose.theta
+        return 1 if float(np.nansum(np.cos(_arr(phi) - ang))) >= 0 else -1
 
 
 CURVES: dict[str, type[Curve]] = {

@@ -35,7 +35,7 @@ from typing import Sequence
 import numpy as np
 
 from recognizer.contacts import Contacts
-from recognizer.curves import CURVES, Pose
+from recognizer.curves import CURVES, Pose, travel_direction
 from recognizer.result import Candidate
 from recognizer.touches import NoiseModel, Reach
 from tactile_common.angles import wrap_angle
@@ -64,11 +64,6 @@ def _posed(cls: str, vec: np.ndarray):
     return CURVES[cls]({n: float(v) for n, v in zip(names, vec[:k])}), Pose(*(float(v) for v in vec[k:k + 3]))
 
 
-def _vec(c: Candidate) -> np.ndarray:
-    names = CURVES[c.cls].param_names
-    return np.array([c.params[n] for n in names] + [c.pose.theta, c.pose.x, c.pose.y], float)
-
-
 def _cov(c: Candidate) -> np.ndarray:
     """Joint covariance of (shape, θ, x, y): refine's, else the stated σ's (diagonal)."""
     cov = getattr(c, "cov_pose", None)
@@ -91,25 +86,12 @@ def _t_span(c: Candidate, widen: float = 1.0, n: int = N_PLACES) -> np.ndarray:
 
 
 def _closest(curve, pose: Pose, t_dense: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
-    """t of the curve's point closest to each (px, py): the nearest dense sample, then three
-    Newton steps along the tangent."""
+    """t of the curve's point closest to each hand-frame (px, py): the nearest dense
+    sample, then three Newton steps (``Curve.project``)."""
     cx, cy = pose.apply(*curve.point(t_dense))
     d2 = (px[:, None] - cx[None, :]) ** 2 + (py[:, None] - cy[None, :]) ** 2
     t = t_dense[np.argmin(d2, axis=1)]
-    return _newton(curve, pose, t, px, py, steps=3)
-
-
-def _newton(curve, pose: Pose, t: np.ndarray, px: np.ndarray, py: np.ndarray, steps: int = 2) -> np.ndarray:
-    for _ in range(steps):
-        qx, qy = pose.apply(*curve.point(t))
-        ang = np.asarray(curve.tangent_angle(t), float) + pose.theta
-        sp = np.asarray(curve.speed(t), float)
-        step = ((px - qx) * np.cos(ang) + (py - qy) * np.sin(ang)) / np.where(sp > 1e-12, sp, np.inf)
-        t_new = t + (np.clip(step, -0.5, 0.5) if curve.t_period is not None else step)
-        if curve.name == "semicubical_parabola":  # never across the cusp
-            t_new = np.where(np.sign(t_new) == np.sign(t), t_new, t)
-        t = np.where(np.isfinite(t_new), t_new, t)
-    return t
+    return curve.project(t, *pose.inverse(px, py), steps=3)
 
 
 def _measure(cls: str, vec: np.ndarray, t: np.ndarray, px, py, nx, ny, lead_phi) -> np.ndarray:
@@ -123,7 +105,7 @@ def _measure(cls: str, vec: np.ndarray, t: np.ndarray, px, py, nx, ny, lead_phi)
 
 def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi):
     """(mean (m, 2), covariance (m, 2, 2)) of candidate c's measurement at every place."""
-    vec, C = _vec(c), _cov(c)
+    vec, C = c.vector(), _cov(c)
     curve, pose = _posed(c.cls, vec)
     t = _closest(curve, pose, t_dense, px, py)
     mean = _measure(c.cls, vec, t, px, py, nx, ny, lead_phi)
@@ -135,7 +117,7 @@ def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi):
         vp = vec.copy()
         vp[i] += h
         cp, pp = _posed(c.cls, vp)
-        tp = _newton(cp, pp, t, px, py, steps=1)
+        tp = cp.project(t, *pp.inverse(px, py), steps=1)
         G[..., i] = (_measure(c.cls, vp, tp, px, py, nx, ny, lead_phi) - mean) / h
     return mean, np.einsum("mai,ij,mbj->mab", G, C, G), G
 
@@ -155,12 +137,6 @@ def _entropy2(p):
     p = np.clip(p, 1e-300, 1.0)
     q = np.clip(1.0 - p, 1e-300, 1.0)
     return -(p * np.log(p) + q * np.log(q))
-
-
-def _direction(c: Candidate, d: Contacts) -> int:
-    curve = c.curve()
-    ang = np.asarray(curve.tangent_angle(np.asarray(c.t, float)), float) + c.pose.theta
-    return 1 if float(np.sum(np.cos(d.phi - ang))) >= 0 else -1
 
 
 def next_touch(cands: Sequence[Candidate], leader: Candidate, d: Contacts, noise: NoiseModel,
@@ -206,7 +182,7 @@ def _next_touch(cands, leader, d, noise, samples, reach):
     shrink = np.ones(t.size)
     rel_now = 0.0
     if k:
-        vals = np.abs(_vec(leader)[:k])
+        vals = np.abs(leader.vector()[:k])
         rel = np.sqrt(np.clip(np.diag(C)[:k], 0, None)) / np.where(vals > 0, vals, 1.0)
         i_max = int(np.argmax(rel))
         rel_now = float(rel[i_max])
@@ -230,7 +206,7 @@ def _next_touch(cands, leader, d, noise, samples, reach):
     if not helps.any():
         return None
     j = int(np.argmax(np.where(helps, gain, -np.inf)))
-    direction = _direction(leader, d)
+    direction = travel_direction(leader.curve(), leader.pose, leader.t, d.phi)
     why = _why(leader, best_sep, j, ig_class[j], shrink[j], rel_now)
     return {"x": float(px[j]), "y": float(py[j]), "phi": float(wrap_angle(phi[j] + (np.pi if direction < 0 else 0.0))),
             "gain": float(gain[j]), "why": why}

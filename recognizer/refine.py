@@ -44,8 +44,8 @@ from typing import Any, Sequence
 import numpy as np
 from scipy import optimize, stats
 
-from recognizer.curves import CURVES, Pose
-from recognizer.result import Candidate
+from recognizer.curves import CURVES, Pose, travel_direction
+from recognizer.result import Candidate, shape_pose_vector
 from tactile_common.angles import wrap_angle
 
 SIGMA_FLOOR_PHI = 1e-9
@@ -378,37 +378,17 @@ class _Problem:
         return r
 
 
-def _direction(cls: str, params: dict, pose: Pose, t_contacts: np.ndarray, data: _Data) -> int:
-    """+1 when the touches run in increasing t on the candidate's curve, else −1."""
-    curve = CURVES[cls](params)
-    with np.errstate(all="ignore"):
-        ang = np.asarray(curve.tangent_angle(np.asarray(t_contacts, float)), float) + pose.theta
-    meas = data.phi[data.mid]
-    votes = np.cos(meas - ang)
-    return 1 if np.nansum(votes) >= 0 else -1
-
-
 def _initial_t(cls: str, params: dict, pose: Pose, t_contacts: np.ndarray, data: _Data, direction: int) -> np.ndarray:
-    """Every sample's t: its contact's t moved by its arc length, then projected onto the
-    curve (a few Gauss–Newton steps on the distance)."""
+    """Every sample's t: its contact's t moved by its arc length (on the contact's branch of
+    a semicubical's cusp, else the contact's t), then projected onto the curve
+    (``Curve.project``, 8 steps)."""
     curve = CURVES[cls](params)
     tc = np.asarray(t_contacts, float)[data.touch_of]
     with np.errstate(all="ignore"):
         sp = np.asarray(curve.speed(tc), float)
-        t = tc + direction * data.s_rel / np.where(sp > 1e-12, sp, 1.0)
-        px, py = pose.inverse(data.x, data.y)
-        for _ in range(8):
-            cx, cy = curve.point(t)
-            sp = np.asarray(curve.speed(t), float)
-            ang = np.asarray(curve.tangent_angle(t), float)
-            step = ((px - cx) * np.cos(ang) + (py - cy) * np.sin(ang)) / np.where(sp > 1e-12, sp, 1.0)
-            step = np.clip(step, -0.5, 0.5) if curve.t_period is not None else step
-            t_new = t + step
-            t = np.where(np.isfinite(t_new), t_new, t)
-    t = np.where(np.isfinite(t), t, tc)
-    if cls == "semicubical_parabola":  # stay on the contact's branch of the cusp
-        t = np.where(np.sign(t) == np.sign(tc), t, tc)
-    return t
+        t = tc + direction * data.s_rel / np.where(sp > 1e-12, sp, np.inf)
+    t = curve.keep_branch(tc, np.where(np.isfinite(t), t, tc))
+    return curve.project(t, *pose.inverse(data.x, data.y), steps=8)
 
 
 def _sigmas(noise: Any) -> tuple[float | None, float | None]:
@@ -455,7 +435,7 @@ def _shape_pose_cov(problem: _Problem, cls: str, z: np.ndarray, cov_z: np.ndarra
     def vec(zz: np.ndarray) -> np.ndarray:
         params, pose, t = problem.unpack(zz)
         params, pose, _, _ = _canonical(cls, params, pose, t)
-        return np.array([params[nm] for nm in CURVES[cls].param_names] + [pose.theta, pose.x, pose.y])
+        return shape_pose_vector(cls, params, pose)
 
     v0 = vec(z)
     T = np.zeros((v0.size, ng))
@@ -478,7 +458,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     for name in _POSITIVE.get(cls, ()):
         params[name] = max(params.get(name, 1.0), 1e-9)
     t_contacts = np.asarray(candidate.t, float)
-    direction = _direction(cls, params, candidate.pose, t_contacts, data)
+    direction = travel_direction(CURVES[cls](params), candidate.pose, t_contacts, data.phi[data.mid])
     t0 = _initial_t(cls, params, candidate.pose, t_contacts, data, direction)
     sig_phi, sig_pos = _sigmas(noise)
     known = sig_phi is not None

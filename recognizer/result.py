@@ -10,7 +10,7 @@ import numpy as np
 from recognizer.curves import CURVES, Pose
 from recognizer.touches import NoiseModel, Reach
 
-__all__ = ["Recognition", "Ranked", "Candidate", "RecognizeOptions"]
+__all__ = ["Recognition", "Ranked", "Candidate", "RecognizeOptions", "shape_pose_vector"]
 
 
 @dataclass
@@ -54,9 +54,19 @@ class Candidate:
     def curve(self):
         return CURVES[self.cls](self.params)
 
+    def vector(self) -> np.ndarray:
+        """(shape parameters in ``param_names`` order, θ, x, y)."""
+        return shape_pose_vector(self.cls, self.params, self.pose)
+
     def contacts(self) -> list[dict]:
         x, y = self.pose.apply(*self.curve().point(np.asarray(self.t, dtype=float)))
         return [{"t": float(ti), "x": float(xi), "y": float(yi)} for ti, xi, yi in zip(self.t, x, y)]
+
+
+def shape_pose_vector(cls: str, params: dict, pose: Pose) -> np.ndarray:
+    """(shape parameters in ``param_names`` order, θ, x, y): the vector whose covariance a
+    refined candidate states (``cov_pose``) and recognizer.next_touch propagates."""
+    return np.array([params[n] for n in CURVES[cls].param_names] + [pose.theta, pose.x, pose.y], float)
 
 
 def _clean(value):
