@@ -33,6 +33,7 @@ from recognizer import invariants as inv
 from recognizer.contacts import EPS_FLOOR, Contacts
 from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start
 from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
+from recognizer.intervals import profile_uncertainty
 from recognizer.next_touch import next_touch
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request, SamplesTouch
 
@@ -286,12 +287,20 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
         timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
                            {}, reason, ranked, timing, nxt)
-    best = choose(consistent)
+    chosen = choose(consistent)
+    best = profile_uncertainty(chosen)  # the answer's σ's where the linearized ones are in doubt
     pairs = _pair_invariants(d) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
-    nxt = _suggest(request, options, cands, best, d, timing)
+    nxt = _suggest(request, options, cands, chosen, d, timing)
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, d, pairs),
                        dict(best.uncertainty), None, ranked, timing, nxt)
+
+
+def _roll(request: Request) -> float:
+    """The median arc length (mm) of the request's samples-touches: how long a touch is."""
+    rolls = [float(np.sum(np.hypot(np.diff(t.x), np.diff(t.y)))) for t in request.touches
+             if isinstance(t, SamplesTouch) and len(t.x) > 1]
+    return float(np.median(rolls)) if rolls else 0.0
 
 
 def _suggest(request: Request, options: RecognizeOptions, cands: list[Candidate], leader: Candidate | None,
@@ -303,7 +312,7 @@ def _suggest(request: Request, options: RecognizeOptions, cands: list[Candidate]
     t0, c0 = time.perf_counter(), time.process_time()
     noise = options.noise or request.noise or DEFAULT_SAMPLES_NOISE
     try:
-        out = next_touch(cands, leader, d, noise, int(np.median(sizes)), options.reach)
+        out = next_touch(cands, leader, d, noise, int(np.median(sizes)), options.reach, _roll(request))
     except (np.linalg.LinAlgError, ValueError, ArithmeticError):  # numerics of a degenerate candidate:
         out = None  # no suggestion rather than no answer
     timing["next_touch_ms"] = 1e3 * (time.perf_counter() - t0)

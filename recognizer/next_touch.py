@@ -18,9 +18,12 @@ Expected information gain (nats) of a place:
 - parameters: w_ℓ · ½ ln det(I + R⁻¹P_ℓ), the entropy the leader's parameters and pose
   lose (the determinant lemma for the linearized update C' = C − C Gᵀ(GCGᵀ + R)⁻¹GC).
 
-Greedy: the place of largest gain is suggested (one touch at a time; adaptive-submodular
-selection, so greedy is near-optimal). A place helps when its class gain is at least
-``CLASS_GAIN_MIN`` nats or it shrinks the leader's largest relative parameter σ by at least
+Greedy, one touch at a time (adaptive-submodular selection, so greedy is near-optimal):
+while some place resolves at least ``CLASS_GAIN_MIN`` nats of class entropy, the place of
+largest class gain, else of largest gain. A touch is ``roll`` long: no place within
+roll/2 of the leader's cusp (a pad cannot roll through it), and a semicubical rival's
+prediction counts nothing where its closest point lies that near its cusp. A place helps
+when its class gain is at least ``CLASS_GAIN_MIN`` nats or it shrinks the leader's largest relative parameter σ by at least
 ``SHRINK_MIN`` while that σ is above ``REL_SIGMA_ENOUGH``; ``None`` when no place helps.
 Places: the leader's curve over its touched span widened by the span on each side (a closed
 curve all round), no farther than the touches' extent from the nearest touch, inside
@@ -103,8 +106,18 @@ def _measure(cls: str, vec: np.ndarray, t: np.ndarray, px, py, nx, ny, lead_phi)
     return np.stack([(qx - px) * nx + (qy - py) * ny, _wrap_half(ang - lead_phi)], axis=-1)
 
 
-def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi):
-    """(mean (m, 2), covariance (m, 2, 2)) of candidate c's measurement at every place."""
+def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
+    """Whether a touch of arc length ``roll`` centred at each t stays on one smooth piece of
+    the curve (a pad cannot roll through a semicubical parabola's cusp)."""
+    if curve.name != "semicubical_parabola" or roll <= 0:
+        return np.ones(np.shape(t), bool)
+    return np.abs(curve.arc_length(np.zeros_like(t), t)) >= 0.5 * roll
+
+
+def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, roll: float = 0.0):
+    """(mean (m, 2), covariance (m, 2, 2), G, touchable (m,)) of candidate c's measurement
+    at every place: where c's closest point is too near its cusp for a touch, c's
+    prediction tells nothing (not touchable)."""
     vec, C = c.vector(), _cov(c)
     curve, pose = _posed(c.cls, vec)
     t = _closest(curve, pose, t_dense, px, py)
@@ -119,7 +132,7 @@ def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi):
         cp, pp = _posed(c.cls, vp)
         tp = cp.project(t, *pp.inverse(px, py), steps=1)
         G[..., i] = (_measure(c.cls, vp, tp, px, py, nx, ny, lead_phi) - mean) / h
-    return mean, np.einsum("mai,ij,mbj->mab", G, C, G), G
+    return mean, np.einsum("mai,ij,mbj->mab", G, C, G), G, _touchable(curve, t, roll)
 
 
 def _inv2(S: np.ndarray) -> np.ndarray:
@@ -140,13 +153,13 @@ def _entropy2(p):
 
 
 def next_touch(cands: Sequence[Candidate], leader: Candidate, d: Contacts, noise: NoiseModel,
-               samples: int, reach: Reach | None = None) -> dict | None:
+               samples: int, reach: Reach | None = None, roll: float = 0.0) -> dict | None:
     """The suggested next touch (module docstring) or None when no touch helps."""
     with np.errstate(all="ignore"):
-        return _next_touch(cands, leader, d, noise, samples, reach)
+        return _next_touch(cands, leader, d, noise, samples, reach, roll)
 
 
-def _next_touch(cands, leader, d, noise, samples, reach):
+def _next_touch(cands, leader, d, noise, samples, reach, roll):
     bic = np.array([c.bic for c in cands], float)
     ok = np.isfinite(bic)
     if not ok.any():
@@ -167,12 +180,13 @@ def _next_touch(cands, leader, d, noise, samples, reach):
         keep &= near <= d.scale
     if reach is not None:
         keep &= reach.contains(px, py)
+    keep &= _touchable(curve, t, roll)
     if not keep.any():
         return None
     t, px, py, phi = t[keep], px[keep], py[keep], phi[keep]
     nx, ny = -np.sin(phi), np.cos(phi)
     R = np.diag([max(noise.pos, 1e-12) ** 2, max(noise.phi, 1e-12) ** 2]) / max(samples, 1)
-    _, P_lead, G_lead = _prediction(leader, _t_span(leader, 1.0, N_DENSE), px, py, nx, ny, phi)
+    _, P_lead, G_lead, _ = _prediction(leader, _t_span(leader, 1.0, N_DENSE), px, py, nx, ny, phi)
     # parameters: entropy lost, and the shrink of the largest relative σ
     Rinv = np.linalg.inv(R)
     P_lead = np.where(np.isfinite(P_lead), P_lead, 0.0)
@@ -195,17 +209,20 @@ def _next_touch(cands, leader, d, noise, samples, reach):
     ig_class = np.zeros(t.size)
     best_sep = {}
     for c, wc in others:
-        mean_c, P_c, _ = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi)
+        mean_c, P_c, _, ok_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, roll)
         S = R[None] + P_lead + P_c
         chi2 = np.einsum("ma,mab,mb->m", mean_c, _inv2(S), mean_c)
-        chi2 = np.where(np.isfinite(chi2), chi2, 1e6)
+        chi2 = np.where(ok_c, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
         ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0))
         best_sep[c.cls] = chi2
     gain = ig_class + w_lead * np.where(np.isfinite(ig_param), ig_param, 0.0)
     helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
     if not helps.any():
         return None
-    j = int(np.argmax(np.where(helps, gain, -np.inf)))
+    # while the class is in doubt, the place that tells the classes apart best; else the
+    # place of largest gain (parameters)
+    score = ig_class if float(np.max(ig_class)) >= CLASS_GAIN_MIN else gain
+    j = int(np.argmax(np.where(helps, score, -np.inf)))
     direction = travel_direction(leader.curve(), leader.pose, leader.t, d.phi)
     why = _why(leader, best_sep, j, ig_class[j], shrink[j], rel_now)
     return {"x": float(px[j]), "y": float(py[j]), "phi": float(wrap_angle(phi[j] + (np.pi if direction < 0 else 0.0))),

@@ -91,6 +91,9 @@ class RefinedCandidate(Candidate):
     t_samples: list = field(default_factory=list)
     sigma: dict = field(default_factory=dict)
     nfev: int = 0
+    #: (problem, unknowns, their covariance, canonical permutation): what
+    #: recognizer.intervals needs to profile the fit
+    fit: tuple | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass
@@ -552,7 +555,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     elif fields["consistent"]:
         fields["reason"] = None
     cov_pose = _shape_pose_cov(problem, cls, z, cov_z)
-    return RefinedCandidate(**fields, cov=cov_p, cov_pose=cov_pose, t_samples=t_samples,
+    return RefinedCandidate(**fields, cov=cov_p, cov_pose=cov_pose, t_samples=t_samples, fit=(problem, z, cov_z, perm),
                             sigma={"phi": float(sig_phi), "pos": float(sig_pos)}, nfev=nfev)
 
 
