@@ -10,7 +10,8 @@ at a value, every other unknown (shape, pose, each sample's t) refitted. The end
 95 % profile-likelihood interval (χ² risen by ``CHI2_95``) are found by walking out from
 the optimum in steps of ``STEP`` linearized σ's, each fit started from the last (the ridge
 followed as it bends), and the stated σ
-becomes the larger of the linearized one and the interval's longer half / 1.96; its
+becomes the larger of the linearized one and the interval's half-width / 1.96 (the mean of
+its two sides: the longer side alone put semicubical coverage at 98.1 %); its
 covariance rows and columns are scaled alike (correlations kept). Positive parameters are
 profiled in their logarithm, as refine fits them.
 """
@@ -103,7 +104,7 @@ def profile_uncertainty(cand):
             lo, hi = p * (math.exp(ends[0]) - 1.0), p * (math.exp(ends[1]) - 1.0)
         else:
             lo, hi = ends
-        sd_new = max(abs(lo), abs(hi)) / 1.96
+        sd_new = 0.5 * (abs(lo) + abs(hi)) / 1.96
         if math.isfinite(sd_new) and sd_new > sd:
             scale[j] = sd_new / sd
             unc[name] = sd_new
