@@ -65,6 +65,10 @@ def test_a_parabola_against_a_cubic_needs_both_sides_of_its_vertex():
     why = indecision(r, stable, SETTINGS, one)
     assert why is not None and "vertex" in why and "semicubical_parabola" in why
     assert indecision(r, stable, SETTINGS, None) is not None  # positions unknown: not decisive
+    conic = Recognition("parabola", {"a": 8.0}, uncertainty={"a": 0.05}, pose=pose, ranking=[
+        Ranked("parabola", True, 51.1, 140, 400.0, 0.5), Ranked("ellipse", True, 50.5, 139, 404.0, 0.5)])
+    assert "ellipse" in indecision(conic, stable, SETTINGS, one)  # a long ellipse's quarter, one-sided
+    assert indecision(conic, stable, SETTINGS, both) is None
     assert indecision(r, None, SETTINGS, both) is not None  # not yet checked with one touch fewer
 
 
@@ -74,9 +78,11 @@ def test_a_limit_of_the_rival_needs_a_stable_answer():
     emulated, ellipse 35 x 12 felt near a vertex, was answered parabola only because the
     answer did not change: the χ² rows below); the likelihood ratio still decides."""
     r = rec("parabola", ("parabola", True, 25.6, 68, 458.7), ("ellipse", True, 26.4, 67, 470.4))
-    assert indecision(r, None, SETTINGS) is not None  # not yet checked with one touch fewer
-    assert indecision(r, rec("ellipse", ("ellipse", True, 5.0, 6, 20.0)), SETTINGS) is not None  # changed
-    assert indecision(r, rec("parabola", ("parabola", True, 21.2, 50, 356.8)), SETTINGS) is None  # stable
+    r.params, r.pose = {"a": 8.0}, Pose(-math.pi / 2, 105.0, 12.0)
+    both = _parabola_touched(np.linspace(-35.0, 34.0, 50))  # felt on both sides of its vertex
+    assert indecision(r, None, SETTINGS, both) is not None  # not yet checked with one touch fewer
+    assert indecision(r, rec("ellipse", ("ellipse", True, 5.0, 6, 20.0)), SETTINGS, both) is not None  # changed
+    assert indecision(r, rec("parabola", ("parabola", True, 21.2, 50, 356.8)), SETTINGS, both) is None  # stable
 
 
 def test_a_special_case_needs_a_stable_answer():
