@@ -17,23 +17,17 @@ from tactile_jaw.settings import ExploreSettings
 #: a consistent rival class whose χ² exceeds the answer's by this much (likelihood ratio
 #: e^-5, "very strong" evidence on Kass & Raftery's scale) no longer keeps exploration going
 DECISIVE_CHI2 = 10.0
-#: limits the exploration adds to the recognizer's (recognizer.classify.LIMIT_OF): far from
-#: the cubical's inflection or the semicubical's cusp an arc of either tends to a parabola's
-#: (the semicubical (t², a t³ + b t²) fitted to the parabola example's touches: a = 0.48,
-#: b = 4.3 at t ≈ −6, χ² 51.09 against the parabola's 51.14 on 140 dof), so a cubic fitting
-#: as well is no evidence against a parabola answer: none could ever lead it by
-#: ``DECISIVE_CHI2``. Such an answer must in addition have been felt on both sides of its
-#: vertex (:func:`vertex_sides`).
-EXPLORATION_LIMITS = {"parabola": frozenset({"cubical_parabola", "semicubical_parabola"})}
-#: (answer, rival): the answer is a special case or a limit of the rival (``LIMIT_OF``: a
-#: circle of ellipses, a parabola of ellipses and hyperbolas, a line of every curved class;
-#: and ``EXPLORATION_LIMITS``). The richer rival always fits at least as well, so its χ²
-#: being close is no evidence against the answer: rule (a), the likelihood ratio, decides,
-#: once the answer is stable. (Only circle → ellipse until #10's first version: a parabola
-#: answer could never be decisive; the parabola example's simulated ideal touches were then
-#: undecided 3 of 3 seeds, decisive 3 of 3 with the limits, error ≤ 0.44 %.)
-SUBMODELS = frozenset((answer, rival) for limits in (LIMIT_OF, EXPLORATION_LIMITS)
-                      for answer, rivals in limits.items() for rival in rivals)
+#: (answer, rival): the answer is a special case or a limit of the rival (the recognizer's
+#: one definition, recognizer.classify.LIMIT_OF: a circle of ellipses, a parabola of
+#: ellipses, hyperbolas and both cubic families — far from the cubical's inflection or the
+#: semicubical's cusp an arc of either tends to a parabola's: the semicubical fitted to the
+#: parabola example's touches, a = 0.48, b = 4.3 at t ≈ −6, χ² 51.09 against the parabola's
+#: 51.14 on 140 dof —, a line of every curved class). The richer rival always fits at least
+#: as well, so its χ² being close is no evidence against the answer: rule (a), the
+#: likelihood ratio, decides, once the answer is stable (and a parabola was felt on both
+#: sides of its vertex: :func:`vertex_sides`). (Only circle → ellipse until #10's first
+#: version: a parabola answer could never be decisive.)
+SUBMODELS = frozenset((answer, rival) for answer, rivals in LIMIT_OF.items() for rival in rivals)
 #: a parabola answer with a richer rival it is a limit of as close (``SUBMODELS``: an
 #: ellipse, a hyperbola, a cubic) needs touches reaching at least this tangent turn (deg) on
 #: each side of its vertex: a parabola's curvature falls off alike on both sides

@@ -49,7 +49,7 @@ def test_vertex_sides_of_a_parabola():
 
 
 def test_a_parabola_against_a_cubic_needs_both_sides_of_its_vertex():
-    """The parabola is also a limit of both cubic families (decide.EXPLORATION_LIMITS): a cubic
+    """The parabola is also a limit of both cubic families (recognizer.classify.LIMIT_OF): a cubic
     fitting as well is no evidence against a stable parabola answer felt on both sides of its
     vertex (the parabola example: 28-35 deg either side), but felt on one side only (the
     semicubical example, answered parabola: 47 and 16 deg) the answer is not decisive."""
