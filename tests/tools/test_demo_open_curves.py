@@ -6,24 +6,14 @@ whose object crosses the opened jaw is refused up front."""
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 
 from hand_driver.log import read_log
-from tools.cli import main
 
 
-def _run(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        rc = main(argv)
-    return rc, out.getvalue(), err.getvalue()
-
-
-def test_finite_parabola_explored_end_to_end(tmp_path):
+def test_finite_parabola_explored_end_to_end(tmp_path, tactile_in_process):
     log = tmp_path / "parabola.jsonl"
-    rc, out, err = _run(["demo", "--scene", "config/scenes/parabola.yaml", "--json", "--log", str(log)])
+    rc, out, err = tactile_in_process(["demo", "--scene", "config/scenes/parabola.yaml", "--json", "--log", str(log)])
     assert "Traceback" not in err and rc == 0
     answer = json.loads(out)
     assert answer["class"] == "parabola", answer.get("reason")
@@ -37,9 +27,9 @@ def test_finite_parabola_explored_end_to_end(tmp_path):
     assert any(e.get("kind") == "finger_retired" for e in events)
 
 
-def test_object_crossing_the_opened_jaw_is_refused_in_one_line():
+def test_object_crossing_the_opened_jaw_is_refused_in_one_line(tactile_in_process):
     # the cubical parabola's S-curve crosses both pads of the opened jaw (y = +-45 mm)
-    rc, out, err = _run(["demo", "--scene", "config/scenes/cubics.yaml"])
+    rc, out, err = tactile_in_process(["demo", "--scene", "config/scenes/cubics.yaml"])
     assert rc == 2 and out == ""
     assert "Traceback" not in err
     assert "cubics.yaml: the object overlaps the opened jaw" in err.strip().splitlines()[-1]

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import signal
 import subprocess
@@ -14,25 +12,17 @@ import pytest
 
 from hand_driver.log import read_log
 from recognizer.scene import load_scene
-from tools.cli import main
 from tools.cmd_demo import truth_lines
 
 TRUTH = load_scene("config/scenes/default.yaml").object
 
 
-def _run(argv: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        rc = main(argv)
-    return rc, out.getvalue(), err.getvalue()
-
-
 @pytest.fixture(scope="module")
-def demo(tmp_path_factory):
+def demo(tmp_path_factory, tactile_in_process):
     d = tmp_path_factory.mktemp("demo")
     log, png = d / "demo.jsonl", d / "demo.png"
     t0 = time.monotonic()
-    rc, out, err = _run(["demo", "--json", "--log", str(log), "--plot", str(png)])
+    rc, out, err = tactile_in_process(["demo", "--json", "--log", str(log), "--plot", str(png)])
     return {"rc": rc, "out": out, "err": err, "log": log, "png": png, "wall": time.monotonic() - t0}
 
 
@@ -74,23 +64,23 @@ def test_demo_log_has_header_readings_touches_and_result(demo):
     assert contents.result["robot_time_s"] > 0
 
 
-def test_replay_reproduces_the_demo(demo):
-    rc, out, err = _run(["replay", str(demo["log"]), "--json"])
+def test_replay_reproduces_the_demo(demo, tactile_in_process):
+    rc, out, err = tactile_in_process(["replay", str(demo["log"]), "--json"])
     assert rc == 0, err
     assert _without_timing(json.loads(out)) == _without_timing(json.loads(demo["out"]))
-    rc, out, _ = _run(["replay", str(demo["log"])])
+    rc, out, _ = tactile_in_process(["replay", str(demo["log"])])
     assert rc == 0 and out.startswith("recognized: ellipse")
 
 
-def test_replay_touches_recognize_the_same(demo, tmp_path):
+def test_replay_touches_recognize_the_same(demo, tmp_path, tactile_in_process):
     """The request replay --touches writes carries the run's options: tactile recognize on it
     answers what replay answered (class and parameters)."""
     req = tmp_path / "touches.json"
-    rc, out, err = _run(["replay", str(demo["log"]), "--json", "--touches", str(req)])
+    rc, out, err = tactile_in_process(["replay", str(demo["log"]), "--json", "--touches", str(req)])
     assert rc == 0, err
     replayed = json.loads(out)
     assert json.loads(req.read_text())["options"]["profile"] == "balanced"
-    rc, out, err = _run(["recognize", str(req)])
+    rc, out, err = tactile_in_process(["recognize", str(req)])
     assert rc == 0, err
     answer = json.loads(out)
     assert answer["class"] == replayed["class"] == "ellipse"
@@ -103,14 +93,14 @@ def test_truth_lines_report_relative_error(demo):
     assert "a +" in lines[1] or "a -" in lines[1]
 
 
-def test_replay_of_a_bad_log_is_one_line_exit_2(tmp_path):
+def test_replay_of_a_bad_log_is_one_line_exit_2(tmp_path, tactile_in_process):
     bad = tmp_path / "bad.jsonl"
     bad.write_text('{"type": "reading"}\n')
-    rc, out, err = _run(["replay", str(bad)])
+    rc, out, err = tactile_in_process(["replay", str(bad)])
     assert rc == 2 and err.count("\n") == 1 and "header" in err
 
 
-def test_killed_demo_leaves_a_valid_log(tmp_path):
+def test_killed_demo_leaves_a_valid_log(tmp_path, tactile_in_process):
     log = tmp_path / "killed.jsonl"
     proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "demo", "--log", str(log)],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
@@ -126,13 +116,13 @@ def test_killed_demo_leaves_a_valid_log(tmp_path):
     contents = read_log(log)  # a cut last line is tolerated, nothing else is wrong
     assert len(contents.readings) >= 60
     assert [r["i"] for r in contents.readings] == list(range(len(contents.readings)))
-    rc, _, err = _run(["replay", str(log)])
+    rc, _, err = tactile_in_process(["replay", str(log)])
     assert rc in (0, 2) and "Traceback" not in err
 
 
-def test_explore_without_an_adapter_is_one_line_exit_1(tmp_path):
+def test_explore_without_an_adapter_is_one_line_exit_1(tmp_path, tactile_in_process):
     log = tmp_path / "none.jsonl"
-    rc, out, err = _run(["explore", "--port", str(tmp_path / "no-such-tty"), "--log", str(log)])
+    rc, out, err = tactile_in_process(["explore", "--port", str(tmp_path / "no-such-tty"), "--log", str(log)])
     assert rc == 1 and err.count("\n") == 1 and "no-such-tty" in err
     contents = read_log(log)  # the header was written before the port was opened
     assert contents.readings == [] and contents.events[-1]["kind"] == "fault"

@@ -3,12 +3,7 @@ every command that reads it: exit 2, one line naming the key, no traceback."""
 
 from __future__ import annotations
 
-import contextlib
-import io
-
 import pytest
-
-from tools.cli import main
 
 SELF_CROSSING = """\
 name: bad
@@ -23,12 +18,10 @@ object:
 
 
 @pytest.mark.parametrize("command", [["demo", "--scene"], ["sim", "--scene"]])
-def test_self_crossing_closure_is_refused_in_one_line(tmp_path, command):
+def test_self_crossing_closure_is_refused_in_one_line(tmp_path, command, tactile_in_process):
     path = tmp_path / "bad.yaml"
     path.write_text(SELF_CROSSING)
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        rc = main([*command, str(path)])
-    lines = err.getvalue().strip().splitlines()
-    assert rc == 2 and out.getvalue() == "" and len(lines) == 1
+    rc, out, err = tactile_in_process([*command, str(path)])
+    lines = err.strip().splitlines()
+    assert rc == 2 and out == "" and len(lines) == 1
     assert "bad.yaml" in lines[0] and "object.closure: the boundary crosses itself" in lines[0]
