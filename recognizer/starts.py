@@ -324,10 +324,37 @@ def starts(cls: str, d: Contacts, every_pair: bool = False) -> list[tuple[dict, 
         for ai in sorted({v for v in each + [a] if v > 0 and math.isfinite(v)}):
             mag = [math.sqrt(max((2.0 * ai * abs(ki)) ** (-2.0 / 3.0) - 1.0, 0.0)) for ki in k]
             best = min((pose_from("parabola", {"a": ai}, [m * sg for m, sg in zip(mag, signs)], d)[3], signs)
-                       for signs in itertools.product((1.0, -1.0), repeat=len(mag)))
+                       for signs in _vertex_sides(phi))
             out.append(({"a": ai}, [m * sg for m, sg in zip(mag, best[1])]))
         return out
     return _cubic_starts(cls, d, every_pair)
+
+
+#: up to this many touches every assignment of touches to the vertex's sides is tried (2^n)
+EXHAUSTIVE_SIDES = 8
+
+
+def _vertex_sides(phi):
+    """Candidate sides (±1 per touch) of a parabola's vertex: every assignment for up to
+    ``EXHAUSTIVE_SIDES`` touches; beyond, only those consistent with the tangent angle's
+    monotony along the curve (the touches in order of φ, unwrapped after the largest gap
+    since a parabola's tangents span less than π, split once, in either direction): 2(n + 1)
+    assignments instead of 2^n (20 touches took minutes)."""
+    n = len(phi)
+    if n <= EXHAUSTIVE_SIDES:
+        return list(itertools.product((1.0, -1.0), repeat=n))
+    order = sorted(range(n), key=lambda i: phi[i] % (2 * _PI))
+    ang = [phi[i] % (2 * _PI) for i in order]
+    gaps = [(ang[(r + 1) % n] - ang[r]) % (2 * _PI) for r in range(n)]
+    start = (max(range(n), key=gaps.__getitem__) + 1) % n
+    order = order[start:] + order[:start]
+    out = []
+    for k in range(n + 1):
+        signs = [0.0] * n
+        for rank, i in enumerate(order):
+            signs[i] = -1.0 if rank < k else 1.0
+        out += [tuple(signs), tuple(-v for v in signs)]
+    return out
 
 
 def _conic_invariant_starts(cls: str, d: Contacts) -> list[tuple[dict, list]]:
