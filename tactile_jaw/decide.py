@@ -40,8 +40,11 @@ SUBMODELS = frozenset((answer, rival) for answer, rivals in LIMIT_OF.items() for
 #: one side and 16–17° on the other.
 VERTEX_SIDE_DEG = 20.0
 #: an answer is decisive only once every shape parameter's standard deviation is at most
-#: this fraction of its magnitude (of max(|p|, 1) for the dimensionless ``DIMENSIONLESS``)
-DECISIVE_REL_SIGMA = 0.02
+#: this fraction of its magnitude (of max(|p|, 1) for the dimensionless ``DIMENSIONLESS``),
+#: per profile (a run without one: balanced's). ``fast`` (5 samples over 12°) states a, b of
+#: the default and ellipse examples at ±3.1–3.7 % after its whole budget: at 2 % it refused
+#: both (24.5 / 23.3 s) and was slower than balanced; the user who picks it takes a looser answer
+DECISIVE_REL_SIGMA = {"fast": 0.05, "balanced": 0.02, "accurate": 0.02}
 DIMENSIONLESS = frozenset({("cubical_parabola", "c"), ("semicubical_parabola", "b")})
 
 RecognizeTouches = Callable[[Sequence[Any]], Recognition]
@@ -85,7 +88,7 @@ def indecision(recognition: Recognition, shorter: Recognition | None, settings: 
             return (f"{best.cls} and {richer.cls} both fit and the touches reach {sides[0]:.0f} and {sides[1]:.0f} deg "
                     f"either side of the parabola's vertex (less than {VERTEX_SIDE_DEG:g} on one side, where an arc of "
                     f"the {richer.cls} looks like a parabola's)")
-    return imprecision(recognition)
+    return imprecision(recognition, settings.profile)
 
 
 def vertex_sides(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray]) -> tuple[float, float]:
@@ -97,22 +100,23 @@ def vertex_sides(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray
     return max(-float(turn.min()), 0.0), max(float(turn.max()), 0.0)
 
 
-def imprecision(recognition: Recognition) -> str | None:
+def imprecision(recognition: Recognition, profile: str | None = None) -> str | None:
     """Why the answer's shape parameters are not yet determined (a standard deviation above
-    ``DECISIVE_REL_SIGMA`` of the parameter's magnitude), or None. Touches that all see one
+    the profile's ``DECISIVE_REL_SIGMA`` of the parameter's magnitude), or None. Touches that all see one
     short arc fit one class decisively yet leave its parameters loose (an ellipse from 30°
     of its boundary: a ±4 %, b ±9 %), and their errors along the pad are correlated, so such
     an answer can be off by far more than its stated deviation: explore on instead."""
+    rel = DECISIVE_REL_SIGMA.get(profile or "balanced", DECISIVE_REL_SIGMA["balanced"])
     loose = []
     for name, value in recognition.params.items():
         sd = recognition.uncertainty.get(name)
         if sd is None:
             continue
         ref = max(abs(value), 1.0) if (recognition.cls, name) in DIMENSIONLESS else abs(value)
-        if not (math.isfinite(sd) and sd <= DECISIVE_REL_SIGMA * ref):
+        if not (math.isfinite(sd) and sd <= rel * ref):
             loose.append(f"{name} ±{100.0 * sd / ref:.2g} %" if ref > 0 and math.isfinite(sd) else f"{name} undetermined")
     if loose:
-        return f"{recognition.cls} parameters not yet within {100 * DECISIVE_REL_SIGMA:g} %: {', '.join(loose)}"
+        return f"{recognition.cls} parameters not yet within {100 * rel:g} %: {', '.join(loose)}"
     return None
 
 

@@ -3,6 +3,7 @@ hand-made rankings: which answers are decisive, and that an undecided one become
 reasoned refusal rather than a class."""
 
 import math
+from dataclasses import replace
 
 import numpy as np
 from scipy import stats
@@ -143,3 +144,16 @@ def test_loose_parameters_are_not_decisive():
     assert indecision(cubic, None, SETTINGS) is None
     refused = final_answer(lambda touches: loose, [{}] * 3, SETTINGS)
     assert refused.cls == "unclassified" and "not yet within 2 %" in refused.reason
+
+
+def test_the_precision_asked_is_the_profiles():
+    """``fast`` stops at 5 % stated deviation, ``balanced`` and ``accurate`` at 2 %: an
+    ellipse stated a ±3.4 %, b ±3.5 % is an answer for fast and not yet for the others."""
+    rows = [Ranked("ellipse", True, 9.0, 11, 30.0, 0.5), Ranked("parabola", False, 400.0, 12, 420.0, 0.0)]
+    r = Recognition("ellipse", {"a": 29.0, "b": 17.2}, uncertainty={"a": 1.0, "b": 0.6}, ranking=rows)
+    for profile, decisive in (("fast", True), ("balanced", False), ("accurate", False), (None, False)):
+        why = indecision(r, None, replace(SETTINGS, profile=profile))
+        assert (why is None) == decisive, (profile, why)
+    assert "within 2 %" in indecision(r, None, SETTINGS)
+    loose = replace(r, uncertainty={"a": 1.6, "b": 0.6})  # a ±5.5 %
+    assert "within 5 %: a ±5.5 %" in indecision(loose, None, replace(SETTINGS, profile="fast"))
