@@ -191,6 +191,18 @@ def roll_angles(psi_center: float, span_rad: float, samples: int) -> np.ndarray:
     return psi_center + np.linspace(-0.5 * span_rad, 0.5 * span_rad, samples)
 
 
+def _turn_to(jaw: Jaw, finger: str, psi: float, d_from: float) -> Motion:
+    """Move the pad (backed off its contact) to the line (ψ, ``d_from``); when the object
+    was in the way of the turn, back off ``motion.backoff_mm`` further and turn again.
+    Returns the offset the pad reached ψ at."""
+    if not (yield from move_line(jaw, finger, psi, d_from)):
+        here = jaw.pad_line(jaw.last_state, finger)
+        yield from move_line(jaw, finger, float(here.psi), float(here.d) - jaw.config.motion.backoff_mm)
+        d_from -= jaw.config.motion.backoff_mm
+        yield from move_line(jaw, finger, psi, d_from)
+    return d_from
+
+
 def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad: float, samples: int,
                   d_start: float, travel_mm: float, on_event: Callable[[dict], None] | None = None) -> Motion:
     """A guarded approach at the first orientation, then one re-approach per further
@@ -237,15 +249,9 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
             psi = float(angles[k + 1])
             unsure = 0.5 * length if u is None else 0.0
             clearance = ROLL_CLEARANCE_MM + unsure * abs(psi - result.samples[-1].psi)
-            d_from = float(_unit(psi) @ pivot) - clearance
-            reach = 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM
-            if not (yield from move_line(jaw, finger, psi, d_from)):
-                # the object was in the way of the turn: back off further and turn again
-                here = jaw.pad_line(jaw.last_state, finger)
-                yield from move_line(jaw, finger, float(here.psi), float(here.d) - m.backoff_mm)
-                d_from -= m.backoff_mm
-                reach += m.backoff_mm
-                yield from move_line(jaw, finger, psi, d_from)
+            planned = float(_unit(psi) @ pivot) - clearance
+            d_from = yield from _turn_to(jaw, finger, psi, planned)
+            reach = 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + (planned - d_from)
         if result.samples and result.outcome in ("ok", "edge"):  # the pad is in contact: back off
             last = result.samples[-1]
             yield from move_line(jaw, finger, last.psi, last.d - m.backoff_mm)
@@ -312,6 +318,14 @@ def line_point(lines: list[kin.PadLine]) -> tuple[np.ndarray, float]:
     b = np.array([float(ln.d) for ln in lines])
     p = np.linalg.lstsq(a, b, rcond=None)[0]
     return p, float(np.max(np.abs(a @ p - b)))
+
+
+def face_normal(p: np.ndarray, q: np.ndarray, toward: np.ndarray) -> np.ndarray:
+    """Unit outward normal of the face through supports ``p`` and ``q``: of the line PQ's
+    two normals, the one along ``toward`` (a pad line's normal)."""
+    t = (q - p) / np.linalg.norm(q - p)
+    normal = np.array([-t[1], t[0]])
+    return -normal if normal @ toward < 0 else normal
 
 
 def seat_split(lines: list[kin.PadLine], tol_mm: float = SEAT_TOL_MM) -> tuple[list[int], np.ndarray, np.ndarray] | None:
@@ -414,10 +428,7 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, turn_sign: f
         for group, i in zip(groups, order):
             result.roles[i] = ("scan", "P", "Q")[group + 1]
         result.supports = (p, q)
-        t = (q - p) / np.linalg.norm(q - p)
-        normal = np.array([-t[1], t[0]])
-        if normal @ result.samples[-1].line.normal < 0:
-            normal = -normal
+        normal = face_normal(p, q, result.samples[-1].line.normal)
         psi_f = math.atan2(normal[1], normal[0])
         for extra in SEAT_PRESSES_DEG:
             a = psi_f + math.radians(extra)
@@ -442,10 +453,5 @@ def _press(jaw: Jaw, finger: str, psi: float) -> Motion:
     middle = 0.5 * (here.proximal + here.distal)
     clearance = ROLL_CLEARANCE_MM + 0.5 * jaw.config.finger(finger).pad.length_mm * turn
     yield from move_line(jaw, finger, float(here.psi), float(here.d) - ROLL_CLEARANCE_MM)
-    d_from = float(_unit(psi) @ middle) - clearance
-    if not (yield from move_line(jaw, finger, psi, d_from)):
-        here = jaw.pad_line(jaw.last_state, finger)
-        yield from move_line(jaw, finger, float(here.psi), float(here.d) - m.backoff_mm)
-        d_from -= m.backoff_mm
-        yield from move_line(jaw, finger, psi, d_from)
+    d_from = yield from _turn_to(jaw, finger, psi, float(_unit(psi) @ middle) - clearance)
     return (yield from guarded_approach(jaw, finger, psi, d_from, 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + m.backoff_mm))

@@ -30,7 +30,7 @@ from typing import Sequence
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.motion import FACE_MIN_FRACTION, SEAT_TOL_MM, FlatResult
+from hand_driver.motion import FACE_MIN_FRACTION, SEAT_TOL_MM, FlatResult, face_normal
 from recognizer.touches import ContactTouch
 from tactile_common.angles import wrap_angle
 
@@ -100,10 +100,7 @@ def fit_face(lines: kin.PadLine, roles: Sequence[str]) -> Face:
         p, q = sol[:2], sol[2:]
         seat = np.array([r == "seat" for r in roles])
         groups = np.where(seat, (n @ q < n @ p).astype(int), groups)
-    t = (q - p) / np.linalg.norm(q - p)
-    normal = np.array([-t[1], t[0]])
-    if normal @ n[-1] < 0:
-        normal = -normal
+    normal = face_normal(p, q, n[-1])
     return Face(float(math.atan2(normal[1], normal[0])), float(0.5 * normal @ (p + q)), p, q)
 
 
