@@ -109,10 +109,7 @@ def feel_flat(config, touch: FlatResult) -> tuple[kin.PadLine | None, str | None
     why it cannot be used or None, the recognizer's contact touch when usable, and the
     face (:func:`fit_face`) when fitted (module docstring)."""
     finger = touch.finger
-    lines = None
-    if touch.samples:
-        ticks = np.array([s.ticks for s in touch.samples], dtype=float)
-        lines = kin.finger_pad_line_from_ticks(config, finger, ticks)
+    lines = kin.PadLine.stack([s.line for s in touch.samples]) if touch.samples else None
 
     def out(problem, face=None):
         contact = None
