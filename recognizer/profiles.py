@@ -9,7 +9,9 @@ A profile says how much to touch and how hard to compute:
   curvature ρ that is ``ρ · roll_span/(samples − 1)`` mm of arc);
 - ``estimator``: recognizer.estimate method for κ, κ_s;
 - ``refine``: least squares over every sample after the invariants (recognizer.refine);
-- ``alpha``: false-rejection rate of each χ² consistency test.
+- ``alpha``: false-rejection rate of each χ² consistency test;
+- ``decisive_rel_sigma``: an exploration answers only once every shape parameter's standard
+  deviation is at most this fraction of its magnitude (tactile_jaw.decide.imprecision).
 
 The numbers come from ``tactile bench`` (docs/bench/bench.md): see docs/estimation.md
 ("Profiles") for which to pick.
@@ -44,6 +46,7 @@ class Profile:
     estimator: str
     refine: bool
     alpha: float = 1e-3
+    decisive_rel_sigma: float = 0.02
 
     def __post_init__(self) -> None:
         where = f"profile {self.name!r}"
@@ -57,6 +60,8 @@ class Profile:
             raise InputError(f"{where}: estimator must be one of {', '.join(ESTIMATORS)}, got {self.estimator!r}")
         if not 0.0 < self.alpha < 0.5:
             raise InputError(f"{where}: alpha must be in (0, 0.5), got {self.alpha}")
+        if not 0.0 < self.decisive_rel_sigma <= 0.5:
+            raise InputError(f"{where}: decisive_rel_sigma must be in (0, 0.5], got {self.decisive_rel_sigma}")
 
     @property
     def step_rad(self) -> float:
@@ -112,7 +117,8 @@ def robot_time_s(touches: int, samples: int, roll_span_deg: float, model: TimeMo
 PROFILES: dict[str, Profile] = {
     p.name: p
     for p in (
-        Profile("fast", touches=3, samples_per_touch=5, roll_span_deg=12.0, estimator="auto", refine=False),
+        Profile("fast", touches=3, samples_per_touch=5, roll_span_deg=12.0, estimator="auto", refine=False,
+                decisive_rel_sigma=0.05),
         Profile("balanced", touches=3, samples_per_touch=9, roll_span_deg=18.0, estimator="auto", refine=True),
         Profile("accurate", touches=5, samples_per_touch=15, roll_span_deg=24.0, estimator="auto", refine=True),
     )

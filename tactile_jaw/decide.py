@@ -10,6 +10,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from recognizer.classify import LIMIT_OF, chi2_limit
+from recognizer.profiles import DEFAULT_PROFILE, PROFILES
 from recognizer.result import Recognition
 from tactile_common.errors import InputError
 from tactile_jaw.settings import ExploreSettings
@@ -40,11 +41,11 @@ SUBMODELS = frozenset((answer, rival) for answer, rivals in LIMIT_OF.items() for
 #: one side and 16–17° on the other.
 VERTEX_SIDE_DEG = 20.0
 #: an answer is decisive only once every shape parameter's standard deviation is at most
-#: this fraction of its magnitude (of max(|p|, 1) for the dimensionless ``DIMENSIONLESS``),
-#: per profile (a run without one: balanced's). ``fast`` (5 samples over 12°) states a, b of
-#: the default and ellipse examples at ±3.1–3.7 % after its whole budget: at 2 % it refused
-#: both (24.5 / 23.3 s) and was slower than balanced; the user who picks it takes a looser answer
-DECISIVE_REL_SIGMA = {"fast": 0.05, "balanced": 0.02, "accurate": 0.02}
+#: the profile's ``decisive_rel_sigma`` of its magnitude (of max(|p|, 1) for the
+#: dimensionless ``DIMENSIONLESS``; a run without a profile: balanced's). ``fast`` (5 samples
+#: over 12°) states a, b of the default and ellipse examples at ±3.1–3.7 % after its whole
+#: budget: at 2 % it refused both (24.5 / 23.3 s) and was slower than balanced; the user who
+#: picks it takes a looser answer (5 %)
 DIMENSIONLESS = frozenset({("cubical_parabola", "c"), ("semicubical_parabola", "b")})
 
 RecognizeTouches = Callable[[Sequence[Any]], Recognition]
@@ -102,11 +103,11 @@ def vertex_sides(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray
 
 def imprecision(recognition: Recognition, profile: str | None = None) -> str | None:
     """Why the answer's shape parameters are not yet determined (a standard deviation above
-    the profile's ``DECISIVE_REL_SIGMA`` of the parameter's magnitude), or None. Touches that all see one
+    the profile's ``decisive_rel_sigma`` of the parameter's magnitude), or None. Touches that all see one
     short arc fit one class decisively yet leave its parameters loose (an ellipse from 30°
     of its boundary: a ±4 %, b ±9 %), and their errors along the pad are correlated, so such
     an answer can be off by far more than its stated deviation: explore on instead."""
-    rel = DECISIVE_REL_SIGMA.get(profile or "balanced", DECISIVE_REL_SIGMA["balanced"])
+    rel = PROFILES.get(profile or DEFAULT_PROFILE, PROFILES[DEFAULT_PROFILE]).decisive_rel_sigma
     loose = []
     for name, value in recognition.params.items():
         sd = recognition.uncertainty.get(name)
