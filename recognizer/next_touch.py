@@ -27,7 +27,9 @@ when its class gain is at least ``CLASS_GAIN_MIN`` nats or it shrinks the leader
 ``SHRINK_MIN`` while that σ is above ``REL_SIGMA_ENOUGH``; ``None`` when no place helps.
 Places: the leader's curve over its touched span widened by the span on each side (a closed
 curve all round), no farther than the touches' extent from the nearest touch, inside
-``options.reach`` when given.
+``options.reach`` when given (any object with ``contains(x, y, phi)``, phi the place's
+tangent in the touches' direction of travel: a hand-frame disk, recognizer.touches.Reach,
+or a robot's own reach, which depends on the orientation its pad must take there).
 """
 
 from __future__ import annotations
@@ -178,8 +180,9 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     if curve.t_period is None:
         near = np.min(np.hypot(px[:, None] - d.x[None, :], py[:, None] - d.y[None, :]), axis=1)
         keep &= near <= d.scale
-    if reach is not None:
-        keep &= reach.contains(px, py)
+    direction = travel_direction(curve, leader.pose, leader.t, d.phi)
+    if reach is not None:  # the place's tangent in the touches' direction of travel: a robot's reach may depend on it
+        keep &= reach.contains(px, py, phi + (np.pi if direction < 0 else 0.0))
     keep &= _touchable(curve, t, roll)
     if not keep.any():
         return None
@@ -223,7 +226,6 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     # place of largest gain (parameters)
     score = ig_class if float(np.max(ig_class)) >= CLASS_GAIN_MIN else gain
     j = int(np.argmax(np.where(helps, score, -np.inf)))
-    direction = travel_direction(leader.curve(), leader.pose, leader.t, d.phi)
     why = _why(leader, best_sep, j, ig_class[j], shrink[j], rel_now)
     return {"x": float(px[j]), "y": float(py[j]), "phi": float(wrap_angle(phi[j] + (np.pi if direction < 0 else 0.0))),
             "gain": float(gain[j]), "why": why}

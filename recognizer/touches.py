@@ -68,7 +68,8 @@ class Reach:
     y: float
     radius: float
 
-    def contains(self, px, py):
+    def contains(self, px, py, phi=None):
+        """Whether the points lie in the disk (the tangent angles ``phi`` do not matter to a disk)."""
         return np.hypot(np.asarray(px, float) - self.x, np.asarray(py, float) - self.y) <= self.radius
 
     def to_json(self) -> dict:

@@ -49,10 +49,28 @@ VERTEX_SIDE_DEG = 20.0
 DIMENSIONLESS = frozenset({("cubical_parabola", "c"), ("semicubical_parabola", "b")})
 
 RecognizeTouches = Callable[[Sequence[Any]], Recognition]
+#: what keeps an answer from being decisive (:class:`Why`): no class fits; a richer class
+#: fits significantly better; a rival fits as well; the answer changed with the last touch
+#: (or was not yet checked with one fewer); a parabola felt on one side of its vertex only;
+#: parameters not yet determined. The exploration picks its next touch by it (tactile_jaw.choose)
+KINDS = ("unclassified", "better", "rival", "unstable", "vertex", "imprecise")
+
+
+class Why(str):
+    """Why an answer is not decisive: the sentence for people, with its ``kind`` (``KINDS``)."""
+
+    kind: str
+
+    def __new__(cls, message: str, kind: str) -> "Why":
+        if kind not in KINDS:
+            raise ValueError(f"unknown kind of indecision {kind!r}")
+        out = super().__new__(cls, message)
+        out.kind = kind
+        return out
 
 
 def indecision(recognition: Recognition, shorter: Recognition | None, settings: ExploreSettings,
-               touched: tuple[np.ndarray, np.ndarray] | None = None) -> str | None:
+               touched: tuple[np.ndarray, np.ndarray] | None = None) -> Why | None:
     """Why a class answer is not yet decisive, or None when it is. ``recognition`` is on
     every usable touch, ``shorter`` on all but the last (None if too few), ``touched`` the
     touches' sample positions (x, y) (None: unknown). Decisive: (a) no
@@ -72,23 +90,25 @@ def indecision(recognition: Recognition, shorter: Recognition | None, settings: 
     for r in ranked:
         dk = best.dof - r.dof  # same observations: Δdof = Δ free parameters
         if dk > 0 and best.chi2 - r.chi2 > chi2_limit(alpha, dk):
-            return f"{r.cls} fits significantly better than {best.cls} (chi2 {r.chi2:.3g} vs {best.chi2:.3g})"
+            return Why(f"{r.cls} fits significantly better than {best.cls} (chi2 {r.chi2:.3g} vs {best.chi2:.3g})",
+                       "better")
     rivals = [r for r in ranked if r.cls != recognition.cls and r.chi2 - best.chi2 < DECISIVE_CHI2]
     others = [r for r in rivals if (recognition.cls, r.cls) not in SUBMODELS]
     if others:
         runner = min(others, key=lambda r: r.chi2)
-        return (f"{best.cls} (chi2 {best.chi2:.1f}) and {runner.cls} (chi2 {runner.chi2:.1f}) both "
-                f"fit, less than {DECISIVE_CHI2:g} apart: the touches cannot tell them apart")
+        return Why(f"{best.cls} (chi2 {best.chi2:.1f}) and {runner.cls} (chi2 {runner.chi2:.1f}) both "
+                   f"fit, less than {DECISIVE_CHI2:g} apart: the touches cannot tell them apart", "rival")
     if rivals and (shorter is None or shorter.cls != recognition.cls):
-        return (f"{best.cls} and {rivals[0].cls} both fit and the answer "
-                + ("changed with the last touch" if shorter is not None else "was not yet checked with one touch fewer"))
+        return Why(f"{best.cls} and {rivals[0].cls} both fit and the answer "
+                   + ("changed with the last touch" if shorter is not None else "was not yet checked with one touch fewer"),
+                   "unstable")
     richer = next((r for r in rivals if best.cls == "parabola" and (best.cls, r.cls) in SUBMODELS), None)
     if richer is not None:
         sides = vertex_sides(recognition, touched) if touched is not None else (0.0, 0.0)
         if min(sides) < VERTEX_SIDE_DEG:
-            return (f"{best.cls} and {richer.cls} both fit and the touches reach {sides[0]:.0f} and {sides[1]:.0f} deg "
-                    f"either side of the parabola's vertex (less than {VERTEX_SIDE_DEG:g} on one side, where an arc of "
-                    f"the {richer.cls} looks like a parabola's)")
+            return Why(f"{best.cls} and {richer.cls} both fit and the touches reach {sides[0]:.0f} and {sides[1]:.0f} "
+                       f"deg either side of the parabola's vertex (less than {VERTEX_SIDE_DEG:g} on one side, where an "
+                       f"arc of the {richer.cls} looks like a parabola's)", "vertex")
     return imprecision(recognition, settings.profile)
 
 
@@ -101,7 +121,7 @@ def vertex_sides(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray
     return max(-float(turn.min()), 0.0), max(float(turn.max()), 0.0)
 
 
-def imprecision(recognition: Recognition, profile: str | None = None) -> str | None:
+def imprecision(recognition: Recognition, profile: str | None = None) -> Why | None:
     """Why the answer's shape parameters are not yet determined (a standard deviation above
     the profile's ``decisive_rel_sigma`` of the parameter's magnitude), or None. Touches that all see one
     short arc fit one class decisively yet leave its parameters loose (an ellipse from 30°
@@ -117,7 +137,7 @@ def imprecision(recognition: Recognition, profile: str | None = None) -> str | N
         if not (math.isfinite(sd) and sd <= rel * ref):
             loose.append(f"{name} ±{100.0 * sd / ref:.2g} %" if ref > 0 and math.isfinite(sd) else f"{name} undetermined")
     if loose:
-        return f"{recognition.cls} parameters not yet within {100 * rel:g} %: {', '.join(loose)}"
+        return Why(f"{recognition.cls} parameters not yet within {100 * rel:g} %: {', '.join(loose)}", "imprecise")
     return None
 
 
@@ -126,17 +146,17 @@ def decide(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings
     answer on ``touches`` (and on all but the last, when it needs that)."""
     recognition = recognize_touches(touches)
     if recognition.cls == "unclassified":
-        return recognition, recognition.reason
+        return recognition, Why(recognition.reason or "no class fits", "unclassified")
     shorter = None
     if len(touches) > settings.min_touches:
         try:
             shorter = recognize_touches(touches[:-1])
         except InputError:
             shorter = None
-    return recognition, indecision(recognition, shorter, settings, _positions(touches))
+    return recognition, indecision(recognition, shorter, settings, sample_positions(touches))
 
 
-def _positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | None:
+def sample_positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | None:
     """Every sample position (x, y) of felt touches (tactile_jaw.pipeline.FeltTouch: a rolling
     touch's samples, a flat press's one contact); None for touches without samples."""
     samples = [getattr(t, "samples", None) for t in touches]
@@ -146,12 +166,16 @@ def _positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | None:
             np.concatenate([np.atleast_1d(np.asarray(s.y, float)) for s in samples]))
 
 
-def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings) -> Recognition:
+def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings,
+                 stopped: str | None = None) -> Recognition:
     """The answer on the usable touches once exploration ends: the recognizer's class when
-    it is decisive (:func:`decide`), else ``unclassified`` with the reason; a wrong class
-    said confidently is worse than a refusal. Replay uses this on the logged touches."""
+    it is decisive (:func:`decide`), else ``unclassified`` with the reason (and ``stopped``,
+    why exploration stopped before its budget was spent, tactile_jaw.choose) and the
+    recognizer's ``next_touch``; a wrong class said confidently is worse than a refusal.
+    Replay uses this on the logged touches (and the log's ``stopped_early`` event)."""
     recognition, why = decide(recognize_touches, touches, settings)
     if recognition.cls == "unclassified" or why is None:
         return recognition
-    return Recognition("unclassified", reason=f"not decisive after {len(touches)} usable touches: {why}",
-                       ranking=recognition.ranking, timing=recognition.timing)
+    reason = f"not decisive after {len(touches)} usable touches: {why}" + (f"; {stopped}" if stopped else "")
+    return Recognition("unclassified", reason=reason, ranking=recognition.ranking, timing=recognition.timing,
+                       next_touch=recognition.next_touch)

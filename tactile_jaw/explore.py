@@ -8,8 +8,10 @@ it (:func:`transit`). Every touch is felt once (tactile_jaw.pipeline.feel).
 
 After every round with at least ``settings.min_touches`` usable touches the recognizer
 runs on all of them; exploration stops as soon as its answer is decisive
-(tactile_jaw.decide) or when the touch budget is spent. While it is not, the next touch of
-the finger that can reach it goes where the recognizer's ``next_touch`` points (the other
+(tactile_jaw.decide), when the touch budget is spent, or when no touch within the pads'
+reach can help (tactile_jaw.choose). While it is not decisive, the next touch of the finger
+that can reach it goes where tactile_jaw.choose.next_aim points (beyond a parabola's vertex
+on its short side, else the recognizer's ``next_touch`` within the jaw's reach; the other
 finger's where the planner picks). Once it ends, the answer on the usable touches is the
 class if decisive, else ``unclassified`` with the reason. docs/exploration.md.
 """
@@ -27,7 +29,8 @@ from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
 from hand_driver.motion import FLAT_STEP_DEG, TouchResult, flat_press, move_line, move_to, roll_angles, rolling_touch
 from recognizer.result import Recognition
 from tactile_common.errors import InputError
-from tactile_jaw.decide import RecognizeTouches, decide, final_answer
+from tactile_jaw.choose import Aim, JawReach, next_aim
+from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat import recognized_touches
 from tactile_jaw.pipeline import FeltTouch, feel
 from tactile_jaw.plan import (
@@ -38,7 +41,6 @@ from tactile_jaw.plan import (
     PROBE_SPAN_DEG,
     ObjectModel,
     choose_psi,
-    feasible,
     nominal_psi,
     predicted_tangent,
     probe_face_contact,
@@ -50,8 +52,6 @@ from tactile_jaw.settings import ExploreSettings
 #: a finger whose last this many touches fell on corners or closing segments stops touching:
 #: its side of the object is not the curved part, and the touch budget goes to the others
 OFF_CURVE_RETIRE = 2
-#: a suggested next touch this near (mm) one already aimed at is not aimed at again
-AIM_AGAIN_MM = 1.0
 #: a transit turns along the workspace edge through pad lines at most this many degrees apart
 EDGE_TURN_STEP_DEG = 15.0
 #: flat presses (docs/exploration.md#lines-flat-presses), when no rolling touch was usable:
@@ -83,6 +83,7 @@ class Exploration:
     rounds: int = 0
     robot_time_s: float = 0.0
     answers: list[str] = field(default_factory=list)  # class after each recognition
+    stopped: str | None = None  # why exploration stopped before its budget was spent (tactile_jaw.choose)
     #: where the robot time went (s): probe and touch rounds (each including its transits),
     #: the transits alone (per round the slower finger's), the final retreat
     time_s: dict[str, float] = field(default_factory=lambda: dict.fromkeys(
@@ -181,17 +182,6 @@ def _memo(recognize_touches: RecognizeTouches) -> RecognizeTouches:
         return seen[key]
 
     return run
-
-
-def _aimed_finger(fingers, model: ObjectModel, settings: ExploreSettings, aim):
-    """The finger that can roll at the recognizer's ``next_touch`` (pad normal = its
-    tangent angle + 90°, the roll through its point feasible: tactile_jaw.plan.feasible),
-    nearest its zero-angle normal; None if none can or there is no suggestion."""
-    if aim is None:
-        return None
-    psi = aim["phi"] + math.pi / 2
-    ok = [f for f in fingers if feasible(f, model, psi, settings, aim=(aim["x"], aim["y"]))]
-    return min(ok, key=lambda f: abs(math.remainder(psi - nominal_psi(f), 2 * math.pi)), default=None)
 
 
 def _spent(out: Exploration) -> int:
@@ -333,23 +323,25 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                    probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
-    aim = None  # the recognizer's next_touch while its answer is not decisive
+    reach = JawReach(cfg, settings)
+    aim: Aim | None = None  # where the next touch goes while the answer is not decisive (tactile_jaw.choose)
     aimed_at: list[tuple[float, float]] = []
+    vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     while _spent(out) < settings.touches:
         if not out.used and len(out.touches) >= FLAT_AFTER_TOUCHES:
             say(f"none of {len(out.touches)} rolling touches was usable: no curved part within reach of the pads")
             break
-        plans, spent = {}, {}
+        plans, spent, aimed = {}, {}, None
         budget = settings.touches - _spent(out)
         active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]
-        aimed = _aimed_finger(active, model, settings, aim)
         for f in active:
             point = None
-            if f is aimed:
-                psi, point = aim["phi"] + math.pi / 2, (aim["x"], aim["y"])
+            if aim is not None and f.name == aim.finger:
+                psi, point, aimed = aim.psi, aim.point, aim
                 aimed_at.append(point)
-                say(f"{f.name}: next touch at ({aim['x']:.1f}, {aim['y']:.1f}) mm where the recognizer points: "
-                    f"{aim['why']}")
+                say(f"{f.name}: next touch at ({aim.x:.1f}, {aim.y:.1f}) mm, pad normal "
+                    f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, "
+                    f"{aim.why}")
             else:
                 psi = choose_psi(f, model, settings, used[f.name])
             if psi is None:
@@ -386,6 +378,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 emit({"type": "event", "kind": "touch_rejected", "message": problem, "touch": touch.touch})
             say(f"touch {len(out.touches)} ({_spent(out)}/{settings.touches} of the budget): {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
                 f"{len(touch.samples)} samples, {'used' if problem is None else 'not used: ' + problem}")
+            if aimed is not None and aimed.kind == "vertex" and name == aimed.finger and problem is not None:
+                vertex_missed = True
         if len(out.used) >= settings.min_touches:
             recognition, why = decide(recognize_touches, out.used, settings)
             out.recognition = recognition
@@ -393,9 +387,13 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(f"after {len(out.used)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
             if why is None:
                 break
-            aim = recognition.next_touch
-            if aim is not None and any(math.hypot(aim["x"] - x, aim["y"] - y) < AIM_AGAIN_MM for x, y in aimed_at):
-                aim = None  # touched there already: the planner's own choice instead
+            active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
+            aim, out.stopped = next_aim(recognition, why, sample_positions(out.used), reach, active, aimed_at,
+                                        vertex_missed)
+            if out.stopped is not None:
+                emit({"type": "event", "kind": "stopped_early", "message": out.stopped})
+                say(f"stopping after {len(out.used)} usable touches: {out.stopped}")
+                break
     if not out.used:  # no curved part felt: the faces, by flat presses
         _flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index)
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
@@ -409,7 +407,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         say(message)
     if out.used:
         try:  # the answer on every usable touch, a refusal unless decisive
-            out.recognition = final_answer(recognize_touches, out.used, settings)
+            out.recognition = final_answer(recognize_touches, out.used, settings, out.stopped)
             out.answers.append(out.recognition.cls)
         except InputError as exc:
             emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})

@@ -80,11 +80,12 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     from hand_driver.log import RunLog
     from hand_driver.cycle import Jaw
     from tactile_jaw.explore import explore
-    from tactile_jaw.pipeline import make_recognizer, workspace_reach
+    from tactile_jaw.choose import JawReach
+    from tactile_jaw.pipeline import make_recognizer
     from tactile_jaw.settings import NOISE_FROM_TOUCHES, ExploreSettings
 
     settings = ExploreSettings.from_profile(profile)
-    recognize_touches = make_recognizer(scene_mapping, settings, reach=workspace_reach(config))
+    recognize_touches = make_recognizer(scene_mapping, settings, reach=JawReach(config, settings))
     t0 = time.monotonic()
     log = None
     if log_path is not None:

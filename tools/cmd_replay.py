@@ -29,6 +29,7 @@ def run(args) -> int:
     # here, not at the top: tactile --help imports every command module (tools.cli), and these
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
     from hand_driver.log import read_log
+    from tactile_jaw.choose import JawReach
     from tactile_jaw.decide import final_answer
     from tactile_jaw.flat import is_flat
     from tactile_jaw.pipeline import logged_touches, make_recognizer, stated_noise, workspace_reach
@@ -57,8 +58,9 @@ def run(args) -> int:
     if not touches:
         raise InputError(f"{args.log}: no usable touch in the log ({len(contents.touches)} touches logged)")
     recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
-                                        reach=workspace_reach(config))
-    recognition = final_answer(recognize_touches, touches, settings).to_json()
+                                        reach=JawReach(config, settings))
+    stopped = next((e.get("message") for e in reversed(contents.events) if e.get("kind") == "stopped_early"), None)
+    recognition = final_answer(recognize_touches, touches, settings, stopped).to_json()
     if args.json:
         sys.stdout.write(json.dumps(recognition, allow_nan=False) + "\n")
         return 0

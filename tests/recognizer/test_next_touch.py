@@ -62,3 +62,29 @@ def test_contacts_only_answer_has_null_next_touch():
     req = parse_request(exact_request("ellipse", ELLIPSE, [0.36, 1.86, 4.23], POSE, False))
     out = recognize(req).to_json()
     assert out["class"] == "ellipse" and "next_touch" in out and out["next_touch"] is None
+
+
+class _Recording:
+    """A reach that depends on the place's tangent: it takes places whose tangent (in the
+    touches' direction of travel) lies within 60° of ``phi0``, and records what it was asked."""
+
+    def __init__(self, phi0):
+        self.phi0, self.asked = phi0, []
+
+    def contains(self, px, py, phi=None):
+        self.asked.append((np.asarray(px, float), np.asarray(py, float), np.asarray(phi, float)))
+        return np.cos(np.asarray(phi, float) - self.phi0) > 0.5
+
+
+@pytest.mark.parametrize("direction", [1, -1])
+def test_a_reach_that_depends_on_the_pads_orientation_gets_the_tangent_in_the_direction_of_travel(direction):
+    free = _request([0.2, 0.5, 0.8], direction).next_touch
+    reach = _Recording(free["phi"])
+    nt = _request([0.2, 0.5, 0.8], direction, reach=reach).next_touch
+    assert nt is not None and math.cos(nt["phi"] - free["phi"]) > 0.5
+    px, py, phi = reach.asked[0]
+    j = int(np.argmin(np.hypot(px - nt["x"], py - nt["y"])))
+    assert abs(math.remainder(phi[j] - nt["phi"], 2 * math.pi)) < 1e-9  # the phi the suggestion states
+    nowhere = _Recording(0.0)
+    nowhere.contains = lambda px, py, phi=None: np.zeros(np.shape(px), bool)
+    assert _request([0.2, 0.5, 0.8], direction, reach=nowhere).next_touch is None

@@ -32,7 +32,7 @@ def test_close_runner_up_is_not_decisive_even_when_stable():
     # an ellipse answer whose hyperbola rival fits alike, stably: neither is the other's limit
     r = rec("ellipse", ("ellipse", True, 25.6, 68, 458.7), ("hyperbola", True, 26.4, 68, 470.4))
     why = indecision(r, rec("ellipse", ("ellipse", True, 21.2, 50, 356.8)), SETTINGS)
-    assert why is not None and "ellipse" in why and "hyperbola" in why
+    assert why is not None and "ellipse" in why and "hyperbola" in why and why.kind == "rival"
 
 
 def _parabola_touched(turns_deg, a=8.0, pose=Pose(-math.pi / 2, 105.0, 12.0)):
@@ -64,7 +64,7 @@ def test_a_parabola_against_a_cubic_needs_both_sides_of_its_vertex():
     assert indecision(r, stable, SETTINGS, both) is None
     one = _parabola_touched(np.linspace(-47.0, VERTEX_SIDE_DEG - 4.0, 50))
     why = indecision(r, stable, SETTINGS, one)
-    assert why is not None and "vertex" in why and "semicubical_parabola" in why
+    assert why is not None and "vertex" in why and "semicubical_parabola" in why and why.kind == "vertex"
     assert indecision(r, stable, SETTINGS, None) is not None  # positions unknown: not decisive
     conic = Recognition("parabola", {"a": 8.0}, uncertainty={"a": 0.05}, pose=pose, ranking=[
         Ranked("parabola", True, 51.1, 140, 400.0, 0.5), Ranked("ellipse", True, 50.5, 139, 404.0, 0.5)])

@@ -1,0 +1,176 @@
+"""Which touch comes next while the answer is not decisive (docs/exploration.md#the-next-touch).
+
+:class:`JawReach` is where the jaw can make a rolling touch: a place on the boundary, with
+its tangent there, is touchable when some finger can roll its pad through the place over
+the profile's whole roll (tactile_jaw.plan.feasible), inside the workspace disk. Handed to
+the recognizer as ``options.reach``, it makes the recognizer's ``next_touch`` the most
+telling touch the jaw can really make. :func:`next_aim` picks the next touch from the
+reason the answer is not decisive (tactile_jaw.decide.Why):
+
+(a) a parabola felt on one side of its vertex only (``vertex``): a roll centred
+    ``VERTEX_SIDE_DEG`` of tangent turn beyond the vertex on the short side, the nearest
+    such centre a pad reaches (:func:`vertex_aim`); once one such touch fell off the
+    curved part (the object ends there) the vertex side is not aimed at again;
+(b) otherwise the recognizer's ``next_touch`` (already inside the jaw's reach), unless a
+    touch was aimed within ``AIM_AGAIN_MM`` of it (then the planner's own choice);
+(c) nothing reachable helps (no ``next_touch`` and no vertex aim) while the classes or the
+    parameters are in doubt: exploration stops with a reason a person can act on rather
+    than spend the budget on touches that cannot help. An answer that changed with the last
+    touch (``unstable``) needs one more touch anywhere: the planner's.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+from recognizer.curves import CURVES
+from recognizer.result import Recognition
+from recognizer.touches import Reach
+from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
+from tactile_jaw.plan import ObjectModel, feasible, nominal_psi
+from tactile_jaw.settings import ExploreSettings
+
+#: a suggested next touch this near (mm) one already aimed at is not aimed at again
+AIM_AGAIN_MM = 1.0
+#: roll centres tried beyond a parabola's vertex on its short side, every this many degrees
+#: of tangent turn
+VERTEX_AIM_STEP_DEG = 2.5
+
+
+@dataclass(frozen=True)
+class Aim:
+    """A touch aimed at the boundary point (x, y) mm whose tangent there is ``phi`` (rad, in
+    the touches' direction of travel), by ``finger``; ``why`` for people; ``kind`` 'vertex'
+    (:func:`vertex_aim`) or 'suggested' (the recognizer's ``next_touch``)."""
+
+    x: float
+    y: float
+    phi: float
+    finger: str
+    why: str
+    kind: str = "suggested"
+
+    @property
+    def psi(self) -> float:
+        """The pad's normal for this touch (the exploration's ψ = φ + π/2)."""
+        return self.phi + math.pi / 2
+
+    @property
+    def point(self) -> tuple[float, float]:
+        return self.x, self.y
+
+
+class JawReach:
+    """Where the jaw's pads can roll (module docstring); the recognizer's ``options.reach``."""
+
+    def __init__(self, config, settings: ExploreSettings):
+        ws = config.workspace
+        self.config = config
+        self.settings = settings
+        self.disk = Reach(float(ws.center_mm[0]), float(ws.center_mm[1]), float(ws.radius_mm))
+        self._model = ObjectModel(ws.center_mm, ws.radius_mm)  # nothing felt: only its workspace edge is used
+
+    def finger(self, x: float, y: float, phi: float, fingers: Sequence | None = None):
+        """The finger (of ``fingers``, default all) that can roll through (x, y) with its pad
+        normal at φ + π/2 nearest its zero-angle normal, or None."""
+        if not bool(self.disk.contains(x, y)):
+            return None
+        psi = phi + math.pi / 2
+        ok = [f for f in (self.config.fingers if fingers is None else fingers)
+              if feasible(f, self._model, psi, self.settings, aim=(x, y))]
+        return min(ok, key=lambda f: abs(math.remainder(psi - nominal_psi(f), 2 * math.pi)), default=None)
+
+    def contains(self, px, py, phi=None) -> np.ndarray:
+        """Whether a pad can roll through each place (x, y) with tangent φ; without φ, the disk."""
+        inside = np.atleast_1d(np.asarray(self.disk.contains(px, py), bool))
+        if phi is None:
+            return inside
+        px, py, phi = (np.broadcast_to(np.atleast_1d(np.asarray(v, float)), inside.shape) for v in (px, py, phi))
+        out = inside.copy()
+        for i in np.flatnonzero(inside):
+            out[i] = self.finger(float(px[i]), float(py[i]), float(phi[i])) is not None
+        return out
+
+    def to_json(self) -> dict:
+        """The workspace disk (a request file's ``options.reach`` holds only a disk)."""
+        return self.disk.to_json()
+
+
+def vertex_aim(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray], reach: JawReach,
+               fingers: Sequence | None = None) -> Aim | None:
+    """For a parabola answer felt on one side of its vertex: the touch rolling over
+    ``VERTEX_SIDE_DEG`` of tangent turn beyond the vertex on the short side
+    (tactile_jaw.decide.vertex_sides), its centre the nearest to VERTEX_SIDE_DEG + a quarter
+    roll a pad reaches (every ``VERTEX_AIM_STEP_DEG``, the roll's far end past
+    VERTEX_SIDE_DEG); None if no pad reaches any."""
+    sides = vertex_sides(recognition, touched)
+    short = 0 if sides[0] <= sides[1] else 1
+    sign = -1.0 if short == 0 else 1.0
+    half = 0.5 * math.degrees(reach.settings.roll_span_rad)
+    goal = VERTEX_SIDE_DEG + 0.5 * half
+    centres = np.arange(VERTEX_SIDE_DEG - half + VERTEX_AIM_STEP_DEG, VERTEX_SIDE_DEG + 2 * half + 1e-9,
+                        VERTEX_AIM_STEP_DEG)
+    curve = CURVES["parabola"]({"a": recognition.params["a"]})
+    pose = recognition.pose
+    for c in sorted(centres, key=lambda c: abs(c - goal)):
+        t = sign * math.tan(math.radians(c))
+        x, y = (float(np.ravel(v)[0]) for v in pose.apply(*curve.point(np.array([t]))))
+        # the pad faces the solid (the focus side): ψ = tangent − π/2, so φ = tangent − π
+        phi = float(np.ravel(curve.tangent_angle(np.array([t])))[0]) + pose.theta - math.pi
+        f = reach.finger(x, y, phi, fingers)
+        if f is not None:
+            return Aim(x, y, float(math.remainder(phi, 2 * math.pi)), f.name,
+                       f"beyond the parabola's vertex on the side felt only {sides[short]:.0f} deg (a roll centred "
+                       f"{c:.1f} deg past it)", "vertex")
+    return None
+
+
+def vertex_place(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray]) -> tuple[float, float, float]:
+    """(x, y, pad normal ψ deg) of the place ``VERTEX_SIDE_DEG`` past a parabola answer's vertex
+    on its short side: where a touch would have to go (for people)."""
+    sides = vertex_sides(recognition, touched)
+    t = (-1.0 if sides[0] <= sides[1] else 1.0) * math.tan(math.radians(VERTEX_SIDE_DEG))
+    curve = CURVES["parabola"]({"a": recognition.params["a"]})
+    x, y = (float(np.ravel(v)[0]) for v in recognition.pose.apply(*curve.point(np.array([t]))))
+    psi = float(np.ravel(curve.tangent_angle(np.array([t])))[0]) + recognition.pose.theta - math.pi / 2
+    return x, y, math.degrees(math.remainder(psi, 2 * math.pi))
+
+
+def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, fingers: Sequence,
+             aimed_at: Sequence[tuple[float, float]], vertex_missed: bool = False) -> tuple[Aim | None, str | None]:
+    """(the next touch's aim, or None for the planner's own choice; why no touch within reach
+    can help, or None) for an answer that is not decisive because of ``why`` (module
+    docstring). ``touched``: the usable touches' sample positions (x, y); ``aimed_at``: the
+    points touches were aimed at so far; ``vertex_missed``: a touch aimed beyond the vertex
+    fell off the curved part."""
+    vertex_blocked = None
+    if why.kind == "vertex" and touched is not None:
+        aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers)
+        if aim is not None and not _aimed_near(aim.point, aimed_at):
+            return aim, None
+        x, y, psi = vertex_place(recognition, touched)
+        vertex_blocked = ("the touch aimed beyond the vertex fell off the curved part (the object ends there)"
+                          if vertex_missed else "a touch was aimed beyond the vertex there already" if aim is not None
+                          else f"no pad can roll beyond the vertex on that side (near ({x:.0f}, {y:.0f}) mm, pad "
+                          f"normal {psi:.0f} deg)")
+    suggested = recognition.next_touch
+    if suggested is not None:
+        f = reach.finger(suggested["x"], suggested["y"], suggested["phi"], fingers)
+        if f is not None:
+            aim = Aim(float(suggested["x"]), float(suggested["y"]), float(suggested["phi"]), f.name,
+                      f"where the recognizer points: {suggested.get('why', '')}")
+            return (None if _aimed_near(aim.point, aimed_at) else aim), None
+    if why.kind in ("unstable", "unclassified"):
+        return None, None  # one more touch anywhere: the planner's
+    what = ("narrow the parameters" if why.kind == "imprecise" else "tell the classes apart")
+    return None, (f"no touch within the pads' reach is expected to {what}"
+                  + (f" ({vertex_blocked})" if vertex_blocked else "")
+                  + ": move or turn the object so that more of its curved part faces a finger")
+
+
+def _aimed_near(point, aimed_at) -> bool:
+    return any(math.hypot(point[0] - x, point[1] - y) < AIM_AGAIN_MM for x, y in aimed_at)

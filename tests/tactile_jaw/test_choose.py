@@ -1,0 +1,95 @@
+"""Which touch comes next (tactile_jaw.choose): the jaw's reach as the pads really roll,
+the touch beyond a parabola's vertex on its short side, the recognizer's suggestion, and
+stopping with a reason when nothing within reach can help."""
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from hand_driver.config import load_config
+from recognizer.curves import CURVES, Pose
+from recognizer.result import Ranked, Recognition
+from tactile_jaw.choose import JawReach, next_aim, vertex_aim
+from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
+from tactile_jaw.plan import ObjectModel, feasible
+from tactile_jaw.settings import ExploreSettings
+
+ROOT = Path(__file__).resolve().parents[2]
+CONFIG = load_config(ROOT / "config" / "jaw.yaml")
+SETTINGS = ExploreSettings.from_profile("balanced")
+REACH = JawReach(CONFIG, SETTINGS)
+#: the parabola example (config/scenes/parabola.yaml): vertex facing the left finger
+PARABOLA = Recognition("parabola", {"a": 8.0}, pose=Pose(-math.pi / 2, 105.0, 12.0), uncertainty={"a": 0.05},
+                       ranking=[Ranked("parabola", True, 51.1, 140, 400.0, 0.5),
+                                Ranked("ellipse", True, 50.5, 139, 404.0, 0.5)])
+
+
+def _touched(turns_deg):
+    t = np.tan(np.radians(turns_deg))
+    return PARABOLA.pose.apply(*CURVES["parabola"](PARABOLA.params).point(t))
+
+
+def test_the_jaws_reach_depends_on_the_pads_orientation():
+    # the parabola example's vertex (105, 12): the left pad rolls there facing down (ψ = −90°,
+    # φ = ψ − 90°); no pad can face +x there (ψ = 0), and nothing outside the workspace disk
+    x, y = 105.0, 12.0
+    assert REACH.contains(x, y, -math.pi).tolist() == [True]
+    assert REACH.finger(x, y, -math.pi).name == "left"
+    assert REACH.contains(x, y, -math.pi / 2).tolist() == [False]
+    assert REACH.contains([x, 110.0 + 46.0], [y, 0.0], [-math.pi, -math.pi]).tolist() == [True, False]
+    assert REACH.contains(x, y).tolist() == [True]  # no tangent given: the disk
+    model = ObjectModel(CONFIG.workspace.center_mm, CONFIG.workspace.radius_mm)
+    assert feasible(CONFIG.fingers[0], model, -math.pi / 2, SETTINGS, aim=(x, y))  # the planner's own test
+
+
+def test_the_touch_beyond_the_vertex_goes_to_the_short_side_within_reach():
+    touched = _touched(np.linspace(-47.0, 12.0, 40))  # 47° on one side, 12° on the other
+    aim = vertex_aim(PARABOLA, touched, REACH)
+    assert aim is not None and aim.kind == "vertex" and aim.finger == "left"
+    # on the answered parabola, on the short (+t) side, rolling past VERTEX_SIDE_DEG
+    cx, cy = PARABOLA.pose.inverse(aim.x, aim.y)
+    a = PARABOLA.params["a"]
+    assert math.isclose(cx, cy**2 / (4 * a), abs_tol=1e-9)
+    turn = math.degrees(math.atan(cy / (2 * a)))
+    half = 0.5 * math.degrees(SETTINGS.roll_span_rad)
+    assert turn > 0 and turn + half >= VERTEX_SIDE_DEG and turn <= VERTEX_SIDE_DEG + 2 * half + 1e-9
+    # the pad faces the solid (the focus side): ψ = the tangent − 90°
+    tangent = math.atan2(1.0, cy / (2 * a)) + PARABOLA.pose.theta
+    assert abs(math.remainder(aim.psi - (tangent - math.pi / 2), 2 * math.pi)) < 1e-9
+    assert REACH.finger(aim.x, aim.y, aim.phi).name == "left"
+    assert vertex_aim(PARABOLA, touched, REACH, fingers=[CONFIG.fingers[1]]) is None  # the right pad cannot
+
+
+def _why(kind):
+    return Why(f"a {kind} reason", kind)
+
+
+def test_next_aim_follows_the_reason_and_stops_when_nothing_within_reach_helps():
+    touched = _touched(np.linspace(-47.0, 12.0, 40))
+    fingers = list(CONFIG.fingers)
+    # (a) the vertex side first
+    aim, stop = next_aim(PARABOLA, _why("vertex"), touched, REACH, fingers, [])
+    assert aim is not None and aim.kind == "vertex" and stop is None
+    # (b) the recognizer's suggestion when it is reachable, not twice at the same place
+    reachable = {"x": 105.0, "y": 12.0, "phi": -math.pi, "gain": 1.0, "why": "tells parabola from ellipse"}
+    suggesting = Recognition("parabola", PARABOLA.params, pose=PARABOLA.pose, next_touch=reachable)
+    aim, stop = next_aim(suggesting, _why("rival"), touched, REACH, fingers, [])
+    assert (aim.x, aim.y, aim.finger, aim.kind, stop) == (105.0, 12.0, "left", "suggested", None)
+    assert next_aim(suggesting, _why("rival"), touched, REACH, fingers, [(105.2, 12.3)]) == (None, None)
+    # (c) nothing reachable: the planner's touch when the answer only needs checking, else stop
+    unreachable = Recognition("parabola", PARABOLA.params, pose=PARABOLA.pose,
+                              next_touch={**reachable, "phi": -math.pi / 2})
+    assert next_aim(unreachable, _why("unstable"), touched, REACH, fingers, []) == (None, None)
+    for kind, what in (("rival", "tell the classes apart"), ("imprecise", "narrow the parameters")):
+        aim, stop = next_aim(unreachable, _why(kind), touched, REACH, fingers, [])
+        assert aim is None and what in stop and "move or turn the object" in stop
+    # the vertex side once missed (the object ends there): not aimed at again, and said so
+    aim, stop = next_aim(PARABOLA, _why("vertex"), touched, REACH, fingers, [], vertex_missed=True)
+    assert aim is None and "fell off the curved part" in stop
+
+
+def test_why_carries_its_kind():
+    why = Why("parabola parameters not yet within 2 %", "imprecise")
+    assert why == "parabola parameters not yet within 2 %" and why.kind == "imprecise"
+    assert np.allclose(vertex_sides(PARABOLA, _touched([-30.0, 25.0])), (30.0, 25.0))
