@@ -188,6 +188,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--finite", type=int, default=0, metavar="N",
                     help="instead: N random finite objects per class, drawn from config/scenes/<class>.yaml")
     ap.add_argument("--keep", default=None, help="directory for the scenes and logs (default: a temporary one)")
+    ap.add_argument("--classes", nargs="+", choices=CLASSES, default=None, metavar="CLASS",
+                    help="with --finite: run only these classes' objects (the same objects, numbered as in a "
+                         "run of every class with the same seed)")
     args = ap.parse_args(argv)
     from hand_driver.config import load_config
     from hand_driver.sim.physics import ContactWorld
@@ -216,6 +219,8 @@ def main(argv: list[str] | None = None) -> int:
         path = work / f"rand{len(scenes)}.yaml"
         path.write_text(yaml.safe_dump(mapping))
         scenes.append((path, obj))
+    numbers = [k for k, (_, obj) in enumerate(scenes) if args.classes is None or obj["class"] in args.classes]
+    scenes = [scenes[k] for k in numbers]
     with ThreadPoolExecutor(args.jobs) as pool:
         results = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), args.profile), scenes))
     chi2_columns = [] if args.chi2 is None else ["stated"] + [f"pos {p:g}" for p in args.chi2]
@@ -233,7 +238,7 @@ def main(argv: list[str] | None = None) -> int:
         right += ok
         verdict = "yes" if ok else ("refused" if rec is None or rec["class"] == "unclassified" else "**WRONG**")
         robot = f"{res['robot_s']:.1f} s" if res.get("robot_s") is not None else "—"
-        row = (f"| {k} | {desc} | {answer} | {verdict} | {param_error(obj, rec) if rec else '—'} | "
+        row = (f"| {numbers[k]} | {desc} | {answer} | {verdict} | {param_error(obj, rec) if rec else '—'} | "
                f"{res.get('used')}/{res.get('tried')} | {robot} | {res['wall_s']:.1f} s |")
         if args.chi2 is not None:
             ps = true_chi2(path.with_suffix(".log"), obj, args.chi2)
