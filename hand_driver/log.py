@@ -11,7 +11,7 @@ happened:
   the header, ``i`` counting readings from 0; joint order is the config's (left finger's
   joints, then the right finger's).
 - ``{"type": "touch_start", "touch": k, "finger": name, "psi": rad, "reading": i}`` —
-  with ``"kind": "flat"`` for a flat press (hand_driver.motion.flat_press; default "roll")
+  with ``"kind": "flat"`` for a flat press (hand_driver.flat_press; default "roll")
 - ``{"type": "sample", "touch": k, "finger": name, "psi": rad, "reading": i}`` — reading
   ``i`` is an in-contact reading of touch ``k``: the pad line it gives is one sample of
   the rolling move.

@@ -1,8 +1,5 @@
 """Guarded touches and rolling moves: the motions a finger runs, one bus cycle at a time.
 
-(Just over 400 lines: the flat press's support geometry — seat_split, line_point — is
-used only by it and stays beside it.)
-
 A motion is a generator that yields the finger's next goal joint angles (or ``None`` to
 hold) and receives each cycle's reading; hand_driver.cycle.run_together steps one motion
 per finger in shared cycles, both fingers at once.
@@ -25,9 +22,10 @@ pad by inverse kinematics, the solution nearest the present joint angles.
   pad end or a pad that does not turn ends the touch; after the last sample the pad backs
   off ``backoff_mm``. The in-contact pad lines give the contacts by their envelope
   (hand_driver.kinematics.touch_from_pad_lines).
-- **Flat press** (:func:`flat_press`, docs/driver.md#flat-press): on a straight face, where
-  a pad cannot roll, guarded approaches turned in steps until the pad lines rest on two
-  supports of the face, then presses at the seat's orientation.
+- **Flat press** (hand_driver.flat_press, docs/driver.md#flat-press): on a straight face,
+  where a pad cannot roll, guarded approaches turned in steps toward where the pad would
+  lie flat until its lines rest on two supports of the face, then presses there; built
+  from these motions.
 - Both fingers run these at once in the same cycles: each finger's contact is judged on
   its own joints' currents and motion only.
 """
@@ -191,7 +189,7 @@ def roll_angles(psi_center: float, span_rad: float, samples: int) -> np.ndarray:
     return psi_center + np.linspace(-0.5 * span_rad, 0.5 * span_rad, samples)
 
 
-def _turn_to(jaw: Jaw, finger: str, psi: float, d_from: float) -> Motion:
+def turn_to(jaw: Jaw, finger: str, psi: float, d_from: float) -> Motion:
     """Move the pad (backed off its contact) to the line (ψ, ``d_from``); when the object
     was in the way of the turn, back off ``motion.backoff_mm`` further and turn again.
     Returns the offset the pad reached ψ at."""
@@ -250,7 +248,7 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
             unsure = 0.5 * length if u is None else 0.0
             clearance = ROLL_CLEARANCE_MM + unsure * abs(psi - result.samples[-1].psi)
             planned = float(_unit(psi) @ pivot) - clearance
-            d_from = yield from _turn_to(jaw, finger, psi, planned)
+            d_from = yield from turn_to(jaw, finger, psi, planned)
             reach = 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + (planned - d_from)
         if result.samples and result.outcome in ("ok", "edge"):  # the pad is in contact: back off
             last = result.samples[-1]
@@ -276,182 +274,3 @@ def contact_on_pad(samples: list[Sample]) -> tuple[np.ndarray, float | None]:
         return mid, None
     p = np.linalg.solve(a, np.array([float(last.d), float(prev.d)]))
     return p, float(last.pad_coordinate(p))
-
-
-# ------------------------------------------------------------------------------ flat press
-
-#: a flat press (:func:`flat_press`) turns the pad in steps of this many degrees between
-#: its guarded approaches, and at most FLAT_MAX_TURN_DEG from where it started. An arc that
-#: offers two supports ℓ apart bulges ~ℓ·Δψ/8 between them, Δψ ≥ 3 steps: with 3° steps
-#: arcs of radius 100–1000 mm stopped seated presses 0.25–0.98 mm early (2° steps: from
-#: 0.15 mm, within the encoders' scatter of a flat seat)
-FLAT_STEP_DEG = 3.0
-FLAT_MAX_TURN_DEG = 24.0
-#: a pad line passes through a support point when the point is within this (mm) of it;
-#: the mean of a press's seated stops must be this close to where its two supports say
-#: (tactile_jaw.flat): on 32 presses of the emulated jaw's line example 0.043 mm rms, at
-#: most 0.124 (single stops 0.06 rms, at most 0.22); arcs of radius 100–1000 mm that
-#: offered two supports stopped them 0.30–0.93 mm early on average (docs/driver.md#flat-press)
-SEAT_TOL_MM = 0.2
-#: the two supports of a seat are at least this fraction of the pad's length apart
-FACE_MIN_FRACTION = 0.35
-#: the seated presses, at the seat's orientation ψ_f plus these (deg): re-pressing at a
-#: slightly different goal reads the same seat through different encoder roundings
-SEAT_PRESSES_DEG = (0.0, -0.1, 0.1)
-
-
-@dataclass
-class FlatResult(TouchResult):
-    """One flat press: every guarded approach's sample with its role — ``P`` (the pad
-    rested on the first support), ``Q`` (on the second), ``seat`` (a press at the seat's
-    orientation), ``scan`` (none of these) — and the supports found (hand frame, mm)."""
-
-    roles: list[str] = field(default_factory=list)
-    supports: tuple[np.ndarray, np.ndarray] | None = None
-    kind: str = "flat"
-
-
-def line_point(lines: list[kin.PadLine]) -> tuple[np.ndarray, float]:
-    """The point nearest every pad line (least squares, ≥ 2 lines of distinct ψ) and the
-    largest distance (mm) from it to one of them."""
-    a = np.array([ln.normal for ln in lines], dtype=float)
-    b = np.array([float(ln.d) for ln in lines])
-    p = np.linalg.lstsq(a, b, rcond=None)[0]
-    return p, float(np.max(np.abs(a @ p - b)))
-
-
-def face_normal(p: np.ndarray, q: np.ndarray, toward: np.ndarray) -> np.ndarray:
-    """Unit outward normal of the face through supports ``p`` and ``q``: of the line PQ's
-    two normals, the one along ``toward`` (a pad line's normal)."""
-    t = (q - p) / np.linalg.norm(q - p)
-    normal = np.array([-t[1], t[0]])
-    return -normal if normal @ toward < 0 else normal
-
-
-def seat_split(lines: list[kin.PadLine], tol_mm: float = SEAT_TOL_MM) -> tuple[list[int], np.ndarray, np.ndarray] | None:
-    """Where pad lines in order of turn rest on two supports: the lines through P (the
-    first ≥ 3), those through Q (the last ≥ 3), every line within ``tol_mm`` of its
-    point, with the smallest such residual; as (the group of each line, 0 for P, 1 for
-    Q, −1 for a line close to the seat that passes through both), P, Q; None if there is
-    no such split. The support function of a flat face is min(n·P, n·Q): it kinks where
-    the pad lies flat. The split must be unambiguous: the last line of P misses Q and the
-    first line of Q misses P by more than ``tol_mm``; at most one line between them."""
-    best = None
-    for k in range(3, len(lines) - 2):
-        for gap in (0, 1):
-            if len(lines) - k - gap < 3:
-                continue
-            p, rp = line_point(lines[:k])
-            q, rq = line_point(lines[k + gap:])
-            worst = max(rp, rq)
-            first, last = lines[k + gap], lines[k - 1]
-            apart = min(abs(float(last.normal @ q - last.d)), abs(float(first.normal @ p - first.d)))
-            if worst <= tol_mm < apart and (best is None or worst < best[0]):
-                best = (worst, [0] * k + [-1] * gap + [1] * (len(lines) - k - gap), p, q)
-    return None if best is None else best[1:]
-
-
-def _tail_start(lines: list[kin.PadLine], tol_mm: float = SEAT_TOL_MM) -> int:
-    """Index of the first line of the longest run at the end of ``lines`` through one
-    point (a run of ≥ 3 lines; len(lines) if there is none)."""
-    start = len(lines)
-    for k in range(len(lines) - 3, -1, -1):
-        if line_point(lines[k:])[1] > tol_mm:
-            break
-        start = k
-    return start
-
-
-def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, turn_sign: float, d_start: float,
-               travel_mm: float, on_event: Callable[[dict], None] | None = None) -> Motion:
-    """Seat the pad flat on a face of the object and press it there (docs/driver.md#flat-press).
-
-    A guarded approach at ``psi_start`` from ``d_start`` (at most ``travel_mm``) meets the
-    face at one support (a pad end resting on it, or a corner of the face under the pad);
-    the pad then turns by ``turn_sign`` · FLAT_STEP_DEG about its middle (backed off,
-    guarded re-approach, as a rolling touch) while its lines pass through that support P.
-    The support function d(ψ) — what the encoders measure at each stop — is min(n·P, n·Q)
-    over a flat face: once two lines pass through a second support Q at least
-    FACE_MIN_FRACTION of the pad away (:func:`seat_split`), the face is the line PQ and the
-    pad is pressed at its normal ψ_f (and at ψ_f + SEAT_PRESSES_DEG): those presses are
-    seated when their pad lines pass through P and Q within SEAT_TOL_MM. A curved
-    boundary moves the contact along the pad steadily (a radius R moves it R·Δψ per step)
-    and its arc bulges between two supports: it never seats, and the press ends
-    ``no_seat`` after FLAT_MAX_TURN_DEG. Nothing of the scene is read: only the servos'
-    positions and currents, as in :func:`guarded_approach`."""
-    m = jaw.config.motion
-    emit = on_event or (lambda rec: None)
-    length = jaw.config.finger(finger).pad.length_mm
-    step = math.copysign(math.radians(FLAT_STEP_DEG), turn_sign)
-    result = FlatResult(finger, touch, psi_start)
-    emit({"type": "touch_start", "touch": touch, "finger": finger, "psi": float(psi_start), "kind": "flat",
-          "reading": jaw.log_index()})
-
-    def take(approach: ApproachResult, psi: float, role: str) -> bool:
-        if approach.contact is None:
-            result.outcome = approach.reason
-            result.message = (f"{finger}: no contact within the approach at psi={math.degrees(psi):.1f} deg"
-                              if approach.reason == "no_contact" else f"{finger}: flat press: {approach.reason}")
-            return False
-        result.samples.append(approach.contact)
-        result.roles.append(role)
-        emit({"type": "sample", "touch": touch, "finger": finger, "psi": psi,
-              "reading": approach.contact.reading, "by": approach.reason})
-        return True
-
-    try:
-        yield from move_line(jaw, finger, psi_start, d_start)
-        if not take((yield from guarded_approach(jaw, finger, psi_start, d_start, travel_mm)), psi_start, "scan"):
-            return result
-        steps, split = [0], None  # each sample's turn from psi_start, in steps
-        most = round(FLAT_MAX_TURN_DEG / FLAT_STEP_DEG)
-        while split is None:
-            if max(steps) - min(steps) >= most:
-                result.outcome = "no_seat"
-                result.message = (f"{finger}: turned {FLAT_MAX_TURN_DEG:g} deg about psi={math.degrees(psi_start):.1f} "
-                                  f"deg without the pad seating: no flat face there")
-                return result
-            order = np.argsort(steps)
-            # the pad crossed the seat before its third line: add lines on the other side
-            tail = _tail_start([result.samples[i].line for i in order])
-            low = 0 < tail < 3 and tail <= len(steps) - 3
-            k = min(steps) - 1 if low else max(steps) + 1
-            psi = psi_start + k * step
-            if not take((yield from _press(jaw, finger, psi)), psi, "scan"):
-                return result
-            steps.append(k)
-            order = np.argsort(steps)
-            found = seat_split([result.samples[i].line for i in order])
-            if found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * length:
-                split = found
-        groups, p, q = split
-        for group, i in zip(groups, order):
-            result.roles[i] = ("scan", "P", "Q")[group + 1]
-        result.supports = (p, q)
-        normal = face_normal(p, q, result.samples[-1].line.normal)
-        psi_f = math.atan2(normal[1], normal[0])
-        for extra in SEAT_PRESSES_DEG:
-            a = psi_f + math.radians(extra)
-            if not take((yield from _press(jaw, finger, a)), a, "seat"):
-                return result
-        last = result.samples[-1]
-        yield from move_line(jaw, finger, last.psi, last.d - m.backoff_mm)
-    except kin.Unreachable as exc:
-        result.outcome, result.message = "unreachable", str(exc)
-    finally:
-        emit({"type": "touch_end", "touch": touch, "finger": finger, "reading": jaw.log_index(),
-              "samples": len(result.samples), "outcome": result.outcome, "roles": list(result.roles)})
-    return result
-
-
-def _press(jaw: Jaw, finger: str, psi: float) -> Motion:
-    """From the pad's last contact: back off ROLL_CLEARANCE_MM plus what turning to ψ
-    about the pad's middle can sweep, turn, guarded approach."""
-    m = jaw.config.motion
-    here = jaw.pad_line(jaw.last_state, finger)
-    turn = abs(math.remainder(psi - float(here.psi), 2 * math.pi))
-    middle = 0.5 * (here.proximal + here.distal)
-    clearance = ROLL_CLEARANCE_MM + 0.5 * jaw.config.finger(finger).pad.length_mm * turn
-    yield from move_line(jaw, finger, float(here.psi), float(here.d) - ROLL_CLEARANCE_MM)
-    d_from = yield from _turn_to(jaw, finger, psi, float(_unit(psi) @ middle) - clearance)
-    return (yield from guarded_approach(jaw, finger, psi, d_from, 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + m.backoff_mm))

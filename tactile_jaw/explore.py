@@ -26,7 +26,8 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
-from hand_driver.motion import FLAT_STEP_DEG, TouchResult, flat_press, move_line, move_to, roll_angles, rolling_touch
+from hand_driver.flat_press import FLAT_STEP_DEG, flat_press
+from hand_driver.motion import TouchResult, move_line, move_to, roll_angles, rolling_touch
 from recognizer.result import Recognition
 from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, next_aim
@@ -55,16 +56,16 @@ OFF_CURVE_RETIRE = 2
 #: a transit turns along the workspace edge through pad lines at most this many degrees apart
 EDGE_TURN_STEP_DEG = 15.0
 #: flat presses (docs/exploration.md#lines-flat-presses), when no rolling touch was usable:
-#: a finger's first one starts this many degrees before its pad's nominal normal (the
-#: object turned by up to ±10° still seats within the press's 24° turn); a later one
-#: FLAT_RESTART_STEPS turn steps before the face's normal it found, from FLAT_RESTART_MM
-#: outside it; at most settings.min_touches + FLAT_SPARE rounds; a finger stops after
-#: FLAT_TRIES presses that did not seat (one miss can be the encoders' rounding: a seated
-#: press of the line example moved 3 mm stopped 0.22 mm off, over the 0.2 mm tolerance).
+#: a finger's first one starts at its pad's nominal normal (the press turns toward the
+#: seat from there, hand_driver.flat_press); a later one FLAT_RESTART_STEPS turn steps
+#: before the face's normal it found, from FLAT_RESTART_MM outside it; at most
+#: settings.min_touches + FLAT_SPARE rounds; a finger stops after FLAT_TRIES presses that
+#: did not seat (one miss can be the encoders' rounding: a seated press of the line
+#: example moved 3 mm stopped 0.22 mm off, over the 0.2 mm tolerance; the retry starts
+#: half a step further on, other stops, other roundings).
 #: The rolling touches give way to flat presses once FLAT_AFTER_TOUCHES of them were
 #: tried and none was usable (every one on a corner, a pad end or across a face: the line
 #: example turned −5° spent 8 rolling touches, 54 s of robot time, before)
-FLAT_SEARCH_DEG = 10.0
 FLAT_RESTART_STEPS = 2.5
 FLAT_RESTART_MM = 3.0
 FLAT_SPARE = 2
@@ -203,14 +204,13 @@ def _timed(jaw: Jaw, plans: dict, spent: dict[str, float], time_s: dict[str, flo
 
 def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, touch_index: int, emit,
                spent: dict[str, float]):
-    """One flat press of ``finger``: the first from the workspace edge (after a transit),
-    FLAT_SEARCH_DEG before the pad's nominal normal; a later one close to the ``face`` it
-    seated on (module constants); after ``misses`` presses that did not seat, half a step
-    earlier each (other stops, other encoder roundings). Returns the FlatResult (or a
-    TouchResult if the transit could not go on)."""
+    """One flat press of ``finger``: the first from the workspace edge (after a transit)
+    at the pad's nominal normal; a later one close to the ``face`` it seated on (module
+    constants); after ``misses`` presses that did not seat, half a step further on each.
+    Returns the FlatResult (or a TouchResult if the transit could not go on)."""
     step = math.radians(FLAT_STEP_DEG)
     if face is None:
-        start = nominal_psi(jaw.config.finger(finger)) - math.radians(FLAT_SEARCH_DEG) - 0.5 * misses * step
+        start = nominal_psi(jaw.config.finger(finger)) + 0.5 * misses * step
         problem = yield from _transit_or_problem(jaw, finger, model, start, spent)
         if problem is not None:
             return TouchResult(finger, touch_index, start, outcome="unreachable", message=problem)
@@ -222,7 +222,8 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
         n = np.array([math.cos(start), math.sin(start)])
         d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
         travel = 2.0 * FLAT_RESTART_MM
-    return (yield from flat_press(jaw, finger, touch_index, start, 1.0, d_start, travel, on_event=emit))
+    return (yield from flat_press(jaw, finger, touch_index, start, 1, d_start, travel, toward=model.workspace_center,
+                                  on_event=emit))
 
 
 def _flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: Exploration,

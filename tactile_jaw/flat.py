@@ -1,6 +1,6 @@
 """Flat-press touches: a pad seated on a straight face, as the recognizer's touch.
 
-A flat press (hand_driver.motion.flat_press) leaves pad lines resting on a first support
+A flat press (hand_driver.flat_press) leaves pad lines resting on a first support
 P, pad lines resting on a second support Q, and presses at the seat's orientation.
 :func:`feel_flat` fits the face through both supports to all of them at once — each
 line's offset is min(n·P, n·Q), the support function of a straight face between P and Q
@@ -30,7 +30,7 @@ from typing import Sequence
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.motion import FACE_MIN_FRACTION, SEAT_TOL_MM, FlatResult, face_normal
+from hand_driver.flat_press import FACE_MIN_FRACTION, SEAT_TOL_MM, FlatResult, face_normal
 from recognizer.touches import ContactTouch
 from tactile_common.angles import wrap_angle
 

@@ -17,7 +17,8 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.motion import EDGE_MARGIN_MM, FlatResult, Sample, TouchResult
+from hand_driver.flat_press import FlatResult
+from hand_driver.motion import EDGE_MARGIN_MM, Sample, TouchResult
 from recognizer.classify import chi2_limit, recognize
 from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene

@@ -1,5 +1,5 @@
 """Flat presses: the emulator's pad on a straight face against exact geometry, and the
-primitive (hand_driver.motion.flat_press) on the emulated bus through the real SDK: it
+primitive (hand_driver.flat_press) on the emulated bus through the real SDK: it
 seats on the line example's face, logs what replay needs, and never seats on a curve."""
 
 from __future__ import annotations
@@ -12,7 +12,18 @@ import pytest
 from hand_driver import kinematics as kin
 from hand_driver.cycle import run_together
 from hand_driver.log import RunLog, read_log
-from hand_driver.motion import SEAT_TOL_MM, flat_press, move_line
+from hand_driver.flat_press import (
+    FACE_MIN_FRACTION,
+    FLAT_MAX_TURN_DEG,
+    FLAT_STEP_DEG,
+    SEAT_TOL_MM,
+    face_normal,
+    flat_press,
+    lowering_turn,
+    next_step,
+    seat_split,
+)
+from hand_driver.motion import move_line
 from hand_driver.sim.physics import ContactWorld
 from recognizer.scene import load_scene
 from tactile_jaw.pipeline import feel, logged_touches
@@ -120,3 +131,115 @@ def test_a_curve_never_seats(scene):
     assert felt.problem is not None and felt.samples is None
     assert result.outcome == "no_seat" or "not a face" in felt.problem
     assert SEAT_TOL_MM < 1.0 / 3
+
+
+def _block_turned(turn_deg: float):
+    """The line example's block turned by ``turn_deg`` about its top face's middle (105, 10):
+    the top face's outward normal at 90° + turn, a seated left pad's normal at −90° + turn."""
+    return load_scene({"name": "turned block", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": math.radians(turn_deg), "x": 105.0, "y": 10.0},
+        "extent": [-25.0, 25.0], "closure": [[25.0, -20.0], [-25.0, -20.0]]}})
+
+
+def _stop(world: ContactWorld, finger, psi: float) -> kin.PadLine | None:
+    """Where a guarded approach at ψ stops: the first pad line of normal ψ (within the
+    joint limits) that touches the object, to 1e-9 mm; None if none within reach."""
+    def pen(d):
+        try:
+            return world.penetrates(np.concatenate([kin.ik_line(finger, psi, d), np.zeros(2)]), [0])
+        except kin.Unreachable:
+            return None
+
+    d = _edge(psi)
+    while pen(d) is None and d < _edge(psi) + 45.0:
+        d += 1.0  # the workspace edge's line is out of reach turned this far
+    lo = d
+    while pen(d) is False:
+        lo, d = d, d + 1.0
+    if pen(d) is None:
+        return None
+    hi = d
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if pen(mid) else (mid, hi)
+    return kin.finger_pad_line(finger, kin.ik_line(finger, psi, lo))
+
+
+@pytest.mark.parametrize("turn_deg", [-25.0, -12.0, 0.0, 7.0, 25.0])
+def test_the_press_walks_to_the_seat_on_exact_stops(turn_deg):
+    """The press's decisions (next_step, seat_split) on the exact first contacts of the left
+    pad (the emulator's penetration test, bisected): from the pad's nominal normal −90° it
+    turns toward the seat of a face turned up to 25° either way, each step where the
+    lowered part of the pad goes down, and the two supports it finds give the face's line:
+    within 0.3° and SEAT_TOL_MM (a corner of the face is found exactly; a pad end resting
+    on the face slides along it as the pad turns, and its lines' common point lies up to
+    0.14 mm off the face: 1.5–3.3 mrad on these five)."""
+    finger = CONFIG.finger("left")
+    world = ContactWorld(CONFIG, _block_turned(turn_deg).object)
+    step = math.radians(FLAT_STEP_DEG)
+    psi0 = -math.pi / 2
+    truth = psi0 + math.radians(turn_deg)
+    most = round(FLAT_MAX_TURN_DEG / FLAT_STEP_DEG)
+    lines = {0: _stop(world, finger, psi0)}
+    blocked = set()
+    found = None
+    for _ in range(2 * most):
+        ks = sorted(lines)
+        found = seat_split([lines[k] for k in ks], finger.pad.length_mm)
+        if found is not None:
+            break
+        k = next_step(ks, [lines[k] for k in ks], finger.pad.length_mm, 1,
+                      lambda k: abs(k) <= most and np.sign(k) not in blocked,
+                      toward=np.array(CONFIG.workspace.center_mm))
+        line = _stop(world, finger, psi0 + k * step)
+        if line is None:
+            blocked.add(np.sign(k))
+        else:
+            lines[k] = line
+    assert found is not None
+    ks = sorted(lines)
+    # it walked toward the seat: no line more than 3 steps past it on the far side
+    assert all(abs(psi0 + k * step - truth) <= abs(truth - psi0) + 3.5 * step for k in ks)
+    groups, p, q = found
+    n = face_normal(p, q, lines[ks[-1]].normal)
+    top = np.array([-math.sin(math.radians(turn_deg)), math.cos(math.radians(turn_deg))])  # the face's outward normal
+    assert math.atan2(n[1], n[0]) == pytest.approx(truth, abs=5e-3)
+    for s in (p, q):
+        assert float(top @ (s - np.array([105.0, 10.0]))) == pytest.approx(0.0, abs=SEAT_TOL_MM)
+    assert np.linalg.norm(q - p) >= FACE_MIN_FRACTION * finger.pad.length_mm
+
+
+@pytest.mark.parametrize("u", [0.0, 10.0, 30.0, 52.0])
+def test_lowering_turn_brings_the_far_part_of_the_pad_down(u):
+    """Turned by the sign lowering_turn gives about a point u mm along the pad, the pad's
+    farther end moves into the object (along the pad normal), for both fingers."""
+    for name, psi in (("left", -math.pi / 2 + 0.2), ("right", math.pi / 2 - 0.3)):
+        finger = CONFIG.finger(name)
+        line = kin.finger_pad_line(finger, kin.ik_line(finger, psi, _edge(psi) + 20.0))
+        about = line.proximal + u * line.tangent
+        sign = lowering_turn(line, about, finger.pad.length_mm)
+        far = line.distal if u < 26.0 else line.proximal
+        rot = np.array([[math.cos(0.01 * sign), -math.sin(0.01 * sign)], [math.sin(0.01 * sign), math.cos(0.01 * sign)]])
+        moved = about + rot @ (far - about)
+        assert float(line.normal @ (moved - far)) > 0.0
+
+
+def test_flat_press_seats_on_a_face_turned_25_degrees():
+    """On the emulated bus through the SDK: from the pad's nominal normal, a block turned
+    25° is seated (the face's angle within 0.3°, the middle of the seated segment on the
+    face within 0.2 mm) in well under 10 s of robot time."""
+    scene = _block_turned(25.0)
+    psi0 = -math.pi / 2
+    with emulated_jaw(scene=scene) as (sim, jaw):
+        run_together(jaw, {"left": move_line(jaw, "left", psi0, _edge(psi0))})
+        t0 = sim.sim_time
+        result = run_together(jaw, {"left": flat_press(jaw, "left", 0, psi0, 1, _edge(psi0), 45.0,
+                                                       toward=CONFIG.workspace.center_mm)})["left"]
+        robot_s = sim.sim_time - t0
+    assert result.outcome == "ok", result.message
+    felt = feel(CONFIG, result, 9)
+    assert felt.problem is None, felt.problem
+    assert math.degrees(felt.face.psi) == pytest.approx(-65.0, abs=0.3)
+    top = np.array([-math.sin(math.radians(25.0)), math.cos(math.radians(25.0))])
+    assert float(top @ (felt.face.middle - np.array([105.0, 10.0]))) == pytest.approx(0.0, abs=0.2)
+    assert robot_s < 10.0

@@ -9,7 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from hand_driver.motion import SEAT_TOL_MM, FlatResult, TouchResult
+from hand_driver.flat_press import SEAT_TOL_MM, FlatResult
+from hand_driver.motion import TouchResult
 from recognizer.touches import ContactTouch
 from tactile_common.yamlfile import read_yaml
 from tactile_jaw.decide import decide

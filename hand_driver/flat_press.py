@@ -1,0 +1,306 @@
+"""The flat press: seat a pad flat on a straight face of the object and press it there
+(docs/driver.md#flat-press).
+
+A pad cannot roll on a flat face: turned, it pivots about one of its ends resting on the
+face or about a corner of the face under it. What a guarded approach at pad normal ψ
+measures is the support d(ψ) of what the pad can reach (hand_driver.motion); over a
+straight face between supports P and Q it is min(n(ψ)·P, n(ψ)·Q): the pad lines pass
+through P on one side of the face's normal ψ_f and through Q on the other, and the pad
+lies flat at ψ_f. The press finds that kink from any start the finger can turn from:
+
+1. Guarded approaches at ψ_start + k·``FLAT_STEP_DEG``, k = 0, then ±1 (``first_turn``).
+2. Each further approach goes where the seat is: the two newest lines at each end of the
+   turned range cross at the point the pad pivots about (:func:`pivot`); turning about it
+   brings the longer part of the pad down (:func:`lowering_turn`). Pad lines through P
+   lower toward the seat, those through Q too (from the other side): the range grows on
+   the side the seat lies beyond, and once it lies between the ends, on the side with
+   fewer lines through its support. A pivot over the middle of the pad (a corner with
+   faces either side) may lower the wrong face first: at ``FLAT_MAX_TURN_DEG`` or the
+   joint limits that way, the range grows the other way.
+3. Once ≥ 3 lines pass through P and ≥ 3 through Q at least ``FACE_MIN_FRACTION`` of the
+   pad apart (:func:`seat_split`), the pad is pressed at the normal of PQ (and at
+   ``SEAT_PRESSES_DEG`` of it); whether those presses are seated is judged when the
+   touch is felt (tactile_jaw.flat.feel_flat). Lines of the range far from the seat, where
+   a pad end sliding along a long face no longer passes through one point, stay ``scan``.
+
+A curved boundary moves the contact along the pad steadily and bulges between two
+supports: it never seats, and the press ends ``no_seat``. Nothing of the scene is read:
+only the servos' positions and currents, as in the guarded approach.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from hand_driver import kinematics as kin
+from hand_driver.cycle import Jaw, Motion
+from hand_driver.motion import ROLL_CLEARANCE_MM, ApproachResult, TouchResult, guarded_approach, move_line, turn_to
+
+#: a flat press turns the pad in steps of this many degrees between its guarded
+#: approaches. An arc that offers two supports ℓ apart bulges ~ℓ·Δψ/8 between them, Δψ ≥ 3
+#: steps: with 3° steps arcs of radius 100–1000 mm stopped seated presses 0.25–0.98 mm
+#: early (2° steps: from 0.15 mm, within the encoders' scatter of a flat seat)
+FLAT_STEP_DEG = 3.0
+#: ... at most this far (deg) either way from where it started: the random blocks of
+#: bench_explore are turned up to ±20° (0.35 rad) from the pad's nominal normal, and the
+#: press turns three steps past the seat; a face turned 25° is seated from the nominal
+FLAT_MAX_TURN_DEG = 36.0
+#: a pad line passes through a support point when the point is within this (mm) of it;
+#: the mean of a press's seated stops must be this close to where its two supports say
+#: (tactile_jaw.flat): on 32 presses of the emulated jaw's line example 0.043 mm rms, at
+#: most 0.124 (single stops 0.06 rms, at most 0.22); arcs of radius 100–1000 mm that
+#: offered two supports stopped them 0.30–0.93 mm early on average (docs/driver.md#flat-press)
+SEAT_TOL_MM = 0.2
+#: the two supports of a seat are at least this fraction of the pad's length apart
+FACE_MIN_FRACTION = 0.35
+#: each support is fitted to this many pad lines, those nearest the seat: over a long face
+#: a pad end resting on it slides as the pad turns, and on an arc of large radius a run
+#: of pad-end lines reaching far from the seat fits a support that hides the arc's bulge
+#: (radius 500 and 1000 mm turned 15° passed the seat test, 0.10 mm, with every line of
+#: the run)
+SUPPORT_LINES = 3
+#: the seated presses, at the seat's orientation ψ_f plus these (deg): re-pressing at a
+#: slightly different goal reads the same seat through different encoder roundings
+SEAT_PRESSES_DEG = (0.0, -0.1, 0.1)
+
+
+@dataclass
+class FlatResult(TouchResult):
+    """One flat press: every guarded approach's sample with its role — ``P`` (the pad
+    rested on the first support), ``Q`` (on the second), ``seat`` (a press at the seat's
+    orientation), ``scan`` (none of these) — and the supports found (hand frame, mm)."""
+
+    roles: list[str] = field(default_factory=list)
+    supports: tuple[np.ndarray, np.ndarray] | None = None
+    kind: str = "flat"
+
+
+def line_point(lines: list[kin.PadLine]) -> tuple[np.ndarray, float]:
+    """The point nearest every pad line (least squares, ≥ 2 lines of distinct ψ) and the
+    largest distance (mm) from it to one of them."""
+    a = np.array([ln.normal for ln in lines], dtype=float)
+    b = np.array([float(ln.d) for ln in lines])
+    p = np.linalg.lstsq(a, b, rcond=None)[0]
+    return p, float(np.max(np.abs(a @ p - b)))
+
+
+def face_normal(p: np.ndarray, q: np.ndarray, toward: np.ndarray) -> np.ndarray:
+    """Unit outward normal of the face through supports ``p`` and ``q``: of the line PQ's
+    two normals, the one along ``toward`` (a pad line's normal)."""
+    t = (q - p) / np.linalg.norm(q - p)
+    normal = np.array([-t[1], t[0]])
+    return -normal if normal @ toward < 0 else normal
+
+
+def _run(lines: list[kin.PadLine], start: int, step: int, tol_mm: float,
+         most: int | None = None) -> tuple[int, np.ndarray, float]:
+    """The longest run (at most ``most`` lines) of ``lines`` from index ``start`` in
+    direction ``step`` (±1) through one point within ``tol_mm``: (its length, the point,
+    its residual); length 0 if fewer than 3 lines."""
+    best, n = (0, np.zeros(2), 0.0), 3
+    while most is None or n <= most:
+        lo, hi = (start, start + n) if step > 0 else (start - n + 1, start + 1)
+        if lo < 0 or hi > len(lines):
+            return best
+        p, res = line_point(lines[lo:hi])
+        if res > tol_mm:
+            return best
+        best, n = (n, p, res), n + 1
+    return best
+
+
+def seat_split(lines: list[kin.PadLine], length_mm: float,
+               tol_mm: float = SEAT_TOL_MM) -> tuple[list[int], np.ndarray, np.ndarray] | None:
+    """Where pad lines in order of ψ rest on two supports: a run of ≥ 3 lines through P
+    ending at the seat and one of ≥ 3 through Q starting there, every line within ``tol_mm``
+    of its point, with the smallest such residual; as (the group of each line: 0 for P, 1
+    for Q, −1 for the rest — a line close to the seat that passes through both, lines far
+    from it), P, Q; None if there is no such split. The support function of a flat face is
+    min(n·P, n·Q): it kinks where the pad lies flat. The split must be unambiguous: the
+    last line of P misses Q and the first line of Q misses P by more than ``tol_mm``, at
+    most one line between them, and each support lowers the pad toward the other
+    (:func:`lowering_turn`: +1 about P, −1 about Q; two runs of one pad end sliding along
+    a long face, each within ``tol_mm`` of a point, both lower it the same way). Each
+    support is fitted to the ``SUPPORT_LINES`` lines nearest the seat; lines beyond are
+    left out: a pad end resting on a long face slides along it as the pad turns, and
+    lines far from the seat no longer pass through one point."""
+    best = None
+    for k in range(3, len(lines) - 2):
+        np_, p, rp = _run(lines, k - 1, -1, tol_mm, SUPPORT_LINES)
+        if np_ < 3:
+            continue
+        for gap in (0, 1):
+            nq, q, rq = _run(lines, k + gap, 1, tol_mm, SUPPORT_LINES)
+            if nq < 3:
+                continue
+            first, last = lines[k + gap], lines[k - 1]
+            apart = min(abs(float(last.normal @ q - last.d)), abs(float(first.normal @ p - first.d)))
+            worst = max(rp, rq)
+            toward_seat = (lowering_turn(last, p, length_mm), lowering_turn(first, q, length_mm)) == (1, -1)
+            if tol_mm < apart and toward_seat and (best is None or worst < best[0]):
+                groups = [-1] * len(lines)
+                groups[k - np_:k] = [0] * np_
+                groups[k + gap:k + gap + nq] = [1] * nq
+                best = (worst, groups, p, q)
+    return None if best is None else best[1:]
+
+
+def pivot(a: kin.PadLine, b: kin.PadLine) -> np.ndarray | None:
+    """The point two pad lines cross at (what the pad turned about between them), or None
+    if they are parallel."""
+    m = np.array([a.normal, b.normal], dtype=float)
+    if abs(np.linalg.det(m)) < 1e-9:
+        return None
+    return np.linalg.solve(m, np.array([float(a.d), float(b.d)]))
+
+
+def lowering_turn(line: kin.PadLine, about: np.ndarray | None, length_mm: float,
+                  toward: np.ndarray | None = None) -> int | None:
+    """The turn (+1: ψ increasing, −1: decreasing) that brings a part of the pad ``line``
+    down toward the object about the point ``about`` on it, or None without a point on
+    the pad. The part lowered is the one that can seat (at least FACE_MIN_FRACTION of the
+    pad): of two such parts (a corner under the pad's middle, a face either side) the one
+    toward ``toward`` (a point of the object, e.g. the workspace centre), else the longer.
+    Turning by δ about the point moves the pad point s along the tangent t from it by
+    s·δ·R90·t, toward the object when along n."""
+    if about is None:
+        return None
+    u = float(line.pad_coordinate(about))
+    if not -0.5 * length_mm <= u <= 1.5 * length_mm:
+        return None
+    s = length_mm - u if u < 0.5 * length_mm else -u  # from the point to the farther pad end
+    if toward is not None and min(u, length_mm - u) >= FACE_MIN_FRACTION * length_mm:
+        s = length_mm - u if float(line.pad_coordinate(toward)) > u else -u
+    t = np.asarray(line.tangent, dtype=float)
+    return 1 if s * float(np.array([-t[1], t[0]]) @ line.normal) > 0 else -1
+
+
+def next_step(ks: list[int], lines: list[kin.PadLine], length_mm: float, first_turn: int,
+              allowed: Callable[[int], bool], toward: np.ndarray | None = None,
+              tol_mm: float = SEAT_TOL_MM) -> int | None:
+    """The step index of the press's next approach (module docstring, step 2), given the
+    steps ``ks`` taken (increasing) and their pad lines; ``allowed(k)`` says whether step k
+    may be tried. None when neither end can grow."""
+    through_lo = _run(lines, 0, 1, tol_mm)[0]
+    if len(ks) == 1:
+        order = [first_turn, -first_turn]
+    elif len(ks) == 2 or through_lo == len(ks):  # all through one point: turn about it
+        turn = lowering_turn(lines[-1], line_point(lines)[0], length_mm, toward) or first_turn
+        order = [turn, -turn]
+    else:
+        hi = lowering_turn(lines[-1], pivot(lines[-2], lines[-1]), length_mm, toward)
+        lo = lowering_turn(lines[0], pivot(lines[0], lines[1]), length_mm, toward)
+        if hi == 1:
+            order = [1, -1]
+        elif lo == -1:
+            order = [-1, 1]
+        else:  # the seat lies between the ends: the side with fewer lines through its support
+            through_hi = _run(lines, len(lines) - 1, -1, tol_mm)[0]
+            order = [1, -1] if max(through_hi, 2) <= max(through_lo, 2) else [-1, 1]
+            if (through_lo if order[0] > 0 else through_hi) >= SUPPORT_LINES:
+                order = order[:1]  # the other side has its lines: growing it leads away from the seat
+    for direction in order:
+        k = ks[-1] + 1 if direction > 0 else ks[0] - 1
+        if allowed(k):
+            return k
+    return None
+
+
+def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: int, d_start: float,
+               travel_mm: float, toward=None, on_event: Callable[[dict], None] | None = None) -> Motion:
+    """Seat the pad flat on the face of the object before it and press it there (module
+    docstring): a guarded approach at ``psi_start`` from ``d_start`` (at most
+    ``travel_mm``), the pad turned in FLAT_STEP_DEG steps toward the seat (the first one by
+    ``first_turn``, ±1; about a corner under the pad's middle, the part toward the point
+    ``toward`` lowered: :func:`lowering_turn`), backed off and re-approached as in a
+    rolling touch, until two supports are found, then the seated presses. Outcome ``no_seat`` when the pad turned
+    FLAT_MAX_TURN_DEG either way (or to its joint limits) without seating."""
+    m = jaw.config.motion
+    emit = on_event or (lambda rec: None)
+    length = jaw.config.finger(finger).pad.length_mm
+    step = math.radians(FLAT_STEP_DEG)
+    most = round(FLAT_MAX_TURN_DEG / FLAT_STEP_DEG)
+    toward = None if toward is None else np.asarray(toward, dtype=float)
+    result = FlatResult(finger, touch, psi_start)
+    emit({"type": "touch_start", "touch": touch, "finger": finger, "psi": float(psi_start), "kind": "flat",
+          "reading": jaw.log_index()})
+
+    def take(approach: ApproachResult, psi: float, role: str) -> bool:
+        if approach.contact is None:
+            result.outcome = approach.reason
+            result.message = (f"{finger}: no contact within the approach at psi={math.degrees(psi):.1f} deg"
+                              if approach.reason == "no_contact" else f"{finger}: flat press: {approach.reason}")
+            return False
+        result.samples.append(approach.contact)
+        result.roles.append(role)
+        emit({"type": "sample", "touch": touch, "finger": finger, "psi": psi,
+              "reading": approach.contact.reading, "by": approach.reason})
+        return True
+
+    try:
+        yield from move_line(jaw, finger, psi_start, d_start)
+        if not take((yield from guarded_approach(jaw, finger, psi_start, d_start, travel_mm)), psi_start, "scan"):
+            return result
+        steps: list[int] = [0]  # each sample's turn from psi_start, in steps
+        blocked: set[int] = set()  # directions the joints cannot turn further
+
+        def allowed(k: int) -> bool:
+            return abs(k) <= most and (1 if k > 0 else -1) not in blocked
+
+        while True:
+            order = np.argsort(steps)
+            lines = [result.samples[i].line for i in order]
+            found = seat_split(lines, length)
+            if found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * length:
+                break
+            k = next_step(sorted(steps), lines, length, first_turn, allowed, toward)
+            if k is None:
+                result.outcome = "no_seat"
+                result.message = (f"{finger}: turned {math.degrees(step * (max(steps) - min(steps))):.0f} deg about "
+                                  f"psi={math.degrees(psi_start):.1f} deg without the pad seating: no flat face there")
+                return result
+            psi = psi_start + k * step
+            try:
+                approach = yield from _press(jaw, finger, psi)
+            except kin.Unreachable:
+                blocked.add(1 if k > 0 else -1)
+                continue
+            if not take(approach, psi, "scan"):
+                return result
+            steps.append(k)
+        groups, p, q = found
+        for group, i in zip(groups, order):
+            result.roles[i] = ("scan", "P", "Q")[group + 1]
+        result.supports = (p, q)
+        normal = face_normal(p, q, result.samples[-1].line.normal)
+        psi_f = math.atan2(normal[1], normal[0])
+        for extra in SEAT_PRESSES_DEG:
+            a = psi_f + math.radians(extra)
+            if not take((yield from _press(jaw, finger, a)), a, "seat"):
+                return result
+        last = result.samples[-1]
+        yield from move_line(jaw, finger, last.psi, last.d - m.backoff_mm)
+    except kin.Unreachable as exc:
+        result.outcome, result.message = "unreachable", str(exc)
+    finally:
+        emit({"type": "touch_end", "touch": touch, "finger": finger, "reading": jaw.log_index(),
+              "samples": len(result.samples), "outcome": result.outcome, "roles": list(result.roles)})
+    return result
+
+
+def _press(jaw: Jaw, finger: str, psi: float) -> Motion:
+    """From the pad's last contact: back off ROLL_CLEARANCE_MM plus what turning to ψ
+    about the pad's middle can sweep, turn, guarded approach."""
+    m = jaw.config.motion
+    here = jaw.pad_line(jaw.last_state, finger)
+    turn = abs(math.remainder(psi - float(here.psi), 2 * math.pi))
+    middle = 0.5 * (here.proximal + here.distal)
+    clearance = ROLL_CLEARANCE_MM + 0.5 * jaw.config.finger(finger).pad.length_mm * turn
+    n = np.array([math.cos(psi), math.sin(psi)])
+    yield from move_line(jaw, finger, float(here.psi), float(here.d) - ROLL_CLEARANCE_MM)
+    d_from = yield from turn_to(jaw, finger, psi, float(n @ middle) - clearance)
+    return (yield from guarded_approach(jaw, finger, psi, d_from, 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + m.backoff_mm))
