@@ -22,9 +22,9 @@ import math
 from dataclasses import replace
 
 import numpy as np
-from scipy import optimize
 
 from recognizer.curves import CURVES
+from recognizer.refine import least_squares
 
 __all__ = ["profile_uncertainty", "REL_SIGMA_CHECK", "CHI2_95"]
 
@@ -51,7 +51,6 @@ def _walk(problem, z_hat: np.ndarray, cov_z: np.ndarray, i: int, side: float, ch
     free[i] = False
     lin = cov_z[:, i] / cov_z[i, i]
     zf = z_hat.copy()
-    method = "lm" if problem.n_res >= free.sum() else "trf"
     prev_delta, prev_root = 0.0, 0.0
     for n in range(1, MAX_STEPS + 1):
         delta = side * STEP * sd * n
@@ -66,8 +65,7 @@ def _walk(problem, z_hat: np.ndarray, cov_z: np.ndarray, i: int, side: float, ch
             zf[free] = v
             return problem.jacobian(zf)[:, free]
 
-        res = optimize.least_squares(fun, start[free], jac=jac, method=method, x_scale="jac", max_nfev=MAX_NFEV,
-                                     xtol=1e-8, ftol=1e-8, gtol=1e-8)
+        res = least_squares(fun, jac, start[free], problem.n_res, MAX_NFEV, 1e-8)
         zf[free] = res.x
         rise = 2.0 * float(res.cost) - chi2_hat
         if not math.isfinite(rise):

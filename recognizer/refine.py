@@ -42,7 +42,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize, sparse, stats
 
 from recognizer.curves import CURVES, Pose, travel_direction
 from recognizer.result import Candidate, shape_pose_vector
@@ -69,6 +69,11 @@ RESIDUAL_CAP = 1e30
 χ² = Σr², JᵀJ and Jᵀr cannot overflow (a wild start of a cubic class); exact data
 (σ = 1e-9) puts a fair start at 1e8–1e12 σ, far below the cap."""
 JACOBIAN_CAP = 1e120
+SPARSE_UNKNOWNS = 200
+"""above this many unknowns (shape, pose and every sample's t) refinement solves on the sparse
+Jacobian and states the covariance by blocks (``least_squares``, ``_unknowns_cov``): a
+20-touch × 15-sample request has 305. At and below it, the dense solve and pseudo-inverse
+(bench_wide's and the standard bench's requests, 12 touches × 15 samples)."""
 FACTOR_RCOND = 1e-6
 """a noise factor's singular values below this fraction of its largest are its null space (the
 jaw's, by central differences, has its rank's smallest at ~2e-4 and the null ones at ~1e-11)."""
@@ -217,6 +222,14 @@ class _Problem:
             w[2 * k + j, 2 * k + j] = 1.0 / sig_phi
             out.append((idx, w))
         return out
+
+    def t_blocks(self) -> list[np.ndarray]:
+        """The samples' t unknowns (numbered from 0) that share residual rows: each touch
+        whitened by a noise factor (its samples' errors correlated); every other t enters
+        only its own sample's rows."""
+        if self.whiten is None:
+            return []
+        return [rows for rows, factor in self.data.factors if factor is not None]
 
     def _whitened(self, a: np.ndarray) -> np.ndarray:
         """Raw residuals (or Jacobian rows) → whitened: each touch's W·rows, contact rows kept."""
@@ -453,6 +466,67 @@ def _shape_pose_cov(problem: _Problem, cls: str, z: np.ndarray, cov_z: np.ndarra
         return T @ cov_z[:ng, :ng] @ T.T
 
 
+def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: float):
+    """``scipy.optimize.least_squares`` of the refinement: MINPACK's Levenberg–Marquardt on
+    the dense Jacobian (trust-region reflective where unknowns outnumber residuals); above
+    ``SPARSE_UNKNOWNS`` unknowns the trust-region reflective method on the Jacobian as a
+    sparse matrix with LSMR steps (each sample's t enters 3 of the residuals: O(m·n) per
+    step where the dense factorization takes O(m·n²))."""
+    kw = dict(x_scale="jac", max_nfev=max_nfev, xtol=tol, ftol=tol, gtol=tol)
+    if z0.size > SPARSE_UNKNOWNS:
+        return optimize.least_squares(fun, z0, jac=lambda z: sparse.csr_matrix(jac(z)), method="trf",
+                                      tr_solver="lsmr", **kw)
+    return optimize.least_squares(fun, z0, jac=jac, method="lm" if n_res >= z0.size else "trf", **kw)
+
+
+def _pinv_cov(jac: np.ndarray) -> np.ndarray:
+    """(JᵀJ)⁺ of every unknown from the pseudo-inverse of J, its columns scaled to unit norm
+    (singular values below 1e-10 of the largest dropped)."""
+    with np.errstate(over="ignore"):  # a column beyond 1e154 (a diverged wrong class): inf, as below
+        norms = np.linalg.norm(jac, axis=0)
+    norms = np.where((norms > 0) & np.isfinite(norms), norms, 1.0)
+    pj = np.linalg.pinv(jac / norms, rcond=1e-10)
+    with np.errstate(over="ignore", invalid="ignore"):
+        return (pj @ pj.T) / np.outer(norms, norms)
+
+
+def _unknowns_cov(problem: _Problem, jac: np.ndarray) -> np.ndarray:
+    """(JᵀJ)⁺ of every unknown, by blocks: J's columns scaled to unit norm, the globals g
+    (shape, pose) and the samples' t. Each t enters only its own sample's residuals (its
+    touch's, when the touch is whitened by a noise factor), so D = J_tᵀJ_t is block
+    diagonal and the Schur complement S = A − B·D⁺·Bᵀ (A = J_gᵀJ_g, B = J_gᵀJ_t) gives
+    C_gg = S⁺, C_gt = −S⁺·B·D⁺, C_tt = D⁺ + D⁺·Bᵀ·S⁺·B·D⁺: O(m·n) operations (and the
+    n × n result) where the pseudo-inverse of the whole m × n Jacobian takes O(m·n²) (a
+    20-touch × 15-sample request: 300 t's). S⁺ comes from the SVD of the globals' columns
+    projected off the t's, (I − J_t·D⁺·J_tᵀ)·J_g (no cancellation); singular values below
+    1e-10 of the largest are dropped there and in D's blocks, as
+    ``np.linalg.pinv(J, rcond=1e-10)`` drops them."""
+    with np.errstate(over="ignore"):  # a column beyond 1e154 (a diverged wrong class): inf, as below
+        norms = np.linalg.norm(jac, axis=0)
+    norms = np.where((norms > 0) & np.isfinite(norms), norms, 1.0)
+    jn = jac / norms
+    ng, nt = problem.n_glob, jac.shape[1] - problem.n_glob
+    jg, jt = jn[:, :ng], jn[:, ng:]
+    d_inv = np.zeros((nt, nt))
+    single = np.ones(nt, bool)
+    for block in problem.t_blocks():
+        single[block] = False
+        d_inv[np.ix_(block, block)] = np.linalg.pinv(jt[:, block].T @ jt[:, block], rcond=1e-20, hermitian=True)
+    j = np.flatnonzero(single)
+    dd = np.einsum("ij,ij->j", jt[:, j], jt[:, j])
+    d_inv[j, j] = np.where(dd > 1e-20, 1.0 / np.where(dd > 0, dd, 1.0), 0.0)
+    b = jg.T @ jt
+    e = b @ d_inv
+    # S = J_gᵀ(I − P_t)J_g from the projected columns themselves (no cancellation in A − B·D⁺·Bᵀ)
+    _, sv, vt = np.linalg.svd(jg - jt @ e.T, full_matrices=False)
+    keep = sv > 1e-10 * sv[0] if sv.size and sv[0] > 0 else np.zeros(sv.size, bool)
+    s_inv = (vt[keep].T / sv[keep] ** 2) @ vt[keep]
+    se = s_inv @ e
+    cov = np.block([[s_inv, -se], [-se.T, d_inv + e.T @ se]])
+    with np.errstate(over="ignore", invalid="ignore"):
+        return cov / np.outer(norms, norms)
+
+
 def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, alpha: float = 1e-3) -> RefinedCandidate:
     """Refine one candidate over every sample of ``touches`` (see module docstring)."""
     cls = candidate.cls
@@ -481,23 +555,18 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     for _round in range(1 if known else 3):
         problem = _Problem(cls, data, candidate.pose, direction, sig_phi, sig_pos, sig_along)
         z0 = problem.pack(params, candidate.pose, t0) if z is None else z
-        method = "lm" if problem.n_res >= z0.size else "trf"
-        res = optimize.least_squares(problem.residuals, z0, jac=problem.jacobian, method=method,
-                                     x_scale="jac", max_nfev=MAX_NFEV, xtol=TOL, ftol=TOL, gtol=TOL)
+        res = least_squares(problem.residuals, problem.jacobian, z0, problem.n_res, MAX_NFEV, TOL)
         nfev += int(res.nfev)
         z = res.x
         if known and any(f is not None for _, f in data.factors):
             # touches that state their samples' error covariance: from the per-sample weighted
             # optimum (a robust start), the fit in their own metric
             problem = _Problem(cls, data, candidate.pose, direction, sig_phi, sig_pos, sig_along, factors=True)
-            method = "lm" if problem.n_res >= z.size else "trf"
-            res = optimize.least_squares(problem.residuals, z, jac=problem.jacobian, method=method,
-                                         x_scale="jac", max_nfev=MAX_NFEV, xtol=TOL, ftol=TOL, gtol=TOL)
+            res = least_squares(problem.residuals, problem.jacobian, z, problem.n_res, MAX_NFEV, TOL)
             nfev += int(res.nfev)
             z = res.x
         if exact and res.fun.size < 2.0 * res.cost < EXACT_GO_ON * res.fun.size:  # a right class, not yet there
-            res = optimize.least_squares(problem.residuals, z, jac=problem.jacobian, method=method, x_scale="jac",
-                                         max_nfev=MAX_NFEV_EXACT, xtol=TOL_EXACT, ftol=TOL_EXACT, gtol=TOL_EXACT)
+            res = least_squares(problem.residuals, problem.jacobian, z, problem.n_res, MAX_NFEV_EXACT, TOL_EXACT)
             nfev += int(res.nfev)
             z = res.x
         if not known:
@@ -521,15 +590,11 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     p_value = float(stats.chi2.sf(chi2, dof)) if dof > 0 else 1.0
     # covariance of the unknowns, then the shape parameters and pose in their own units
     jac = problem.jacobian(z)
-    with np.errstate(over="ignore"):  # a column beyond 1e154 (a diverged wrong class): inf, as below
-        norms = np.linalg.norm(jac, axis=0)
-    norms = np.where((norms > 0) & np.isfinite(norms), norms, 1.0)
-    pj = np.linalg.pinv(jac / norms, rcond=1e-10)
+    cov_z = _unknowns_cov(problem, jac) if z.size > SPARSE_UNKNOWNS else _pinv_cov(jac)
     k = problem.k
     dq = np.array([params_f[nm] if nm in problem.pos_names else 1.0 for nm in problem.names])
     with np.errstate(over="ignore", invalid="ignore"):  # a degenerate fit's covariance may overflow;
-        cov_z = (pj @ pj.T) / np.outer(norms, norms)  # non-finite values reach JSON as null
-        cov_p = cov_z[:k, :k] * np.outer(dq, dq)
+        cov_p = cov_z[:k, :k] * np.outer(dq, dq)  # non-finite values reach JSON as null
     params_c, pose_c, t_c, perm = _canonical(cls, params_f, pose_f, t_f)
     cov_p = cov_p[np.ix_(perm, perm)]
     names_c = CURVES[cls].param_names
