@@ -3,20 +3,29 @@
 The candidates are the classes fitted to the touches, each with its parameters, pose and
 their joint covariance C (recognizer.refine; the stated σ's of an unrefined fit), weighted
 w ∝ exp(−BIC/2). Places on the leading candidate's curve (the answer, else the class of
-least χ² against its limit) are scored; a touch there measures, with its n samples, the
-boundary's offset across the tangent and its tangent angle, with noise
-R = diag(σ_pos², σ_φ²)/n. Every candidate predicts that measurement: its curve's closest
-point to the place, the offset along the leader's normal and the tangent angle there
-(mod π), with the predictive covariance P = G·C·Gᵀ (G by forward differences of the
-prediction in the shape parameters and the pose).
+least χ² against its limit) are scored. A touch there is a roll: with its n samples it
+measures the boundary's offset across the tangent and its tangent angle, noise
+diag(σ_pos², σ_φ²)/n, and the curvature and its arc-length derivative (κ, κ_s) with the
+covariance C_roll the request's own rolls state (``roll_cov``); R is the 4×4 block
+diagonal of the two. Every candidate predicts that measurement: its curve's closest point
+to the place, the offset along the leader's normal, the tangent angle there (mod π), κ
+signed along the leader's tangent and κ_s (a reversed traversal flips κ's sign and keeps
+κ_s's), with the predictive covariance P = G·C·Gᵀ (G by forward differences of the
+prediction in the shape parameters and the pose). Everything is whitened by R first
+(W·R·Wᵀ = I), so that a millimetre offset and a κ_s in 1/mm² are compared in σ's.
 
 Expected information gain (nats) of a place:
 - classes: for each other candidate c, χ²_c = Δᵀ(R + P_ℓ + P_c)⁻¹Δ is the expected
-  separation of the two predictions Δ; the pair's class entropy (w_ℓ + w_c)·H(w_ℓ/(w_ℓ + w_c))
+  separation of the two predictions (Δ = c's − the leader's); the pair's class entropy (w_ℓ + w_c)·H(w_ℓ/(w_ℓ + w_c))
   is resolved in proportion 1 − exp(−χ²_c/8) (the Bhattacharyya bound on the error of
   telling two Gaussians apart);
 - parameters: w_ℓ · ½ ln det(I + R⁻¹P_ℓ), the entropy the leader's parameters and pose
   lose (the determinant lemma for the linearized update C' = C − C Gᵀ(GCGᵀ + R)⁻¹GC).
+
+The roll's κ and κ_s are what tell classes apart where their positions agree within the
+parameters' uncertainty: a semicubical parabola's branch far from its cusp and a parabola
+through the same touches bend differently along a roll (bench_wide: modelled as one point,
+the suggested touches left the far branch 76.9 % right).
 
 Greedy, one touch at a time (adaptive-submodular selection, so greedy is near-optimal):
 while some place resolves at least ``CLASS_GAIN_MIN`` nats of class entropy, the place of
@@ -45,7 +54,7 @@ from recognizer.result import Candidate
 from recognizer.touches import NoiseModel, Reach
 from tactile_common.angles import wrap_angle
 
-__all__ = ["next_touch", "CLASS_GAIN_MIN", "SHRINK_MIN", "REL_SIGMA_ENOUGH"]
+__all__ = ["next_touch", "roll_cov", "CLASS_GAIN_MIN", "SHRINK_MIN", "REL_SIGMA_ENOUGH"]
 
 CLASS_GAIN_MIN = 0.01
 """nats of class entropy a touch must be expected to resolve to count as telling classes apart."""
@@ -100,12 +109,14 @@ def _closest(curve, pose: Pose, t_dense: np.ndarray, px: np.ndarray, py: np.ndar
 
 
 def _measure(cls: str, vec: np.ndarray, t: np.ndarray, px, py, nx, ny, lead_phi) -> np.ndarray:
-    """(offset along the leader's normal, tangent angle − leader's mod π) of the posed curve
-    at its points t near the places (px, py)."""
+    """(offset along the leader's normal, tangent angle − leader's mod π, κ signed along the
+    leader's tangent, κ_s; the leader's own: 0, 0, its κ, κ_s) of the posed curve at its points t near the places (px, py)."""
     curve, pose = _posed(cls, vec)
     qx, qy = pose.apply(*curve.point(t))
     ang = np.asarray(curve.tangent_angle(t), float) + pose.theta
-    return np.stack([(qx - px) * nx + (qy - py) * ny, _wrap_half(ang - lead_phi)], axis=-1)
+    along = np.where(np.cos(ang - lead_phi) >= 0.0, 1.0, -1.0)
+    return np.stack([(qx - px) * nx + (qy - py) * ny, _wrap_half(ang - lead_phi),
+                     along * np.asarray(curve.kappa(t), float), np.asarray(curve.kappa_s(t), float)], axis=-1)
 
 
 def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
@@ -116,10 +127,10 @@ def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
     return np.abs(curve.arc_length(np.zeros_like(t), t)) >= 0.5 * roll
 
 
-def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, roll: float = 0.0):
-    """(mean (m, 2), covariance (m, 2, 2), G, touchable (m,)) of candidate c's measurement
-    at every place: where c's closest point is too near its cusp for a touch, c's
-    prediction tells nothing (not touchable)."""
+def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, roll: float = 0.0):
+    """(whitened mean (m, 4), whitened covariance (m, 4, 4), whitened G, touchable (m,)) of
+    candidate c's measurement at every place (W whitens R): where c's closest point is too
+    near its cusp for a touch, c's prediction tells nothing (not touchable)."""
     vec, C = c.vector(), _cov(c)
     curve, pose = _posed(c.cls, vec)
     t = _closest(curve, pose, t_dense, px, py)
@@ -134,18 +145,40 @@ def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, roll: float = 0
         cp, pp = _posed(c.cls, vp)
         tp = cp.project(t, *pp.inverse(px, py), steps=1)
         G[..., i] = (_measure(c.cls, vp, tp, px, py, nx, ny, lead_phi) - mean) / h
+    mean, G = mean @ W.T, np.einsum("ab,mbi->mai", W, G)
+    G = np.where(np.isfinite(G), G, 0.0)
     return mean, np.einsum("mai,ij,mbj->mab", G, C, G), G, _touchable(curve, t, roll)
 
 
-def _inv2(S: np.ndarray) -> np.ndarray:
-    """Inverses of 2×2 covariances (m, 2, 2) in closed form; 0 (no information) where one is
-    not finite or not positive definite (a prediction without a usable covariance)."""
-    a, b, c, d = S[:, 0, 0], S[:, 0, 1], S[:, 1, 0], S[:, 1, 1]
-    det = a * d - b * c
-    good = np.isfinite(det) & (det > 0) & np.isfinite(a) & np.isfinite(d)
-    det = np.where(good, det, 1.0)
-    out = np.stack([np.stack([d, -b], -1), np.stack([-c, a], -1)], -2) / det[:, None, None]
-    return np.where(good[:, None, None], out, 0.0)
+def _inv(S: np.ndarray) -> np.ndarray:
+    """Inverses of whitened predictive covariances (m, 4, 4) = I + PSD (pseudo-inverses:
+    a direction the prediction's uncertainty swamps, P ~ 1e30 from an ill-determined rival,
+    tells nothing); 0 (no information) where one is not finite."""
+    good = np.all(np.isfinite(S), axis=(1, 2))
+    out = np.zeros_like(S)
+    if good.any():
+        out[good] = np.linalg.pinv(S[good], hermitian=True)
+    return out
+
+
+def roll_cov(d: Contacts) -> np.ndarray:
+    """The (κ, κ_s) covariance of one more roll like the request's: the stated covariance,
+    with the floors of ``Contacts.whitener``, of the touch of median κ variance (the same
+    estimator over the same length of roll and noise states about the same covariance
+    anywhere; the median keeps one touch's large truncation term out)."""
+    W = d.whitener()
+    covs = [np.linalg.inv(w.T @ w) for w in W]
+    return covs[int(np.argsort([c[0, 0] for c in covs])[(len(covs) - 1) // 2])]
+
+
+def _whitener(noise: NoiseModel, samples: int, c_roll: np.ndarray) -> np.ndarray:
+    """W with W·R·Wᵀ = I for R = diag(σ_pos²/n, σ_φ²/n) ⊕ C_roll."""
+    n = max(samples, 1)
+    W = np.zeros((4, 4))
+    W[0, 0] = math.sqrt(n) / max(noise.pos, 1e-12)
+    W[1, 1] = math.sqrt(n) / max(noise.phi, 1e-12)
+    W[2:, 2:] = np.linalg.inv(np.linalg.cholesky(c_roll))
+    return W
 
 
 def _entropy2(p):
@@ -188,12 +221,13 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         return None
     t, px, py, phi = t[keep], px[keep], py[keep], phi[keep]
     nx, ny = -np.sin(phi), np.cos(phi)
-    R = np.diag([max(noise.pos, 1e-12) ** 2, max(noise.phi, 1e-12) ** 2]) / max(samples, 1)
-    _, P_lead, G_lead, _ = _prediction(leader, _t_span(leader, 1.0, N_DENSE), px, py, nx, ny, phi)
-    # parameters: entropy lost, and the shrink of the largest relative σ
-    Rinv = np.linalg.inv(R)
+    W = _whitener(noise, samples, roll_cov(d))
+    mean_lead, P_lead, G_lead, _ = _prediction(leader, _t_span(leader, 1.0, N_DENSE), px, py, nx, ny, phi, W)
+    own = np.all(np.isfinite(mean_lead), axis=1)  # the leader's κ, κ_s defined there
+    # parameters: entropy lost, and the shrink of the largest relative σ (whitened: R = I)
+    eye = np.eye(4)[None]
     P_lead = np.where(np.isfinite(P_lead), P_lead, 0.0)
-    ig_param = 0.5 * np.log(np.linalg.det(np.eye(2)[None] + Rinv[None] @ P_lead))
+    ig_param = 0.5 * np.linalg.slogdet(eye + P_lead)[1]
     C = _cov(leader)
     k = len(CURVES[leader.cls].param_names)
     shrink = np.ones(t.size)
@@ -203,19 +237,18 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         rel = np.sqrt(np.clip(np.diag(C)[:k], 0, None)) / np.where(vals > 0, vals, 1.0)
         i_max = int(np.argmax(rel))
         rel_now = float(rel[i_max])
-        S = P_lead + R[None]
         CG = np.einsum("ij,maj->mia", C, G_lead)  # C·Gᵀ per place
-        K = np.einsum("mia,mab->mib", CG, _inv2(S))
+        K = np.einsum("mia,mab->mib", CG, _inv(P_lead + eye))
         var_after = C[i_max, i_max] - np.einsum("mb,mb->m", K[:, i_max, :], CG[:, i_max, :])
         shrink = math.sqrt(max(C[i_max, i_max], 0.0)) / np.sqrt(np.clip(var_after, 1e-300, None))
     # classes
     ig_class = np.zeros(t.size)
     best_sep = {}
     for c, wc in others:
-        mean_c, P_c, _, ok_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, roll)
-        S = R[None] + P_lead + P_c
-        chi2 = np.einsum("ma,mab,mb->m", mean_c, _inv2(S), mean_c)
-        chi2 = np.where(ok_c, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
+        mean_c, P_c, _, ok_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, roll)
+        delta = mean_c - mean_lead
+        chi2 = np.einsum("ma,mab,mb->m", delta, _inv(eye + P_lead + P_c), delta)
+        chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
         ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0))
         best_sep[c.cls] = chi2
     gain = ig_class + w_lead * np.where(np.isfinite(ig_param), ig_param, 0.0)

@@ -88,3 +88,35 @@ def test_a_reach_that_depends_on_the_pads_orientation_gets_the_tangent_in_the_di
     nowhere = _Recording(0.0)
     nowhere.contains = lambda px, py, phi=None: np.zeros(np.shape(px), bool)
     assert _request([0.2, 0.5, 0.8], direction, reach=nowhere).next_touch is None
+
+
+def test_a_roll_measures_curvature_signed_along_the_leaders_tangent():
+    """_measure on an exact ellipse (a cos t, b sin t): κ = ab/D^{3/2}, κ_s = −3ab(a² − b²)·
+    sin t cos t/D³ with D = a² sin² t + b² cos² t. The leader's own place gives (0, 0, κ, κ_s);
+    seen along the reversed tangent κ flips its sign and κ_s keeps it."""
+    from recognizer.next_touch import _measure
+
+    a, b, t0 = 30.0, 20.0, 0.7
+    vec = np.array([a, b, 0.3, 5.0, -2.0])  # shape, pose θ x y
+    curve, pose = CURVES["ellipse"]({"a": a, "b": b}), Pose(0.3, 5.0, -2.0)
+    t = np.array([t0])
+    px, py = pose.apply(*curve.point(t))
+    phi = np.asarray(curve.tangent_angle(t), float) + 0.3
+    nx, ny = -np.sin(phi), np.cos(phi)
+    D = a * a * math.sin(t0) ** 2 + b * b * math.cos(t0) ** 2
+    k, ks = a * b / D**1.5, -3 * a * b * (a * a - b * b) * math.sin(t0) * math.cos(t0) / D**3
+    m = _measure("ellipse", vec, t, px, py, nx, ny, phi)[0]
+    assert np.allclose(m, [0.0, 0.0, k, ks], rtol=1e-9, atol=1e-12)
+    m_rev = _measure("ellipse", vec, t, px, py, -nx, -ny, phi + np.pi)[0]
+    assert np.allclose(m_rev, [0.0, 0.0, -k, ks], rtol=1e-9, atol=1e-12)
+
+
+def test_roll_covariance_is_the_median_touchs():
+    from recognizer.contacts import Contacts
+    from recognizer.next_touch import roll_cov
+
+    cov = np.array([np.diag([v, 10 * v]) for v in (4e-6, 1e-6, 9e-6)])
+    d = Contacts(np.array([0.0, 10.0, 20.0]), np.zeros(3), np.zeros(3), np.full(3, 0.02), np.zeros(3), cov,
+                 np.full(3, 0.05), np.full(3, 1e-3))
+    c = roll_cov(d)
+    assert abs(c[0, 0] / 4e-6 - 1) < 1e-6 and abs(c[1, 1] / 4e-5 - 1) < 1e-6
