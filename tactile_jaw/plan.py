@@ -25,12 +25,13 @@ from tactile_jaw.settings import ExploreSettings
 #: a rolling touch starts this far (mm) outside the predicted tangent line
 APPROACH_MARGIN_MM = 10.0
 #: a planned roll's lines must be reachable this far (mm) beyond the predicted tangent: a
-#: re-approach reaches at most 2·1 + 3 − 1 = 4 mm past the last contact's line (hand_driver.
-#: motion.rolling_touch); the first approach travels APPROACH_MARGIN_MM beyond it where it
-#: can and ends `unreachable` where it cannot (was APPROACH_MARGIN_MM: that ruled out the
-#: orientations at the edge of a finger's reach, e.g. left pad normals −68…−63° on the
-#: parabola example)
-PLAN_OVERSHOOT_MM = 4.0
+#: guarded approach's goal leads the measured pad by at most two approach steps (1 mm with
+#: config/jaw.yaml), so a contact on the line d needs d + 1 mm within the joints' reach, plus
+#: 0.5 mm for the prediction's error (hand_driver.motion.guarded_approach). Was 4 mm (what a
+#: re-approach may travel, not what it reaches before it stops), which ruled out the last
+#: ~10 deg of a finger at full stretch: the hyperbola example's arm toward the palm (left
+#: pad normals -65...-56 deg; tests/tactile_jaw/test_plan_reach.py)
+PLAN_OVERSHOOT_MM = 1.5
 #: rolling touches are planned at pad normals within ± CANDIDATE_SPREAD_DEG of the pad's
 #: normal at zero joint angles, every CANDIDATE_STEP_DEG
 CANDIDATE_SPREAD_DEG = 75.0
