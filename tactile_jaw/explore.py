@@ -33,7 +33,7 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat import recognized_touches
-from tactile_jaw.pipeline import FeltTouch, feel
+from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel
 from tactile_jaw.plan import (
     APPROACH_MARGIN_MM,
     PROBE_ENOUGH_DEG,
@@ -185,6 +185,27 @@ def _memo(recognize_touches: RecognizeTouches) -> RecognizeTouches:
     return run
 
 
+def _clear_of_corners(cfg, out: Exploration, settings: ExploreSettings, emit, say) -> Callable[[], list[FeltTouch]]:
+    """The usable touches so far without their samples at the corners the touches so far
+    pivoted about (tactile_jaw.pipeline.clear_of_corners; recomputed when either list grows),
+    each change logged once (event ``touch_trimmed``)."""
+    state: dict[str, Any] = {"key": None, "usable": [], "said": set()}
+
+    def run() -> list[FeltTouch]:
+        key = (len(out.used), sum(t.corner is not None for t in out.touches))
+        if key != state["key"]:
+            state["key"] = key
+            state["usable"], notes = clear_of_corners(cfg, out.used, out.touches, settings.samples_per_touch)
+            for note in notes:
+                if note not in state["said"]:
+                    state["said"].add(note)
+                    emit({"type": "event", "kind": "touch_trimmed", "message": note})
+                    say(note)
+        return state["usable"]
+
+    return run
+
+
 def _spent(out: Exploration) -> int:
     """Touches that count against the budget: all but those that fell on a corner or across
     a closing segment of a finite object (a finger retires after OFF_CURVE_RETIRE in a row,
@@ -328,6 +349,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     aim: Aim | None = None  # where the next touch goes while the answer is not decisive (tactile_jaw.choose)
     aimed_at: list[tuple[float, float]] = []
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
+    cleared = _clear_of_corners(cfg, out, settings, emit, say)
     while _spent(out) < settings.touches:
         if not out.used and len(out.touches) >= FLAT_AFTER_TOUCHES:
             say(f"none of {len(out.touches)} rolling touches was usable: no curved part within reach of the pads")
@@ -381,19 +403,20 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 f"{len(touch.samples)} samples, {'used' if problem is None else 'not used: ' + problem}")
             if aimed is not None and aimed.kind == "vertex" and name == aimed.finger and problem is not None:
                 vertex_missed = True
-        if len(out.used) >= settings.min_touches:
-            recognition, why = decide(recognize_touches, out.used, settings)
+        usable = cleared()
+        if len(usable) >= settings.min_touches:
+            recognition, why = decide(recognize_touches, usable, settings)
             out.recognition = recognition
             out.answers.append(recognition.cls)
-            say(f"after {len(out.used)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
+            say(f"after {len(usable)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
             if why is None:
                 break
             active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
-            aim, out.stopped = next_aim(recognition, why, sample_positions(out.used), reach, active, aimed_at,
+            aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,
                                         vertex_missed)
             if out.stopped is not None:
                 emit({"type": "event", "kind": "stopped_early", "message": out.stopped})
-                say(f"stopping after {len(out.used)} usable touches: {out.stopped}")
+                say(f"stopping after {len(usable)} usable touches: {out.stopped}")
                 break
     if not out.used:  # no curved part felt: the faces, by flat presses
         _flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index)
@@ -407,10 +430,16 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         emit({"type": "event", "kind": "no_face_contact", "message": message})
         say(message)
     if out.used:
+        usable = cleared()
         try:  # the answer on every usable touch, a refusal unless decisive
-            out.recognition = final_answer(recognize_touches, out.used, settings, out.stopped)
+            out.recognition = final_answer(recognize_touches, usable, settings, out.stopped)
             out.answers.append(out.recognition.cls)
         except InputError as exc:
             emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})
+            if len(usable) < len(out.used):  # an earlier round's answer was on touches since cleared
+                out.recognition = Recognition("unclassified", reason=(
+                    f"only {len(usable)} of the {len(out.used)} usable touches are clear of the corners other "
+                    f"touches pivoted about: {exc}"))
+        out.used = usable
     out.robot_time_s = jaw.robot_time() - t0
     return out

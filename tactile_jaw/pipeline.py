@@ -43,6 +43,21 @@ SMOOTH_ALPHA = 1e-3
 SMOOTH_DEGREE = 2
 #: outcomes of a touch cut short whose samples so far may still be used
 CUT_SHORT = ("unreachable", "no_contact", "blocked")
+#: a usable touch's samples whose envelope contact lies within this distance (mm) of a corner
+#: another touch pivoted about (:func:`clear_of_corners`) are not the curved part's: a pad
+#: that rolls past the curve's end pivots about the end corner, and over a few samples
+#: (2-4 deg) a pivot and an arc of radius 10-20 mm differ by ρδ²/2 ≈ 0.01-0.06 mm, below the
+#: pad lines' deviation (about 0.05 mm), so neither the touch's χ² nor its radius tells them
+#: apart; the envelope fit then places those samples 0.1-1.5 mm off the curve, past its end
+#: (measured on the random cubical parabolas of bench_explore --finite 20 --seed 11: every
+#: such sample within 1.5 mm of the corner another touch found)
+CORNER_CLEARANCE_MM = 2.0
+#: only a corner touch whose radius of curvature is below this many of its deviations
+#: clears the samples around it (:func:`clear_of_corners`): of the bench's touches rejected
+#: as corners (ρ < 2 σ_ρ), 104 of 123 on true corners have ρ < σ_ρ but only 4 of 19 on a
+#: cubical's hump of radius ≈ 10 mm (ρ 6.5 ± 3.6 mm: a point of the curve, whose clearance
+#: would drop the good touches around it)
+CLEARANCE_SIGMAS = 1.0
 
 
 @dataclass(frozen=True)
@@ -58,6 +73,7 @@ class FeltTouch:
     fit: EnvelopeFit | None = None  # the envelope fit's curvature, radius and smoothness
     off_curve: bool = False  # it fell on a corner or across a closing segment (off_curve_reason)
     face: Face | None = None  # a flat press's face (tactile_jaw.flat)
+    corner: tuple[float, float] | None = None  # the point it pivoted about, when it fell on a corner
 
     @property
     def finger(self) -> str:
@@ -95,12 +111,12 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
     finger = touch.finger
     lines = kin.PadLine.stack([s.line for s in touch.samples]) if touch.samples else None
 
-    def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False):
+    def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False, corner=None):
         samples_touch = None
         if problem is None and fit is not None:
             samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
                                          curvature=(fit.kappa, fit.kappa_s, fit.cov), noise_factor=fit.noise_factor)
-        return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve)
+        return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve, corner=corner)
 
     cut_short = touch.outcome in CUT_SHORT
     if touch.outcome != "ok" and not cut_short:
@@ -122,7 +138,8 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
     if curve_checks:
         off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)))
         if off_curve is not None:
-            return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True)
+            return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
+                       corner=pivot_point(lines) if on_corner(fit) else None)
     if fit is not None and np.any(np.diff(c.s) <= 0.0):
         # the cubic's ρ(ψ) = −(d + d'') is linear in ψ and its slope is mostly noise over a
         # short roll (σ_ρ ≈ 4 mm over 18°): at the roll's ends it can dip below 0 on a
@@ -151,6 +168,76 @@ def _pad_u(lines: kin.PadLine, contacts: kin.TouchEnvelope) -> np.ndarray:
     return lines.pad_coordinate(taken)[contacts.order]
 
 
+def on_corner(fit: EnvelopeFit) -> bool:
+    """The touch rolled on a corner: its radius of curvature at the contact is below
+    ``CORNER_RADIUS_MM`` or ``CORNER_SIGMAS`` of its deviation."""
+    return bool(fit.rho < max(CORNER_RADIUS_MM, CORNER_SIGMAS * fit.sigma_rho))
+
+
+def pivot_point(lines: kin.PadLine) -> tuple[float, float]:
+    """The point the pad lines ``n(ψ_i)·p = d_i`` pass nearest (least squares): the corner
+    a pad pivoted about."""
+    normals = np.stack([np.cos(lines.psi), np.sin(lines.psi)], axis=-1)
+    p, *_ = np.linalg.lstsq(normals, np.asarray(lines.d, dtype=float), rcond=None)
+    return float(p[0]), float(p[1])
+
+
+def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTouch],
+                     samples: int) -> tuple[list[FeltTouch], list[str]]:
+    """The usable rolling touches without their samples that lie within
+    ``CORNER_CLEARANCE_MM`` of a corner another of the ``felt`` touches pivoted about
+    (:attr:`FeltTouch.corner`, its radius of curvature below ``CLEARANCE_SIGMAS`` of its
+    deviation), and why each touch changed: a touch is felt again on its
+    longest stretch of samples clear of the corners (:func:`feel`: it still needs
+    ``MIN_SAMPLES_PER_TOUCH`` and passes every check again; samples beyond a corner's, whose
+    contacts the envelope fit places past it, go too), else it is dropped. Other touches
+    (and flat presses) are returned as they are."""
+    corners = np.array([t.corner for t in felt if t.corner is not None and t.fit.rho < CLEARANCE_SIGMAS * t.fit.sigma_rho],
+                       dtype=float).reshape(-1, 2)
+    if not corners.size:
+        return list(usable), []
+    kept, notes = [], []
+    for t in usable:
+        if t.contacts is None or t.fit is None:
+            kept.append(t)
+            continue
+        c = t.contacts
+        gaps = np.hypot(c.x[:, None] - corners[:, 0], c.y[:, None] - corners[:, 1])  # (samples, corners)
+        near = gaps.min(axis=1) < CORNER_CLEARANCE_MM
+        if not near.any():
+            kept.append(t)
+            continue
+        run = _longest_run(~near)  # in ψ order: the roll's stretch between the corner's samples
+        name = f"{t.finger}: touch {t.touch.touch}"
+        where = corners[np.argmin(gaps.min(axis=0))]
+        why = (f"{int(near.sum())} of its {near.size} samples within {CORNER_CLEARANCE_MM:g} mm of the corner at "
+               f"({where[0]:.1f}, {where[1]:.1f}) mm another touch pivoted about")
+        if run.size:
+            taken = sorted(int(c.order[j]) for j in run)
+            again = feel(config, replace(t.touch, samples=[t.touch.samples[i] for i in taken]), samples)
+            if again.problem is None:
+                kept.append(again)
+                notes.append(f"{name}: {why}: used without them" + (
+                    f" and the {near.size - near.sum() - run.size} beyond them" if near.size - near.sum() > run.size else ""))
+                continue
+            why += f"; without them: {again.problem.removeprefix(t.finger + ': ')}"
+        notes.append(f"{name}: not used: {why}")
+    return kept, notes
+
+
+def _longest_run(mask: np.ndarray) -> np.ndarray:
+    """Indices of the longest stretch of consecutive True values of ``mask`` (the first of equals)."""
+    best, start = np.zeros(0, dtype=int), None
+    for i, v in enumerate(np.append(mask, False)):
+        if v and start is None:
+            start = i
+        elif not v and start is not None:
+            if i - start > best.size:
+                best = np.arange(start, i)
+            start = None
+    return best
+
+
 def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float) -> str | None:
     """Why a touch fell off the object's curved part, or None: on a corner (the radius of
     curvature at the contact is below ``CORNER_RADIUS_MM`` or ``CORNER_SIGMAS`` of its
@@ -159,7 +246,7 @@ def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float) -> str | None:
     above its limit at ``SMOOTH_ALPHA``: a straight segment bridged between two corners
     makes d(ψ) kink)."""
     m = len(contacts.x) // 2
-    if fit.rho < max(CORNER_RADIUS_MM, CORNER_SIGMAS * fit.sigma_rho):
+    if on_corner(fit):
         return (f"corner: the contact stayed near ({contacts.x[m]:.1f}, {contacts.y[m]:.1f}) mm while the pad "
                 f"turned {np.degrees(turn_rad):.0f} deg (radius of curvature {fit.rho:.2f} ± {fit.sigma_rho:.2f} mm)")
     if fit.dof > 0 and fit.chi2 > chi2_limit(SMOOTH_ALPHA, fit.dof):
@@ -221,7 +308,7 @@ def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouc
     rebuilt from its readings with the same checks it applied, in the same order: the
     usable ones, flat presses among them as tactile_jaw.flat.recognized_touches chooses."""
     slices = config.joint_slices()
-    out = []
+    out, felt_all = [], []
     for logged in contents.touches:
         samples = []
         if logged.readings:
@@ -237,6 +324,7 @@ def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouc
             touch = TouchResult(logged.finger, logged.touch, logged.psi_center or 0.0, samples,
                                 outcome=logged.outcome or "interrupted")
         felt = feel(config, touch, settings.samples_per_touch)
+        felt_all.append(felt)
         if felt.problem is None:
             out.append(felt)
-    return recognized_touches(out)
+    return recognized_touches(clear_of_corners(config, out, felt_all, settings.samples_per_touch)[0])

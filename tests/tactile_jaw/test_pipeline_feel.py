@@ -18,7 +18,7 @@ from recognizer.curves import CURVES, Pose
 from recognizer.touches import parse_request
 from tactile_common.errors import InputError
 from tactile_jaw.envelope import fit_envelope
-from tactile_jaw.pipeline import FeltTouch, feel, make_recognizer, stated_noise
+from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel, make_recognizer, stated_noise
 from tactile_jaw.settings import PHI_SIGMA, ExploreSettings
 
 CONFIG = load_config("config/jaw.yaml")
@@ -269,3 +269,63 @@ def test_a_touch_with_its_noise_factor_goes_through_json():
     for bad in (factor[:-1].tolist(), np.zeros_like(factor).tolist(), [[1.0]] * 26 + [[1.0, 2.0]]):
         with pytest.raises(InputError, match="noise_factor"):
             parse_request({"touches": [{**felt.to_json(), "noise_factor": bad}] * 3})
+
+
+def _arc_then_corner(theta_end: float, r: float = 20.0):
+    """Contact of the left pad of normal ψ on a circle of radius r about CENTRE whose curved
+    part ends at the outward normal angle ``theta_end``: past it the pad pivots about the
+    end corner E (returned too)."""
+    end = CENTRE + r * np.array([math.cos(theta_end), math.sin(theta_end)])
+
+    def contact(psi):
+        theta = psi + math.pi  # the object's outward normal at the contact
+        return CENTRE + r * np.array([math.cos(theta), math.sin(theta)]) if theta <= theta_end else end
+
+    return contact, end
+
+
+def test_a_corner_touch_states_the_corner():
+    """A roll on a corner gives the point every pad line passes through: the corner, to the
+    lines' quantization (0.05 mm across the pad; along it, over an 18° roll, measured 0.18 mm)."""
+    corner = np.array([112.0, 14.0])
+    psis = math.radians(-80.0) + np.linspace(-0.5, 0.5, 9) * math.radians(18.0)
+    felt = feel(CONFIG, quantized_touch(lambda psi: corner, psis), 9)
+    assert felt.off_curve and felt.corner is not None
+    assert math.hypot(felt.corner[0] - corner[0], felt.corner[1] - corner[1]) < 0.3
+
+
+@pytest.mark.parametrize("samples, span_deg, kept", [(9, 18.0, False), (15, 24.0, True)])
+def test_a_roll_past_the_curves_end_loses_its_samples_at_the_corner(samples, span_deg, kept):
+    """A roll whose last three pad lines pivot about the curve's end corner passes every
+    check of its own (over 2° a pivot and the arc differ by ~0.01 mm); once another touch
+    has pivoted about that corner, the samples within CORNER_CLEARANCE_MM of it go: a
+    15-sample roll is used without them (its 9 contacts then on the circle), a 9-sample one
+    keeps too few and is dropped, each with the reason; a touch away from the corner is
+    returned as it is."""
+    step = math.radians(span_deg) / (samples - 1)
+    centre_psi = math.radians(-80.0)
+    theta_end = centre_psi + math.pi + step * (samples // 2 - 3 + 0.5)  # the last 3 readings past the end
+    contact, end = _arc_then_corner(theta_end)
+    psis = centre_psi + np.linspace(-0.5, 0.5, samples) * math.radians(span_deg)
+    past = feel(CONFIG, quantized_touch(contact, psis), samples)
+    assert past.problem is None, past.problem  # the bug: nothing in the touch itself tells
+    on_corner = feel(CONFIG, quantized_touch(lambda psi: end, psis + math.radians(14.0)), samples)
+    assert on_corner.corner is not None
+    away = feel(CONFIG, quantized_touch(contact, psis - math.radians(20.0)), samples)
+    assert away.problem is None
+    usable, notes = clear_of_corners(CONFIG, [past, away], [past, on_corner, away], samples)
+    assert usable[-1] is away and len(notes) == 1 and "within 2 mm of the corner" in notes[0], notes
+    if kept:
+        assert len(usable) == 2 and "used without them" in notes[0], notes
+        c = usable[0].contacts
+        assert c.x.size == 9  # 5 within 2 mm of the corner, and the one the fit placed beyond them
+        assert np.max(np.abs(np.hypot(c.x - CENTRE[0], c.y - CENTRE[1]) - 20.0)) < 0.05
+    else:
+        assert len(usable) == 1 and "not used" in notes[0]
+
+
+def test_no_corner_changes_nothing():
+    psis = math.radians(-80.0) + np.linspace(-0.5, 0.5, 9) * math.radians(18.0)
+    contact, _ = _arc_then_corner(math.radians(200.0))
+    felt = feel(CONFIG, quantized_touch(contact, psis), 9)
+    assert clear_of_corners(CONFIG, [felt], [felt], 9) == ([felt], [])
