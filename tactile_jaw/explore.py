@@ -33,7 +33,7 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat import recognized_touches
-from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel
+from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel, too_few_clear
 from tactile_jaw.plan import (
     APPROACH_MARGIN_MM,
     PROBE_ENOUGH_DEG,
@@ -437,9 +437,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         except InputError as exc:
             emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})
             if len(usable) < len(out.used):  # an earlier round's answer was on touches since cleared
-                out.recognition = Recognition("unclassified", reason=(
-                    f"only {len(usable)} of the {len(out.used)} usable touches are clear of the corners other "
-                    f"touches pivoted about: {exc}"))
+                out.recognition = too_few_clear(usable, len(out.used), exc)
         out.used = usable
     out.robot_time_s = jaw.robot_time() - t0
     return out

@@ -306,7 +306,22 @@ def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noi
 def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouch]:
     """The touches of a run log (hand_driver.log.read_log) the exploration recognized,
     rebuilt from its readings with the same checks it applied, in the same order: the
-    usable ones, flat presses among them as tactile_jaw.flat.recognized_touches chooses."""
+    usable ones clear of the corners (:func:`clear_of_corners`), flat presses among them as
+    tactile_jaw.flat.recognized_touches chooses."""
+    usable, felt = logged_felt(config, contents, settings)
+    return recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0])
+
+
+def too_few_clear(usable: Sequence[FeltTouch], used: int, exc: Exception) -> Recognition:
+    """The refusal when the touches clear of the corners (``usable``, of ``used`` usable
+    ones) are too few to recognize (``exc``: the recognizer's count error)."""
+    return Recognition("unclassified", reason=f"only {len(usable)} of the {used} usable touches are clear of the "
+                                              f"corners other touches pivoted about: {exc}")
+
+
+def logged_felt(config, contents, settings: ExploreSettings) -> tuple[list[FeltTouch], list[FeltTouch]]:
+    """A run log's touches rebuilt from its readings, each felt with the checks the
+    exploration applied: (the usable ones, every one), in the log's order."""
     slices = config.joint_slices()
     out, felt_all = [], []
     for logged in contents.touches:
@@ -327,4 +342,4 @@ def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouc
         felt_all.append(felt)
         if felt.problem is None:
             out.append(felt)
-    return recognized_touches(clear_of_corners(config, out, felt_all, settings.samples_per_touch)[0])
+    return out, felt_all

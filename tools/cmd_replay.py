@@ -32,7 +32,9 @@ def run(args) -> int:
     from tactile_jaw.choose import JawReach
     from tactile_jaw.decide import final_answer
     from tactile_jaw.flat import is_flat
-    from tactile_jaw.pipeline import logged_touches, make_recognizer, stated_noise, workspace_reach
+    from tactile_jaw.flat import recognized_touches
+    from tactile_jaw.pipeline import clear_of_corners, logged_felt, make_recognizer, stated_noise, too_few_clear, \
+        workspace_reach
     from tactile_jaw.settings import ExploreSettings
 
     if args.touches:
@@ -44,7 +46,8 @@ def run(args) -> int:
         settings = ExploreSettings.from_json(header.get("settings") or {})
     except (KeyError, TypeError, ValueError):
         raise InputError(f"{args.log}: line 1: header settings lack touches/samples_per_touch/roll_span_deg") from None
-    touches = logged_touches(config, contents, settings)
+    usable, felt = logged_felt(config, contents, settings)
+    touches = recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0])
     logged_noise = header["settings"].get("noise")
     fixed_noise = logged_noise if isinstance(logged_noise, dict) else None  # an older run's fixed noise
     if args.touches:
@@ -60,7 +63,12 @@ def run(args) -> int:
     recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
                                         reach=JawReach(config, settings))
     stopped = next((e.get("message") for e in reversed(contents.events) if e.get("kind") == "stopped_early"), None)
-    recognition = final_answer(recognize_touches, touches, settings, stopped).to_json()
+    try:
+        recognition = final_answer(recognize_touches, touches, settings, stopped).to_json()
+    except InputError as exc:
+        if len(touches) >= len(usable):
+            raise
+        recognition = too_few_clear(touches, len(usable), exc).to_json()  # as the exploration answered
     if args.json:
         sys.stdout.write(json.dumps(recognition, allow_nan=False) + "\n")
         return 0

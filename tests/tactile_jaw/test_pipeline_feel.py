@@ -309,7 +309,7 @@ def test_a_roll_past_the_curves_end_loses_its_samples_at_the_corner(samples, spa
     psis = centre_psi + np.linspace(-0.5, 0.5, samples) * math.radians(span_deg)
     past = feel(CONFIG, quantized_touch(contact, psis), samples)
     assert past.problem is None, past.problem  # the bug: nothing in the touch itself tells
-    on_corner = feel(CONFIG, quantized_touch(lambda psi: end, psis + math.radians(14.0)), samples)
+    on_corner = feel(CONFIG, quantized_touch(lambda psi: end, psis + math.radians(22.0)), samples)
     assert on_corner.corner is not None
     away = feel(CONFIG, quantized_touch(contact, psis - math.radians(20.0)), samples)
     assert away.problem is None
