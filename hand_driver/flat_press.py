@@ -57,6 +57,12 @@ FLAT_MAX_TURN_DEG = 36.0
 SEAT_TOL_MM = 0.2
 #: the two supports of a seat are at least this fraction of the pad's length apart
 FACE_MIN_FRACTION = 0.35
+#: the lines either side of a seat miss the other side's support by more than this many
+#: SEAT_TOL_MM: a line 0.84° from the seat of a 34 mm face passed 0.23 mm from its own
+#: support (three stops' rounding) and 0.5 mm from the other, and with 1× it was taken
+#: into the wrong support, the face 1.1° off (bench_explore --finite 20 --seed 11, rand8);
+#: a line that near the seat is left between the supports instead
+SPLIT_APART = 2.0
 #: each support is fitted to this many pad lines, those nearest the seat: over a long face
 #: a pad end resting on it slides as the pad turns, and on an arc of large radius a run
 #: of pad-end lines reaching far from the seat fits a support that hides the arc's bulge
@@ -121,8 +127,8 @@ def seat_split(lines: list[kin.PadLine], length_mm: float,
     for Q, −1 for the rest — a line close to the seat that passes through both, lines far
     from it), P, Q; None if there is no such split. The support function of a flat face is
     min(n·P, n·Q): it kinks where the pad lies flat. The split must be unambiguous: the
-    last line of P misses Q and the first line of Q misses P by more than ``tol_mm``, at
-    most one line between them, and each support lowers the pad toward the other
+    last line of P misses Q and the first line of Q misses P by more than
+    ``SPLIT_APART`` · ``tol_mm``, at most one line between them, and each support lowers the pad toward the other
     (:func:`lowering_turn`: +1 about P, −1 about Q; two runs of one pad end sliding along
     a long face, each within ``tol_mm`` of a point, both lower it the same way). Each
     support is fitted to the ``SUPPORT_LINES`` lines nearest the seat; lines beyond are
@@ -141,7 +147,7 @@ def seat_split(lines: list[kin.PadLine], length_mm: float,
             apart = min(abs(float(last.normal @ q - last.d)), abs(float(first.normal @ p - first.d)))
             worst = max(rp, rq)
             toward_seat = (lowering_turn(last, p, length_mm), lowering_turn(first, q, length_mm)) == (1, -1)
-            if tol_mm < apart and toward_seat and (best is None or worst < best[0]):
+            if SPLIT_APART * tol_mm < apart and toward_seat and (best is None or worst < best[0]):
                 groups = [-1] * len(lines)
                 groups[k - np_:k] = [0] * np_
                 groups[k + gap:k + gap + nq] = [1] * nq

@@ -42,8 +42,10 @@ from tactile_common.angles import wrap_angle
 #: the segment's middle being a convention
 FLAT_NOISE = {"phi": 3.0e-3, "pos": 0.1}
 #: two flat touches are on the same face when their lines differ by less than this in
-#: angle (rad) and each one's contact lies this close (mm) to the other's line
-SAME_FACE_RAD = 0.02
+#: angle (rad: ~3·FLAT_NOISE's φ; a press 19 mrad off its face's others, grouped with them
+#: at 0.02, made the line lose to a semicubical) and each one's contact lies this close
+#: (mm) to the other's line
+SAME_FACE_RAD = 0.01
 SAME_FACE_MM = 1.0
 
 
