@@ -299,14 +299,14 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
 
 
 def _press(jaw: Jaw, finger: str, psi: float) -> Motion:
-    """From the pad's last contact: back off ROLL_CLEARANCE_MM plus what turning to ψ
-    about the pad's middle can sweep, turn, guarded approach."""
+    """From the pad's last contact, in one move, off the object by ROLL_CLEARANCE_MM plus
+    what turning to ψ about the pad's middle can sweep (the pad line is interpolated, so
+    the end the turn lowers stays clear all the way), then a guarded approach."""
     m = jaw.config.motion
     here = jaw.pad_line(jaw.last_state, finger)
     turn = abs(math.remainder(psi - float(here.psi), 2 * math.pi))
     middle = 0.5 * (here.proximal + here.distal)
     clearance = ROLL_CLEARANCE_MM + 0.5 * jaw.config.finger(finger).pad.length_mm * turn
     n = np.array([math.cos(psi), math.sin(psi)])
-    yield from move_line(jaw, finger, float(here.psi), float(here.d) - ROLL_CLEARANCE_MM)
     d_from = yield from turn_to(jaw, finger, psi, float(n @ middle) - clearance)
     return (yield from guarded_approach(jaw, finger, psi, d_from, 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + m.backoff_mm))

@@ -5,8 +5,9 @@ P, pad lines resting on a second support Q, and presses at the seat's orientatio
 :func:`feel_flat` fits the face through both supports to all of them at once — each
 line's offset is min(n·P, n·Q), the support function of a straight face between P and Q
 — checks that the seated presses stop where the two supports say (min(n·P, n·Q) from
-the P and Q lines alone: their mean within ``SEAT_TOL_MM``, each within twice that; an
-arc between the supports bulges toward the pad and stops it early), and hands the recognizer one **contact** touch (docs/formats.md): the middle of
+the P and Q lines alone — a support near a pad end being that end, :func:`seat_supports` —:
+their mean within ``SEAT_TOL_MM``, each within twice that; an arc between the supports
+bulges toward the pad and stops it early), and hands the recognizer one **contact** touch (docs/formats.md): the middle of
 the seated segment PQ, the face's tangent angle φ (travelling with the solid on the
 right, as the canonical line: ψ + π/2), κ = κ_s = 0 with the flatness the seat proves as their deviation
 (:func:`flat_curvature_sd`). The request of flat touches states ``FLAT_NOISE``.
@@ -24,7 +25,7 @@ docs/exploration.md#lines-flat-presses.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Sequence
 
 import numpy as np
@@ -47,6 +48,19 @@ FLAT_NOISE = {"phi": 3.0e-3, "pos": 0.1}
 #: (mm) to the other's line
 SAME_FACE_RAD = 0.01
 SAME_FACE_MM = 1.0
+#: a support whose pad lines cross this close (mm) to a pad end, or beyond it, is that pad
+#: end resting on the face (:func:`seat_supports`): the end slides along the face as the
+#: pad turns, so its lines cross up to a few mm inside the pad and up to ~0.14 mm off the
+#: face, and that bias hid part of an arc's bulge (radius 1000 mm turned 15°: its seated
+#: presses stopped 0.07 mm early from the crossing, 0.21 from the end). Corners 5–8 mm
+#: from a pad end exist on the random blocks (taken for the end they were 0.26 mm off)
+END_SUPPORT_MM = 4.0
+#: the presses of one face must have stopped, on average over all of them, at most this
+#: far (mm) short of their supports: each press's own mean (3 seated stops) is held to
+#: ±SEAT_TOL_MM, the rounding of its 9 stops; over a face's presses the bias a flat face
+#: can show is smaller (the random blocks' presses, supports at pad ends taken as the end:
+#: at most +0.11 mm) while an arc's bulge stays (radius 1000 mm: +0.19…+0.30 mm a press)
+FACE_MISS_MM = 0.15
 
 
 @dataclass(frozen=True)
@@ -58,6 +72,7 @@ class Face:
     d: float
     p: np.ndarray
     q: np.ndarray
+    miss: float = 0.0  # how far (mm) its seated presses stopped short of the supports, on average
 
     @property
     def length(self) -> float:
@@ -106,6 +121,21 @@ def fit_face(lines: kin.PadLine, roles: Sequence[str]) -> Face:
     return Face(float(math.atan2(normal[1], normal[0])), float(0.5 * normal @ (p + q)), p, q)
 
 
+def seat_supports(lines: kin.PadLine, roles: Sequence[str], face: Face, length_mm: float) -> tuple[np.ndarray, np.ndarray]:
+    """The two supports a seated press is checked against: each group's (``P``, ``Q``)
+    common point from ``face`` (:func:`fit_face`), or, when that lies within
+    ``END_SUPPORT_MM`` of a pad end of the group's line nearest the seat (the one passing
+    nearest the other support) or beyond it, that pad end itself, which rests on the face."""
+    out = []
+    for role, point, other in (("P", face.p, face.q), ("Q", face.q, face.p)):
+        rows = [i for i, r in enumerate(roles) if r == role]
+        near = lines.at(min(rows, key=lambda i: abs(float(lines.normal[i] @ other - lines.d[i]))))
+        u = float(near.pad_coordinate(point))
+        out.append(np.asarray(near.proximal if u <= END_SUPPORT_MM else
+                              near.distal if u >= length_mm - END_SUPPORT_MM else point, dtype=float))
+    return out[0], out[1]
+
+
 def feel_flat(config, touch: FlatResult) -> tuple[kin.PadLine | None, str | None, ContactTouch | None, Face | None]:
     """A flat press felt (tactile_jaw.pipeline.feel dispatches it here): its pad lines,
     why it cannot be used or None, the recognizer's contact touch when usable, and the
@@ -134,13 +164,13 @@ def feel_flat(config, touch: FlatResult) -> tuple[kin.PadLine | None, str | None
     seats = [i for i, r in enumerate(roles) if r == "seat"]
     # a straight face's support function is min(n·P, n·Q) at the seat too; an arc between
     # P and Q meets the seated pad before either, by its bulge
-    miss = np.array([float(min(lines.normal[i] @ supports.p, lines.normal[i] @ supports.q) - lines.d[i])
-                     for i in seats])
+    p, q = seat_supports(lines, roles, supports, length)
+    miss = np.array([float(min(lines.normal[i] @ p, lines.normal[i] @ q) - lines.d[i]) for i in seats])
     if abs(float(np.mean(miss))) > SEAT_TOL_MM or np.max(np.abs(miss)) > 2.0 * SEAT_TOL_MM:
         return out(f"{finger}: the pad did not lie flat: its seated presses stopped {float(np.mean(miss)):+.2f} mm "
                    f"(mean; at most {SEAT_TOL_MM:g}) from the line through both supports: a curved boundary, "
                    f"not a face", supports)
-    face = fit_face(lines, roles)
+    face = replace(fit_face(lines, roles), miss=float(np.mean(miss)))
     return out(None, face)
 
 
@@ -172,12 +202,23 @@ def is_flat(felt) -> bool:
     return isinstance(felt.touch, FlatResult)
 
 
+def curved_faces(usable: Sequence) -> list[tuple[int, float]]:
+    """The groups of flat touches (:func:`face_groups`) that are no face: (touches, mean
+    seat miss) of each whose seated presses stopped short of their supports by more than
+    ``FACE_MISS_MM`` on average."""
+    groups = face_groups([t for t in usable if is_flat(t)])
+    means = [float(np.mean([t.face.miss for t in g])) for g in groups]
+    return [(len(g), m) for g, m in zip(groups, means) if m > FACE_MISS_MM]
+
+
 def recognized_touches(usable: Sequence) -> list:
     """What the recognizer gets of the usable touches (module docstring): the rolling
     touches if there is any; else the flat touches of the face felt most often (the first
-    felt on a tie)."""
+    felt on a tie) among those whose presses stopped, on average, within ``FACE_MISS_MM``
+    of their supports (:func:`curved_faces`: a gentle curve)."""
     rolling = [t for t in usable if not is_flat(t)]
     if rolling:
         return rolling
-    groups = face_groups([t for t in usable if is_flat(t)])
+    groups = [g for g in face_groups([t for t in usable if is_flat(t)])
+              if float(np.mean([t.face.miss for t in g])) <= FACE_MISS_MM]
     return max(groups, key=len) if groups else []

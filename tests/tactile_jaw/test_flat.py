@@ -5,6 +5,7 @@ rolling touches first."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -14,7 +15,16 @@ from hand_driver.motion import TouchResult
 from recognizer.touches import ContactTouch
 from tactile_common.yamlfile import read_yaml
 from tactile_jaw.decide import decide
-from tactile_jaw.flat import FLAT_NOISE, Face, face_groups, flat_curvature_sd, recognized_touches, same_face
+from tactile_jaw.flat import (
+    FACE_MISS_MM,
+    FLAT_NOISE,
+    Face,
+    curved_faces,
+    face_groups,
+    flat_curvature_sd,
+    recognized_touches,
+    same_face,
+)
 from tactile_jaw.pipeline import FeltTouch, make_recognizer
 from tactile_jaw.settings import ExploreSettings
 
@@ -71,3 +81,18 @@ def test_faces_are_never_mixed_and_rolling_touches_come_first():
     assert recognized_touches(bottom[:2] + top) == bottom[:2]  # a tie: the first felt
     rolling = FeltTouch(TouchResult("left", 1, 0.0), None, None, None, None, None)
     assert recognized_touches(top + [rolling]) == [rolling]
+
+
+def test_a_face_whose_presses_stop_short_on_average_is_a_gentle_curve():
+    """Each press passed the seat test (|mean| ≤ SEAT_TOL_MM), but over the face's presses
+    they stopped FACE_MISS_MM or more short of their supports on average (an arc's bulge
+    stays, a flat face's rounding averages out): not recognized; the other face is."""
+    def flat(y, miss, finger="left", **kw):
+        return _flat(replace(_face(y, 0.0, **kw), miss=miss), finger)
+
+    arc = [flat(10.0, m) for m in (0.19, 0.12, 0.17, 0.16)]  # mean 0.16
+    face = [flat(-10.0, m, "right", x0=130.0, x1=90.0, below=False) for m in (0.14, -0.05, 0.13)]
+    assert curved_faces(arc + face) == [(4, pytest.approx(0.16))]
+    assert recognized_touches(arc + face) == face
+    assert recognized_touches(arc) == []
+    assert FACE_MISS_MM < SEAT_TOL_MM
