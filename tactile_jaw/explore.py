@@ -307,7 +307,7 @@ def _flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: 
                     felt.touch.outcome = "rejected"
                 emit({"type": "event", "kind": "touch_rejected", "message": felt.problem, "touch": felt.touch.touch})
                 say(f"flat press ({name}): not used: {felt.problem}")
-        out.used = recognized_touches(flat)
+        out.used = recognized_touches(flat, settings.min_touches)
         for n, miss in curved_faces(flat):
             say(f"{n} flat presses of one face stopped {miss:+.2f} mm short of their supports on average "
                 f"(at most {FACE_MISS_MM:g}): a gentle curve, not a face; not recognized as a line")

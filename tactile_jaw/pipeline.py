@@ -309,7 +309,8 @@ def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouc
     usable ones clear of the corners (:func:`clear_of_corners`), flat presses among them as
     tactile_jaw.flat.recognized_touches chooses."""
     usable, felt = logged_felt(config, contents, settings)
-    return recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0])
+    return recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0],
+                              settings.min_touches)
 
 
 def too_few_clear(usable: Sequence[FeltTouch], used: int, exc: Exception) -> Recognition:

@@ -95,4 +95,5 @@ def test_a_face_whose_presses_stop_short_on_average_is_a_gentle_curve():
     assert curved_faces(arc + face) == [(4, pytest.approx(0.16))]
     assert recognized_touches(arc + face) == face
     assert recognized_touches(arc) == []
+    assert recognized_touches(arc + face, fewest=3) == face and recognized_touches(arc + face[:2], fewest=3) == []
     assert FACE_MISS_MM < SEAT_TOL_MM
