@@ -9,8 +9,9 @@ reason the answer is not decisive (tactile_jaw.decide.Why):
 
 (a) a parabola felt on one side of its vertex only (``vertex``): a roll centred
     ``VERTEX_SIDE_DEG`` of tangent turn beyond the vertex on the short side, the nearest
-    such centre a pad reaches (:func:`vertex_aim`); once one such touch fell off the
-    curved part (the object ends there) the vertex side is not aimed at again;
+    such centre a pad reaches (:func:`vertex_aim`). When no pad reaches it, or such a touch
+    fell off the curved part (the object ends there), exploration stops: the richer rival
+    (ellipse, hyperbola, cubic) always fits at least as well, so only that side can decide;
 (b) otherwise the recognizer's ``next_touch`` (already inside the jaw's reach), unless a
     touch was aimed within ``AIM_AGAIN_MM`` of it (then the planner's own choice);
 (c) nothing reachable helps (no ``next_touch`` and no vertex aim) while the classes or the
@@ -112,8 +113,7 @@ def vertex_aim(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray],
     sign = -1.0 if short == 0 else 1.0
     half = 0.5 * math.degrees(reach.settings.roll_span_rad)
     goal = VERTEX_SIDE_DEG + 0.5 * half
-    centres = np.arange(VERTEX_SIDE_DEG - half + VERTEX_AIM_STEP_DEG, VERTEX_SIDE_DEG + 2 * half + 1e-9,
-                        VERTEX_AIM_STEP_DEG)
+    centres = np.arange(VERTEX_SIDE_DEG - half + 0.5, VERTEX_SIDE_DEG + 2 * half + 1e-9, VERTEX_AIM_STEP_DEG)
     curve = CURVES["parabola"]({"a": recognition.params["a"]})
     pose = recognition.pose
     for c in sorted(centres, key=lambda c: abs(c - goal)):
@@ -147,16 +147,17 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     docstring). ``touched``: the usable touches' sample positions (x, y); ``aimed_at``: the
     points touches were aimed at so far; ``vertex_missed``: a touch aimed beyond the vertex
     fell off the curved part."""
-    vertex_blocked = None
     if why.kind == "vertex" and touched is not None:
         aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers)
         if aim is not None and not _aimed_near(aim.point, aimed_at):
             return aim, None
         x, y, psi = vertex_place(recognition, touched)
-        vertex_blocked = ("the touch aimed beyond the vertex fell off the curved part (the object ends there)"
-                          if vertex_missed else "a touch was aimed beyond the vertex there already" if aim is not None
-                          else f"no pad can roll beyond the vertex on that side (near ({x:.0f}, {y:.0f}) mm, pad "
-                          f"normal {psi:.0f} deg)")
+        if aim is None or vertex_missed:  # the richer rival always fits at least as well: only that side decides
+            return None, ("no touch within the pads' reach can decide: "
+                          + ("the touch aimed beyond the vertex fell off the curved part (the object ends there)"
+                             if vertex_missed else f"no pad can roll beyond the vertex on that side (near ({x:.0f}, "
+                             f"{y:.0f}) mm, pad normal {psi:.0f} deg)")
+                          + ": move or turn the object so that more of its curved part faces a finger")
     suggested = recognition.next_touch
     if suggested is not None:
         f = reach.finger(suggested["x"], suggested["y"], suggested["phi"], fingers)
@@ -167,9 +168,8 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     if why.kind in ("unstable", "unclassified"):
         return None, None  # one more touch anywhere: the planner's
     what = ("narrow the parameters" if why.kind == "imprecise" else "tell the classes apart")
-    return None, (f"no touch within the pads' reach is expected to {what}"
-                  + (f" ({vertex_blocked})" if vertex_blocked else "")
-                  + ": move or turn the object so that more of its curved part faces a finger")
+    return None, (f"no touch within the pads' reach is expected to {what}: move or turn the object so that more of "
+                  f"its curved part faces a finger")
 
 
 def _aimed_near(point, aimed_at) -> bool:

@@ -84,9 +84,12 @@ def test_next_aim_follows_the_reason_and_stops_when_nothing_within_reach_helps()
     for kind, what in (("rival", "tell the classes apart"), ("imprecise", "narrow the parameters")):
         aim, stop = next_aim(unreachable, _why(kind), touched, REACH, fingers, [])
         assert aim is None and what in stop and "move or turn the object" in stop
-    # the vertex side once missed (the object ends there): not aimed at again, and said so
-    aim, stop = next_aim(PARABOLA, _why("vertex"), touched, REACH, fingers, [], vertex_missed=True)
+    # the vertex side once missed (the object ends there) or out of every pad's reach: only that
+    # side decides (the richer rival always fits at least as well), so exploration stops, saying so
+    aim, stop = next_aim(suggesting, _why("vertex"), touched, REACH, fingers, [], vertex_missed=True)
     assert aim is None and "fell off the curved part" in stop
+    aim, stop = next_aim(suggesting, _why("vertex"), touched, REACH, [CONFIG.fingers[1]], [])
+    assert aim is None and "no pad can roll beyond the vertex" in stop and "move or turn the object" in stop
 
 
 def test_why_carries_its_kind():
