@@ -13,7 +13,8 @@ reason the answer is not decisive (tactile_jaw.decide.Why):
     fell off the curved part (the object ends there), exploration stops: the richer rival
     (ellipse, hyperbola, cubic) always fits at least as well, so only that side can decide;
 (b) otherwise the recognizer's ``next_touch`` (already inside the jaw's reach), unless a
-    touch was aimed within ``AIM_AGAIN_MM`` of it (then the planner's own choice);
+    touch was aimed within ``AIM_AGAIN_MM`` of it, or one aimed within ``EMPTY_AIM_MM`` met
+    nothing (then the planner's own choice);
 (c) nothing reachable helps (no ``next_touch`` and no vertex aim) while the classes or the
     parameters are in doubt: exploration stops with a reason a person can act on rather
     than spend the budget on touches that cannot help. An answer that changed with the last
@@ -40,6 +41,10 @@ AIM_AGAIN_MM = 1.0
 #: roll centres tried beyond a parabola's vertex on its short side, every this many degrees
 #: of tangent turn
 VERTEX_AIM_STEP_DEG = 2.5
+#: a suggestion this near (mm) a place where a touch aimed before met nothing is not aimed
+#: at: the answered curve goes on where the object does not (the far side of a circle fitted
+#: to a parabola's touches: the parabola example moved 3 mm sent the right pad there twice)
+EMPTY_AIM_MM = 10.0
 
 
 @dataclass(frozen=True)
@@ -141,12 +146,13 @@ def vertex_place(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray
 
 
 def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, fingers: Sequence,
-             aimed_at: Sequence[tuple[float, float]], vertex_missed: bool = False) -> tuple[Aim | None, str | None]:
+             aimed_at: Sequence[tuple[float, float]], vertex_missed: bool = False,
+             empty_at: Sequence[tuple[float, float]] = ()) -> tuple[Aim | None, str | None]:
     """(the next touch's aim, or None for the planner's own choice; why no touch within reach
     can help, or None) for an answer that is not decisive because of ``why`` (module
     docstring). ``touched``: the usable touches' sample positions (x, y); ``aimed_at``: the
     points touches were aimed at so far; ``vertex_missed``: a touch aimed beyond the vertex
-    fell off the curved part."""
+    fell off the curved part; ``empty_at``: points aimed at where the touch met nothing."""
     if why.kind == "vertex" and touched is not None:
         aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers)
         if aim is not None and not _aimed_near(aim.point, aimed_at):
@@ -164,7 +170,8 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
         if f is not None:
             aim = Aim(float(suggested["x"]), float(suggested["y"]), float(suggested["phi"]), f.name,
                       f"where the recognizer points: {suggested.get('why', '')}")
-            return (None if _aimed_near(aim.point, aimed_at) else aim), None
+            skip = _aimed_near(aim.point, aimed_at) or _aimed_near(aim.point, empty_at, EMPTY_AIM_MM)
+            return (None if skip else aim), None
     if why.kind in ("unstable", "unclassified"):
         return None, None  # one more touch anywhere: the planner's
     what = ("narrow the parameters" if why.kind == "imprecise" else "tell the classes apart")
@@ -172,5 +179,5 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
                   f"its curved part faces a finger")
 
 
-def _aimed_near(point, aimed_at) -> bool:
-    return any(math.hypot(point[0] - x, point[1] - y) < AIM_AGAIN_MM for x, y in aimed_at)
+def _aimed_near(point, aimed_at, radius: float = AIM_AGAIN_MM) -> bool:
+    return any(math.hypot(point[0] - x, point[1] - y) < radius for x, y in aimed_at)

@@ -373,6 +373,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     aim: Aim | None = None  # where the next touch goes while the answer is not decisive (tactile_jaw.choose)
     aimed_at: list[tuple[float, float]] = []
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
+    empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
     while _spent(out) < settings.touches:
         if not out.used and len(out.touches) >= FLAT_AFTER_TOUCHES:
@@ -425,8 +426,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 emit({"type": "event", "kind": "touch_rejected", "message": problem, "touch": touch.touch})
             say(f"touch {len(out.touches)} ({_spent(out)}/{settings.touches} of the budget): {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
                 f"{len(touch.samples)} samples, {'used' if problem is None else 'not used: ' + problem}")
-            if aimed is not None and aimed.kind == "vertex" and name == aimed.finger and problem is not None:
-                vertex_missed = True
+            if aimed is not None and name == aimed.finger and problem is not None:
+                vertex_missed |= aimed.kind == "vertex"
+                if not touch.samples:
+                    empty_at.append(aimed.point)  # the object is not where the answered curve goes on
         usable = cleared()
         if len(usable) >= settings.min_touches:
             recognition, why = decide(recognize_touches, usable, settings)
@@ -437,7 +440,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 break
             active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
             aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,
-                                        vertex_missed)
+                                        vertex_missed, empty_at)
             if out.stopped is not None:
                 emit({"type": "event", "kind": "stopped_early", "message": out.stopped})
                 say(f"stopping after {len(usable)} usable touches: {out.stopped}")

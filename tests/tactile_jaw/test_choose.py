@@ -77,6 +77,9 @@ def test_next_aim_follows_the_reason_and_stops_when_nothing_within_reach_helps()
     aim, stop = next_aim(suggesting, _why("rival"), touched, REACH, fingers, [])
     assert (aim.x, aim.y, aim.finger, aim.kind, stop) == (105.0, 12.0, "left", "suggested", None)
     assert next_aim(suggesting, _why("rival"), touched, REACH, fingers, [(105.2, 12.3)]) == (None, None)
+    # nor near a place where an aimed touch met nothing (the answered curve goes on where the object does not)
+    assert next_aim(suggesting, _why("rival"), touched, REACH, fingers, [], empty_at=[(110.0, 15.0)]) == (None, None)
+    assert next_aim(suggesting, _why("rival"), touched, REACH, fingers, [], empty_at=[(125.0, 12.0)])[0] is not None
     # (c) nothing reachable: the planner's touch when the answer only needs checking, else stop
     unreachable = Recognition("parabola", PARABOLA.params, pose=PARABOLA.pose,
                               next_touch={**reachable, "phi": -math.pi / 2})
