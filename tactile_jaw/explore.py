@@ -376,8 +376,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
     while _spent(out) < settings.touches:
-        if not out.used and len(out.touches) >= FLAT_AFTER_TOUCHES:
-            say(f"none of {len(out.touches)} rolling touches was usable: no curved part within reach of the pads")
+        if not cleared() and len(out.touches) >= FLAT_AFTER_TOUCHES:
+            say(f"none of {len(out.touches)} rolling touches was usable clear of the corners: no curved part "
+                f"within reach of the pads")
             break
         plans, spent, aimed = {}, {}, None
         budget = settings.touches - _spent(out)
@@ -445,7 +446,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 emit({"type": "event", "kind": "stopped_early", "message": out.stopped})
                 say(f"stopping after {len(usable)} usable touches: {out.stopped}")
                 break
-    if not out.used:  # no curved part felt: the faces, by flat presses
+    if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
         _flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index)
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
     t_retreat = jaw.robot_time()
