@@ -18,6 +18,15 @@ from tactile_jaw.settings import ExploreSettings
 #: a consistent rival class whose χ² exceeds the answer's by this much (likelihood ratio
 #: e^-5, "very strong" evidence on Kass & Raftery's scale) no longer keeps exploration going
 DECISIVE_CHI2 = 10.0
+#: a simpler answer is decisive only while every richer consistent class's χ² gain stays
+#: below the χ²_Δk limit at this level (rule (a)): looser than the recognizer's consistency
+#: alpha (1e-3), since here a false alarm costs one more touch, a miss a wrong class. Random
+#: hyperbola 96 of bench_explore --finite 20 --seed 13 (a = b = 11.2 mm, touched near its
+#: vertex) was answered parabola with the hyperbola 10.81 better on one parameter (the limit
+#: at 1e-3 is 10.83); the right answers of that run gained at most 0.40 (parabola, Δk 1),
+#: 5.68 (circle, Δk 2) and 0.07 (line, Δk 3) from a richer class, inside the limits at 0.01
+#: (6.63, 9.21, 11.34)
+DECISIVE_ALPHA = 0.01
 #: (answer, rival): the answer is a special case or a limit of the rival (the recognizer's
 #: one definition, recognizer.classify.LIMIT_OF: a circle of ellipses, a parabola of
 #: ellipses, hyperbolas and both cubic families — far from the cubical's inflection or the
@@ -79,7 +88,7 @@ def indecision(recognition: Recognition, shorter: Recognition | None, settings: 
     every usable touch, ``shorter`` on all but the last (None if too few), ``touched`` the
     touches' sample positions (x, y) (None: unknown). Decisive: (a) no
     consistent class with more free parameters fits significantly better (likelihood ratio:
-    Δχ² below the χ²_Δk limit at the recognizer's alpha); (b) every other consistent class
+    Δχ² below the χ²_Δk limit at ``DECISIVE_ALPHA``); (b) every other consistent class
     is ruled out by the data, its χ² ``DECISIVE_CHI2`` above the answer's, except a class
     the answer is a special case or limit of (``SUBMODELS``: a circle is an ellipse with
     a = b, a parabola the limit of ellipses and hyperbolas), for which (a) decides once the
@@ -90,10 +99,9 @@ def indecision(recognition: Recognition, shorter: Recognition | None, settings: 
     limit."""
     ranked = [r for r in recognition.ranking if r.consistent]
     best = next(r for r in ranked if r.cls == recognition.cls)
-    alpha = float(settings.recognize.get("alpha", 1e-3))
     for r in ranked:
         dk = best.dof - r.dof  # same observations: Δdof = Δ free parameters
-        if dk > 0 and best.chi2 - r.chi2 > chi2_limit(alpha, dk):
+        if dk > 0 and best.chi2 - r.chi2 > chi2_limit(DECISIVE_ALPHA, dk):
             return Why(f"{r.cls} fits significantly better than {best.cls} (chi2 {r.chi2:.3g} vs {best.chi2:.3g})",
                        "better")
     rivals = [r for r in ranked if r.cls != recognition.cls and r.chi2 - best.chi2 < DECISIVE_CHI2]
