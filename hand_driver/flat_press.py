@@ -10,7 +10,7 @@ lies flat at ψ_f. The press finds that kink from any start the finger can turn 
 
 1. Guarded approaches at ψ_start + k·``FLAT_STEP_DEG``, k = 0, then ±1 (``first_turn``).
 2. Each further approach goes where the seat is: the two newest lines at each end of the
-   turned range cross at the point the pad pivots about (:func:`pivot`); turning about it
+   turned range cross at the point the pad pivots about (``kinematics.crossing``); turning about it
    brings the longer part of the pad down (:func:`lowering_turn`). Pad lines through P
    lower toward the seat, those through Q too (from the other side): the range grows on
    the side the seat lies beyond, and once it lies between the ends, on the side with
@@ -90,7 +90,7 @@ def line_point(lines: list[kin.PadLine]) -> tuple[np.ndarray, float]:
     largest distance (mm) from it to one of them."""
     a = np.array([ln.normal for ln in lines], dtype=float)
     b = np.array([float(ln.d) for ln in lines])
-    p = np.linalg.lstsq(a, b, rcond=None)[0]
+    p = kin.nearest_point(a, b)
     return p, float(np.max(np.abs(a @ p - b)))
 
 
@@ -155,15 +155,6 @@ def seat_split(lines: list[kin.PadLine], length_mm: float,
     return None if best is None else best[1:]
 
 
-def pivot(a: kin.PadLine, b: kin.PadLine) -> np.ndarray | None:
-    """The point two pad lines cross at (what the pad turned about between them), or None
-    if they are parallel."""
-    m = np.array([a.normal, b.normal], dtype=float)
-    if abs(np.linalg.det(m)) < 1e-9:
-        return None
-    return np.linalg.solve(m, np.array([float(a.d), float(b.d)]))
-
-
 def lowering_turn(line: kin.PadLine, about: np.ndarray | None, length_mm: float,
                   toward: np.ndarray | None = None) -> int | None:
     """The turn (+1: ψ increasing, −1: decreasing) that brings a part of the pad ``line``
@@ -198,8 +189,8 @@ def next_step(ks: list[int], lines: list[kin.PadLine], length_mm: float, first_t
         turn = lowering_turn(lines[-1], line_point(lines)[0], length_mm, toward) or first_turn
         order = [turn, -turn]
     else:
-        hi = lowering_turn(lines[-1], pivot(lines[-2], lines[-1]), length_mm, toward)
-        lo = lowering_turn(lines[0], pivot(lines[0], lines[1]), length_mm, toward)
+        hi = lowering_turn(lines[-1], kin.crossing(lines[-2], lines[-1]), length_mm, toward)
+        lo = lowering_turn(lines[0], kin.crossing(lines[0], lines[1]), length_mm, toward)
         if hi == 1:
             order = [1, -1]
         elif lo == -1:

@@ -105,6 +105,21 @@ class PadLine:
 _PAD_FIELDS = ("psi", "d", "normal", "tangent", "proximal", "distal", "joint2")
 
 
+def crossing(a: PadLine, b: PadLine) -> np.ndarray | None:
+    """The point two single pad lines ``n·p = d`` cross at (their envelope point, or what the
+    pad turned about between them), or None if they are parallel."""
+    m = np.array([a.normal, b.normal], dtype=float)
+    if abs(np.linalg.det(m)) < 1e-9:
+        return None
+    return np.linalg.solve(m, np.array([float(a.d), float(b.d)]))
+
+
+def nearest_point(normals, d) -> np.ndarray:
+    """The point nearest the lines ``normals[i]·p = d[i]`` (least squares; ≥ 2 lines of
+    distinct angle): the corner a pad pivoted about."""
+    return np.linalg.lstsq(np.asarray(normals, dtype=float), np.asarray(d, dtype=float), rcond=None)[0]
+
+
 def chain_pad_line(base, q, links, pad_offset, pad_length, side_sign) -> PadLine:
     """Forward kinematics with explicit geometry (used by the fit): ``base`` (x, y, angle),
     ``q`` (..., 2), ``links`` (L1, L2)."""

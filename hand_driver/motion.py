@@ -268,9 +268,7 @@ def contact_on_pad(samples: list[Sample]) -> tuple[np.ndarray, float | None]:
     mid = 0.5 * (last.proximal + last.distal)
     if len(samples) < 2:
         return mid, None
-    prev = samples[-2].line
-    a = np.array([last.normal, prev.normal])
-    if abs(np.linalg.det(a)) < 1e-9:
+    p = kin.crossing(last, samples[-2].line)
+    if p is None:
         return mid, None
-    p = np.linalg.solve(a, np.array([float(last.d), float(prev.d)]))
     return p, float(last.pad_coordinate(p))

@@ -177,8 +177,7 @@ def on_corner(fit: EnvelopeFit) -> bool:
 def pivot_point(lines: kin.PadLine) -> tuple[float, float]:
     """The point the pad lines ``n(ψ_i)·p = d_i`` pass nearest (least squares): the corner
     a pad pivoted about."""
-    normals = np.stack([np.cos(lines.psi), np.sin(lines.psi)], axis=-1)
-    p, *_ = np.linalg.lstsq(normals, np.asarray(lines.d, dtype=float), rcond=None)
+    p = kin.nearest_point(lines.normal, lines.d)
     return float(p[0]), float(p[1])
 
 

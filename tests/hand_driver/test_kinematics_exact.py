@@ -171,3 +171,23 @@ def test_touch_rejects_bad_readings():
         kin.touch_from_pad_lines([0.1, 0.1, 0.1], [1.0, 1.0, 1.0])
     with pytest.raises(Exception, match="≥ 3 pad lines"):
         kin.touch_from_pad_lines([0.1, 0.2], [1.0, 1.0])
+
+
+def _line_through(point, psi):
+    n = np.array([math.cos(psi), math.sin(psi)])
+    z = np.zeros(2)
+    return kin.PadLine(psi=np.float64(psi), d=np.float64(n @ point), normal=n, tangent=np.array([-n[1], n[0]]),
+                       proximal=z, distal=z, joint2=z)
+
+
+def test_crossing_and_nearest_point_of_pad_lines():
+    corner = np.array([113.0, -7.5])
+    a, b, c = (_line_through(corner, psi) for psi in (0.3, 1.1, -0.4))
+    np.testing.assert_allclose(kin.crossing(a, b), corner, atol=1e-12)
+    assert kin.crossing(a, _line_through(corner + 2.0, 0.3)) is None  # parallel
+    normals = np.stack([a.normal, b.normal, c.normal])
+    np.testing.assert_allclose(kin.nearest_point(normals, [a.d, b.d, c.d]), corner, atol=1e-12)
+    # lines 1 mm off the corner on either side of two opposite pairs: the corner, in least squares
+    off = [_line_through(corner + s * ln.normal, float(ln.psi)) for ln in (a, b) for s in (1.0, -1.0)]
+    np.testing.assert_allclose(kin.nearest_point(np.stack([ln.normal for ln in off]), [ln.d for ln in off]),
+                               corner, atol=1e-12)
