@@ -44,12 +44,9 @@ NEAR_LIMIT = (0.03, 0.01)
 def _place(limit: Candidate, cls: str, params: dict, rot: float, origin: tuple[float, float], t) -> Candidate:
     """A candidate of ``cls`` whose canonical frame is the limit's turned by ``rot`` with its
     origin at ``origin`` (limit's canonical frame), contact parameters ``t``."""
-    th = limit.pose.theta + rot
-    ox, oy = origin
-    x = limit.pose.x + math.cos(limit.pose.theta) * ox - math.sin(limit.pose.theta) * oy
-    y = limit.pose.y + math.sin(limit.pose.theta) * ox + math.cos(limit.pose.theta) * oy
-    return replace(limit, cls=cls, params=params, pose=Pose(th, x, y), t=np.asarray(t, float), uncertainty={},
-                   reason=None)
+    x, y = (float(v) for v in limit.pose.apply(*origin))
+    return replace(limit, cls=cls, params=params, pose=Pose(limit.pose.theta + rot, x, y), t=np.asarray(t, float),
+                   uncertainty={}, reason=None)
 
 
 def _from_parabola(limit: Candidate, cls: str, fraction: float) -> list[Candidate]:
