@@ -30,6 +30,7 @@ import numpy as np
 from scipy import special, stats
 
 from recognizer import invariants as inv
+from recognizer.class_limits import LIMIT_OF
 from recognizer.contacts import EPS_FLOOR, Contacts
 from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start
 from recognizer.nested import NESTED_FROM, nested_candidates
@@ -44,16 +45,8 @@ __all__ = ["recognize", "contacts_of", "options_for", "DEFAULT_SAMPLES_NOISE"]
 #: φ and position deviations assumed for samples-touches when neither the request nor
 #: the scene gives a noise model (the jaw's encoder and pad-line resolution)
 DEFAULT_SAMPLES_NOISE = NoiseModel(phi=1e-3, pos=0.05)
-#: the classes each class is a limit of (docs/recognition.md#nested-classes): the richer class
-#: fits any touches of the limit at least as well, so its χ² is no evidence against it. A
-#: line of every curved class, a circle of the ellipse, a parabola of the ellipse, the
-#: hyperbola (a → ∞) and both cubic families (a hump far from the cusp or inflection)
-LIMIT_OF = {"line": frozenset({"circle", "ellipse", "parabola", "hyperbola", "cubical_parabola",
-                               "semicubical_parabola"}),
-            "circle": frozenset({"ellipse"}),
-            "parabola": frozenset({"ellipse", "hyperbola", "cubical_parabola", "semicubical_parabola"})}
 #: the limits ``choose`` prefers unless the richer class passes the likelihood-ratio test:
-#: LIMIT_OF without the parabola as a limit of the cubic families, which BIC alone decides.
+#: LIMIT_OF (recognizer.class_limits) without the parabola as a limit of the cubic families, which BIC alone decides.
 #: Measured (bench_wide, 280 trials, seed 1, right class with 3 / 3 + 2 random / 3 + ≤ 2
 #: suggested touches): with them, parabola 97.5/95.0/97.5 % → 100/100/100 % but
 #: semicubical 65.0/75.0/90.0 % → 50.0/67.5/87.5 % (a semicubical's branch touched on

@@ -21,15 +21,16 @@ from dataclasses import replace
 
 import numpy as np
 
-from recognizer.curves import Pose
+from recognizer.class_limits import LIMIT_OF
+from recognizer.curves import CURVES, Pose
 from recognizer.result import Candidate
 
 __all__ = ["NESTED_FROM", "NEAR_LIMIT", "nested_candidates"]
 
-#: the richer classes started from each limit class's fit (recognizer.classify.LIMIT_OF,
-#: without the line: every curved class contains it, and the jaw's lines are flat presses)
-NESTED_FROM = {"circle": ("ellipse",),
-               "parabola": ("ellipse", "hyperbola", "cubical_parabola", "semicubical_parabola")}
+#: the richer classes started from each limit class's fit, in CURVES order (LIMIT_OF without
+#: the line: every curved class contains it, and the jaw's lines are flat presses)
+NESTED_FROM = {limit: tuple(cls for cls in CURVES if cls in richer)
+               for limit, richer in LIMIT_OF.items() if limit != "line"}
 #: the touched stretch (its largest distance from the limit's vertex across its axis) as
 #: fractions of the distance from the vertex to where the richer member departs (its far
 #: vertex, inflection or cusp), one start each: the start differs from the limit's curve by

@@ -9,7 +9,8 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from recognizer.classify import LIMIT_OF, chi2_limit
+from recognizer.class_limits import LIMIT_OF
+from recognizer.classify import chi2_limit
 from recognizer.profiles import DEFAULT_PROFILE, PROFILES
 from recognizer.result import Recognition
 from tactile_common.errors import InputError
@@ -28,7 +29,7 @@ DECISIVE_CHI2 = 10.0
 #: (6.63, 9.21, 11.34)
 DECISIVE_ALPHA = 0.01
 #: (answer, rival): the answer is a special case or a limit of the rival (the recognizer's
-#: one definition, recognizer.classify.LIMIT_OF: a circle of ellipses, a parabola of
+#: one definition, recognizer.class_limits.LIMIT_OF: a circle of ellipses, a parabola of
 #: ellipses, hyperbolas and both cubic families — far from the cubical's inflection or the
 #: semicubical's cusp an arc of either tends to a parabola's: the semicubical fitted to the
 #: parabola example's touches, a = 0.48, b = 4.3 at t ≈ −6, χ² 51.09 against the parabola's

@@ -42,7 +42,8 @@ from collections import defaultdict
 import numpy as np
 
 from recognizer import synth
-from recognizer.classify import LIMIT_OF, MODEL_ALPHA, chi2_limit, recognize
+from recognizer.class_limits import LIMIT_OF
+from recognizer.classify import MODEL_ALPHA, chi2_limit, recognize
 from recognizer.curves import CURVES, Pose
 from recognizer.localize import N_SHAPE
 from recognizer.profiles import PROFILES

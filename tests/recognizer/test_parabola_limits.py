@@ -3,14 +3,14 @@
 parabola's vertex curvature 1/(2a), placed vertex on vertex, deviate from the parabola on a
 fixed window by an amount that shrinks to 0 like 1/D (D the family's distance parameter),
 with the leading coefficient the derivation gives for the cubic families. This is what
-``recognizer.classify.LIMIT_OF["parabola"]`` states."""
+``recognizer.class_limits.LIMIT_OF["parabola"]`` states."""
 
 import math
 
 import numpy as np
 import pytest
 
-from recognizer.classify import LIMIT_OF
+from recognizer.class_limits import LIMIT_OF
 from recognizer.curves import CURVES
 
 A_P = 2.0  # the parabola (a t², 2 a t): vertex curvature 1/(2a) = 0.25 / mm

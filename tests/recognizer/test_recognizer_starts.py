@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from recognizer import synth
-from recognizer.classify import CHOICE_LIMIT_OF, LIMIT_OF, choose
+from recognizer.class_limits import LIMIT_OF
+from recognizer.classify import CHOICE_LIMIT_OF, choose
 from recognizer.curves import CURVES, Pose
 from recognizer.contacts import Contacts
 from recognizer.starts import EXHAUSTIVE_SIDES, _vertex_sides, conic_start, semicubical_scan

@@ -50,7 +50,7 @@ def test_vertex_sides_of_a_parabola():
 
 
 def test_a_parabola_against_a_cubic_needs_both_sides_of_its_vertex():
-    """The parabola is also a limit of both cubic families (recognizer.classify.LIMIT_OF): a cubic
+    """The parabola is also a limit of both cubic families (recognizer.class_limits.LIMIT_OF): a cubic
     fitting as well is no evidence against a stable parabola answer felt on both sides of its
     vertex (the parabola example: 28-35 deg either side), but felt on one side only (the
     semicubical example, answered parabola: 47 and 16 deg) the answer is not decisive."""
@@ -74,7 +74,7 @@ def test_a_parabola_against_a_cubic_needs_both_sides_of_its_vertex():
 
 
 def test_a_limit_of_the_rival_needs_a_stable_answer():
-    """A parabola is the limit of ellipses and hyperbolas (recognizer.classify.LIMIT_OF):
+    """A parabola is the limit of ellipses and hyperbolas (recognizer.class_limits.LIMIT_OF):
     an ellipse fitting as well is no evidence against it once the answer is stable (e1
     emulated, ellipse 35 x 12 felt near a vertex, was answered parabola only because the
     answer did not change: the χ² rows below); the likelihood ratio still decides."""
