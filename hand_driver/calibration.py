@@ -85,7 +85,7 @@ def _pre_pose(cfg: JawConfig, t: PlannedTouch, center, r: float, gap: float):
     f = cfg.finger(t.finger)
     c = np.asarray(center, dtype=float)
     if t.kind == "face":
-        n = np.array([math.cos(t.psi), math.sin(t.psi)])
+        n = kin.unit(t.psi)
         sols = kin.ik_line_solutions(f, t.psi, float(n @ c) - r - gap)
     else:
         pt = c + (r + gap) * np.asarray(t.direction)
@@ -163,7 +163,7 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
             trail = [home]
             continue
         if t.kind == "face":
-            n = np.array([math.cos(t.psi), math.sin(t.psi)])
+            n = kin.unit(t.psi)
             d_pre = float(n @ np.asarray(center)) - r - gap
             try:
                 result = yield from guarded_approach(jaw, finger, t.psi, d_pre, travel)

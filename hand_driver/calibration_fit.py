@@ -195,7 +195,7 @@ class ContactModel:
                     end = line.distal if kind == "corner" else line.proximal
                     out.append(np.hypot(*(end - c).T) - self.r)
             else:
-                m = np.array([math.cos(a), math.sin(a)])
+                m = kin.unit(a)
                 if kind == "face":
                     out += [line.proximal @ m - b, line.distal @ m - b]
                 else:
@@ -217,7 +217,7 @@ class ContactModel:
             else:
                 psi = np.concatenate([ln.psi for ln in lines])
                 ang = math.atan2(np.mean(np.sin(psi + np.pi)), np.mean(np.cos(psi + np.pi)))
-                m = np.array([math.cos(ang), math.sin(ang)])
+                m = kin.unit(ang)
                 w += [ang, float(np.mean(np.concatenate([ln.distal @ m for ln in lines])))]
         return np.array(w)
 

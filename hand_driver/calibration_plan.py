@@ -75,7 +75,7 @@ def plan_touches(cfg: JawConfig, reference, center, faces: int = 14, corners: in
 
         face_ok = []
         for psi in grid:
-            n = np.array([math.cos(psi), math.sin(psi)])
+            n = kin.unit(psi)
             pt = c - r * n
             pre = [q for q in kin.ik_line_solutions(f, psi, float(n @ c) - r - gap)
                    if kin.within_limits(f.joints, q, margin_rad)]
@@ -90,7 +90,7 @@ def plan_touches(cfg: JawConfig, reference, center, faces: int = 14, corners: in
         for kind, end, sign in (("corner", "distal", -1.0), ("heel", "proximal", 1.0)):
             ok = []
             for beta in grid:
-                m = np.array([math.cos(beta), math.sin(beta)])
+                m = kin.unit(beta)
                 pt = c + r * m
                 pre = kin.ik_corner(f, c + (r + gap) * m, margin_rad, end=end)
                 for q in kin.ik_corner(f, pt, margin_rad, end=end):
@@ -144,7 +144,7 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
     for t in nominal_plan:
         f = truth.finger(t.finger)
         if t.kind == "face":
-            n = np.array([math.cos(t.psi), math.sin(t.psi)])
+            n = kin.unit(t.psi)
             sols = kin.ik_line_solutions(f, t.psi, float(n @ c) - r)
         else:
             pt = c + r * np.asarray(t.direction)

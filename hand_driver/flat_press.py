@@ -298,6 +298,6 @@ def _press(jaw: Jaw, finger: str, psi: float) -> Motion:
     turn = abs(math.remainder(psi - float(here.psi), 2 * math.pi))
     middle = 0.5 * (here.proximal + here.distal)
     clearance = ROLL_CLEARANCE_MM + 0.5 * jaw.config.finger(finger).pad.length_mm * turn
-    n = np.array([math.cos(psi), math.sin(psi)])
+    n = kin.unit(psi)
     d_from = yield from turn_to(jaw, finger, psi, float(n @ middle) - clearance)
     return (yield from guarded_approach(jaw, finger, psi, d_from, 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + m.backoff_mm))

@@ -43,7 +43,13 @@ class Unreachable(InputError):
     """No joint angles within the limits put the pad where asked."""
 
 
+def unit(angle: float) -> np.ndarray:
+    """The unit vector at ``angle`` (rad) from +x: a pad line's normal n(ψ), a direction."""
+    return np.array([math.cos(angle), math.sin(angle)])
+
+
 def _e(a):
+    """:func:`unit` over an array of angles (the last axis holds x, y)."""
     a = np.asarray(a, dtype=float)
     return np.stack([np.cos(a), np.sin(a)], axis=-1)
 
@@ -160,7 +166,7 @@ def ik_line_solutions(finger: FingerConfig, psi: float, d: float) -> list[np.nda
     j1, j2 = finger.joints
     side = finger.pad.side_sign
     b = np.array([finger.base.x, finger.base.y])
-    n = np.array([math.cos(psi), math.sin(psi)])
+    n = unit(psi)
     c = (d - finger.pad.offset_mm - float(n @ b)) / j1.link_mm
     if abs(c) > 1.0:
         return []
@@ -199,7 +205,7 @@ def ik_tangent(finger: FingerConfig, point, psi: float, pad_u: float | None = No
                margin_rad: float = 0.0) -> np.ndarray:
     """Joint angles putting the pad through ``point`` with outward normal angle ψ and the
     point on the pad (nearest ``pad_u``)."""
-    n = np.array([math.cos(psi), math.sin(psi)])
+    n = unit(psi)
     return ik_line(finger, psi, float(n @ np.asarray(point, dtype=float)), contact=point, pad_u=pad_u,
                    margin_rad=margin_rad)
 

@@ -52,10 +52,6 @@ EDGE_MARGIN_MM = 1.0
 REACHED_TICKS = 3
 
 
-def _unit(psi: float) -> np.ndarray:
-    return np.array([math.cos(psi), math.sin(psi)])
-
-
 # --------------------------------------------------------------------------------- motions
 
 
@@ -127,11 +123,11 @@ def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tupl
     lines = [*via, (psi, d)]
     for i, (psi1, d1) in enumerate(lines):
         turn = math.remainder(psi1 - psi0, 2 * math.pi)
-        shift1 = d1 - float(_unit(psi1) @ center)
+        shift1 = d1 - float(kin.unit(psi1) @ center)
         steps = max(1, math.ceil(max(abs(turn) / max_turn, abs(shift1 - shift0) / max_shift)))
         for k in range(1, steps + 1):
             a = psi0 + turn * k / steps
-            q = jaw.solve(finger, a, shift0 + (shift1 - shift0) * k / steps + float(_unit(a) @ center), q)
+            q = jaw.solve(finger, a, shift0 + (shift1 - shift0) * k / steps + float(kin.unit(a) @ center), q)
             if k < steps or i < len(lines) - 1:
                 yield q
         psi0, shift0 = psi0 + turn, shift1
@@ -144,7 +140,7 @@ def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_m
     already one step in (the pad is on its start line)."""
     m = jaw.config.motion
     step = m.approach_step_mm
-    n = _unit(psi)
+    n = kin.unit(psi)
     t0 = jaw.robot_time() - jaw.period_s
     d_meas = float(n @ jaw.pad_line(jaw.last_state, finger).distal)
     d_goal = min(d_start + step, d_meas + 2.0 * step, d_start + travel_mm)
@@ -247,7 +243,7 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
             psi = float(angles[k + 1])
             unsure = 0.5 * length if u is None else 0.0
             clearance = ROLL_CLEARANCE_MM + unsure * abs(psi - result.samples[-1].psi)
-            planned = float(_unit(psi) @ pivot) - clearance
+            planned = float(kin.unit(psi) @ pivot) - clearance
             d_from = yield from turn_to(jaw, finger, psi, planned)
             reach = 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + (planned - d_from)
         if result.samples and result.outcome in ("ok", "edge"):  # the pad is in contact: back off

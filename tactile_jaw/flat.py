@@ -75,6 +75,11 @@ class Face:
     miss: float = 0.0  # how far (mm) its seated presses stopped short of the supports, on average
 
     @property
+    def normal(self) -> np.ndarray:
+        """n(ψ), the pad's outward unit normal when seated."""
+        return kin.unit(self.psi)
+
+    @property
     def length(self) -> float:
         return float(np.linalg.norm(self.q - self.p))
 
@@ -178,9 +183,7 @@ def same_face(a: Face, b: Face) -> bool:
     """Are two felt faces one straight face (SAME_FACE_RAD, SAME_FACE_MM)?"""
     if abs(math.remainder(a.psi - b.psi, 2 * math.pi)) > SAME_FACE_RAD:
         return False
-    na = np.array([math.cos(a.psi), math.sin(a.psi)])
-    nb = np.array([math.cos(b.psi), math.sin(b.psi)])
-    return abs(float(na @ b.middle) - a.d) <= SAME_FACE_MM and abs(float(nb @ a.middle) - b.d) <= SAME_FACE_MM
+    return abs(float(a.normal @ b.middle) - a.d) <= SAME_FACE_MM and abs(float(b.normal @ a.middle) - b.d) <= SAME_FACE_MM
 
 
 def face_groups(touches: Sequence) -> list[list]:

@@ -8,8 +8,7 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
+from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
 from hand_driver.flat_press import FLAT_STEP_DEG, flat_press
 from hand_driver.motion import TouchResult
@@ -74,7 +73,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     else:
         spent[finger] = 0.0
         start = face.psi - (FLAT_RESTART_STEPS + 0.5 * misses) * step
-        n = np.array([math.cos(start), math.sin(start)])
+        n = kin.unit(start)
         d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
         travel = 2.0 * FLAT_RESTART_MM
     return (yield from flat_press(jaw, finger, touch_index, start, 1, d_start, travel, toward=model.workspace_center,

@@ -89,13 +89,13 @@ class ObjectModel:
         deg = 2 if np.ptp(delta[near]) >= math.radians(2 * MODEL_MIN_SPAN_DEG) and np.count_nonzero(near) >= 3 else 1
         weight = 1.0 / (1.0 + (delta[near] / math.radians(MODEL_WEIGHT_DEG)) ** 2)
         coef = np.polynomial.polynomial.polyfit(delta[near], self.d[near], deg, w=weight)
-        n = np.array([math.cos(psi), math.sin(psi)])
+        n = kin.unit(psi)
         dn = np.array([-math.sin(psi), math.cos(psi)])
         return float(coef[0]), coef[0] * n + coef[1] * dn
 
     def edge(self, psi: float) -> float:
         """Offset of the line with normal ψ tangent to the workspace disk (outside it)."""
-        n = np.array([math.cos(psi), math.sin(psi)])
+        n = kin.unit(psi)
         return float(n @ self.workspace_center) - self.workspace_radius
 
 
@@ -113,7 +113,7 @@ def predicted_tangent(model: ObjectModel, psi: float, aim=None) -> tuple[float, 
     if aim is None:
         return model.tangent(psi)
     p = np.asarray(aim, dtype=float)
-    return float(np.array([math.cos(psi), math.sin(psi)]) @ p), p
+    return float(kin.unit(psi) @ p), p
 
 
 def retreat_offset(finger, model: ObjectModel, psi: float, aim=None) -> float | None:

@@ -52,7 +52,7 @@ class ExactObject:
     def contact(self, psi: float) -> tuple[float, np.ndarray, bool]:
         """(d, the point, whether it lies on the curved part) of the first line of normal ψ
         meeting the object."""
-        proj = self.points @ np.array([math.cos(psi), math.sin(psi)])
+        proj = self.points @ kin.unit(psi)
         k = int(np.argmin(proj))
         return float(proj[k]), self.points[k], bool(self.on_curve[k])
 

@@ -116,7 +116,7 @@ def faces_fingers(config: JawConfig, obj: SceneObject, q_open: np.ndarray | None
 
 
 def _pad_fits(world: ContactWorld, finger, index: int, q_open: np.ndarray, x: float, y: float, psi: float) -> bool:
-    n = np.array([math.cos(psi), math.sin(psi)])
+    n = kin.unit(psi)
     p = np.array([x, y]) - 0.02 * n  # just off the boundary: touching, not penetrating
     length = finger.pad.length_mm
     for q in kin.ik_line_solutions(finger, psi, float(n @ p)):
