@@ -79,6 +79,14 @@ FACTOR_RCOND = 1e-6
 jaw's, by central differences, has its rank's smallest at ~2e-4 and the null ones at ~1e-11)."""
 
 
+def _across_along(x, y, c, s, ratio):
+    """Position residuals (x, y)/σ_pos → (across the measured tangent)/σ_pos and (along
+    it)/σ_along, ``c``, ``s`` the measured tangent's cosine and sine, ``ratio`` σ_pos/σ_along:
+    the one per-sample weighting of positions (refinement weighs each sample across and
+    along its tangent separately)."""
+    return c * y - s * x, (c * x + s * y) * ratio
+
+
 _POSITIVE = {"circle": ("r",), "ellipse": ("a", "b"), "parabola": ("a",), "hyperbola": ("a", "b"),
              "semicubical_parabola": ("a",)}
 
@@ -195,31 +203,24 @@ class _Problem:
             self.sig_phi = self.sig_pos = 1.0
             self.aniso = False
         self.n_res = self.n_raw if self.whiten is None else (
-            sum(w.shape[0] for _, w in self.whiten) + 2 * len(data.contact_rows))
+            sum(idx.size if w is None else w.shape[0] for idx, w in self.whiten) + 2 * len(data.contact_rows))
         self._memo: tuple[bytes, tuple] | None = None
 
     def _whitening(self, sig_phi: float, sig_pos: float, sig_along: float | None) -> list:
         """Per samples-touch (raw rows of x, y, φ; W): W·r is that touch's residuals whitened,
         W the pseudo-inverse of its noise factor F (sample errors' covariance F·Fᵀ, rows x…,
-        y…, φ…); a touch without F gets the noise model's per-sample weights (across and
-        along its measured tangent)."""
+        y…, φ…); W None for a touch without F: the noise model's per-sample weights
+        (:func:`_across_along`, the σ's kept in ``_sample_sigmas``)."""
         n = self.n_rows
+        self._sample_sigmas = (sig_phi, sig_pos, sig_pos / (sig_pos if sig_along is None else sig_along))
         out = []
         for rows, factor in self.data.factors:
             idx = np.concatenate([rows, n + rows, 2 * n + rows])
+            w = None
             if factor is not None:
                 u, sv, _ = np.linalg.svd(np.asarray(factor, float), full_matrices=False)
                 keep = sv > FACTOR_RCOND * sv[0]
-                out.append((idx, (u[:, keep] / sv[keep]).T))
-                continue
-            k = rows.size
-            c, s_ = np.cos(self.data.phi[rows]), np.sin(self.data.phi[rows])
-            along = sig_pos if sig_along is None else sig_along
-            w = np.zeros((3 * k, 3 * k))
-            j = np.arange(k)
-            w[j, j], w[j, k + j] = -s_ / sig_pos, c / sig_pos  # across the measured tangent
-            w[k + j, j], w[k + j, k + j] = c / along, s_ / along  # along it
-            w[2 * k + j, 2 * k + j] = 1.0 / sig_phi
+                w = (u[:, keep] / sv[keep]).T
             out.append((idx, w))
         return out
 
@@ -235,8 +236,23 @@ class _Problem:
         """Raw residuals (or Jacobian rows) → whitened: each touch's W·rows, contact rows kept."""
         if self.whiten is None:
             return a
-        parts = [w @ a[idx] for idx, w in self.whiten]
+        sig_phi, sig_pos, ratio = self._sample_sigmas
+        parts = []
+        for idx, w in self.whiten:
+            if w is not None:
+                parts.append(w @ a[idx])
+                continue
+            k = idx.size // 3
+            c, s = self._tangent(idx[:k], a.ndim)
+            parts += [*_across_along(a[idx[:k]] / sig_pos, a[idx[k : 2 * k]] / sig_pos, c, s, ratio),
+                      a[idx[2 * k :]] / sig_phi]
         return np.concatenate(parts + [a[3 * self.n_rows :]])
+
+    def _tangent(self, rows: np.ndarray, ndim: int) -> tuple[np.ndarray, np.ndarray]:
+        """Cosine and sine of the measured tangent at ``rows``, shaped for residuals
+        (``ndim`` 1) or Jacobian rows (2)."""
+        c, s = np.cos(self.data.phi[rows]), np.sin(self.data.phi[rows])
+        return (c, s) if ndim == 1 else (c[:, None], s[:, None])
 
     def _model_at(self, z: np.ndarray):
         """``unpack`` and ``_model`` at z, memoized for the last z (least_squares asks for the
@@ -300,12 +316,10 @@ class _Problem:
 
     def _across_along(self, a: np.ndarray) -> None:
         """In place: position rows (x, y)/σ_pos of residuals or Jacobian → (across the
-        measured tangent)/σ_pos and (along it)/σ_along."""
+        measured tangent)/σ_pos and (along it)/σ_along (:func:`_across_along`)."""
         n = self.n_rows
         c, s = (self._cos, self._sin) if a.ndim == 1 else (self._cos[:, None], self._sin[:, None])
-        x, y = a[:n].copy(), a[n : 2 * n].copy()
-        a[:n] = c * y - s * x
-        a[n : 2 * n] = (c * x + s * y) * self._ratio
+        a[:n], a[n : 2 * n] = _across_along(a[:n].copy(), a[n : 2 * n].copy(), c, s, self._ratio)
 
     def jacobian(self, z: np.ndarray) -> np.ndarray:
         with np.errstate(all="ignore"):

@@ -93,3 +93,26 @@ def test_jacobian_across_and_along(cls):
     r_iso, r_an = problem.residuals(z), aniso.residuals(z)
     assert np.allclose(r_iso[:n] ** 2 + r_iso[n:2 * n] ** 2,
                        r_an[:n] ** 2 + (20 * r_an[n:2 * n]) ** 2, rtol=1e-9)
+
+
+def test_touches_without_a_noise_factor_weighed_as_without_factors():
+    """In a fit whitened by noise factors, a touch that states none keeps the per-sample
+    weights across and along its tangent: its rows are the anisotropic fit's rows of the
+    same samples (one weighting), and the Jacobian still matches central differences."""
+    problem, z = _problem("ellipse", 5, 1)
+    data, n = problem.data, problem.n_rows
+    rows0 = data.factors[0][0]
+    k = rows0.size
+    factor = np.random.default_rng(2).normal(size=(3 * k, 2 * k)) * 1e-3
+    data.factors[0] = (rows0, factor)
+    args = (problem.cls, data, Pose(problem.theta0, *problem.anchor), problem.direction, problem.sig_phi,
+            problem.sig_pos, 20 * problem.sig_pos)
+    aniso, mixed = _Problem(*args), _Problem(*args, factors=True)
+    r_an, r_mix = aniso.residuals(z), mixed.residuals(z)
+    rank = mixed.whiten[0][1].shape[0]
+    expected = np.concatenate([r_an[np.concatenate([rows, n + rows, 2 * n + rows])] for rows, _ in data.factors[1:]])
+    assert np.allclose(r_mix[rank:rank + 3 * (n - k)], expected, rtol=1e-12, atol=0)
+    jac = mixed.jacobian(z)
+    ref = _central(mixed, z, mixed.residuals)
+    err = np.linalg.norm(jac - ref, axis=0) / (np.linalg.norm(ref, axis=0) + 1e-12)
+    assert err.max() < 1e-4, (err.argmax(), err.max())
