@@ -108,9 +108,14 @@ class MotionConfig:
     contact_current_ma: float = 150.0
     goal_current_ma: float = 300.0
     backoff_mm: float = 3.0
-    roll_step_deg: float = 2.0
-    roll_samples: int = 9
     max_touch_s: float = 10.0
+
+
+#: motion keys earlier versions read but no exploration used (the profile sets the samples
+#: per touch and the roll span): a config file carrying one is refused, naming it and why; a
+#: run log's header config written then carries them and is read without them (nothing
+#: recorded is lost: those logs replay as they did)
+RETIRED_MOTION_KEYS = ("roll_step_deg", "roll_samples")
 
 
 @dataclass(frozen=True)
@@ -282,8 +287,14 @@ def _finger(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> FingerC
     return FingerConfig(name=name, base=base, joints=joints, pad=pad)
 
 
-def _motion(c: _Checker, obj: Any) -> MotionConfig:
+def _motion(c: _Checker, obj: Any, recorded: bool) -> MotionConfig:
     d = MotionConfig()
+    if isinstance(obj, dict) and any(k in obj for k in RETIRED_MOTION_KEYS):
+        if not recorded:
+            key = next(k for k in RETIRED_MOTION_KEYS if k in obj)
+            c.fail(f"motion.{key}", "no longer a setting (the profile sets the samples per touch and the roll span, "
+                                    "--profile); delete it")
+        obj = {k: v for k, v in obj.items() if k not in RETIRED_MOTION_KEYS}
     m = c.mapping(obj if obj is not None else {}, "motion", tuple(asdict(d)))
     k = "motion"
     cfg = MotionConfig(
@@ -296,8 +307,6 @@ def _motion(c: _Checker, obj: Any) -> MotionConfig:
         contact_current_ma=c.number(m, k, "contact_current_ma", d.contact_current_ma, 0.0, 5000.0, lo_open=True),
         goal_current_ma=c.number(m, k, "goal_current_ma", d.goal_current_ma, 0.0, 5000.0, lo_open=True),
         backoff_mm=c.number(m, k, "backoff_mm", d.backoff_mm, 0.0, 50.0),
-        roll_step_deg=c.number(m, k, "roll_step_deg", d.roll_step_deg, 0.0, 20.0, lo_open=True),
-        roll_samples=c.number(m, k, "roll_samples", d.roll_samples, 3, 200, integer=True),
         max_touch_s=c.number(m, k, "max_touch_s", d.max_touch_s, 0.0, 600.0, lo_open=True),
     )
     if cfg.goal_current_ma < cfg.contact_current_ma:
@@ -319,8 +328,9 @@ def _workspace(c: _Checker, obj: Any) -> WorkspaceConfig:
     )
 
 
-def parse_config(obj: Any, source: str = "<memory>") -> JawConfig:
-    """Validate a config mapping (as read from YAML) into a :class:`JawConfig`."""
+def parse_config(obj: Any, source: str = "<memory>", recorded: bool = False) -> JawConfig:
+    """Validate a config mapping (as read from YAML) into a :class:`JawConfig`; ``recorded``:
+    a run log's header config, which may carry ``RETIRED_MOTION_KEYS``."""
     c = _Checker(source)
     m = c.mapping(obj, "", ("bus", "fingers", "motion", "workspace"), required=("fingers",))
     fingers_obj = m["fingers"]
@@ -338,7 +348,7 @@ def parse_config(obj: Any, source: str = "<memory>") -> JawConfig:
             if j.id in seen:
                 c.fail(key, f"id {j.id} is used twice (also {seen[j.id]}); ids must be unique on the bus")
             seen[j.id] = key
-    bus, motion = _bus(c, m.get("bus")), _motion(c, m.get("motion"))
+    bus, motion = _bus(c, m.get("bus")), _motion(c, m.get("motion"), recorded)
     period_ms = 1000.0 * motion.approach_step_mm / motion.approach_speed_mm_s
     if bus.watchdog_ms and bus.watchdog_ms < 2.0 * period_ms:
         if isinstance(m.get("bus"), dict) and "watchdog_ms" in m["bus"]:

@@ -256,7 +256,7 @@ def _header_config(path: Path, header: dict) -> tuple[JawConfig | None, str | No
     """The header's jaw config, or None and why it is not one: the log is still read
     (its records are checked without the jaw's shape), and replay refuses it."""
     try:
-        return parse_config(header.get("config"), f"{path}: header config"), None
+        return parse_config(header.get("config"), f"{path}: header config", recorded=True), None
     except InputError as exc:
         return None, str(exc)
 

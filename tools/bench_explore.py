@@ -97,14 +97,13 @@ def true_chi2(log: Path, obj: dict, pos_values: list[float]) -> list[tuple[float
     """The true class's (χ² tail probability, χ², dof) on the log's usable touches: first with
     the noise the jaw states (tactile_jaw.pipeline.stated_noise), then per stated pos σ
     (φ as ``PHI_SIGMA``, isotropic positions)."""
-    from hand_driver.config import parse_config
     from hand_driver.log import read_log
     from tactile_jaw.pipeline import logged_touches, make_recognizer
     from tactile_jaw.settings import PHI_SIGMA, ExploreSettings
 
     contents = read_log(str(log))
     header = contents.header
-    config = parse_config(header["config"], str(log))
+    config = contents.jaw_config()
     settings = ExploreSettings.from_json(header["settings"])
     touches = logged_touches(config, contents, settings)
     out = []
@@ -136,7 +135,6 @@ def kappa_comparison(log: Path, obj: dict) -> dict:
     the jaw's envelope fit with its quantization covariance (tactile_jaw.pipeline.
     envelope.fit_envelope, what the jaw hands the recognizer) and the recognizer's own
     estimate from the samples; and the final answer both ways."""
-    from hand_driver.config import parse_config
     from hand_driver.log import read_log
     from recognizer.estimate import estimate_local
     from tactile_jaw.decide import final_answer
@@ -145,7 +143,7 @@ def kappa_comparison(log: Path, obj: dict) -> dict:
 
     contents = read_log(str(log))
     header = contents.header
-    config = parse_config(header["config"], str(log))
+    config = contents.jaw_config()
     settings = ExploreSettings.from_json(header["settings"])
     felt = logged_touches(config, contents, settings)
     if not felt:

@@ -7,7 +7,8 @@ import copy
 import pytest
 import yaml
 
-from hand_driver.config import dump_config, load_config, parse_config
+from hand_driver.config import RETIRED_MOTION_KEYS, dump_config, load_config, parse_config
+from hand_driver.log import RunLog, read_log
 from tactile_common.errors import InputError
 from tools.cli import main
 
@@ -49,6 +50,7 @@ def test_fractional_zero_tick_round_trips_exactly(tmp_path):
 @pytest.mark.parametrize("edit, words", [
     (lambda r: r.__setitem__("colour", 1), ["colour", "unknown key"]),
     (lambda r: r["motion"].__setitem__("a\nb", 1), ["motion.'a\\nb'", "unknown key"]),
+    (lambda r: r["motion"].__setitem__("roll_samples", 31), ["motion.roll_samples", "no longer a setting", "profile"]),
     (lambda r: r["fingers"][0]["joints"][0].__setitem__("zero_tick", 5000), ["fingers[0].joints[0].zero_tick", "[0, 4095]"]),
     (lambda r: r["fingers"][1]["joints"][0].__setitem__("id", 1), ["fingers[1].joints[0].id", "used twice"]),
     (lambda r: r["fingers"][0]["joints"][1].__setitem__("min_deg", 10), ["min_deg", "[-180, 0]"]),
@@ -86,12 +88,29 @@ def test_unreadable_and_invalid_yaml(tmp_path):
         load_config(bad)
 
 
-def test_cli_exits_2_with_one_line(tmp_path, capsys):
+@pytest.mark.parametrize("edit, key", [
+    (lambda r: r["fingers"][0]["joints"][0].__setitem__("zero_tick", -1), "zero_tick"),
+    (lambda r: r["motion"].__setitem__("roll_step_deg", 1.0), "motion.roll_step_deg"),
+    (lambda r: r["motion"].__setitem__("dwell_s", 1.0), "motion.dwell_s"),
+])
+def test_cli_exits_2_with_one_line(tmp_path, capsys, edit, key):
     raw = _raw()
-    raw["fingers"][0]["joints"][0]["zero_tick"] = -1
+    edit(raw)
     bad = tmp_path / "bad.yaml"
     bad.write_text(yaml.safe_dump(raw))
     code = main(["calibrate", "--config", str(bad), "--port", "/dev/null", "--out", str(tmp_path / "o.yaml")])
     err = capsys.readouterr().err
     assert code == 2
-    assert err.count("\n") == 1 and "zero_tick" in err and "Traceback" not in err
+    assert err.count("\n") == 1 and key in err and "Traceback" not in err
+
+
+def test_log_header_with_retired_motion_keys_still_reads(tmp_path):
+    """Logs written while motion.roll_step_deg and roll_samples were read carry them in their
+    header config: read without them (nothing recorded is lost)."""
+    raw = _raw()
+    old = copy.deepcopy(raw)
+    old["motion"].update({k: 1 for k in RETIRED_MOTION_KEYS})
+    path = tmp_path / "old.jsonl"
+    with RunLog(path).open(config=old, scene=None, command=["demo"]):
+        pass
+    assert read_log(path).jaw_config() == parse_config(raw, f"{path}: header config")
