@@ -19,13 +19,17 @@ reason the answer is not decisive (tactile_jaw.decide.Why):
     parameters are in doubt: exploration stops with a reason a person can act on rather
     than spend the budget on touches that cannot help. An answer that changed with the last
     touch (``unstable``) needs one more touch anywhere: the planner's.
+
+When it stops for want of reach, the reason says where the touch would have to go (the place
+past the vertex, or the recognizer's ``next_touch`` anywhere in the workspace) and how far to
+move the object for a pad to roll there (:func:`move_for`, :func:`move_advice`).
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -45,6 +49,18 @@ VERTEX_AIM_STEP_DEG = 2.5
 #: at: the answered curve goes on where the object does not (the far side of a circle fitted
 #: to a parabola's touches: the parabola example moved 3 mm sent the right pad there twice)
 EMPTY_AIM_MM = 10.0
+#: a stop for want of reach names the smallest move of the object after which a pad rolls where
+#: the touch would have to go (:func:`move_for`): a shift on a grid of MOVE_STEP_MM up to MOVE_MAX_MM (random
+#: parabolas 6 mm nearer the palm than the example reach only one side of their vertex)
+MOVE_STEP_MM = 1.0
+MOVE_MAX_MM = 20.0
+#: ... else the smallest turn about that place, every MOVE_TURN_STEP_DEG up to
+#: MOVE_TURN_MAX_DEG, else a turn and a shift on the coarser grid MOVE_COARSE (mm, deg)
+MOVE_TURN_STEP_DEG = 2.5
+MOVE_TURN_MAX_DEG = 30.0
+MOVE_COARSE = (2.0, 5.0)
+#: a shift found is lengthened by this much (mm) when a pad still reaches the place then
+MOVE_MARGIN_MM = 2.0
 
 
 @dataclass(frozen=True)
@@ -68,6 +84,20 @@ class Aim:
     @property
     def point(self) -> tuple[float, float]:
         return self.x, self.y
+
+
+class Stop(str):
+    """Why exploration stops before its budget is spent (for people), with ``move``: the move
+    of the object after which a pad rolls where the touch would have to go (:func:`move_for`:
+    ``{"dx": mm, "dy": mm, "turn_deg": deg, "about": [x, y]}``, the turn about that place
+    first), or None when no small move is known."""
+
+    move: dict | None
+
+    def __new__(cls, message: str, move: dict | None = None) -> "Stop":
+        out = super().__new__(cls, message)
+        out.move = move
+        return out
 
 
 class JawReach:
@@ -147,23 +177,28 @@ def vertex_place(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray
 
 def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, fingers: Sequence,
              aimed_at: Sequence[tuple[float, float]], vertex_missed: bool = False,
-             empty_at: Sequence[tuple[float, float]] = ()) -> tuple[Aim | None, str | None]:
+             empty_at: Sequence[tuple[float, float]] = (),
+             anywhere: Callable[[], dict | None] | None = None) -> tuple[Aim | None, Stop | None]:
     """(the next touch's aim, or None for the planner's own choice; why no touch within reach
     can help, or None) for an answer that is not decisive because of ``why`` (module
     docstring). ``touched``: the usable touches' sample positions (x, y); ``aimed_at``: the
     points touches were aimed at so far; ``vertex_missed``: a touch aimed beyond the vertex
-    fell off the curved part; ``empty_at``: points aimed at where the touch met nothing."""
+    fell off the curved part; ``empty_at``: points aimed at where the touch met nothing;
+    ``anywhere``: the recognizer's ``next_touch`` anywhere in the workspace (called only
+    when none is within the pads' reach, for the reason to say where it would be)."""
     if why.kind == "vertex" and touched is not None:
         aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers)
         if aim is not None and not _aimed_near(aim.point, aimed_at):
             return aim, None
         x, y, psi = vertex_place(recognition, touched)
-        if aim is None or vertex_missed:  # the richer rival always fits at least as well: only that side decides
-            return None, ("no touch within the pads' reach can decide: "
-                          + ("the touch aimed beyond the vertex fell off the curved part (the object ends there)"
-                             if vertex_missed else f"no pad can roll beyond the vertex on that side (near ({x:.0f}, "
-                             f"{y:.0f}) mm, pad normal {psi:.0f} deg)")
-                          + ": move or turn the object so that more of its curved part faces a finger")
+        if vertex_missed:  # the richer rival always fits at least as well: only that side decides
+            return None, Stop("no touch within the pads' reach can decide: the touch aimed beyond the vertex fell off "
+                              "the curved part (the object ends there): move or turn the object so that more of its "
+                              "curved part faces a finger")
+        if aim is None:
+            advice, move = move_advice(reach, x, y, math.radians(psi) - math.pi / 2)
+            return None, Stop(f"no touch within the pads' reach can decide: no pad can roll beyond the vertex on that "
+                              f"side (near ({x:.0f}, {y:.0f}) mm, pad normal {psi:.0f} deg): {advice}", move)
     suggested = recognition.next_touch
     if suggested is not None:
         f = reach.finger(suggested["x"], suggested["y"], suggested["phi"], fingers)
@@ -175,8 +210,70 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     if why.kind in ("unstable", "unclassified"):
         return None, None  # one more touch anywhere: the planner's
     what = ("narrow the parameters" if why.kind == "imprecise" else "tell the classes apart")
-    return None, (f"no touch within the pads' reach is expected to {what}: move or turn the object so that more of "
-                  f"its curved part faces a finger")
+    wanted = anywhere() if anywhere is not None else None
+    if wanted is None:
+        return None, Stop(f"no touch within the pads' reach is expected to {what}: move or turn the object so that "
+                          f"more of its curved part faces a finger")
+    x, y, phi = float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])
+    advice, move = move_advice(reach, x, y, phi)
+    return None, Stop(f"no touch within the pads' reach is expected to {what}; the most telling one would roll at "
+                      f"({x:.0f}, {y:.0f}) mm, pad normal "
+                      f"{math.degrees(math.remainder(phi + math.pi / 2, 2 * math.pi)):.0f} deg: {advice}", move)
+
+
+def move_for(reach: JawReach, x: float, y: float, phi: float, fingers: Sequence | None = None
+             ) -> tuple[float, float, float] | None:
+    """The smallest move (dx mm, dy mm, turn rad) of the object after which a pad can roll
+    through its place now at (x, y) with tangent φ, or None: a shift alone (the place moves
+    with the object, its tangent does not turn; grid ``MOVE_STEP_MM`` up to ``MOVE_MAX_MM``),
+    else a turn about the place alone (every ``MOVE_TURN_STEP_DEG`` up to
+    ``MOVE_TURN_MAX_DEG``), else both (the coarser grid ``MOVE_COARSE``), the smallest first."""
+    def shifts(step: float) -> list[tuple[float, float]]:
+        k = int(MOVE_MAX_MM // step)
+        grid = np.arange(-k, k + 1) * step
+        dx, dy = (v.ravel() for v in np.meshgrid(grid, grid))
+        norm = np.hypot(dx, dy)
+        order = np.argsort(norm, kind="stable")
+        return [(float(dx[i]), float(dy[i])) for i in order if norm[i] <= MOVE_MAX_MM + 1e-9]
+
+    def turns(step: float) -> list[float]:
+        k = int(MOVE_TURN_MAX_DEG // step)
+        return [math.radians(sign * i * step) for i in range(1, k + 1) for sign in (1, -1)]
+
+    moves = ([(dx, dy, 0.0) for dx, dy in shifts(MOVE_STEP_MM)]
+             + [(0.0, 0.0, a) for a in turns(MOVE_TURN_STEP_DEG)]
+             + [(dx, dy, a) for a in turns(MOVE_COARSE[1]) for dx, dy in shifts(MOVE_COARSE[0])[1:]])
+    for dx, dy, a in moves:
+        if reach.finger(x + dx, y + dy, phi + a, fingers) is not None:
+            return dx, dy, a
+    return None
+
+
+def move_advice(reach: JawReach, x: float, y: float, phi: float, fingers: Sequence | None = None
+                ) -> tuple[str, dict | None]:
+    """What a person can do so that a pad rolls through the place (x, y) with tangent φ: the
+    move of :func:`move_for` in the hand frame's words (x away from the palm, y toward the
+    left finger, turns counterclockwise positive) and as :class:`Stop`'s ``move``, or a
+    general request (and None) when none is near."""
+    move = move_for(reach, x, y, phi, fingers)
+    if move is None:
+        return (f"no pad reaches it with the object moved up to {MOVE_MAX_MM:g} mm or turned up to "
+                f"{MOVE_TURN_MAX_DEG:g} deg: place the object so that more of its curved part faces a finger"), None
+    if move == (0.0, 0.0, 0.0):  # within reach, yet its finger gave up there (corners, closing segments)
+        return "move or turn the object so that more of its curved part faces a finger", None
+    dx, dy, a = move
+    grow = (math.hypot(dx, dy) + MOVE_MARGIN_MM) / max(math.hypot(dx, dy), 1e-9)
+    if (dx or dy) and reach.finger(x + grow * dx, y + grow * dy, phi + a, fingers) is not None:
+        dx, dy = grow * dx, grow * dy  # clear of the reach's edge, which a fitted curve knows only so well
+    parts = [f"{abs(v):.0f} mm {(pos if v > 0 else neg)}" for v, pos, neg in
+             ((dx, "away from the palm (+x)", "toward the palm (-x)"),
+              (dy, "toward the left finger (+y)", "toward the right finger (-y)")) if abs(v) >= 0.5]
+    moved = [f"move the object {' and '.join(parts)}"] if parts else []
+    if a:
+        moved.append(f"turn {'it' if moved else 'the object'} {abs(math.degrees(a)):.0f} deg {'counterclockwise' if a > 0 else 'clockwise'} "
+                     f"(hand frame) about that place")
+    return (f"{', then '.join(moved)}, and a pad can roll there",
+            {"dx": round(dx, 3), "dy": round(dy, 3), "turn_deg": round(math.degrees(a), 3), "about": [x, y]})
 
 
 def _aimed_near(point, aimed_at, radius: float = AIM_AGAIN_MM) -> bool:

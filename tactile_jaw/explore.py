@@ -99,10 +99,14 @@ def _spent(out: Exploration) -> int:
 
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTouches,
             emit: Callable[[dict], None] | None = None,
-            progress: Callable[[str], None] | None = None) -> Exploration:
+            progress: Callable[[str], None] | None = None,
+            recognize_anywhere: RecognizeTouches | None = None) -> Exploration:
     """Explore with both fingers (module docstring). ``recognize_touches`` maps a list of
-    usable felt touches to a Recognition (tactile_jaw.pipeline.make_recognizer); ``emit``
-    receives log records; ``progress`` one-line messages for people."""
+    usable felt touches to a Recognition (tactile_jaw.pipeline.make_recognizer, its
+    ``next_touch`` within the jaw's reach); ``emit`` receives log records; ``progress``
+    one-line messages for people; ``recognize_anywhere``, the same with ``next_touch``
+    anywhere in the workspace, lets a stop for want of reach say where the touch would go
+    and how far to move the object (tactile_jaw.choose.move_advice)."""
     emit = emit or (lambda rec: None)
     say = progress or (lambda msg: None)
     recognize_touches = _memo(recognize_touches)
@@ -185,10 +189,12 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             if why is None:
                 break
             active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
+            anywhere = None if recognize_anywhere is None else (lambda: recognize_anywhere(usable).next_touch)
             aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,
-                                        vertex_missed, empty_at)
+                                        vertex_missed, empty_at, anywhere)
             if out.stopped is not None:
-                emit({"type": "event", "kind": "stopped_early", "message": out.stopped})
+                emit({"type": "event", "kind": "stopped_early", "message": out.stopped,
+                      **({"move": out.stopped.move} if out.stopped.move is not None else {})})
                 say(f"stopping after {len(usable)} usable touches: {out.stopped}")
                 break
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses

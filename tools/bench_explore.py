@@ -10,7 +10,10 @@ redrawn. Per scene: the answer, right class or not, parameter error, usable/trie
 touches, robot and wall time. With ``--chi2 [POS ...]`` it also re-recognizes every
 scene's logged touches with the true class only, with the noise the jaw states and with
 each isotropic position deviation POS (φ as ``PHI_SIGMA``), and prints the true class's χ²
-tail probability (χ²/dof), to calibrate the stated noise (docs/exploration.md). Run: ``python -m tools.bench_explore [--n 12] [--seed 1]``.
+tail probability (χ²/dof), to calibrate the stated noise (docs/exploration.md). With
+``--follow``, every refused object whose refusal names a move (the log's ``stopped_early``
+event, tactile_jaw.choose.move_advice) is moved so (:func:`moved_object`) and explored once
+more, as a person following the advice would. Run: ``python -m tools.bench_explore [--n 12] [--seed 1]``.
 """
 
 from __future__ import annotations
@@ -85,6 +88,29 @@ def run_scene(path: Path, log: Path, profile: str) -> dict:
         res = read_log(str(log)).result or {}
         result.update(robot_s=res.get("robot_time_s"), used=res.get("touches_used"), tried=res.get("touches_tried"))
     return result
+
+
+def logged_move(log: Path) -> dict | None:
+    """The move a run's refusal advises (its ``stopped_early`` event's ``move``), or None."""
+    if not log.exists():
+        return None
+    move = None
+    for line in log.read_text().splitlines():
+        if '"stopped_early"' in line:
+            move = json.loads(line).get("move")
+    return move
+
+
+def moved_object(obj: dict, move: dict) -> dict:
+    """``obj`` (a scene ``object`` mapping) turned by ``move['turn_deg']`` about ``move['about']``,
+    then shifted by (dx, dy) mm (tactile_jaw.choose.Stop)."""
+    pose = dict(obj["pose"])
+    turn = math.radians(move["turn_deg"])
+    theta = math.radians(pose.pop("theta_deg")) if "theta_deg" in pose else pose["theta"]
+    (px, py), c, s = move["about"], math.cos(turn), math.sin(turn)
+    x, y = pose["x"] - px, pose["y"] - py
+    pose.update(theta=theta + turn, x=px + c * x - s * y + move["dx"], y=py + s * x + c * y + move["dy"])
+    return {**obj, "pose": pose}
 
 
 def param_error(obj: dict, rec: dict) -> str:
@@ -189,6 +215,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--classes", nargs="+", choices=CLASSES, default=None, metavar="CLASS",
                     help="with --finite: run only these classes' objects (the same objects, numbered as in a "
                          "run of every class with the same seed)")
+    ap.add_argument("--follow", action="store_true",
+                    help="re-run every refused object moved as its refusal advises, once")
     args = ap.parse_args(argv)
     from hand_driver.config import load_config
     from hand_driver.sim.physics import ContactWorld
@@ -246,7 +274,47 @@ def main(argv: list[str] | None = None) -> int:
     print_class_summary(scenes, results)
     if args.kappa:
         print_kappa_table([(path.with_suffix(".log"), obj) for path, obj in scenes])
+    if args.follow:
+        follow_advice(scenes, results, args.profile, args.jobs)
     return 0
+
+
+def follow_advice(scenes, results, profile: str, jobs: int) -> None:
+    """Every refused scene whose refusal names a move, moved so and explored once more;
+    per class: refusals, those naming a move, and the second runs' right / refused / wrong."""
+    again = []
+    for (path, obj), res in zip(scenes, results):
+        rec = res.get("recognition")
+        move = logged_move(path.with_suffix(".log")) if rec is not None and rec["class"] == "unclassified" else None
+        if move is not None:
+            moved = path.with_name(path.stem + "_moved.yaml")
+            mapping = yaml.safe_load(path.read_text())
+            mapping["object"] = moved_object(mapping["object"], move)
+            moved.write_text(yaml.safe_dump(mapping))
+            again.append((moved, obj, move))
+    with ThreadPoolExecutor(jobs) as pool:
+        second = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), profile), again))
+    print("\n| object moved as advised | move | answer | right | parameter error | robot time |")
+    print("|---|---|---|---|---|---|")
+    for (path, obj, move), res in zip(again, second):
+        rec = res.get("recognition")
+        ok = rec is not None and rec["class"] == obj["class"]
+        verdict = "yes" if ok else ("refused" if rec is None or rec["class"] == "unclassified" else "**WRONG**")
+        print(f"| {path.stem} | ({move['dx']:.0f}, {move['dy']:.0f}) mm, {move['turn_deg']:.0f}° | "
+              f"{rec['class'] if rec else 'exit ' + str(res['rc'])} | {verdict} | "
+              f"{param_error(obj, rec) if ok else '—'} | "
+              + (f"{res['robot_s']:.1f} s |" if res.get("robot_s") is not None else "— |"), flush=True)
+    print("\n| class | refused | naming a move | moved: right | moved: refused | moved: wrong |")
+    print("|---|---|---|---|---|---|")
+    for cls in CLASSES:
+        refused = sum(1 for (_, obj), res in zip(scenes, results) if obj["class"] == cls and (
+            res.get("recognition") is None or res["recognition"]["class"] == "unclassified"))
+        rows = [(obj, res) for (_, obj, _), res in zip(again, second) if obj["class"] == cls]
+        answers = [res.get("recognition") for _, res in rows]
+        right = sum(a is not None and a["class"] == cls for a in answers)
+        ref = sum(a is None or a["class"] == "unclassified" for a in answers)
+        if refused:
+            print(f"| {cls} | {refused} | {len(rows)} | {right} | {ref} | {len(rows) - right - ref} |", flush=True)
 
 
 def print_class_summary(scenes, results) -> None:

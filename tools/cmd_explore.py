@@ -81,11 +81,12 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     from hand_driver.cycle import Jaw
     from tactile_jaw.explore import explore
     from tactile_jaw.choose import JawReach
-    from tactile_jaw.pipeline import make_recognizer
+    from tactile_jaw.pipeline import make_recognizer, workspace_reach
     from tactile_jaw.settings import NOISE_FROM_TOUCHES, ExploreSettings
 
     settings = ExploreSettings.from_profile(profile)
     recognize_touches = make_recognizer(scene_mapping, settings, reach=JawReach(config, settings))
+    recognize_anywhere = make_recognizer(scene_mapping, settings, reach=workspace_reach(config))
     t0 = time.monotonic()
     log = None
     if log_path is not None:
@@ -101,7 +102,7 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
             progress(f"exploring: up to {settings.touches} touches of {settings.samples_per_touch} samples over "
                      f"{settings.to_json()['roll_span_deg']:.0f} deg, profile {settings.profile}")
             exploration = explore(jaw, settings, recognize_touches, emit=log.write if log is not None else None,
-                                  progress=progress)
+                                  progress=progress, recognize_anywhere=recognize_anywhere)
         recognition = exploration.recognition.to_json() if exploration.recognition is not None else None
         if log is not None:
             log.write({"type": "result", "recognition": recognition, "robot_time_s": exploration.robot_time_s,

@@ -10,7 +10,7 @@ import numpy as np
 from hand_driver.config import load_config
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Ranked, Recognition
-from tactile_jaw.choose import JawReach, next_aim, vertex_aim
+from tactile_jaw.choose import MOVE_MAX_MM, MOVE_STEP_MM, JawReach, Stop, move_advice, move_for, next_aim, vertex_aim
 from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
 from tactile_jaw.plan import ObjectModel, feasible
 from tactile_jaw.settings import ExploreSettings
@@ -93,6 +93,58 @@ def test_next_aim_follows_the_reason_and_stops_when_nothing_within_reach_helps()
     assert aim is None and "fell off the curved part" in stop
     aim, stop = next_aim(suggesting, _why("vertex"), touched, REACH, [CONFIG.fingers[1]], [])
     assert aim is None and "no pad can roll beyond the vertex" in stop and "move or turn the object" in stop
+
+
+def test_a_stop_for_want_of_reach_names_the_smallest_move_that_brings_the_place_within_a_pads_roll():
+    # the parabola example 12 mm nearer the palm: 25° past its vertex on the palm side, where the
+    # left pad would have to face down and toward +x, no pad rolls
+    near = Recognition("parabola", PARABOLA.params, pose=Pose(-math.pi / 2, 93.0, 12.0), uncertainty={"a": 0.05},
+                       ranking=PARABOLA.ranking)
+    touched = near.pose.apply(*CURVES["parabola"](near.params).point(np.tan(np.radians(np.linspace(-12.0, 47.0, 40)))))
+    assert vertex_aim(near, touched, REACH) is None
+    aim, stop = next_aim(near, _why("vertex"), touched, REACH, list(CONFIG.fingers), [])
+    assert aim is None and isinstance(stop, Stop) and stop.move is not None
+    move = stop.move
+    assert 0 < math.hypot(move["dx"], move["dy"]) <= MOVE_MAX_MM + 2.0 and move["turn_deg"] == 0.0
+    assert "away from the palm (+x)" in stop if move["dx"] > 0 else "toward the palm (-x)" in stop
+    x, y = move["about"]
+    t = -np.tan(np.radians(VERTEX_SIDE_DEG))  # the place: the short (−t) side, toward the palm
+    px, py = near.pose.apply(*CURVES["parabola"](near.params).point(np.array([t])))
+    assert math.hypot(x - px[0], y - py[0]) < 1e-9
+    phi = math.atan2(1.0, t) + near.pose.theta - math.pi  # the pad faces the solid: ψ = tangent − 90°
+    assert REACH.finger(x + move["dx"], y + move["dy"], phi) is not None  # moved so, a pad rolls there
+    # the shift move_for found is the smallest on its grid: nothing shorter brings it in
+    dx, dy, turn = move_for(REACH, x, y, phi)
+    assert turn == 0.0 and REACH.finger(x + dx, y + dy, phi) is not None
+    k = int(MOVE_MAX_MM // MOVE_STEP_MM)
+    grid = np.arange(-k, k + 1) * MOVE_STEP_MM
+    shorter = [(a, b) for a in grid for b in grid if math.hypot(a, b) < math.hypot(dx, dy) - 1e-9]
+    assert all(REACH.finger(x + a, y + b, phi) is None for a, b in shorter)
+
+
+def test_move_advice_turns_the_object_when_no_shift_brings_the_tangent_within_reach():
+    # a place at the example's vertex whose pad would have to face up and toward +x (ψ = 60°):
+    # no shift helps, a turn about the place does, and the words say which way
+    x, y, phi = 105.0, 12.0, math.radians(60.0) - math.pi / 2
+    assert move_for(REACH, x, y, phi) is not None
+    words, move = move_advice(REACH, x, y, phi)
+    dx, dy, turn = move["dx"], move["dy"], math.radians(move["turn_deg"])
+    assert turn != 0.0 and REACH.finger(x + dx, y + dy, phi + turn) is not None
+    assert ("counterclockwise" if turn > 0 else "clockwise") in words
+    # within reach already: nothing to move, the general request
+    assert move_advice(REACH, 105.0, 12.0, -math.pi) == (
+        "move or turn the object so that more of its curved part faces a finger", None)
+
+
+def test_a_stop_without_a_reachable_suggestion_says_where_the_touch_anywhere_would_go():
+    touched = _touched(np.linspace(-47.0, 12.0, 40))
+    unreachable = Recognition("parabola", PARABOLA.params, pose=PARABOLA.pose,
+                              next_touch={"x": 105.0, "y": 12.0, "phi": -math.pi / 2, "gain": 1.0, "why": "w"})
+    wanted = {"x": 93.0, "y": 12.0, "phi": -math.pi, "gain": 1.0, "why": "w"}
+    aim, stop = next_aim(unreachable, _why("rival"), touched, REACH, list(CONFIG.fingers), [],
+                         anywhere=lambda: wanted)
+    assert aim is None and "the most telling one would roll at (93, 12) mm, pad normal -90 deg" in stop
+    assert stop.move is not None and stop.move["about"] == [93.0, 12.0]
 
 
 def test_why_carries_its_kind():
