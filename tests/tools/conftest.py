@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import contextlib
 import io
+import json
 
 import pytest
+import yaml
 
 from tools.cli import main
 
@@ -22,3 +24,18 @@ def tactile_in_process():
     """``tactile_in_process(argv)`` → (exit status, stdout, stderr) of ``tactile ARGV`` run
     in the test's own process (the emulated bus and the recognizer as a user gets them)."""
     return _tactile_in_process
+
+
+def _demo_answer(scene: dict, path, log=None) -> dict:
+    path.write_text(yaml.safe_dump(scene))
+    rc, out, err = _tactile_in_process(["demo", "--scene", str(path), "--json"]
+                                       + (["--log", str(log)] if log is not None else []))
+    assert "Traceback" not in err and rc == 0, err
+    return json.loads(out)
+
+
+@pytest.fixture(scope="session")
+def demo_answer():
+    """``demo_answer(scene mapping, scene path, log path or None)`` → the JSON answer of
+    ``tactile demo`` on that scene, written to the path (exit 0, no traceback asserted)."""
+    return _demo_answer

@@ -7,10 +7,7 @@ no rolling touch was usable at all, and this block was refused.)"""
 
 from __future__ import annotations
 
-import json
 import math
-
-import yaml
 
 from hand_driver.log import read_log
 
@@ -23,12 +20,9 @@ BLOCK = {"name": "block17", "classes": ["line", "circle", "ellipse", "parabola",
                                 [-32.804347512122064, -26.243478009697654]]}}
 
 
-def test_a_block_whose_rolling_touch_sits_at_a_corner_is_pressed_flat(tmp_path, tactile_in_process):
-    scene, log = tmp_path / "block17.yaml", tmp_path / "block17.jsonl"
-    scene.write_text(yaml.safe_dump(BLOCK))
-    rc, out, err = tactile_in_process(["demo", "--scene", str(scene), "--json", "--log", str(log)])
-    assert "Traceback" not in err and rc == 0
-    answer = json.loads(out)
+def test_a_block_whose_rolling_touch_sits_at_a_corner_is_pressed_flat(tmp_path, demo_answer):
+    log = tmp_path / "block17.jsonl"
+    answer = demo_answer(BLOCK, tmp_path / "block17.yaml", log)
     assert answer["class"] == "line", answer.get("reason")
     # the top face: the line through the block's pose at its angle, the solid on its right
     pose, truth = answer["pose"], BLOCK["object"]["pose"]

@@ -6,10 +6,7 @@ following the advice would, the same object is recognized: the advice is one tha
 
 from __future__ import annotations
 
-import json
 import math
-
-import yaml
 
 from hand_driver.log import read_log
 from tools.bench_explore import moved_object
@@ -20,20 +17,13 @@ PARABOLA = {"name": "parabola61", "classes": ["line", "circle", "ellipse", "para
                        "pose": {"theta": -1.3191263801765232, "x": 97.34762312807575, "y": 15.139191865655976}}}
 
 
-def test_a_refusal_for_want_of_reach_names_a_move_that_makes_the_object_recognizable(tmp_path, tactile_in_process):
+def test_a_refusal_for_want_of_reach_names_a_move_that_makes_the_object_recognizable(tmp_path, demo_answer):
     scene, log = tmp_path / "parabola61.yaml", tmp_path / "parabola61.jsonl"
-    scene.write_text(yaml.safe_dump(PARABOLA))
-    rc, out, err = tactile_in_process(["demo", "--scene", str(scene), "--json", "--log", str(log)])
-    assert "Traceback" not in err and rc == 0
-    answer = json.loads(out)
+    answer = demo_answer(PARABOLA, scene, log)
     assert answer["class"] == "unclassified" and "no pad can roll beyond the vertex" in answer["reason"]
     assert "move the object" in answer["reason"] and "a pad can roll there" in answer["reason"]
     move = next(e for e in read_log(log).events if e.get("kind") == "stopped_early")["move"]
     assert 0.0 < math.hypot(move["dx"], move["dy"]) <= 22.0
-    moved = {**PARABOLA, "object": moved_object(PARABOLA["object"], move)}
-    scene.write_text(yaml.safe_dump(moved))
-    rc, out, err = tactile_in_process(["demo", "--scene", str(scene), "--json"])
-    assert "Traceback" not in err and rc == 0
-    answer = json.loads(out)
+    answer = demo_answer({**PARABOLA, "object": moved_object(PARABOLA["object"], move)}, scene)
     assert answer["class"] == "parabola", answer.get("reason")
     assert abs(answer["params"]["a"] / PARABOLA["object"]["params"]["a"] - 1.0) < 0.02
