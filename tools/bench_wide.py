@@ -21,8 +21,11 @@ positions 0.1 % of L), the balanced profile, every class allowed. Rows:
   *search miss*; an ``unclassified`` answer is a search miss when the truth, refined from
   itself, passes its consistency test.
 - ``3 + 2 random``: two more touches at random places of the region.
-- ``3 + ≤2 suggested``: up to two more touches where ``next_touch`` says (the real object
-  touched at its point closest to the suggestion), stopping when it says null.
+- ``3 + ≤2 suggested``: up to two more touches where ``next_touch`` says, stopping when it
+  says null. The object is the whole curve around the region: a suggestion is touched at
+  the true curve's point closest to it on either side of the vertex, cusp or inflection
+  (a semicubical's other branch too, clear of the cusp); ``aim miss`` is how far that
+  point lies from the suggested one.
 - coverage: on right answers of ``3 touches``, the fraction of shape parameters within
   1.96 stated σ and the RMS of (p̂ − p)/σ. ``--coverage-only`` runs the 3-touch
   recognitions alone (trials ``--first`` … ``--first + --trials − 1``) and gives each
@@ -163,13 +166,15 @@ def _extra_touch(shape, t, rs, direction):
 
 
 def _closest_t(shape, x, y, lo, hi, sign, both, clear):
-    """The true curve's parameter closest to a suggested point (a semicubical touch kept
-    clear of the cusp: a pad cannot roll through it)."""
+    """The true curve's parameter closest to a suggested point: the object is the whole
+    curve around the region, both sides of the vertex, cusp or inflection (|t| up to twice
+    the region's farthest plus its span; a semicubical touch kept clear of the cusp: a pad
+    cannot roll through it)."""
     span = hi - lo
-    t = np.linspace(lo - 0.5 * span, hi + 0.5 * span, 4000)
+    t = np.linspace(0.0, 2.0 * max(abs(lo), abs(hi)) + span, 8000)
     if shape.cls == "semicubical_parabola":
-        t = np.maximum(np.abs(t), clear)
-        t = np.concatenate((t, -t)) if both else sign * t
+        t = np.maximum(t, clear)
+    t = np.concatenate((-t[::-1], t))
     if shape.curve.t_period is not None:
         t = np.linspace(-np.pi, np.pi, 4000)
     px, py = shape.pose.apply(*shape.curve.point(t))
@@ -210,8 +215,10 @@ def run_trial(task) -> dict:
         if nt is None:
             break
         t = _closest_t(shape, nt["x"], nt["y"], lo, hi, sign, both, clear)
+        qx, qy = shape.pose.apply(*shape.curve.point(t))
         out.setdefault("suggested", []).append({"t": t, "why": nt["why"], "leader": cur.cls,
-                                                "ms": cur.timing.get("next_touch_cpu_ms")})
+                                                "ms": cur.timing.get("next_touch_cpu_ms"),
+                                                "miss_mm": float(math.hypot(float(qx) - nt["x"], float(qy) - nt["y"]))})
         tl.append(_extra_touch(shape, t, rs, direction))
         used += 1
         cur, _, _ = _recognize(tl, nm)
@@ -234,8 +241,9 @@ def report(recs: list[dict]) -> str:
     groups = [("all", recs)] + [(c, [r for r in recs if r["cls"] == c]) for c in CLASSES]
     lines += ["| class | trials | 3 touches: right % | median err % | search misses % | data-limited % | "
               "3+2 random: right % | median err % | 3+≤2 suggested: right % | median err % | suggested used | "
-              "σ coverage (1.96σ) % | RMS z | compute ms | next_touch ms (mean / max) |",
-              "|---|" + "---|" * 14]
+              "suggested aim miss mm (median / max) | σ coverage (1.96σ) % | RMS z | compute ms | "
+              "next_touch ms (mean / max) |",
+              "|---|" + "---|" * 15]
     for name, rs in groups:
         if not rs:
             continue
@@ -244,12 +252,14 @@ def report(recs: list[dict]) -> str:
         rms = f"{math.sqrt(float(np.mean(z ** 2))):.2f}" if z.size else "–"
         nt = np.array([r["nt_ms"] for r in rs], float)
         nt = nt[np.isfinite(nt)]
+        miss = [s["miss_mm"] for r in rs for s in r.get("suggested", ())]
         lines.append(
             f"| {name} | {len(rs)} | {_pct([r['got3'] == r['cls'] for r in rs])} | {_med([r['err3'] for r in rs])} | "
             f"{_pct([r.get('oracle') == 'search miss' for r in rs])} | {_pct([r.get('oracle') == 'data-limited' for r in rs])} | "
             f"{_pct([r['got5'] == r['cls'] for r in rs])} | {_med([r['err5'] for r in rs])} | "
             f"{_pct([r['gotS'] == r['cls'] for r in rs])} | {_med([r['errS'] for r in rs])} | "
-            f"{np.mean([r['used'] for r in rs]):.2f} | {cov} | {rms} | {np.mean([r['ms'] for r in rs]):.0f} | "
+            f"{np.mean([r['used'] for r in rs]):.2f} | "
+            f"{(f'{np.median(miss):.2g} / {np.max(miss):.2g}') if miss else '–'} | {cov} | {rms} | {np.mean([r['ms'] for r in rs]):.0f} | "
             f"{(f'{nt.mean():.0f} / {nt.max():.0f}') if nt.size else '–'} |")
     lines += ["", "Per region (3 touches / 3 + 2 random / 3 + ≤2 suggested, right class %):", "",
               "| class | region | trials | 3 | 3+2 random | 3+≤2 suggested | search misses | wrong answers |", "|---|---|---|---|---|---|---|---|"]

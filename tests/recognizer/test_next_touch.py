@@ -120,3 +120,22 @@ def test_roll_covariance_is_the_median_touchs():
                  np.full(3, 0.05), np.full(3, 1e-3))
     c = roll_cov(d)
     assert abs(c[0, 0] / 4e-6 - 1) < 1e-6 and abs(c[1, 1] / 4e-5 - 1) < 1e-6
+
+
+
+def test_a_one_branch_semicubical_suggestion_stays_inside_reach():
+    """bench_wide seed 1, semicubical trial 22 (one branch far from the cusp, answered
+    parabola): a disk on the true object's other branch, or beside the first touch, keeps
+    the suggestion inside it, and one of them holds a place that helps."""
+    from tools import bench_wide as B
+
+    region, shape, ts, _, rs = B.draw_case("semicubical_parabola", 22, 1)
+    touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
+    nm = NoiseModel(noise.phi, noise.pos)
+    cx, cy = shape.pose.apply(*shape.curve.point(np.array([-ts[0], ts[0]])))
+    inside = 0
+    for x0, y0, r in ((float(cx[0]), float(cy[0]), 12.0), (float(cx[1]), float(cy[1]), 8.0)):
+        nt = B._recognize(touches, nm, Reach(x0, y0, r))[0].next_touch
+        assert nt is None or math.hypot(nt["x"] - x0, nt["y"] - y0) <= r, nt
+        inside += nt is not None
+    assert inside >= 1  # some place in one of the disks helps

@@ -1,0 +1,50 @@
+"""tools.bench_wide: where a suggested touch meets the object. The object is the whole curve
+around the region: a suggestion beyond a semicubical's cusp or a parabola's vertex is
+touched there (before, a one-branch semicubical was touched on its own branch only, at the
+cusp's clearance: the far-branch trials 22, 31, 37 of seed 1 stayed parabola)."""
+
+import numpy as np
+
+from tools import bench_wide as B
+
+
+def _point(shape, t):
+    x, y = shape.pose.apply(*shape.curve.point(np.array([t])))
+    return float(x[0]), float(y[0])
+
+
+def test_a_suggestion_on_the_other_branch_is_touched_there():
+    region, shape, ts, (lo, hi, sign, both, clear), _ = B.draw_case("semicubical_parabola", 22, 1)
+    assert region == "one branch far" and not both
+    for t_other in (-sign * 1.3 * clear, -sign * hi):
+        x, y = _point(shape, t_other)
+        t = B._closest_t(shape, x, y, lo, hi, sign, both, clear)
+        assert np.sign(t) == -sign and abs(t - t_other) < 1e-3 * abs(t_other)
+    x, y = _point(shape, 0.0)  # the cusp itself: the nearest place a pad can roll, on a branch
+    assert abs(abs(B._closest_t(shape, x, y, lo, hi, sign, both, clear)) - clear) < 1e-9
+
+
+def test_beyond_the_vertex_and_far_along_the_touched_side():
+    region, shape, ts, (lo, hi, sign, both, clear), _ = B.draw_case("parabola", 2, 1)
+    assert region == "far out"
+    for t_true in (-0.5 * hi, 1.8 * hi):
+        x, y = _point(shape, t_true)
+        assert abs(B._closest_t(shape, x, y, lo, hi, sign, both, clear) - t_true) < 1e-3 * abs(t_true)
+
+
+def test_far_branch_semicubical_is_right_after_the_suggested_touches():
+    """Seed 1, semicubical trial 22: three touches on one branch far from the cusp are
+    answered parabola (every rival fits as well: data-limited). The suggestion lies at the
+    parabola's end nearest the cusp; the object's nearest point there is on the other
+    branch, and that touch tells them apart (before: touched on the same branch, parabola)."""
+    out = B.run_trial(("semicubical_parabola", 22, 1))
+    assert out["got3"] == "parabola" and out["gotS"] == "semicubical_parabola", out["suggested"]
+    assert any(np.sign(s["t"]) != np.sign(out["t3"][0]) for s in out["suggested"])
+
+
+def test_one_side_parabola_stays_parabola_after_the_suggested_touches():
+    """Seed 1, parabola trial 3 (one side of the vertex): the second suggestion lies beyond
+    the vertex, farther than the old touch window (half the region's span) reached; touched
+    there, the answer stays parabola (before: semicubical parabola)."""
+    out = B.run_trial(("parabola", 3, 1))
+    assert out["region"] == "one side" and out["gotS"] == "parabola", out["suggested"]
