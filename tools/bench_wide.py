@@ -165,7 +165,7 @@ def _extra_touch(shape, t, rs, direction):
     return touches[0]
 
 
-def _closest_t(shape, x, y, lo, hi, sign, both, clear):
+def _closest_t(shape, x, y, lo, hi, clear):
     """The true curve's parameter closest to a suggested point: the object is the whole
     curve around the region, both sides of the vertex, cusp or inflection (|t| up to twice
     the region's farthest plus its span; a semicubical touch kept clear of the cusp: a pad
@@ -214,7 +214,7 @@ def run_trial(task) -> dict:
         nt = cur.next_touch
         if nt is None:
             break
-        t = _closest_t(shape, nt["x"], nt["y"], lo, hi, sign, both, clear)
+        t = _closest_t(shape, nt["x"], nt["y"], lo, hi, clear)
         qx, qy = shape.pose.apply(*shape.curve.point(t))
         out.setdefault("suggested", []).append({"t": t, "why": nt["why"], "leader": cur.cls,
                                                 "ms": cur.timing.get("next_touch_cpu_ms"),

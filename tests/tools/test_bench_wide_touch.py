@@ -18,10 +18,10 @@ def test_a_suggestion_on_the_other_branch_is_touched_there():
     assert region == "one branch far" and not both
     for t_other in (-sign * 1.3 * clear, -sign * hi):
         x, y = _point(shape, t_other)
-        t = B._closest_t(shape, x, y, lo, hi, sign, both, clear)
+        t = B._closest_t(shape, x, y, lo, hi, clear)
         assert np.sign(t) == -sign and abs(t - t_other) < 1e-3 * abs(t_other)
     x, y = _point(shape, 0.0)  # the cusp itself: the nearest place a pad can roll, on a branch
-    assert abs(abs(B._closest_t(shape, x, y, lo, hi, sign, both, clear)) - clear) < 1e-9
+    assert abs(abs(B._closest_t(shape, x, y, lo, hi, clear)) - clear) < 1e-9
 
 
 def test_beyond_the_vertex_and_far_along_the_touched_side():
@@ -29,7 +29,7 @@ def test_beyond_the_vertex_and_far_along_the_touched_side():
     assert region == "far out"
     for t_true in (-0.5 * hi, 1.8 * hi):
         x, y = _point(shape, t_true)
-        assert abs(B._closest_t(shape, x, y, lo, hi, sign, both, clear) - t_true) < 1e-3 * abs(t_true)
+        assert abs(B._closest_t(shape, x, y, lo, hi, clear) - t_true) < 1e-3 * abs(t_true)
 
 
 def test_far_branch_semicubical_is_right_after_the_suggested_touches():
