@@ -22,7 +22,8 @@ reason the answer is not decisive (tactile_jaw.decide.Why):
 
 When it stops for want of reach, the reason says where the touch would have to go (the place
 past the vertex, or the recognizer's ``next_touch`` anywhere in the workspace) and how far to
-move the object for a pad to roll there (:func:`move_for`, :func:`move_advice`).
+move the object for a pad to roll there (:func:`move_for`, :func:`move_advice`); when the
+touch budget runs out undecided, :func:`budget_advice` says the same, or asks for more touches.
 """
 
 from __future__ import annotations
@@ -214,11 +215,39 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     if wanted is None:
         return None, Stop(f"no touch within the pads' reach is expected to {what}: move or turn the object so that "
                           f"more of its curved part faces a finger")
+    return None, _wanted_stop(f"no touch within the pads' reach is expected to {what}", wanted, reach)
+
+
+def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, budget: int,
+                  anywhere: Callable[[], dict | None] | None = None) -> Stop:
+    """What a person can do when the touch budget is spent and the answer is not decisive:
+    for a parabola felt on one side of its vertex, the move that lets a pad roll beyond it
+    (:func:`move_advice`); else where the recognizer's ``next_touch`` anywhere in the
+    workspace would go, with the move that brings it within a pad's roll, or, when a pad
+    already reaches it, a larger budget (the ``accurate`` profile)."""
+    spent = f"the touch budget of {budget} is spent"
+    if recognition.cls == "parabola" and touched is not None and min(vertex_sides(recognition, touched)) < VERTEX_SIDE_DEG:
+        x, y, psi = vertex_place(recognition, touched)
+        if reach.finger(x, y, math.radians(psi) - math.pi / 2) is None:
+            advice, move = move_advice(reach, x, y, math.radians(psi) - math.pi / 2)
+            return Stop(f"{spent} and no pad can roll beyond the parabola's vertex on the side felt less than "
+                        f"{VERTEX_SIDE_DEG:g} deg (near ({x:.0f}, {y:.0f}) mm, pad normal {psi:.0f} deg): {advice}", move)
+    wanted = anywhere() if anywhere is not None else None
+    if wanted is None:
+        return Stop(f"{spent}: a profile with more touches (--profile accurate) may decide")
+    if reach.finger(float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])) is not None:
+        return Stop(f"{spent}; the most telling touch would roll at ({float(wanted['x']):.0f}, {float(wanted['y']):.0f}) "
+                    f"mm, within a pad's reach: a profile with more touches (--profile accurate) may decide")
+    return _wanted_stop(spent, wanted, reach)
+
+
+def _wanted_stop(head: str, wanted: dict, reach: JawReach) -> Stop:
+    """``head``, then where the touch ``wanted`` (a ``next_touch``) would roll and the move of
+    the object that brings it within a pad's roll (:func:`move_advice`)."""
     x, y, phi = float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])
     advice, move = move_advice(reach, x, y, phi)
-    return None, Stop(f"no touch within the pads' reach is expected to {what}; the most telling one would roll at "
-                      f"({x:.0f}, {y:.0f}) mm, pad normal "
-                      f"{math.degrees(math.remainder(phi + math.pi / 2, 2 * math.pi)):.0f} deg: {advice}", move)
+    return Stop(f"{head}; the most telling touch would roll at ({x:.0f}, {y:.0f}) mm, pad normal "
+                f"{math.degrees(math.remainder(phi + math.pi / 2, 2 * math.pi)):.0f} deg: {advice}", move)
 
 
 def move_for(reach: JawReach, x: float, y: float, phi: float, fingers: Sequence | None = None

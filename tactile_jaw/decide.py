@@ -183,9 +183,10 @@ def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], se
                  stopped: str | None = None) -> Recognition:
     """The answer on the usable touches once exploration ends: the recognizer's class when
     it is decisive (:func:`decide`), else ``unclassified`` with the reason (and ``stopped``,
-    why exploration stopped before its budget was spent, tactile_jaw.choose) and the
+    why exploration ended undecided and what a person can do, tactile_jaw.choose) and the
     recognizer's ``next_touch``; a wrong class said confidently is worse than a refusal.
-    Replay uses this on the logged touches (and the log's ``stopped_early`` event)."""
+    Replay uses this on the logged touches (and the log's ``stopped_early`` or ``budget_spent``
+    event)."""
     recognition, why = decide(recognize_touches, touches, settings)
     if recognition.cls == "unclassified" or why is None:
         return recognition

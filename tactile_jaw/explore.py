@@ -26,7 +26,7 @@ from typing import Any, Callable
 from hand_driver.cycle import Jaw, run_together
 from hand_driver.motion import TouchResult, roll_angles, rolling_touch
 from tactile_common.errors import InputError
-from tactile_jaw.choose import Aim, JawReach, next_aim
+from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, flat_presses
 from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel, too_few_clear
@@ -120,6 +120,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
     reach = JawReach(cfg, settings)
     aim: Aim | None = None  # where the next touch goes while the answer is not decisive (tactile_jaw.choose)
+    undecided = None  # the latest answer that was not decisive: (recognition, why, its touches)
     aimed_at: list[tuple[float, float]] = []
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
@@ -187,7 +188,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             out.answers.append(recognition.cls)
             say(f"after {len(usable)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
             if why is None:
+                undecided = None
                 break
+            undecided = (recognition, why, usable)
             active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
             anywhere = None if recognize_anywhere is None else (lambda: recognize_anywhere(usable).next_touch)
             aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,
@@ -197,6 +200,13 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                       **({"move": out.stopped.move} if out.stopped.move is not None else {})})
                 say(f"stopping after {len(usable)} usable touches: {out.stopped}")
                 break
+    if undecided is not None and out.stopped is None and cleared():  # the budget ran out undecided: what to do
+        recognition, why, usable = undecided
+        out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
+                                    None if recognize_anywhere is None else (lambda: recognize_anywhere(usable).next_touch))
+        emit({"type": "event", "kind": "budget_spent", "message": out.stopped,
+              **({"move": out.stopped.move} if out.stopped.move is not None else {})})
+        say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
         flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index)
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}

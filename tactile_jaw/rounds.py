@@ -31,7 +31,7 @@ class Exploration:
     rounds: int = 0
     robot_time_s: float = 0.0
     answers: list[str] = field(default_factory=list)  # class after each recognition
-    stopped: str | None = None  # why exploration stopped before its budget was spent (tactile_jaw.choose)
+    stopped: str | None = None  # why it ended undecided and what to do: stopped early, or its budget spent (tactile_jaw.choose)
     #: where the robot time went (s): probe and touch rounds (each including its transits),
     #: the transits alone (per round the slower finger's), the final retreat
     time_s: dict[str, float] = field(default_factory=lambda: dict.fromkeys(

@@ -11,8 +11,8 @@ touches, robot and wall time. With ``--chi2 [POS ...]`` it also re-recognizes ev
 scene's logged touches with the true class only, with the noise the jaw states and with
 each isotropic position deviation POS (φ as ``PHI_SIGMA``), and prints the true class's χ²
 tail probability (χ²/dof), to calibrate the stated noise (docs/exploration.md). With
-``--follow``, every refused object whose refusal names a move (the log's ``stopped_early``
-event, tactile_jaw.choose.move_advice) is moved so (:func:`moved_object`) and explored once
+``--follow``, every refused object whose refusal names a move (the log's ``stopped_early`` or
+``budget_spent`` event, tactile_jaw.choose.move_advice) is moved so (:func:`moved_object`) and explored once
 more, as a person following the advice would. Run: ``python -m tools.bench_explore [--n 12] [--seed 1]``.
 """
 
@@ -91,12 +91,13 @@ def run_scene(path: Path, log: Path, profile: str) -> dict:
 
 
 def logged_move(log: Path) -> dict | None:
-    """The move a run's refusal advises (its ``stopped_early`` event's ``move``), or None."""
+    """The move a run's refusal advises (its ``stopped_early`` or ``budget_spent`` event's
+    ``move``), or None."""
     if not log.exists():
         return None
     move = None
     for line in log.read_text().splitlines():
-        if '"stopped_early"' in line:
+        if '"stopped_early"' in line or '"budget_spent"' in line:
             move = json.loads(line).get("move")
     return move
 

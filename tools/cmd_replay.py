@@ -62,7 +62,8 @@ def run(args) -> int:
         raise InputError(f"{args.log}: no usable touch in the log ({len(contents.touches)} touches logged)")
     recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
                                         reach=JawReach(config, settings))
-    stopped = next((e.get("message") for e in reversed(contents.events) if e.get("kind") == "stopped_early"), None)
+    stopped = next((e.get("message") for e in reversed(contents.events)
+                    if e.get("kind") in ("stopped_early", "budget_spent")), None)
     try:
         recognition = final_answer(recognize_touches, touches, settings, stopped).to_json()
     except InputError as exc:

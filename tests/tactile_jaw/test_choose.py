@@ -10,7 +10,8 @@ import numpy as np
 from hand_driver.config import load_config
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Ranked, Recognition
-from tactile_jaw.choose import MOVE_MAX_MM, MOVE_STEP_MM, JawReach, Stop, move_advice, move_for, next_aim, vertex_aim
+from tactile_jaw.choose import (MOVE_MAX_MM, MOVE_STEP_MM, JawReach, Stop, budget_advice, move_advice, move_for, next_aim,
+                                vertex_aim)
 from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
 from tactile_jaw.plan import ObjectModel, feasible
 from tactile_jaw.settings import ExploreSettings
@@ -143,8 +144,31 @@ def test_a_stop_without_a_reachable_suggestion_says_where_the_touch_anywhere_wou
     wanted = {"x": 93.0, "y": 12.0, "phi": -math.pi, "gain": 1.0, "why": "w"}
     aim, stop = next_aim(unreachable, _why("rival"), touched, REACH, list(CONFIG.fingers), [],
                          anywhere=lambda: wanted)
-    assert aim is None and "the most telling one would roll at (93, 12) mm, pad normal -90 deg" in stop
+    assert aim is None and "the most telling touch would roll at (93, 12) mm, pad normal -90 deg" in stop
     assert stop.move is not None and stop.move["about"] == [93.0, 12.0]
+
+
+def test_when_the_budget_runs_out_undecided_the_reason_says_what_to_do():
+    # a parabola felt on one side only, its short side out of reach (12 mm nearer the palm
+    # than the example): the move that lets a pad roll beyond the vertex
+    near = Recognition("parabola", PARABOLA.params, pose=Pose(-math.pi / 2, 93.0, 12.0), uncertainty={"a": 0.05},
+                       ranking=PARABOLA.ranking)
+    touched = near.pose.apply(*CURVES["parabola"](near.params).point(np.tan(np.radians(np.linspace(-12.0, 47.0, 40)))))
+    stop = budget_advice(near, _why("rival"), touched, REACH, 8)
+    assert stop.startswith("the touch budget of 8 is spent") and "beyond the parabola's vertex" in stop
+    x, y = stop.move["about"]
+    t = -np.tan(np.radians(VERTEX_SIDE_DEG))
+    phi = math.atan2(1.0, t) + near.pose.theta - math.pi
+    assert REACH.finger(x, y, phi) is None and REACH.finger(x + stop.move["dx"], y + stop.move["dy"], phi) is not None
+    # felt on both sides: where the recognizer's touch anywhere would go; within a pad's reach,
+    # more touches, else the move
+    both = _touched(np.linspace(-40.0, 40.0, 40))
+    reachable = {"x": 105.0, "y": 12.0, "phi": -math.pi, "gain": 1.0, "why": "w"}
+    stop = budget_advice(PARABOLA, _why("rival"), both, REACH, 8, anywhere=lambda: reachable)
+    assert "--profile accurate" in stop and stop.move is None
+    stop = budget_advice(PARABOLA, _why("rival"), both, REACH, 8, anywhere=lambda: {**reachable, "x": 93.0})
+    assert "the most telling touch would roll at (93, 12) mm" in stop and stop.move is not None
+    assert "--profile accurate" in budget_advice(PARABOLA, _why("rival"), both, REACH, 8)
 
 
 def test_why_carries_its_kind():
