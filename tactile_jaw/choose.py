@@ -150,30 +150,36 @@ def vertex_aim(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray],
     half = 0.5 * math.degrees(reach.settings.roll_span_rad)
     goal = VERTEX_SIDE_DEG + 0.5 * half
     centres = np.arange(VERTEX_SIDE_DEG - half + 0.5, VERTEX_SIDE_DEG + 2 * half + 1e-9, VERTEX_AIM_STEP_DEG)
-    curve = CURVES["parabola"]({"a": recognition.params["a"]})
-    pose = recognition.pose
     for c in sorted(centres, key=lambda c: abs(c - goal)):
-        t = sign * math.tan(math.radians(c))
-        x, y = (float(np.ravel(v)[0]) for v in pose.apply(*curve.point(np.array([t]))))
-        # the pad faces the solid (the focus side): ψ = tangent − π/2, so φ = tangent − π
-        phi = float(np.ravel(curve.tangent_angle(np.array([t])))[0]) + pose.theta - math.pi
+        x, y, phi = _parabola_place(recognition, sign * math.tan(math.radians(c)))
         f = reach.finger(x, y, phi, fingers)
         if f is not None:
-            return Aim(x, y, float(math.remainder(phi, 2 * math.pi)), f.name,
+            return Aim(x, y, phi, f.name,
                        f"beyond the parabola's vertex on the side felt only {sides[short]:.0f} deg (a roll centred "
                        f"{c:.1f} deg past it)", "vertex")
     return None
 
 
 def vertex_place(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray]) -> tuple[float, float, float]:
-    """(x, y, pad normal ψ deg) of the place ``VERTEX_SIDE_DEG`` past a parabola answer's vertex
-    on its short side: where a touch would have to go (for people)."""
+    """(x, y, φ) of the place ``VERTEX_SIDE_DEG`` past a parabola answer's vertex on its short
+    side: where a touch would have to go (for people)."""
     sides = vertex_sides(recognition, touched)
-    t = (-1.0 if sides[0] <= sides[1] else 1.0) * math.tan(math.radians(VERTEX_SIDE_DEG))
+    return _parabola_place(recognition, (-1.0 if sides[0] <= sides[1] else 1.0) * math.tan(math.radians(VERTEX_SIDE_DEG)))
+
+
+def _parabola_place(recognition: Recognition, t: float) -> tuple[float, float, float]:
+    """(x, y, φ) at t on a parabola answer (the canonical (a t², 2a t) placed by its pose), φ
+    the tangent a pad touching there has: the pad faces the solid (the focus side), ψ =
+    tangent − π/2, so φ = tangent − π."""
     curve = CURVES["parabola"]({"a": recognition.params["a"]})
     x, y = (float(np.ravel(v)[0]) for v in recognition.pose.apply(*curve.point(np.array([t]))))
-    psi = float(np.ravel(curve.tangent_angle(np.array([t])))[0]) + recognition.pose.theta - math.pi / 2
-    return x, y, math.degrees(math.remainder(psi, 2 * math.pi))
+    phi = float(np.ravel(curve.tangent_angle(np.array([t])))[0]) + recognition.pose.theta - math.pi
+    return x, y, float(math.remainder(phi, 2 * math.pi))
+
+
+def _where(x: float, y: float, phi: float) -> str:
+    """A place for people: its position and the pad normal ψ = φ + π/2 a touch there has."""
+    return f"({x:.0f}, {y:.0f}) mm, pad normal {math.degrees(math.remainder(phi + math.pi / 2, 2 * math.pi)):.0f} deg"
 
 
 def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, fingers: Sequence,
@@ -191,15 +197,13 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
         aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers)
         if aim is not None and not _aimed_near(aim.point, aimed_at):
             return aim, None
-        x, y, psi = vertex_place(recognition, touched)
         if vertex_missed:  # the richer rival always fits at least as well: only that side decides
             return None, Stop("no touch within the pads' reach can decide: the touch aimed beyond the vertex fell off "
                               "the curved part (the object ends there): move or turn the object so that more of its "
                               "curved part faces a finger")
         if aim is None:
-            advice, move = move_advice(reach, x, y, math.radians(psi) - math.pi / 2)
-            return None, Stop(f"no touch within the pads' reach can decide: no pad can roll beyond the vertex on that "
-                              f"side (near ({x:.0f}, {y:.0f}) mm, pad normal {psi:.0f} deg): {advice}", move)
+            return None, _place_stop("no touch within the pads' reach can decide: no pad can roll beyond the vertex "
+                                     "on that side (near {where})", *vertex_place(recognition, touched), reach)
     suggested = recognition.next_touch
     if suggested is not None:
         f = reach.finger(suggested["x"], suggested["y"], suggested["phi"], fingers)
@@ -227,11 +231,10 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     already reaches it, a larger budget (the ``accurate`` profile)."""
     spent = f"the touch budget of {budget} is spent"
     if recognition.cls == "parabola" and touched is not None and min(vertex_sides(recognition, touched)) < VERTEX_SIDE_DEG:
-        x, y, psi = vertex_place(recognition, touched)
-        if reach.finger(x, y, math.radians(psi) - math.pi / 2) is None:
-            advice, move = move_advice(reach, x, y, math.radians(psi) - math.pi / 2)
-            return Stop(f"{spent} and no pad can roll beyond the parabola's vertex on the side felt less than "
-                        f"{VERTEX_SIDE_DEG:g} deg (near ({x:.0f}, {y:.0f}) mm, pad normal {psi:.0f} deg): {advice}", move)
+        x, y, phi = vertex_place(recognition, touched)
+        if reach.finger(x, y, phi) is None:
+            return _place_stop(f"{spent} and no pad can roll beyond the parabola's vertex on the side felt less than "
+                               f"{VERTEX_SIDE_DEG:g} deg (near {{where}})", x, y, phi, reach)
     wanted = anywhere() if anywhere is not None else None
     if wanted is None:
         return Stop(f"{spent}: a profile with more touches (--profile accurate) may decide")
@@ -243,11 +246,16 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
 
 def _wanted_stop(head: str, wanted: dict, reach: JawReach) -> Stop:
     """``head``, then where the touch ``wanted`` (a ``next_touch``) would roll and the move of
-    the object that brings it within a pad's roll (:func:`move_advice`)."""
-    x, y, phi = float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])
+    the object that brings it within a pad's roll (:func:`_place_stop`)."""
+    return _place_stop(f"{head}; the most telling touch would roll at {{where}}",
+                       float(wanted["x"]), float(wanted["y"]), float(wanted["phi"]), reach)
+
+
+def _place_stop(message: str, x: float, y: float, phi: float, reach: JawReach) -> Stop:
+    """The stop ``message`` (its ``{where}`` the place, :func:`_where`), then the move of the
+    object that lets a pad roll through (x, y) with tangent φ (:func:`move_advice`)."""
     advice, move = move_advice(reach, x, y, phi)
-    return Stop(f"{head}; the most telling touch would roll at ({x:.0f}, {y:.0f}) mm, pad normal "
-                f"{math.degrees(math.remainder(phi + math.pi / 2, 2 * math.pi)):.0f} deg: {advice}", move)
+    return Stop(f"{message.format(where=_where(x, y, phi))}: {advice}", move)
 
 
 def move_for(reach: JawReach, x: float, y: float, phi: float, fingers: Sequence | None = None
