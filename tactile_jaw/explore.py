@@ -121,6 +121,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     reach = JawReach(cfg, settings)
     aim: Aim | None = None  # where the next touch goes while the answer is not decisive (tactile_jaw.choose)
     undecided = None  # the latest answer that was not decisive: (recognition, why, its touches)
+
+    def anywhere(touches):  # the recognizer's next_touch anywhere in the workspace, asked only when a stop says it
+        return None if recognize_anywhere is None else (lambda: recognize_anywhere(touches).next_touch)
+
     aimed_at: list[tuple[float, float]] = []
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
@@ -192,9 +196,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 break
             undecided = (recognition, why, usable)
             active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
-            anywhere = None if recognize_anywhere is None else (lambda: recognize_anywhere(usable).next_touch)
             aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,
-                                        vertex_missed, empty_at, anywhere)
+                                        vertex_missed, empty_at, anywhere(usable))
             if out.stopped is not None:
                 emit({"type": "event", "kind": "stopped_early", "message": out.stopped,
                       **({"move": out.stopped.move} if out.stopped.move is not None else {})})
@@ -203,7 +206,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     if undecided is not None and out.stopped is None and cleared():  # the budget ran out undecided: what to do
         recognition, why, usable = undecided
         out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
-                                    None if recognize_anywhere is None else (lambda: recognize_anywhere(usable).next_touch))
+                                    anywhere(usable))
         emit({"type": "event", "kind": "budget_spent", "message": out.stopped,
               **({"move": out.stopped.move} if out.stopped.move is not None else {})})
         say(f"{out.stopped}")
