@@ -93,13 +93,20 @@ def run_scene(path: Path, log: Path, profile: str) -> dict:
 def logged_move(log: Path) -> dict | None:
     """The move a run's refusal advises (its ``stopped_early`` or ``budget_spent`` event's
     ``move``), or None."""
+    from hand_driver.log import read_log
+
     if not log.exists():
         return None
-    move = None
-    for line in log.read_text().splitlines():
-        if '"stopped_early"' in line or '"budget_spent"' in line:
-            move = json.loads(line).get("move")
-    return move
+    return next((e.get("move") for e in reversed(read_log(str(log)).events)
+                 if e.get("kind") in ("stopped_early", "budget_spent")), None)
+
+
+def verdict(obj: dict, rec: dict | None) -> str:
+    """The answer ``rec`` (None: no answer) to the object ``obj``: 'yes' (its class),
+    'refused' (none, or ``unclassified``) or '**WRONG**'."""
+    if rec is not None and rec["class"] == obj["class"]:
+        return "yes"
+    return "refused" if rec is None or rec["class"] == "unclassified" else "**WRONG**"
 
 
 def moved_object(obj: dict, move: dict) -> dict:
@@ -261,11 +268,10 @@ def main(argv: list[str] | None = None) -> int:
         p = obj["pose"]
         desc = f"{obj['class']} {params} θ {p['theta']:.2f} at ({p['x']:.0f}, {p['y']:.0f})"
         answer = rec["class"] if rec else f"exit {res['rc']}: {res['stderr'][0][:60]}"
-        ok = rec is not None and rec["class"] == obj["class"]
-        right += ok
-        verdict = "yes" if ok else ("refused" if rec is None or rec["class"] == "unclassified" else "**WRONG**")
+        said = verdict(obj, rec)
+        right += said == "yes"
         robot = f"{res['robot_s']:.1f} s" if res.get("robot_s") is not None else "—"
-        row = (f"| {numbers[k]} | {desc} | {answer} | {verdict} | {param_error(obj, rec) if rec else '—'} | "
+        row = (f"| {numbers[k]} | {desc} | {answer} | {said} | {param_error(obj, rec) if rec else '—'} | "
                f"{res.get('used')}/{res.get('tried')} | {robot} | {res['wall_s']:.1f} s |")
         if args.chi2 is not None:
             ps = true_chi2(path.with_suffix(".log"), obj, args.chi2)
@@ -299,23 +305,20 @@ def follow_advice(scenes, results, profile: str, jobs: int) -> None:
     print("|---|---|---|---|---|---|")
     for (path, obj, move), res in zip(again, second):
         rec = res.get("recognition")
-        ok = rec is not None and rec["class"] == obj["class"]
-        verdict = "yes" if ok else ("refused" if rec is None or rec["class"] == "unclassified" else "**WRONG**")
+        said = verdict(obj, rec)
         print(f"| {path.stem} | ({move['dx']:.0f}, {move['dy']:.0f}) mm, {move['turn_deg']:.0f}° | "
-              f"{rec['class'] if rec else 'exit ' + str(res['rc'])} | {verdict} | "
-              f"{param_error(obj, rec) if ok else '—'} | "
+              f"{rec['class'] if rec else 'exit ' + str(res['rc'])} | {said} | "
+              f"{param_error(obj, rec) if said == 'yes' else '—'} | "
               + (f"{res['robot_s']:.1f} s |" if res.get("robot_s") is not None else "— |"), flush=True)
     print("\n| class | refused | naming a move | moved: right | moved: refused | moved: wrong |")
     print("|---|---|---|---|---|---|")
     for cls in CLASSES:
-        refused = sum(1 for (_, obj), res in zip(scenes, results) if obj["class"] == cls and (
-            res.get("recognition") is None or res["recognition"]["class"] == "unclassified"))
-        rows = [(obj, res) for (_, obj, _), res in zip(again, second) if obj["class"] == cls]
-        answers = [res.get("recognition") for _, res in rows]
-        right = sum(a is not None and a["class"] == cls for a in answers)
-        ref = sum(a is None or a["class"] == "unclassified" for a in answers)
+        refused = sum(verdict(obj, res.get("recognition")) == "refused"
+                      for (_, obj), res in zip(scenes, results) if obj["class"] == cls)
+        said = [verdict(obj, res.get("recognition")) for (_, obj, _), res in zip(again, second) if obj["class"] == cls]
         if refused:
-            print(f"| {cls} | {refused} | {len(rows)} | {right} | {ref} | {len(rows) - right - ref} |", flush=True)
+            print(f"| {cls} | {refused} | {len(said)} | {said.count('yes')} | {said.count('refused')} | "
+                  f"{said.count('**WRONG**')} |", flush=True)
 
 
 def print_class_summary(scenes, results) -> None:
