@@ -73,7 +73,7 @@ def test_semicubical_scan_starts_reach_the_truth(b, vs, monkeypatch):
     d = _contacts("semicubical_parabola", {"a": a, "b": b}, ts, Pose(-1.0, 90.0, 10.0), sig_pos=0.05,
                   sig_phi=1.5e-3, sig_k=1e-2)
     starts = semicubical_scan(d)
-    assert 1 <= len(starts) <= 4
+    assert 1 <= len(starts) <= 6  # the 4 best, and on each branch the best without a turning point
     monkeypatch.setattr(st, "_cubic_starts", lambda cls, data, every: semicubical_scan(data))
     fits = loc.fit_class_every_start("semicubical_parabola", d)
     assert fits and fits[0].chi2 < 1e-8

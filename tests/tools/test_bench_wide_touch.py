@@ -5,6 +5,8 @@ cusp's clearance: the far-branch trials 22, 31, 37 of seed 1 stayed parabola).""
 
 import numpy as np
 
+from recognizer.refine import refine_one
+from recognizer.result import Candidate
 from tools import bench_wide as B
 
 
@@ -48,3 +50,35 @@ def test_one_side_parabola_stays_parabola_after_the_suggested_touches():
     there, the answer stays parabola (before: semicubical parabola)."""
     out = B.run_trial(("parabola", 3, 1))
     assert out["region"] == "one side" and out["gotS"] == "parabola", out["suggested"]
+
+
+def _trial_touches(cls, i, seed, suggested_t):
+    """A bench_wide trial's three touches and its touches at ``suggested_t`` (the places
+    the recorded suggestions were touched), drawn from the bench's own generator in its order."""
+    region, shape, ts, (lo, hi, sign, both, clear), rs = B.draw_case(cls, i, seed)
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = B._touches(shape, ts, rs, direction)
+    for _ in range(2):  # the two random touches' draws
+        t = rs.uniform(lo, hi)
+        t = max(abs(t), clear) * (rs.choice([-1.0, 1.0]) if both else sign)
+        B._extra_touch(shape, t, rs, direction)
+    touches = list(touches) + [B._extra_touch(shape, t, rs, direction) for t in suggested_t]
+    return region, shape, touches, B.NoiseModel(noise.phi, noise.pos), np.concatenate((ts, suggested_t)), direction
+
+
+def test_far_branch_semicubical_after_suggestions_is_no_search_miss():
+    """Seed 5, semicubical trial 13: one branch far from the cusp, touched at the two
+    suggested places. The semicubical fitted from the truth explains the five touches best
+    (χ² 102.9, the ellipse 106.7); the scan's best points all had a turning point on the
+    touched branch and refined to χ² 116–168, so the answer was ellipse. The scan's best
+    point without a turning point reaches the truth's basin."""
+    cls = "semicubical_parabola"
+    region, shape, touches, nm, ts, direction = _trial_touches(cls, 13, 5, [-4.08502881531259, -1.6601781506082534])
+    assert region == "one branch far" and np.all(ts < 0) and direction == 1
+    rec, _, req = B._recognize(touches, nm)
+    truth = refine_one(Candidate(cls, dict(shape.params), shape.pose, ts, 0.0, 0, 0), req.touches, nm)
+    assert rec.cls == cls, rec.ranking
+    semi = next(r for r in rec.ranking if r.cls == cls)
+    assert semi.chi2 <= truth.chi2 * (1 + 1e-6)
+    for k, v in shape.params.items():  # the truth's parameters within 2.5 stated σ
+        assert abs(rec.params[k] - v) < 2.5 * rec.uncertainty[k], (k, rec.params[k], v, rec.uncertainty[k])
