@@ -36,7 +36,7 @@ from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start
 from recognizer.nested import NESTED_FROM, nested_candidates
 from recognizer.refine import refine_candidates
 from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
-from recognizer.intervals import profile_uncertainty
+from recognizer.intervals import profile_uncertainty, rival_basins
 from recognizer.next_touch import next_touch
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request, SamplesTouch
 
@@ -287,7 +287,7 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
             for i, c in zip(rest, refine_candidates([cands[i] for i in rest], request, options)):
                 cands[i] = c
         cands += _nested_fits(cands, request, options)
-    cands = _best_per_class(cands)
+    fits, cands = cands, _best_per_class(cands)
     consistent = [c for c in cands if c.consistent]
     ranking = sorted(cands, key=lambda c: (not c.consistent, c.bic))
     ranked = [Ranked(c.cls, c.consistent, c.chi2, c.dof, c.bic, c.p_value) for c in ranking]
@@ -301,7 +301,8 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
                            {}, reason, ranked, timing, nxt)
     chosen = choose(consistent)
-    best = profile_uncertainty(chosen)  # the answer's σ's where the linearized ones are in doubt
+    # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys
+    best = rival_basins(profile_uncertainty(chosen), [f for f in fits if f is not chosen])
     pairs = _pair_invariants(d) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
     nxt = _suggest(request, options, cands, chosen, d, timing)
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)

@@ -29,3 +29,49 @@ def test_well_determined_answer_keeps_linearized_sigmas():
     assert rec.cls == "hyperbola"
     for k, v in shape.params.items():
         assert rec.uncertainty[k] < 0.02 * v
+
+
+def _cand(cls, params, chi2, sigma, theta=0.0, x=0.0, y=0.0):
+    from recognizer.curves import Pose
+    from recognizer.result import Candidate
+
+    unc = dict(sigma, pose_theta=0.01, pose_x=0.1, pose_y=0.1)
+    return Candidate(cls, dict(params), Pose(theta, x, y), np.zeros(3), chi2, 10, 15, uncertainty=unc)
+
+
+def test_rival_valley_within_chi2_95_widens_sigma_to_its_far_end():
+    from recognizer.intervals import CHI2_95, rival_basins
+
+    ans = _cand("semicubical_parabola", {"a": 3.0, "b": -15.0}, 60.0, {"a": 0.1, "b": 0.2})
+    rival = _cand("semicubical_parabola", {"a": 0.5, "b": -0.5}, 61.0, {"a": 0.15, "b": 0.4}, theta=1.0, x=20.0)
+    out = rival_basins(ans, [rival])
+    reach = np.sqrt(CHI2_95 - 1.0)
+    assert np.isclose(out.uncertainty["a"], (2.5 + reach * 0.15) / 1.96, rtol=1e-3)
+    assert np.isclose(out.uncertainty["b"], (14.5 + reach * 0.4) / 1.96, rtol=1e-3)
+    assert np.isclose(out.uncertainty["pose_x"], (20.0 + reach * 0.1) / 1.96, rtol=1e-3)
+    assert out.params == ans.params  # the answer stays; only its σ's widen
+
+
+def test_rivals_that_do_not_count_leave_sigmas_alone():
+    from recognizer.intervals import rival_basins
+
+    ans = _cand("ellipse", {"a": 3.0, "b": 2.0}, 60.0, {"a": 0.1, "b": 0.1}, theta=0.2)
+    far = _cand("ellipse", {"a": 9.0, "b": 2.0}, 64.0, {"a": 0.1, "b": 0.1})  # Δχ² 4 > 3.84
+    other = _cand("hyperbola", {"a": 9.0, "b": 2.0}, 59.0, {"a": 0.1, "b": 0.1})  # another class
+    turned = _cand("ellipse", {"a": 3.0, "b": 2.0}, 60.5, {"a": 0.1, "b": 0.1}, theta=0.2 - np.pi)  # the same ellipse
+    out = rival_basins(ans, [far, other, turned])
+    assert out.uncertainty == ans.uncertainty
+
+
+def test_one_branch_far_semicubical_sigmas_reach_the_truth_in_the_other_valley():
+    """Seed 5, semicubical trial 13, 3 touches on one branch far from the cusp: the answer
+    (b −14.9, parabola-like) and the truth's valley (b −0.61 refined, truth −0.56) fit
+    within Δχ² 1.6; the linearized σ's put the truth 24 and 64 σ away."""
+    region, shape, ts, _, rs = B.draw_case("semicubical_parabola", 13, 5)
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = B._touches(shape, ts, rs, direction)
+    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert region == "one branch far" and rec.cls == "semicubical_parabola"
+    assert abs(rec.params["b"]) > 5.0  # still the valley of lowest χ²
+    z = {k: (rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()}
+    assert all(abs(v) <= 1.96 for v in z.values()), z
