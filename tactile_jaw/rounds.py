@@ -13,6 +13,7 @@ from hand_driver import kinematics as kin
 from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
 from hand_driver.motion import move_line, move_to
 from recognizer.result import Recognition
+from tactile_jaw.choose import Stop
 from tactile_jaw.pipeline import FeltTouch
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
 
@@ -31,7 +32,7 @@ class Exploration:
     rounds: int = 0
     robot_time_s: float = 0.0
     answers: list[str] = field(default_factory=list)  # class after each recognition
-    stopped: str | None = None  # why it ended undecided and what to do: stopped early, or its budget spent (tactile_jaw.choose)
+    stopped: Stop | None = None  # why it ended undecided and what to do: stopped early, or its budget spent (tactile_jaw.choose)
     #: where the robot time went (s): probe and touch rounds (each including its transits),
     #: the transits alone (per round the slower finger's), the final retreat
     time_s: dict[str, float] = field(default_factory=lambda: dict.fromkeys(

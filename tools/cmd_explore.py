@@ -7,6 +7,7 @@ import sys
 import time
 from contextlib import nullcontext
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 from typing import Any, Callable
 
@@ -86,7 +87,7 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
 
     settings = ExploreSettings.from_profile(profile)
     recognize_touches = make_recognizer(scene_mapping, settings, reach=JawReach(config, settings))
-    recognize_anywhere = make_recognizer(scene_mapping, settings, reach=workspace_reach(config))
+    recognize_anywhere = partial(recognize_touches, reach=workspace_reach(config))
     t0 = time.monotonic()
     log = None
     if log_path is not None:
