@@ -495,7 +495,10 @@ def _cubic_starts(cls: str, d: Contacts, every_pair: bool) -> list[tuple[dict, l
             c = _median([li - _div(ki * ki * (1.0 + li * li), 2.0 * de) for li, ki, de in zip(lam, k, dens)])
             if not (math.isfinite(a) and math.isfinite(c)) or a == 0:
                 continue
-            out.append(({"a": a, "c": c}, [ki * (1 + li * li) ** 1.5 / (6 * a) for li, ki in zip(lam, k)]))
+            # |t| from the tangent (λ = 3at² + c), its sign from κ = 6at/(1 + λ²)^{3/2}: on a steep
+            # stretch κ is small and noisy, and t = κ(1 + λ²)^{3/2}/(6a) multiplies its error
+            out.append(({"a": a, "c": c}, [math.copysign(math.sqrt(max((li - c) / (3 * a), 0.0)), ki / a)
+                                           for li, ki in zip(lam, k)]))
         else:
             a = _median([math.sqrt(abs(_div(-8.0 * ki**3 * (1.0 + li * li) ** 2.5, 9.0 * de)))
                          for li, ki, de in zip(lam, k, dens)])
