@@ -10,13 +10,14 @@ recognizer.localize flips them first), each start is (params, t per touch):
   sign t = sign κ_s; and the conic through the touches' positions and tangents
   (``conic_start``), which does not lean on κ_s; the hyperbola also from a scan of its
   branch's shape and location (``hyperbola_scan``), far out on an arm where κ, κ_s are
-  barely measured;
+  barely measured, and the ellipse, with every start, from one of its shape and location
+  (``ellipse_scan``), along the valley of ellipses a short stretch fits;
 - parabola: a from I_p, t = κ_s/(3κ²);
 - cubical and semicubical parabolas: the canonical tangent angle ψ from
   ``invariants.slope_angles`` (both roots; for the semicubical both branches t ≷ 0), then
-  a, c (a, b) from I_cp1/I_cp2 (I_scp1/I_scp2), t = κ(1+λ²)^{3/2}/(6a) (resp.
-  2(λ − b)/(3a)); for the semicubical also a scan of its shape and location that leans
-  on positions and tangents first (``semicubical_scan``).
+  a, c (a, b) from I_cp1/I_cp2 (I_scp1/I_scp2), t = ±√((λ − c)/(3a)) with the sign of
+  κ/a (resp. 2(λ − b)/(3a)); for the semicubical also a scan of its shape and location
+  that leans on positions and tangents first (``semicubical_scan``).
 
 ``pose_from`` places a start: θ the circular mean of φ_i − φ(t_i), (x, y) the mean of
 p_i − R(θ)·p(t_i), and scores it by the position-and-angle χ².
@@ -360,7 +361,8 @@ def hyperbola_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
 def starts(cls: str, d: Contacts, every_pair: bool = False) -> list[tuple[dict, list]]:
     """Closed-form (params, t) starting points for a class (data in canonical direction):
     ellipse and hyperbola from the invariants and from the conic through the touches
-    (``conic_start``), the hyperbola also from ``hyperbola_scan``; the cubic classes by ``_cubic_starts``."""
+    (``conic_start``), the hyperbola also from ``hyperbola_scan``, the ellipse with ``every_pair``
+    from ``ellipse_scan``; the cubic classes by ``_cubic_starts``."""
     x, y, phi, k, ks = d.cols()
     if cls == "line":
         th = _circmean_s(phi)
