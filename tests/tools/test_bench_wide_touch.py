@@ -117,9 +117,13 @@ def test_suggested_touches_far_out_and_at_the_cusp_are_answered():
     fits consistently: seed 11 cubical 11, touched far out on the steep part (t 52, 72: the
     starts put those touches at t −1860 and −1e5 and gave up; the truth fits χ² 94.2);
     seed 9 semicubical 31, touched at the cusp's clearance (the samples next to the cusp
-    crossed when projected and refinement stalled at χ² 29397; the truth fits 86.2)."""
+    crossed when projected and refinement stalled at χ² 29397; the truth fits 86.2); seed 9
+    cubical 17, far out on the steep part with one touch's κ of the wrong sign (its fair
+    start stalled 1e5 above the give-up level and was dropped after 4 iterations; the
+    truth fits 88.0)."""
     for cls, i, seed, sugg, chi2 in (("cubical_parabola", 11, 11, [51.540180446831506, 72.10890017726383], 94.2),
-                                      ("semicubical_parabola", 31, 9, [1.7239921806826677, 1.764196173930669], 86.3)):
+                                      ("semicubical_parabola", 31, 9, [1.7239921806826677, 1.764196173930669], 86.3),
+                                      ("cubical_parabola", 17, 9, [-51.11245783812393, -72.38584385567697], 88.1)):
         region, shape, touches, nm, ts, direction = _trial_touches(cls, i, seed, sugg)
         rec, _, _ = B._recognize(touches, nm)
         assert rec.cls == cls and rec.ranking[0].chi2 < chi2, (cls, rec.ranking)
