@@ -207,6 +207,15 @@ def _best_per_class(cands: list[Candidate]) -> list[Candidate]:
 NESTED_MARGIN = 1.0
 
 
+def _lowest_chi2(cands: list[Candidate]) -> dict[str, int]:
+    """Each class's candidate of lowest χ² (its index; the first of equals)."""
+    best: dict[str, int] = {}
+    for i, c in enumerate(cands):
+        if c.cls not in best or c.chi2 < cands[best[c.cls]].chi2:
+            best[c.cls] = i
+    return best
+
+
 #: each class's best refined fit within RESTART_BIC of the best BIC is refined once more
 #: from itself, every sample's t projected afresh onto its curve
 RESTART_BIC = 15.0
@@ -220,11 +229,7 @@ def _restarted(cands: list[Candidate], request: Request, options: RecognizeOptio
     seed 11, ellipse trial 0, a short stretch: the ellipse stalled at χ² 53.7 and the answer
     was semicubical at 42.4; restarted, 39.1 in 40 evaluations, the truth's valley 38.1)."""
     top = min((c.bic for c in cands if math.isfinite(c.bic)), default=math.inf) + RESTART_BIC
-    best: dict[str, int] = {}
-    for i, c in enumerate(cands):
-        if c.cls not in best or c.chi2 < cands[best[c.cls]].chi2:
-            best[c.cls] = i
-    again = [i for i in best.values() if isinstance(cands[i], RefinedCandidate) and cands[i].bic <= top]
+    again = [i for i in _lowest_chi2(cands).values() if isinstance(cands[i], RefinedCandidate) and cands[i].bic <= top]
     out = list(cands)
     for i, c in zip(again, refine_candidates([cands[i] for i in again], request, options)):
         if c.chi2 < out[i].chi2:
@@ -236,7 +241,7 @@ def _nested_fits(cands: list[Candidate], request: Request, options: RecognizeOpt
     """Refined fits of every richer class started next to its limit class's fit
     (recognizer.nested), where its own starts fitted worse than a consistent limit by more
     than ``NESTED_MARGIN``: the richer class contains its limit, so it never fits worse."""
-    best = {c.cls: c for c in sorted(cands, key=lambda c: -c.chi2)}  # each class's lowest χ²
+    best = {cls: cands[i] for cls, i in _lowest_chi2(cands).items()}
     starts = []
     for limit, richer in ((lim, r) for lim, rs in NESTED_FROM.items() if lim in best for r in rs):
         if richer in request.classes and best[limit].consistent and \
