@@ -87,6 +87,10 @@ class Aim:
         return self.x, self.y
 
 
+#: the run-log events that carry a :class:`Stop`: stopped for want of reach, or the budget spent undecided
+STOP_EVENTS = ("stopped_early", "budget_spent")
+
+
 class Stop(str):
     """Why exploration stops before its budget is spent (for people), with ``move``: the move
     of the object after which a pad rolls where the touch would have to go (:func:`move_for`:
@@ -99,6 +103,16 @@ class Stop(str):
         out = super().__new__(cls, message)
         out.move = move
         return out
+
+    def event(self, kind: str) -> dict:
+        """The run-log record of this stop (``kind`` one of ``STOP_EVENTS``)."""
+        return {"type": "event", "kind": kind, "message": str(self),
+                **({"move": self.move} if self.move is not None else {})}
+
+
+def last_stop(events) -> dict | None:
+    """A run log's latest ``STOP_EVENTS`` record (hand_driver.log.read_log's events), or None."""
+    return next((e for e in reversed(events) if e.get("kind") in STOP_EVENTS), None)
 
 
 class JawReach:

@@ -199,16 +199,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,
                                         vertex_missed, empty_at, anywhere(usable))
             if out.stopped is not None:
-                emit({"type": "event", "kind": "stopped_early", "message": out.stopped,
-                      **({"move": out.stopped.move} if out.stopped.move is not None else {})})
+                emit(out.stopped.event("stopped_early"))
                 say(f"stopping after {len(usable)} usable touches: {out.stopped}")
                 break
     if undecided is not None and out.stopped is None and cleared():  # the budget ran out undecided: what to do
         recognition, why, usable = undecided
         out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
                                     anywhere(usable))
-        emit({"type": "event", "kind": "budget_spent", "message": out.stopped,
-              **({"move": out.stopped.move} if out.stopped.move is not None else {})})
+        emit(out.stopped.event("budget_spent"))
         say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
         flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index)

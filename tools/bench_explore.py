@@ -94,11 +94,10 @@ def logged_move(log: Path) -> dict | None:
     """The move a run's refusal advises (its ``stopped_early`` or ``budget_spent`` event's
     ``move``), or None."""
     from hand_driver.log import read_log
+    from tactile_jaw.choose import last_stop
 
-    if not log.exists():
-        return None
-    return next((e.get("move") for e in reversed(read_log(str(log)).events)
-                 if e.get("kind") in ("stopped_early", "budget_spent")), None)
+    stop = last_stop(read_log(str(log)).events) if log.exists() else None
+    return stop.get("move") if stop is not None else None
 
 
 def verdict(obj: dict, rec: dict | None) -> str:

@@ -29,7 +29,7 @@ def run(args) -> int:
     # here, not at the top: tactile --help imports every command module (tools.cli), and these
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
     from hand_driver.log import read_log
-    from tactile_jaw.choose import JawReach
+    from tactile_jaw.choose import JawReach, last_stop
     from tactile_jaw.decide import final_answer
     from tactile_jaw.flat import is_flat
     from tactile_jaw.flat import recognized_touches
@@ -62,8 +62,8 @@ def run(args) -> int:
         raise InputError(f"{args.log}: no usable touch in the log ({len(contents.touches)} touches logged)")
     recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
                                         reach=JawReach(config, settings))
-    stopped = next((e.get("message") for e in reversed(contents.events)
-                    if e.get("kind") in ("stopped_early", "budget_spent")), None)
+    stop = last_stop(contents.events)
+    stopped = stop.get("message") if stop is not None else None
     try:
         recognition = final_answer(recognize_touches, touches, settings, stopped).to_json()
     except InputError as exc:
