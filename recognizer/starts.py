@@ -190,6 +190,19 @@ def _curvature_chi2(W, rk, rks):
     return (r0 * r0 + r1 * r1).sum(-1)
 
 
+def _separated_best(cost: np.ndarray, n_best: int) -> list[tuple[int, int]]:
+    """Grid indices (i, j) of a scan's lowest finite costs, best first, each more than 4
+    steps of i or 6 of j from every one kept before it, at most ``n_best``."""
+    kept: list[tuple[int, int]] = []
+    for flat in np.argsort(cost, axis=None)[: 50 * n_best]:
+        i, j = (int(q) for q in np.unravel_index(flat, cost.shape))
+        if not np.isfinite(cost[i, j]) or len(kept) == n_best:
+            break
+        if not any(abs(i - ii) <= 4 and abs(j - jj) <= 6 for ii, jj in kept):
+            kept.append((i, j))
+    return kept
+
+
 def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
     """The semicubical scan's score at shapes b and first-touch coordinates v0 on branch
     sg (broadcast arrays): χ² of positions, κ and κ_s with φ fitted exactly; returns
@@ -233,7 +246,8 @@ def semicubical_scan(d: Contacts, n_best: int = 4) -> list[tuple[dict, list]]:
     linear least squares, and the point is scored by the χ² of the positions and of
     κ = a²κ̃(v), κ_s = a⁴κ̃_s(v) (eq. 18–19's quantities) under their stated deviations.
 
-    The best ``n_best`` separated scan points are returned, and on each branch the best
+    The best ``n_best`` separated scan points are returned (``_separated_best`` on each
+    branch, then the best of both), and on each branch the best
     point without a turning point (b·v ≥ 0) when none of those is one. A branch with a
     turning point (b·v < 0: its slope (3v + 2b)/2 passes through 0 at v = −2b/3,
     parabola-like around it) and one without can fit a stretch touched on one branch far
@@ -249,12 +263,8 @@ def semicubical_scan(d: Contacts, n_best: int = 4) -> list[tuple[dict, list]]:
     for sg in (1.0, -1.0):
         v0 = sg * g[None, :] * np.maximum(1.0, np.abs(bs))[:, None]
         cost, v, scale = _scan_cost(d, bs[:, None], v0, sg)
-        for flat in np.argsort(cost, axis=None)[: 50 * n_best]:
-            i, j = np.unravel_index(flat, cost.shape)
-            if not np.isfinite(cost[i, j]):
-                break
-            if not any(s == sg and abs(i - ii) <= 4 and abs(j - jj) <= 6 for _, s, ii, jj, _ in found):
-                found.append((float(cost[i, j]), sg, int(i), int(j), _scan_start(bs[i], scale[i, j], v[i, j])))
+        found += [(float(cost[i, j]), sg, i, j, _scan_start(bs[i], scale[i, j], v[i, j]))
+                  for i, j in _separated_best(cost, n_best)]
         without = np.where((bs * sg >= 0)[:, None], cost, np.inf)
         i, j = np.unravel_index(int(np.argmin(without)), cost.shape)
         if np.isfinite(without[i, j]):
@@ -328,8 +338,7 @@ def hyperbola_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
     translation follow from the positions by linear least squares, and the point is scored
     by the χ² of the positions and of κ = −e/(a h³), κ_s = 3e(1 + e²) sinh t cosh t/(a² h⁶)
     (h = hypot(sinh t, e cosh t), eqs. 6–7's quantities) under their stated deviations.
-    The best ``n_best`` points separated on the grid (more than 4 steps of e or 6 of t
-    apart) are returned."""
+    The best ``n_best`` points separated on the grid (``_separated_best``) are returned."""
     x, y, phi, k, ks, w_pos, W = _scan_data(d)
     e = np.geomspace(*SCAN_E, SCAN_NE)[:, None, None]
     t0 = np.linspace(-SCAN_T, SCAN_T, SCAN_NT)[None, :, None]
@@ -347,15 +356,8 @@ def hyperbola_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
         rk = k + e / (sc * h**3)
         rks = ks - 3 * e * (1 + e * e) * sh * ch / (sc * sc * h**6)
         cost = np.where(ok & np.isfinite(cost), cost + _curvature_chi2(W, rk, rks), np.inf)
-    found = []
-    for flat in np.argsort(cost, axis=None)[: 50 * n_best]:
-        i, j = np.unravel_index(flat, cost.shape)
-        if not np.isfinite(cost[i, j]) or len(found) == n_best:
-            break
-        if not any(abs(i - ii) <= 4 and abs(j - jj) <= 6 for ii, jj, _ in found):
-            a = float(scale[i, j])
-            found.append((int(i), int(j), ({"a": a, "b": float(e[i, 0, 0]) * a}, tt[i, j].tolist())))
-    return [start for *_, start in found]
+    return [({"a": float(scale[i, j]), "b": float(e[i, 0, 0]) * float(scale[i, j])}, tt[i, j].tolist())
+            for i, j in _separated_best(cost, n_best)]
 
 
 def starts(cls: str, d: Contacts, every_pair: bool = False) -> list[tuple[dict, list]]:
