@@ -119,6 +119,9 @@ def profile_uncertainty(cand):
 
 #: the turn that maps a class's canonical curve onto itself (its pose θ is defined modulo it)
 _HALF_TURN = ("line", "ellipse", "cubical_parabola")
+#: the uncertainty keys of a pose held as the Pose's own θ, x, y (a line states an offset
+#: instead, which no rival of a line has: it is fitted from one start)
+_POSE_KEYS = ("pose_theta", "pose_x", "pose_y")
 
 
 def _offset(cand, rival, key: str) -> float:
@@ -146,7 +149,7 @@ def rival_basins(cand, rivals):
             continue
         reach = math.sqrt(CHI2_95 - max(rise, 0.0))
         for key, sd in cand.uncertainty.items():
-            if not (key in names or key.startswith("pose_")):
+            if not (key in names or key in _POSE_KEYS):
                 continue
             sd, sd_r = float(sd or 0.0), float(r.uncertainty.get(key) or 0.0)
             need = (_offset(cand, r, key) + reach * sd_r) / math.sqrt(CHI2_95)
@@ -154,7 +157,7 @@ def rival_basins(cand, rivals):
                 unc[key] = need
                 scale[key] = need / sd if sd > 0 else 1.0  # no covariance to scale
     return _widened(cand, unc, np.array([scale.get(n, 1.0) for n in names]),
-                    np.array([scale.get(k, 1.0) for k in ("pose_theta", "pose_x", "pose_y")]))
+                    np.array([scale.get(k, 1.0) for k in _POSE_KEYS]))
 
 
 def _widened(cand, unc: dict, scale: np.ndarray, pose_scale: np.ndarray | None = None):

@@ -431,8 +431,8 @@ def _in_order(t: np.ndarray, data: _Data, direction: int) -> np.ndarray:
     u = direction * data.s_rel  # t grows with u along the curve
     for k, row in enumerate(data.mid):
         rows = np.flatnonzero(data.touch_of == k)
-        out = rows[u[rows] > 0][np.argsort(u[rows][u[rows] > 0])]
-        back = rows[u[rows] < 0][np.argsort(-u[rows][u[rows] < 0])]
+        rows = rows[np.argsort(u[rows])]  # along the curve
+        out, back = rows[u[rows] > 0], rows[u[rows] < 0][::-1]  # each going out from the contact
         t[out] = np.maximum.accumulate(np.concatenate(([t[row]], t[out])))[1:]
         t[back] = np.minimum.accumulate(np.concatenate(([t[row]], t[back])))[1:]
     return t
