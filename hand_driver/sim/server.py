@@ -1,4 +1,4 @@
-"""The emulated servo bus: X-series servos behind a pseudo-terminal.
+"""The emulated servo bus: servos of any supported model behind a pseudo-terminal.
 
 (Just over 400 lines: every instruction of Protocol 2.0 is served here, beside the
 simulated clock it advances.)
@@ -73,6 +73,9 @@ class EmulatedBus:
         self.truth_joints = joints_of(truth)
         if len(self.truth_joints) != len(self.joints):
             raise ValueError("truth config and config have different numbers of joints")
+        for j, t in zip(self.joints, self.truth_joints):
+            if j.model != t.model:
+                raise ValueError(f"joint id {j.id} is {j.model} in the config but {t.model} in the truth config")
         self.faults = faults if faults is not None else FaultPlan()
         self.time_scale = float(time_scale)
         self.wire_timing = wire_timing
@@ -86,6 +89,7 @@ class EmulatedBus:
         self._order = [int(j.id) for j in self.joints]
         self._zero = np.array([float(j.zero_tick) for j in self.truth_joints])
         self._dir = np.array([float(j.direction) for j in self.truth_joints])
+        self._per_rev = np.array([float(j.ticks_per_rev) for j in self.truth_joints])
         self._truth = truth
         self.lock = threading.RLock()
         self.world = None
@@ -191,10 +195,10 @@ class EmulatedBus:
                 pos = [s.pos for s in servos]
                 prop = [s.propose(h) for s in servos]
                 if self.world is not None and prop != pos:
-                    q_from = ticks_to_rad(pos, self._zero, self._dir)
-                    q_to = ticks_to_rad(prop, self._zero, self._dir)
+                    q_from = ticks_to_rad(pos, self._zero, self._dir, self._per_rev)
+                    q_to = ticks_to_rad(prop, self._zero, self._dir, self._per_rev)
                     q = np.asarray(self.world.constrain(q_from, q_to), dtype=float)
-                    prop = list(rad_to_ticks_exact(q, self._zero, self._dir))
+                    prop = list(rad_to_ticks_exact(q, self._zero, self._dir, self._per_rev))
                 for s, p in zip(servos, prop):
                     s.settle(float(p), h)
             for s in servos:
