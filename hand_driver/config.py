@@ -10,6 +10,14 @@ with ``ticks_per_rev`` the joint's model's resolution (hand_driver.control_table
 4,096, DYNAMIXEL-P 502,834–1,003,846); ``zero_tick`` and the joint limits are held to the
 positions of one turn of that model in position mode (X 0..4,095, P ±half a turn).
 
+The errors a real servo puts between its encoder and its link may be declared (docs/driver.md,
+declared errors): a joint's ``backlash_deg`` (the gear's dead band, full width) and
+``compliance_deg_per_nm`` (link and gear deflection per N·m of joint torque), a pad's
+``compliance_mm_per_n`` (its face yielding along its normal per N of contact force). The
+emulator simulates exactly the errors its truth config declares (none: none); a zero error is
+the truth config's ``zero_tick`` differing from the nominal one. All default to 0 and are
+written out only when declared.
+
 Link i starts at joint i and points along ``base.angle + q_1 + … + q_i``; its length is
 ``link_mm``. The pad is a segment parallel to the distal link, ``pad.offset_mm`` from
 its axis on ``pad.side`` (seen looking from the joint toward the tip), covering the last
@@ -56,6 +64,8 @@ class JointConfig:
     min_deg: float = -90.0
     max_deg: float = 90.0
     current_limit_ma: float = 1000.0
+    backlash_deg: float = 0.0  # gear dead band, full width (declared error)
+    compliance_deg_per_nm: float = 0.0  # link and gear deflection per joint torque (declared error)
 
     @property
     def spec(self) -> ModelSpec:
@@ -87,6 +97,7 @@ class PadConfig:
     side: str
     offset_mm: float
     length_mm: float
+    compliance_mm_per_n: float = 0.0  # the face yields along its normal per N (declared error)
 
     @property
     def side_sign(self) -> int:
@@ -252,7 +263,8 @@ def _watchdog_ms(c: _Checker, m: dict, default: int) -> int:
 
 
 def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointConfig:
-    allowed = ("id", "model", "zero_tick", "link_mm", "direction", "min_deg", "max_deg", "current_limit_ma")
+    allowed = ("id", "model", "zero_tick", "link_mm", "direction", "min_deg", "max_deg", "current_limit_ma",
+               "backlash_deg", "compliance_deg_per_nm")
     m = c.mapping(obj, key, allowed, required=("id", "model", "zero_tick", "link_mm"))
     d = JointConfig(0, "", 0, 0)
     model = c.string(m, key, "model", None, models)
@@ -270,6 +282,8 @@ def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointCon
         min_deg=c.number(m, key, "min_deg", d.min_deg, -180.0, 0.0),
         max_deg=c.number(m, key, "max_deg", d.max_deg, 0.0, 180.0),
         current_limit_ma=c.number(m, key, "current_limit_ma", d.current_limit_ma, 0.0, 10_000.0, lo_open=True),
+        backlash_deg=c.number(m, key, "backlash_deg", d.backlash_deg, 0.0, 5.0),
+        compliance_deg_per_nm=c.number(m, key, "compliance_deg_per_nm", d.compliance_deg_per_nm, 0.0, 10.0),
     )
     # Limits must stay inside one encoder turn of position mode (the model's Min/Max
     # Position Limit range).
@@ -299,12 +313,14 @@ def _finger(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> FingerC
     if not isinstance(joints_obj, list) or len(joints_obj) != 2:
         c.fail(f"{key}.joints", "expected a list of exactly 2 joints (a 2-joint planar chain)")
     joints = tuple(_joint(c, j, f"{key}.joints[{i}]", models) for i, j in enumerate(joints_obj))
-    pm = c.mapping(m["pad"], f"{key}.pad", ("side", "offset_mm", "length_mm"), required=("side", "offset_mm", "length_mm"))
+    pm = c.mapping(m["pad"], f"{key}.pad", ("side", "offset_mm", "length_mm", "compliance_mm_per_n"),
+                   required=("side", "offset_mm", "length_mm"))
     distal = joints[-1].link_mm
     pad = PadConfig(
         side=c.string(pm, f"{key}.pad", "side", None, ("left", "right")),
         offset_mm=c.number(pm, f"{key}.pad", "offset_mm", None, 0.0, 100.0),
         length_mm=c.number(pm, f"{key}.pad", "length_mm", None, 0.0, distal, lo_open=True),
+        compliance_mm_per_n=c.number(pm, f"{key}.pad", "compliance_mm_per_n", 0.0, 0.0, 5.0),
     )
     return FingerConfig(name=name, base=base, joints=joints, pad=pad)
 
@@ -429,6 +445,18 @@ def _num(v: float) -> float | int:
     return int(v) if float(v).is_integer() else float(v)
 
 
+def _declared(obj, keys: tuple[str, ...]) -> dict:
+    """The declared errors among ``keys`` (nonzero ones only: a config without errors is
+    written as before)."""
+    return {k: _num(getattr(obj, k)) for k in keys if getattr(obj, k)}
+
+
+def declares_errors(cfg: JawConfig) -> bool:
+    """Whether the jaw declares any servo error (backlash, compliance) for the emulator."""
+    return any(j.backlash_deg or j.compliance_deg_per_nm for j in cfg.joints) or any(
+        f.pad.compliance_mm_per_n for f in cfg.fingers)
+
+
 def config_to_mapping(cfg: JawConfig) -> dict:
     """The YAML mapping of a config (inverse of :func:`parse_config`)."""
     return {
@@ -439,8 +467,10 @@ def config_to_mapping(cfg: JawConfig) -> dict:
             "base": {"x": _num(f.base.x), "y": _num(f.base.y), "angle_deg": _num(f.base.angle_deg)},
             "joints": [{"id": j.id, "model": j.model, "zero_tick": _num(j.zero_tick), "link_mm": _num(j.link_mm),
                         "direction": j.direction, "min_deg": _num(j.min_deg), "max_deg": _num(j.max_deg),
-                        "current_limit_ma": _num(j.current_limit_ma)} for j in f.joints],
-            "pad": {"side": f.pad.side, "offset_mm": _num(f.pad.offset_mm), "length_mm": _num(f.pad.length_mm)},
+                        "current_limit_ma": _num(j.current_limit_ma),
+                        **_declared(j, ("backlash_deg", "compliance_deg_per_nm"))} for j in f.joints],
+            "pad": {"side": f.pad.side, "offset_mm": _num(f.pad.offset_mm), "length_mm": _num(f.pad.length_mm),
+                    **_declared(f.pad, ("compliance_mm_per_n",))},
         } for f in cfg.fingers],
         "motion": {k: _num(v) if isinstance(v, float) else v for k, v in asdict(cfg.motion).items()},
         "workspace": {"center_mm": [_num(v) for v in cfg.workspace.center_mm],

@@ -159,6 +159,10 @@ class ModelSpec:
     table_size: int
     indirect: tuple[IndirectBlock, ...]
     hardware_error_bits: dict[int, str]
+    #: output torque per motor current (N·m/A): the e-Manual's stall torque / stall current at
+    #: the recommended voltage (X), continuous torque / continuous current (P); the emulator's
+    #: joint torque under load (declared compliance)
+    torque_nm_per_a: float
     #: the e-Manual's stated backlash (deg), None where it states none
     backlash_deg: float | None = None
     fast_sync_read: bool = True
@@ -297,7 +301,8 @@ def _x_fields() -> list[Field]:
 
 
 def _x_model(name: str, number: int, fields: dict[str, Field], current_unit_ma: float | None,
-             current_limit: int | None, modes: tuple[int, ...], bauds: dict[int, int]) -> ModelSpec:
+             current_limit: int | None, modes: tuple[int, ...], bauds: dict[int, int], stall: tuple[float, float],
+             backlash_deg: float | None = None) -> ModelSpec:
     sensing = current_unit_ma is not None
     return ModelSpec(
         name, number, "X", _X_PAGE.format(name.lower()),
@@ -305,7 +310,8 @@ def _x_model(name: str, number: int, fields: dict[str, Field], current_unit_ma: 
         guard_mode=MODE_CURRENT_BASED_POSITION if sensing else MODE_POSITION,
         current_capped_modes=(MODE_CURRENT, MODE_CURRENT_BASED_POSITION) if sensing else (),
         baud_rates=bauds, velocity_unit_rpm=0.229, accel_unit_rpm2=214.577, table_size=_X_TABLE_SIZE,
-        indirect=_X_INDIRECT, hardware_error_bits=_HW_BITS_X)
+        indirect=_X_INDIRECT, hardware_error_bits=_HW_BITS_X, torque_nm_per_a=stall[0] / stall[1],
+        backlash_deg=backlash_deg)
 
 
 def _xm430_w350() -> ModelSpec:
@@ -314,10 +320,11 @@ def _xm430_w350() -> ModelSpec:
         Field("current_limit", 38, 2, "RW", True, lo=0, hi=1193, default=1193),
         Field("goal_current", 102, 2, "RW", signed=True, lo=-1193, hi=1193),
     )
-    return _x_model("XM430-W350", 1020, fields, 2.69, 1193, (0, 1, 3, 4, 5, 16), _BAUD_X430)
+    # stall torque 4.1 N·m at 12.0 V, 2.3 A; backlash 15 arcmin (0.25°)
+    return _x_model("XM430-W350", 1020, fields, 2.69, 1193, (0, 1, 3, 4, 5, 16), _BAUD_X430, (4.1, 2.3), 0.25)
 
 
-def _xc330(name: str, number: int, current_limit: int) -> ModelSpec:
+def _xc330(name: str, number: int, current_limit: int, stall: tuple[float, float]) -> ModelSpec:
     fields = _with(
         _x_fields(),
         Field("current_limit", 38, 2, "RW", True, lo=0, hi=current_limit, default=current_limit),
@@ -325,7 +332,7 @@ def _xc330(name: str, number: int, current_limit: int) -> ModelSpec:
         Field("baud_rate", 8, 1, "RW", True, lo=0, hi=6, default=1),
         Field("velocity_limit", 44, 4, "RW", True, lo=0, hi=2047, default=320),
     )
-    return _x_model(name, number, fields, 1.0, current_limit, (0, 1, 3, 4, 5, 16), _BAUD_X330)
+    return _x_model(name, number, fields, 1.0, current_limit, (0, 1, 3, 4, 5, 16), _BAUD_X330, stall)
 
 
 def _xl430_w250() -> ModelSpec:
@@ -334,7 +341,8 @@ def _xl430_w250() -> ModelSpec:
         Field("present_load", 126, 2, "R", signed=True),
         drop=("present_current", "goal_current", "current_limit"),
     )
-    return _x_model("XL430-W250", 1060, fields, None, None, (1, 3, 4, 16), _BAUD_X430)
+    # stall torque 1.4 N·m at 11.1 V, 1.3 A
+    return _x_model("XL430-W250", 1060, fields, None, None, (1, 3, 4, 16), _BAUD_X430, (1.4, 1.3))
 
 
 # ----------------------------------------------------------------------------- DYNAMIXEL-P
@@ -366,16 +374,17 @@ class _PRow:
     velocity_limit: int  # Velocity Limit (44) maximum and initial value (0.01 rev/min)
     position_limit: int  # Max Position Limit (48) initial value (Min: its negative)
     shutdown: int  # Shutdown (63) initial value
+    continuous: tuple[float, float]  # Continuous Torque (N·m), Continuous Current (A)
     startup_configuration: bool = False  # the page lists Startup Configuration (60)
 
 
 _P_ROWS = (
-    _PRow("PH54-200-S500-R", 2020, 1_003_846, 22_740, (9_982, 3_992_644), 2_900, 501_433, 52, True),
-    _PRow("PH54-100-S500-R", 2010, 1_003_846, 15_900, (10_639, 4_255_632), 2_920, 501_433, 58),
-    _PRow("PH42-020-S300-R", 2000, 607_500, 4_500, (10_765, 4_306_173), 2_920, 303_454, 58),
-    _PRow("PM54-060-S250-R", 2120, 502_834, 7_980, (11_145, 4_457_932), 2_830, 251_173, 58),
-    _PRow("PM54-040-S250-R", 2110, 502_834, 4_470, (11_037, 4_414_976), 2_840, 251_173, 58),
-    _PRow("PM42-010-S260-R", 2100, 526_374, 1_461, (10_867, 4_346_756), 2_600, 262_931, 58),
+    _PRow("PH54-200-S500-R", 2020, 1_003_846, 22_740, (9_982, 3_992_644), 2_900, 501_433, 52, (44.7, 9.3), True),
+    _PRow("PH54-100-S500-R", 2010, 1_003_846, 15_900, (10_639, 4_255_632), 2_920, 501_433, 58, (25.3, 5.5)),
+    _PRow("PH42-020-S300-R", 2000, 607_500, 4_500, (10_765, 4_306_173), 2_920, 303_454, 58, (5.1, 1.5)),
+    _PRow("PM54-060-S250-R", 2120, 502_834, 7_980, (11_145, 4_457_932), 2_830, 251_173, 58, (10.1, 3.0)),
+    _PRow("PM54-040-S250-R", 2110, 502_834, 4_470, (11_037, 4_414_976), 2_840, 251_173, 58, (3.9, 1.9)),
+    _PRow("PM42-010-S260-R", 2100, 526_374, 1_461, (10_867, 4_346_756), 2_600, 262_931, 58, (1.7, 0.6)),
 )
 
 
@@ -450,17 +459,19 @@ def _p_model(r: _PRow) -> ModelSpec:
         guard_mode=MODE_POSITION,
         current_capped_modes=(MODE_CURRENT, MODE_VELOCITY, MODE_POSITION, MODE_EXTENDED_POSITION),
         baud_rates=_BAUD_P, velocity_unit_rpm=0.01, accel_unit_rpm2=1.0, table_size=_P_TABLE_SIZE,
-        indirect=_P_INDIRECT, hardware_error_bits=_HW_BITS_P, backlash_deg=_P_BACKLASH_DEG)
+        indirect=_P_INDIRECT, hardware_error_bits=_HW_BITS_P, torque_nm_per_a=r.continuous[0] / r.continuous[1],
+        backlash_deg=_P_BACKLASH_DEG)
 
 
 MODELS: dict[str, ModelSpec] = {
     m.name: m
     for m in (
         _xm430_w350(),
-        _xc330("XC330-T288", 1220, 910),
-        _xc330("XC330-M288", 1240, 2352),
-        _xc330("XC330-T181", 1210, 910),
-        _xc330("XC330-M181", 1230, 2352),
+        # stall torque at the recommended voltage: T 11.1 V, M 5.0 V
+        _xc330("XC330-T288", 1220, 910, (0.92, 0.80)),
+        _xc330("XC330-M288", 1240, 2352, (0.93, 1.80)),
+        _xc330("XC330-T181", 1210, 910, (0.76, 0.80)),
+        _xc330("XC330-M181", 1230, 2352, (0.60, 1.80)),
         _xl430_w250(),
         *(_p_model(r) for r in _P_ROWS),
     )

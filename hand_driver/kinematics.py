@@ -165,6 +165,21 @@ def finger_pad_line_from_ticks(cfg: JawConfig, finger: str, ticks) -> PadLine:
 # ----------------------------------------------------------------------------- inverse
 
 
+def moment_arms(finger: FingerConfig, q, point, direction) -> np.ndarray:
+    """Moment arm (mm) about each joint of a unit force the finger applies at ``point`` along
+    the unit vector ``direction``: ((p − J_j) × direction)_z, counter-clockwise positive, so
+    joint j carries the torque arm_j·F (N·mm) and its gear's teeth bear on the side
+    sign(arm_j) (hand_driver.sim.errors; the calibration's load direction). For a pad
+    pressing an object, ``direction`` is the pad's outward normal."""
+    q = np.asarray(q, dtype=float)
+    a1 = finger.base.angle + q[0]
+    j1 = np.array([finger.base.x, finger.base.y])
+    j2 = j1 + finger.joints[0].link_mm * unit(a1)
+    p = np.asarray(point, dtype=float)
+    u = np.asarray(direction, dtype=float)
+    return np.array([float((p[0] - j[0]) * u[1] - (p[1] - j[1]) * u[0]) for j in (j1, j2)])
+
+
 def ik_line_solutions(finger: FingerConfig, psi: float, d: float) -> list[np.ndarray]:
     """Both joint-angle solutions (rad, limits not checked) putting the pad on the line
     ``n(ψ)·p = d`` with its outward normal at angle ψ; empty if out of reach."""
