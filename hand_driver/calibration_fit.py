@@ -27,6 +27,18 @@ config, only the object's pose fitted) and after, standard errors from the Jacob
 (σ² (JᵀJ)⁻¹ with σ² from the residuals, floored at the quantization variance), and
 refuses (:class:`CalibrationRefused`) when the Jacobian is rank deficient or a parameter's
 standard error exceeds its tolerance.
+
+Backlash (``backlash=True``; docs/kinematics.md, calibration): a joint's encoder leads its link
+by ±h, on the side its load pushes (hand_driver.sim.errors). Each reading's load on each joint
+is the sign s of the moment arm of the force the finger applies at the contact
+(kinematics.moment_arms: along the pad's normal for a face touch, toward the disk's centre
+for a pad end), judged at the nominal geometry; ``zero_tick`` is the link's zero under the
+joint's working load w (kinematics.working_loads: a press of the pad's face), so the link
+angle is the encoder's less (s − w)·h (kinematics.load_offsets). A joint the readings load
+both ways (the plan's two inverse-kinematics branches and its corner touches do) gets its
+band 2h as an unknown, ``backlash_deg``; a joint loaded one way only keeps ``backlash_deg``
+as configured and its ``zero_tick`` is the offset under that load. Zero ticks are in each joint's model's
+ticks; their tolerance is the larger of ``zero_tick`` (0.5 tick) and ``ZERO_FLOOR_DEG``.
 """
 
 from __future__ import annotations
@@ -47,14 +59,20 @@ from tactile_common.errors import InputError
 OUTLIER_Z = 4.0
 #: screening passes (reclassify pad-end contacts, drop unexplained readings, refit)
 SCREEN_PASSES = 4
-#: default standard-error tolerances: half the recovery targets (1 tick, 0.1 mm)
-TOLERANCES = {"zero_tick": 0.5, "link_mm": 0.05, "offset_mm": 0.05}
+#: default standard-error tolerances: half the recovery targets (1 tick, 0.1 mm, 0.02° of band)
+TOLERANCES = {"zero_tick": 0.5, "link_mm": 0.05, "offset_mm": 0.05, "backlash_deg": 0.01}
+#: a zero tick's tolerance is never below this angle (deg): 14 ticks of a PH54, whose encoder
+#: is finer than the contact physics of a calibration touch
+ZERO_FLOOR_DEG = 0.005
+#: a joint's band is fitted when at least this many readings load it each way
+BAND_MIN_EACH_WAY = 3
 #: what each parameter kind needs, for refusals
 _NEEDS = {
     "zero_tick": "face touches of this finger at widely spread pad orientations, with the other finger "
                  "touching the same object",
     "link_mm": "corner touches (distal link) or face touches at widely spread orientations (proximal link)",
     "offset_mm": "face touches at widely spread pad orientations",
+    "backlash_deg": "touches that load the joint both ways (both inverse-kinematics branches, corner touches)",
 }
 
 
@@ -75,8 +93,8 @@ class Reading:
 
 @dataclass(frozen=True)
 class Estimate:
-    name: str  # e.g. "left.joint1.zero_tick", "left.pad.offset_mm"
-    kind: str  # zero_tick | link_mm | offset_mm
+    name: str  # e.g. "left.joint1.zero_tick", "left.pad.offset_mm", "left.joint1.backlash_deg"
+    kind: str  # zero_tick | link_mm | offset_mm | backlash_deg
     before: float
     after: float
     se: float
@@ -94,9 +112,12 @@ class CalibrationResult:
     n_readings: int  # readings used by the fit
     n_reclassified: int = 0  # face readings found to be pad-end contacts (ContactModel.screen)
     n_dropped: int = 0  # readings the contact model cannot explain, left out
+    #: with backlash: per joint (name, readings loading it negatively, positively, band fitted)
+    loads: tuple[tuple[str, int, int, bool], ...] = ()
 
     def to_json(self) -> dict:
         return {
+            "loads": [{"joint": n, "negative": a, "positive": b, "band_fitted": f} for n, a, b, f in self.loads],
             "readings": self.n_readings,
             "reclassified": self.n_reclassified,
             "dropped": self.n_dropped,
@@ -111,39 +132,52 @@ class CalibrationResult:
 
 # ----------------------------------------------------------------------------- model
 
-def _param_names(cfg: JawConfig) -> list[tuple[str, str]]:
+def _param_names(cfg: JawConfig, bands: tuple[int, ...] = ()) -> list[tuple[str, str]]:
     out = []
     for f in cfg.fingers:
         out += [(f"{f.name}.joint{j.id}.zero_tick", "zero_tick") for j in f.joints]
         out += [(f"{f.name}.joint{j.id}.link_mm", "link_mm") for j in f.joints]
         out.append((f"{f.name}.pad.offset_mm", "offset_mm"))
-    return out
+    names = {k: f"{f.name}.joint{j.id}" for k, (f, j) in enumerate((f, j) for f in cfg.fingers for j in f.joints)}
+    return out + [(f"{names[k]}.backlash_deg", "backlash_deg") for k in bands]
 
 
-def pack_params(cfg: JawConfig) -> np.ndarray:
+def pack_params(cfg: JawConfig, bands: tuple[int, ...] = ()) -> np.ndarray:
+    """The fit's unknowns of ``cfg``: per finger both zero ticks, both links and the pad
+    offset, then the band (backlash_deg) of each joint of ``bands`` (indices in cfg.joints)."""
     v = []
     for f in cfg.fingers:
         v += [j.zero_tick for j in f.joints] + [j.link_mm for j in f.joints] + [f.pad.offset_mm]
-    return np.array(v, dtype=float)
+    joints = cfg.joints
+    return np.array(v + [joints[k].backlash_deg for k in bands], dtype=float)
 
 
-def apply_params(cfg: JawConfig, v) -> JawConfig:
+def apply_params(cfg: JawConfig, v, bands: tuple[int, ...] = ()) -> JawConfig:
     """A copy of ``cfg`` with the calibrated parameters ``v`` (the fit's order)."""
     fingers, k = [], 0
+    band_of = dict(zip(bands, v[5 * len(cfg.fingers):]))
+    g = 0
     for f in cfg.fingers:
         z, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
         k += 5
-        joints = tuple(dataclasses.replace(j, zero_tick=float(z[i]), link_mm=float(links[i]))
-                       for i, j in enumerate(f.joints))
-        fingers.append(dataclasses.replace(f, joints=joints, pad=dataclasses.replace(f.pad, offset_mm=float(off))))
+        joints = []
+        for i, j in enumerate(f.joints):
+            j = dataclasses.replace(j, zero_tick=float(z[i]), link_mm=float(links[i]))
+            if g in band_of:
+                j = dataclasses.replace(j, backlash_deg=max(0.0, float(band_of[g])))
+            joints.append(j)
+            g += 1
+        fingers.append(dataclasses.replace(f, joints=tuple(joints),
+                                           pad=dataclasses.replace(f.pad, offset_mm=float(off))))
     return dataclasses.replace(cfg, fingers=tuple(fingers))
 
 
 class ContactModel:
     """Residuals (mm) of every reading for kinematic parameters v and object pose w."""
 
-    def __init__(self, cfg: JawConfig, reference, readings: list[Reading]):
+    def __init__(self, cfg: JawConfig, reference, readings: list[Reading], bands: tuple[int, ...] = ()):
         self.cfg = cfg
+        self.bands = tuple(bands)  # joints (indices in cfg.joints) whose band is an unknown
         self.cls = reference.cls
         if self.cls == "circle":
             self.r = float(reference.params["r"])
@@ -171,12 +205,27 @@ class ContactModel:
         if bad:
             raise InputError(f"reading kinds must be 'face', 'corner' or 'heel', got {sorted(bad)}")
 
+    def half_bands(self, v, fi: int) -> np.ndarray:
+        """Each joint of finger ``fi``'s half band h (rad): fitted, else as configured."""
+        first = 2 * fi
+        h = np.radians([j.backlash_deg for j in self.cfg.fingers[fi].joints]) / 2.0
+        nf = 5 * len(self.cfg.fingers)
+        for slot, k in enumerate(self.bands):
+            if first <= k < first + 2:
+                h[k - first] = math.radians(v[nf + slot]) / 2.0
+        return h
+
     def lines(self, v, fi: int, ticks) -> kin.PadLine:
+        """The pad lines of readings ``ticks`` (n, 2), or (n, 4) with each joint's load sign
+        (set_loads): the link angles are the encoders' less sign·h."""
         f = self.cfg.fingers[fi]
         k = 5 * fi
         zero, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
         sign = np.array([j.direction for j in f.joints], dtype=float)
-        q = ticks_to_rad(ticks, zero, sign, kin.resolutions(f.joints))
+        ticks = np.asarray(ticks, dtype=float)
+        q = ticks_to_rad(ticks[..., :2], zero, sign, kin.resolutions(f.joints))
+        if ticks.shape[-1] == 4:  # zero_tick: the link's zero under the working load
+            q = q - np.where(ticks[..., 2:] == 0.0, 0.0, ticks[..., 2:] - kin.working_loads(f)) * self.half_bands(v, fi)
         return kin.chain_pad_line((f.base.x, f.base.y, f.base.angle), q, links, off, f.pad.length_mm,
                                   f.pad.side_sign)
 
@@ -201,6 +250,48 @@ class ContactModel:
                 else:
                     out.append((line.distal if kind == "corner" else line.proximal) @ m - b)
         return np.concatenate(out)
+
+    def set_loads(self, v, w) -> None:
+        """Append each reading's load sign on each joint (the sign of the moment arm of the
+        force the finger applies at its contact, module docstring) to its group's ticks."""
+        out = []
+        for pl, fi, kind, ticks in self.groups:
+            f = self.cfg.fingers[fi]
+            t2 = np.asarray(ticks, dtype=float)[:, :2]
+            line = self.lines(v, fi, t2)
+            q = ticks_to_rad(t2, v[5 * fi:5 * fi + 2], np.array([j.direction for j in f.joints], dtype=float),
+                             kin.resolutions(f.joints))
+            signs = []
+            for i in range(len(t2)):
+                ln = line.at(i)
+                if self.cls == "circle":
+                    c = np.array([w[2 * pl], w[2 * pl + 1]])
+                    if kind == "face":
+                        point, direction = c - self.r * ln.normal, ln.normal
+                    else:
+                        point = ln.distal if kind == "corner" else ln.proximal
+                        direction = (c - point) / max(float(np.hypot(*(c - point))), 1e-12)
+                else:
+                    m = kin.unit(w[2 * pl])
+                    direction = m if float(m @ ln.normal) >= 0.0 else -m
+                    point = (0.5 * (ln.proximal + ln.distal) if kind == "face"
+                             else ln.distal if kind == "corner" else ln.proximal)
+                signs.append(np.sign(kin.moment_arms(f, q[i], point, direction)))
+            out.append((pl, fi, kind, np.hstack([t2, np.array(signs)])))
+        self.groups = out
+
+    def loads_by_joint(self) -> dict[int, tuple[int, int]]:
+        """Per joint (index in cfg.joints): how many readings load it (negative, positive)."""
+        out: dict[int, list[int]] = {}
+        for pl, fi, kind, ticks in self.groups:
+            t = np.asarray(ticks)
+            if t.shape[-1] != 4:
+                continue
+            for i in range(2):
+                c = out.setdefault(2 * fi + i, [0, 0])
+                c[0] += int(np.sum(t[:, 2 + i] < 0))
+                c[1] += int(np.sum(t[:, 2 + i] > 0))
+        return {k: (a, b) for k, a, b in ((k, *v) for k, v in out.items())}
 
     def pose_start(self, v) -> np.ndarray:
         """Each placement's pose from its face readings by linear least squares."""
@@ -262,7 +353,7 @@ class ContactModel:
         for group in self.groups:
             var = 0.0
             for k in range(2):
-                dt = np.zeros_like(group[3])
+                dt = np.zeros_like(np.asarray(group[3], dtype=float))
                 dt[:, k] = h
                 plus = self._group_residual(v, w, group, group[3] + dt)
                 minus = self._group_residual(v, w, group, group[3] - dt)
@@ -279,16 +370,31 @@ class ContactModel:
             self.groups = saved
 
 
-def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | None = None) -> CalibrationResult:
-    """Least-squares calibration (module docstring); :class:`CalibrationRefused` when a
-    parameter is not determined to its tolerance."""
-    tol = dict(TOLERANCES, **(tolerances or {}))
+def _bands(cfg: JawConfig, reference, readings: list[Reading]) -> dict[int, tuple[int, int]]:
+    """Every joint's load counts (negative, positive) over the readings (judged at the nominal
+    geometry and the readings' pose); its band is fitted when both reach ``BAND_MIN_EACH_WAY``."""
+    model = ContactModel(cfg, reference, readings)
     v0 = pack_params(cfg)
-    names = _param_names(cfg)
+    w0 = model.pose_start(v0)
+    w = least_squares(lambda w: model.residuals(v0, w), w0, method="lm").x
+    model.set_loads(v0, w)
+    return model.loads_by_joint()
+
+
+def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | None = None,
+        backlash: bool = False) -> CalibrationResult:
+    """Least-squares calibration (module docstring); with ``backlash`` the readings' load
+    directions are modelled and the band of every joint loaded both ways is fitted;
+    :class:`CalibrationRefused` when a parameter is not determined to its tolerance."""
+    tol = dict(TOLERANCES, **(tolerances or {}))
+    counts = _bands(cfg, reference, readings) if backlash else {}
+    bands = tuple(sorted(k for k, (neg, pos) in counts.items() if min(neg, pos) >= BAND_MIN_EACH_WAY))
+    v0 = pack_params(cfg, bands)
+    names = _param_names(cfg, bands)
     nv = v0.size
     used, n_reclassified, n_dropped = list(readings), 0, 0
     for attempt in range(SCREEN_PASSES + 1):
-        model = ContactModel(cfg, reference, used)
+        model = ContactModel(cfg, reference, used, bands)
         n_pose = 2 * len(model.placements)
         n_res = sum(len(t) * (2 if (model.cls == "line" and kind == "face") else 1)
                     for _, _, kind, t in model.groups)
@@ -298,6 +404,8 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
         # before: nominal parameters, only the pose fitted
         w0 = model.pose_start(v0)
         before = least_squares(lambda w: model.residuals(v0, w), w0, method="lm")
+        if backlash:
+            model.set_loads(v0, before.x)
         x0 = np.concatenate([v0, before.x])
         # weighted by each reading's quantization σ (at the nominal geometry), so that
         # readings with long lever arms (coarse) count less than fine ones
@@ -328,7 +436,11 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     sigma2 = max(float(res.fun @ res.fun) / (m - p), 1.0)
     cov = sigma2 * (vt.T / s**2) @ vt
     se = np.sqrt(np.diag(cov))
-    estimates = tuple(Estimate(name, kind, float(v0[i]), float(res.x[i]), float(se[i]), tol[kind])
+    joints = cfg.joints
+    zero_tol = [max(tol["zero_tick"], ZERO_FLOOR_DEG * j.ticks_per_rev / 360.0) for j in joints]
+    tolerance = [zero_tol[2 * (i // 5) + i % 5] if kind == "zero_tick" else tol[kind]
+                 for i, (_, kind) in enumerate(names)]
+    estimates = tuple(Estimate(name, kind, float(v0[i]), float(res.x[i]), float(se[i]), tolerance[i])
                       for i, (name, kind) in enumerate(names))
     worst = [e for e in estimates if e.se > e.tolerance]
     if worst:
@@ -339,7 +451,10 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     poses = tuple({"x": float(w[2 * i]), "y": float(w[2 * i + 1])} if model.cls == "circle"
                   else {"normal_angle": float(w[2 * i]), "offset_mm": float(w[2 * i + 1])}
                   for i in model.placements)
-    return CalibrationResult(config=apply_params(cfg, res.x[:nv]), estimates=estimates, reference_poses=poses,
+    return CalibrationResult(config=apply_params(cfg, res.x[:nv], bands), estimates=estimates, reference_poses=poses,
                              rms_before_mm=float(np.sqrt(np.mean(before.fun**2))),
                              rms_after_mm=float(np.sqrt(np.mean(r**2))), max_after_mm=float(np.max(np.abs(r))),
-                             n_readings=len(used), n_reclassified=n_reclassified, n_dropped=n_dropped)
+                             n_readings=len(used), n_reclassified=n_reclassified, n_dropped=n_dropped,
+                             loads=tuple((f"{f.name}.joint{j.id}", *counts.get(k, (0, 0)), k in bands)
+                                         for k, (f, j) in enumerate((f, j) for f in cfg.fingers for j in f.joints)
+                                         if counts))

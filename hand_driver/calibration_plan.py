@@ -137,7 +137,11 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
     """Readings a jaw with geometry ``truth`` would produce for a plan (tests and
     benchmarks): the exact truth contact configuration on the same IK branch (face touches
     whose tangent point falls off the truth pad are left out: a pad end would touch), as ticks
-    of the truth zero ticks, rounded to whole ticks as the encoders do (unless quantize=False)."""
+    of the truth zero ticks, each encoder leading its link by half the truth's declared
+    backlash toward its load (the sign of the moment arm of the pressing force: along the pad's
+    normal, or toward the disk's centre for a pad end; zero_tick is the zero under the working
+    load, kinematics.load_offsets), rounded to whole ticks as the encoders do (unless
+    quantize=False)."""
     out = []
     r = float(reference.params["r"])
     c = np.array([reference.pose.x, reference.pose.y])
@@ -152,11 +156,16 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
         if not sols:
             continue
         q = min(sols, key=lambda s: float(np.sum(wrap_angle(s - np.asarray(t.q)) ** 2)))
+        line = kin.finger_pad_line(f, q)
         if t.kind == "face":  # the tangent point off the truth pad: a pad end would touch instead
-            line = kin.finger_pad_line(f, q)
-            if not 0.0 <= float(line.pad_coordinate(c - r * line.normal)) <= f.pad.length_mm:
+            point, direction = c - r * line.normal, line.normal
+            if not 0.0 <= float(line.pad_coordinate(point)) <= f.pad.length_mm:
                 continue
-        ticks = kin.angles_to_ticks(f.joints, q)
+        else:
+            point = line.distal if t.kind == "corner" else line.proximal
+            direction = (c - point) / r
+        load = np.sign(kin.moment_arms(f, q, point, direction))
+        ticks = kin.angles_to_ticks(f.joints, q + kin.load_offsets(f, load))
         if quantize:
             ticks = np.rint(ticks)
         out.append(Reading(t.finger, t.kind, (float(ticks[0]), float(ticks[1])), placement))

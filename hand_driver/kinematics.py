@@ -58,10 +58,31 @@ def _e(a):
 
 
 def ticks_to_angles(joints: tuple[JointConfig, ...], ticks) -> np.ndarray:
-    """Encoder ticks (..., n_joints) → joint angles q (rad), same shape."""
+    """Encoder ticks (..., n_joints) → joint angles q (rad), same shape: the link angles of
+    joints under their working load (:func:`working_loads`; :func:`load_offsets` for others)."""
     zero = np.array([j.zero_tick for j in joints])
     sign = np.array([j.direction for j in joints], dtype=float)
     return ticks_to_rad(ticks, zero, sign, resolutions(joints))
+
+
+def working_loads(finger: FingerConfig) -> np.ndarray:
+    """Each joint's working load direction (±1, counter-clockwise +): the way a press of the
+    pad's face turns it, toward the pad's side. A joint's torque is arm·F with arm from
+    :func:`moment_arms`; for a face contact u mm along the distal link from its joint the
+    distal arm is side·u and the proximal one side·(L1·cos q2 + u), so both joints bear
+    toward the pad's side unless the finger is folded beyond |q2| ≈ 100°. With declared backlash, ``zero_tick`` is the encoder reading at
+    the link's zero under this load (hand_driver.sim.errors, hand_driver.calibration_fit)."""
+    return np.full(len(finger.joints), float(finger.pad.side_sign))
+
+
+def load_offsets(finger: FingerConfig, load) -> np.ndarray:
+    """What to subtract from :func:`ticks_to_angles` (rad, broadcast like ``load``) for the link
+    angles of a reading whose joints bear the load signs ``load`` (0: unloaded, taken as the
+    working load): (load − working)·backlash/2 per joint; zero under the working load."""
+    load = np.asarray(load, dtype=float)
+    w = working_loads(finger)
+    half = np.radians([j.backlash_deg for j in finger.joints]) / 2.0
+    return np.where(load == 0.0, 0.0, load - w) * half
 
 
 def angles_to_ticks(joints: tuple[JointConfig, ...], q) -> np.ndarray:

@@ -1,6 +1,7 @@
-"""``tactile calibrate``: fit zero ticks, link lengths and pad offsets from touches on a
+"""``tactile calibrate``: fit zero ticks, link lengths and pad offsets (and, with
+``--backlash``, each joint's backlash under the load each touch puts on it) from touches on a
 known reference disk (hand_driver.calibration: the touches; calibration_fit: the fit), write
-a new jaw config."""
+a new jaw config. Either family: zero ticks are in each joint's model's ticks."""
 
 from __future__ import annotations
 
@@ -27,8 +28,16 @@ def add_arguments(parser) -> None:
                              "(default: 60,0 85,0 65,30 65,-30)")
     parser.add_argument("--faces", type=int, default=10, help="face touches per finger, IK branch and placement")
     parser.add_argument("--corners", type=int, default=6, help="touches of each pad end per finger, branch, placement")
-    parser.add_argument("--max-se-ticks", type=float, default=0.5, help="refuse if a zero_tick's standard error exceeds this")
+    parser.add_argument("--backlash", action="store_true",
+                        help="model each touch's load direction on every joint and fit the backlash of every "
+                             "joint the touches load both ways (zero_tick: the band's centre); for servos whose "
+                             "gear play exceeds their resolution, e.g. DYNAMIXEL-P")
+    parser.add_argument("--max-se-ticks", type=float, default=0.5,
+                        help="refuse if a zero_tick's standard error exceeds this many ticks (never below "
+                             "0.005 deg of the joint's model)")
     parser.add_argument("--max-se-mm", type=float, default=0.05, help="refuse if a length's standard error exceeds this")
+    parser.add_argument("--max-se-backlash-deg", type=float, default=0.01,
+                        help="with --backlash: refuse if a band's standard error exceeds this (deg)")
     parser.add_argument("--time-scale", type=float, default=1.0, help="robot seconds per wall second (emulators)")
     parser.add_argument("--force", action="store_true", help="overwrite --out if it exists")
     parser.add_argument("--json", action="store_true", help="print the result as JSON")
@@ -98,7 +107,8 @@ def run(args) -> int:
                          f"once per placement")
     if args.faces < 2 or args.corners < 0:
         raise InputError("--faces must be ≥ 2 and --corners ≥ 0")
-    tolerances = {"zero_tick": args.max_se_ticks, "link_mm": args.max_se_mm, "offset_mm": args.max_se_mm}
+    tolerances = {"zero_tick": args.max_se_ticks, "link_mm": args.max_se_mm, "offset_mm": args.max_se_mm,
+                  "backlash_deg": args.max_se_backlash_deg}
 
     def say(line: str) -> None:
         sys.stderr.write(line + "\n")
@@ -112,7 +122,7 @@ def run(args) -> int:
     readings, _ = touch_placements(cfg, scene.object, places, args.port, faces=args.faces, corners=args.corners,
                                    clock_for=lambda k: WallClock(args.time_scale), say=say,
                                    wait_for_user=wait_for_user)
-    result = fit(cfg, scene.object, readings, tolerances)
+    result = fit(cfg, scene.object, readings, tolerances, backlash=args.backlash)
     dump_config(result.config, out, header=f"calibrated by tactile calibrate from {src} "
                                            f"({result.n_readings} touches, residual RMS "
                                            f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm)")
@@ -122,6 +132,10 @@ def run(args) -> int:
         print(f"touches used: {result.n_readings} ({result.n_reclassified} face touches found to be pad-end "
               f"contacts, {result.n_dropped} left out as unexplained); residual RMS before "
               f"{result.rms_before_mm:.3f} mm, after {result.rms_after_mm:.4f} mm (max {result.max_after_mm:.4f} mm)")
+        for name, neg, pos, band in result.loads:
+            print(f"{name}: loaded negatively by {neg}, positively by {pos} touches: " + (
+                "backlash fitted, zero_tick is the band's centre" if band else
+                f"loaded one way only: zero_tick is the offset under a {'negative' if neg else 'positive'} load"))
         print(f"{'parameter':32s} {'before':>10s} {'after':>10s} {'± se':>8s}")
         for e in result.estimates:
             print(f"{e.name:32s} {e.before:10.3f} {e.after:10.3f} {e.se:8.3f}")

@@ -20,8 +20,9 @@ the truth config declares (hand_driver.config: none declared, none simulated):
   emulator's encoder angles are the truth's).
 
 The contact force F of a pad is the one that explains its joints' present currents best
-(least squares of τ_j = Kt_j·I_j against τ_j = a_j·F, a_j = ((p − J_j) × n)_z the moment arm of a
-force along the pad's normal n at the contact p, F ≥ 0), with each model's torque constant
+(least squares of τ_j = Kt_j·I_j against τ_j = a_j·F, a_j = ((p − J_j) × u)_z the moment arm of a
+force along u at the contact p, F ≥ 0; u is the pad's normal where its face touches, the
+object's normal where a pad end presses it), with each model's torque constant
 Kt (hand_driver.control_table); it is judged once per integration span (a lag of one bus
 packet), and used for the next.
 """
@@ -39,6 +40,8 @@ from hand_driver.config import JawConfig
 LOADED_NM = 1e-3
 #: a pad this close to the object (mm) touches it
 TOUCH_MM = 0.05
+#: a contact this close (mm) to an end of the pad is a pad end pressing the object
+END_MM = 0.05
 #: a pad cannot be moved along its normal at a fixed angle when the base link is within
 #: this of parallel to it (n·e1⊥ below it): its compliance is then not applied
 SINGULAR_COS = 0.05
@@ -95,7 +98,7 @@ class ServoErrors:
             cur = currents_ma[sl]
             if info is None or not (info.penetrating or info.gap_mm <= TOUCH_MM) or any(c is None for c in cur):
                 continue
-            arms = kin.moment_arms(f, q[sl], info.point, kin.finger_pad_line(f, q[sl]).normal) / 1000.0  # m
+            arms = kin.moment_arms(f, q[sl], info.point, _force_direction(contact_world, f, q[sl], info)) / 1000.0
             measured = self.kt[sl] * np.asarray(cur, dtype=float) / 1000.0
             norm = float(arms @ arms)
             force[i] = max(0.0, float(arms @ measured) / norm) if norm > 0 else 0.0
@@ -103,6 +106,18 @@ class ServoErrors:
             pad_dq[sl] = _pad_give(f, q[sl], self.pad_compliance[i] * force[i])
         self.torque, self.force = torque, force
         self.pad_dq = pad_dq
+
+
+def _force_direction(contact_world, finger, q, info) -> np.ndarray:
+    """The direction of the force a pad applies at its contact: its normal where its face
+    touches, the object's normal (into the object) where a pad end does."""
+    normal = kin.finger_pad_line(finger, q).normal
+    if END_MM < info.pad_u_mm < finger.pad.length_mm - END_MM:
+        return normal
+    surface = contact_world.surface_direction(info.point)
+    if surface is None:
+        return normal
+    return surface if float(surface @ normal) >= 0.0 else -surface
 
 
 def _pad_give(finger, q, depth_mm: float) -> np.ndarray:

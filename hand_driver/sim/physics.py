@@ -204,6 +204,17 @@ class ContactWorld:
                                   float(u[i]), pen))
         return out
 
+    def surface_direction(self, point) -> np.ndarray | None:
+        """The unit normal of the boundary at ``point`` (from its dense samples, either way
+        round; None without samples): the direction of a frictionless contact force there."""
+        if len(self._pts) < 3:
+            return None
+        i = int(np.argmin(np.hypot(*(self._pts - np.asarray(point, dtype=float)).T)))
+        a, b = self._pts[max(i - 1, 0)], self._pts[min(i + 1, len(self._pts) - 1)]
+        t = b - a
+        norm = float(np.hypot(*t))
+        return None if norm == 0.0 else np.array([-t[1], t[0]]) / norm
+
     def touching(self, q, touch_mm: float = 0.05) -> dict[str, bool]:
         """Finger name → is its pad within ``touch_mm`` of the boundary (or in it)?"""
         return {c.finger: c.penetrating or c.gap_mm <= touch_mm for c in self.contact_info(q)}

@@ -33,6 +33,7 @@ from typing import Sequence
 
 import numpy as np
 
+from hand_driver import kinematics as kin
 from hand_driver.config import JawConfig, JointConfig, declares_errors
 from hand_driver.control_table import BAUD_RATES
 from hand_driver.control_table import model as model_spec
@@ -96,6 +97,11 @@ class EmulatedBus:
         self._truth = truth
         #: the declared errors of the truth jaw (None: it declares none)
         self.errors = ServoErrors(truth) if isinstance(truth, JawConfig) and declares_errors(truth) else None
+        if self.errors is not None:  # zero_tick is the link's zero under the working load: the motors'
+            # zero lies half a band the other way (kinematics.working_loads)
+            work = np.concatenate([kin.working_loads(f) for f in truth.fingers])
+            half_ticks = np.array([j.backlash_deg / 2.0 * j.ticks_per_rev / 360.0 for j in self.truth_joints])
+            self._zero = self._zero - self._dir * work * half_ticks
         self.lock = threading.RLock()
         self.world = None
         self.place(scene)

@@ -87,10 +87,15 @@ def test_backlash_bears_on_the_side_of_each_joints_load():
     assert abs(gap_to_disk(left, link[:2])) < 2e-3  # the links touch the disk exactly
     arms = exact_arms(left, link[:2])
     tick = 2 * math.pi / kin.resolutions(NOMINAL.joints)[:2]
-    # each encoder leads its link by half the band, toward the side its torque pushes
-    assert np.allclose(reading[:2] - link[:2], np.sign(arms) * math.radians(HALF_DEG), atol=tick.max())
-    # the reading the driver sees (nominal config) puts the pad off the disk by that lead
-    assert abs(gap_to_disk(left, reading[:2])) > 0.01
+    h = math.radians(HALF_DEG)
+    # each motor (encoder) leads its link by half the band, toward the side its torque pushes;
+    # zero_tick is the link's zero under the working load, so the reading is the motor less w·h
+    motor = reading[:2] + kin.working_loads(left) * h
+    assert np.allclose(motor - link[:2], np.sign(arms) * h, atol=tick.max())
+    # a press of the pad's face loads both joints the working way: the reading is the link
+    assert np.all(np.sign(arms) == kin.working_loads(left))
+    assert np.allclose(reading[:2], link[:2], atol=tick.max())
+    assert np.allclose(kin.load_offsets(left, np.sign(arms)), 0.0)
 
 
 def test_backlash_is_a_dead_band_when_the_motion_reverses():
@@ -101,11 +106,13 @@ def test_backlash_is_a_dead_band_when_the_motion_reverses():
                       initial_ticks=np.rint(kin.angles_to_ticks(cfg.joints, q0)).astype(int).tolist())
     try:
         with JointBus(sim.port, 1_000_000, cfg, timeout_s=0.5, watchdog_ms=0, handle_signals=False) as bus:
-            def move_to(deg):
+            w = kin.working_loads(cfg.finger("left"))[0] * math.radians(HALF_DEG)
+
+            def move_to(deg):  # (motor, link) angles of the left base joint
                 bus.write_goal_ticks(np.rint(kin.angles_to_ticks(cfg.joints, q0 + np.radians([deg, 0, 0, 0]))))
                 for _ in range(20):
                     sim.step(0.05)
-                return kin.ticks_to_angles(cfg.joints, bus.read_state().ticks)[0], sim.link_angles()[0]
+                return kin.ticks_to_angles(cfg.joints, bus.read_state().ticks)[0] + w, sim.link_angles()[0]
 
             m1, l1 = move_to(1.0)  # driven up: the motor leads by half the band
             assert m1 - l1 == pytest.approx(math.radians(HALF_DEG), abs=1e-5)
