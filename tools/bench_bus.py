@@ -19,7 +19,10 @@ import multiprocessing as mp
 import time
 
 from hand_driver.config import JointConfig
-from hand_driver.control_table import COMMON_FIELDS, STATE_BLOCK_ADDR as ADDR, STATE_BLOCK_LEN as LEN
+from hand_driver.control_table import COMMON_FIELDS, MODELS
+
+#: the joint-state block of the benchmark's XM430 servos (Moving 122 .. Present Position 135)
+ADDR, LEN = MODELS["XM430-W350"].state_block()
 
 BAUD = 1_000_000
 
