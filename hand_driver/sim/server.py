@@ -42,6 +42,7 @@ from hand_driver.sim.errors import ServoErrors
 from hand_driver.sim.faults import FaultPlan
 from hand_driver.sim.servo import EmulatedServo
 from hand_driver.units import rad_to_ticks_exact, ticks_to_rad
+from tactile_common.errors import InputError
 
 _MAX_SUBSTEP_S = 0.002
 _MAX_SUBSTEPS = 25  # per packet: bounds the physics work done before an answer
@@ -76,10 +77,11 @@ class EmulatedBus:
         truth = truth_config if truth_config is not None else config
         self.truth_joints = joints_of(truth)
         if len(self.truth_joints) != len(self.joints):
-            raise ValueError("truth config and config have different numbers of joints")
+            raise InputError("truth config and config have different numbers of joints")
         for j, t in zip(self.joints, self.truth_joints):
             if j.model != t.model:
-                raise ValueError(f"joint id {j.id} is {j.model} in the config but {t.model} in the truth config")
+                raise InputError(f"joint id {j.id} is {j.model} in the config but {t.model} in the truth config: "
+                                 f"the emulated servos are the config's")
         self.faults = faults if faults is not None else FaultPlan()
         self.time_scale = float(time_scale)
         self.wire_timing = wire_timing
