@@ -109,3 +109,21 @@ def test_a_reading_no_contact_explains_is_dropped():
     err = cal.pack_params(result.config) - cal.pack_params(truth)
     for e, d in zip(result.estimates, err):
         assert abs(d) <= (1.0 if e.kind == "zero_tick" else 0.1), f"{e.name}: error {d:+.3f}"
+
+
+def test_backlash_fit_on_exact_p_series_readings():
+    """Exact, quantized readings of config/jaw-p-truth.yaml (0.1° band, zero errors of 0.06–0.12°),
+    each encoder half a band off its link toward the touch's load (calibration_plan.synthesize):
+    the backlash fit recovers every band within 0.005° and every zero under the working load
+    within 3 ticks (0.001°) (the plain fit's bias: tests/tools/test_calibration_emulated.py)."""
+    nominal, truth = load_config("config/jaw-p.yaml"), load_config("config/jaw-p-truth.yaml")
+    rng = np.random.default_rng(1)
+    readings = []
+    for k, (x, y) in enumerate(cp.DEFAULT_PLACEMENTS):
+        disk = dataclasses.replace(DISK, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
+        readings += cp.synthesize(truth, disk, cp.plan_touches(nominal, DISK, (x, y), faces=6, corners=4),
+                                  placement=k)
+    result = cal.fit(nominal, DISK, readings, backlash=True)
+    assert all(band for *_, band in result.loads) and result.n_dropped == 0
+    for j, got in zip(truth.joints, result.config.joints):
+        assert abs(got.zero_tick - j.zero_tick) <= 3.0 and abs(got.backlash_deg - j.backlash_deg) <= 0.005
