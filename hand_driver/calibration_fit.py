@@ -370,6 +370,18 @@ class ContactModel:
             self.groups = saved
 
 
+#: a joint's stated backlash matters when it spans this many of its ticks (a PH54's 0.1° is
+#: 279 ticks, an XM430's 0.25° under 3)
+BAND_TICKS = 10.0
+
+
+def backlash_matters(cfg: JawConfig) -> bool:
+    """Does any joint's model state a backlash of at least ``BAND_TICKS`` of its ticks (the
+    e-Manual's, control_table.ModelSpec.backlash_deg)? ``tactile calibrate`` then models it."""
+    return any(j.spec.backlash_deg is not None and j.spec.backlash_deg >= BAND_TICKS * 360.0 / j.ticks_per_rev
+               for j in cfg.joints)
+
+
 def _bands(cfg: JawConfig, reference, readings: list[Reading]) -> dict[int, tuple[int, int]]:
     """Every joint's load counts (negative, positive) over the readings (judged at the nominal
     geometry and the readings' pose); its band is fitted when both reach ``BAND_MIN_EACH_WAY``."""

@@ -28,10 +28,11 @@ def add_arguments(parser) -> None:
                              "(default: 60,0 85,0 65,30 65,-30)")
     parser.add_argument("--faces", type=int, default=10, help="face touches per finger, IK branch and placement")
     parser.add_argument("--corners", type=int, default=6, help="touches of each pad end per finger, branch, placement")
-    parser.add_argument("--backlash", action="store_true",
+    parser.add_argument("--backlash", choices=("auto", "on", "off"), default="auto",
                         help="model each touch's load direction on every joint and fit the backlash of every "
-                             "joint the touches load both ways (zero_tick: the band's centre); for servos whose "
-                             "gear play exceeds their resolution, e.g. DYNAMIXEL-P")
+                             "joint the touches load both ways (zero_tick: under the joint's working load); auto "
+                             "(default): on when a joint's model states a backlash of 10 or more of its ticks "
+                             "(DYNAMIXEL-P: 0.1 deg = 279 PH54 ticks), off for X-series")
     parser.add_argument("--max-se-ticks", type=float, default=0.5,
                         help="refuse if a zero_tick's standard error exceeds this many ticks (never below "
                              "0.005 deg of the joint's model)")
@@ -89,7 +90,7 @@ def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, cloc
 
 
 def run(args) -> int:
-    from hand_driver.calibration_fit import fit
+    from hand_driver.calibration_fit import backlash_matters, fit
     from hand_driver.config import dump_config, load_config
     from hand_driver.cycle import WallClock
     from recognizer.scene import load_scene
@@ -122,7 +123,8 @@ def run(args) -> int:
     readings, _ = touch_placements(cfg, scene.object, places, args.port, faces=args.faces, corners=args.corners,
                                    clock_for=lambda k: WallClock(args.time_scale), say=say,
                                    wait_for_user=wait_for_user)
-    result = fit(cfg, scene.object, readings, tolerances, backlash=args.backlash)
+    backlash = args.backlash == "on" or (args.backlash == "auto" and backlash_matters(cfg))
+    result = fit(cfg, scene.object, readings, tolerances, backlash=backlash)
     dump_config(result.config, out, header=f"calibrated by tactile calibrate from {src} "
                                            f"({result.n_readings} touches, residual RMS "
                                            f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm)")
