@@ -477,8 +477,6 @@ MODELS: dict[str, ModelSpec] = {
     )
 }
 MODELS_BY_NUMBER: dict[int, ModelSpec] = {m.number: m for m in MODELS.values()}
-#: the models of each family
-FAMILIES: dict[str, tuple[str, ...]] = {fam: tuple(n for n, m in MODELS.items() if m.family == fam) for fam in "XP"}
 
 #: items every model has at the same address with the same range (ids, firmware, baud rate...)
 COMMON_FIELDS: dict[str, Field] = {f.name: f for f in MODELS["XM430-W350"].fields.values()

@@ -127,3 +127,9 @@ def test_backlash_fit_on_exact_p_series_readings():
     assert all(band for *_, band in result.loads) and result.n_dropped == 0
     for j, got in zip(truth.joints, result.config.joints):
         assert abs(got.zero_tick - j.zero_tick) <= 3.0 and abs(got.backlash_deg - j.backlash_deg) <= 0.005
+
+
+def test_backlash_is_modelled_by_default_where_the_band_spans_many_ticks():
+    # DYNAMIXEL-P: 0.1° = 279 PH54 ticks, 169 PH42 ticks; XM430: 0.25° is under 3 of its ticks
+    assert cal.backlash_matters(load_config("config/jaw-p.yaml"))
+    assert not cal.backlash_matters(load_config("config/jaw.yaml"))
