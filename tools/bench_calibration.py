@@ -10,7 +10,10 @@ default: over 4 the mean's standard error was about a quarter of the mean, and o
 jaw's after/perfect ratio read 2.08 on 4 placements and 0.93 on 12). Prints the
 calibration errors, every demo's parameter and pose errors, the means and their
 standard errors.
-Run: ``python -m tools.bench_calibration [--seed N] [--placements K]``."""
+Run: ``python -m tools.bench_calibration [--seed N] [--placements K]``; with ``--config C
+--truth-config T`` the truth jaw is T instead of a perturbed C (e.g. ``--config
+config/jaw-p.yaml --truth-config config/jaw-p-truth.yaml``: its backlash is fitted when C's
+servos state one, as ``tactile calibrate --backlash auto`` does)."""
 
 from __future__ import annotations
 
@@ -38,7 +41,7 @@ def perturbed(cfg, seed: int):
 def calibrate(cfg, truth, rng, faces: int, corners: int):
     """``tactile calibrate``'s touches (one emulated bus per suggested placement, the disk
     off it by up to ±3 mm) and fit."""
-    from hand_driver.calibration_fit import fit
+    from hand_driver.calibration_fit import backlash_matters, fit
     from hand_driver.calibration_plan import DEFAULT_PLACEMENTS
     from hand_driver.cycle import LockstepClock
     from hand_driver.sim.server import EmulatedBus
@@ -55,7 +58,8 @@ def calibrate(cfg, truth, rng, faces: int, corners: int):
         readings, _ = touch_placements(cfg, disk, places, [s.port for s in sims], faces=faces, corners=corners,
                                        clock_for=lambda k: LockstepClock(sims[k]), say=lambda line: None,
                                        bus_options={"handle_signals": False, "timeout_s": 0.5})
-    return fit(cfg, disk, readings, tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})
+    return fit(cfg, disk, readings, tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0,
+                                                "backlash_deg": 99.0}, backlash=backlash_matters(cfg))
 
 
 #: object placements relative to the scene's pose: (dx mm, dy mm, dθ rad). Sub-millimetre
@@ -129,6 +133,8 @@ def main() -> int:
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--config", default="config/jaw.yaml", help="the nominal jaw (default %(default)s)")
+    ap.add_argument("--truth-config", default=None, help="the truth jaw (default: the nominal one perturbed by --seed)")
     ap.add_argument("--scene", default="config/scenes/default.yaml")
     ap.add_argument("--faces", type=int, default=10)
     ap.add_argument("--corners", type=int, default=6)
@@ -136,22 +142,25 @@ def main() -> int:
                     choices=range(1, len(PLACEMENT_OFFSETS) + 1),
                     help=f"object placements per config (default and most {len(PLACEMENT_OFFSETS)})")
     args = ap.parse_args()
-    nominal = load_config("config/jaw.yaml")
+    nominal = load_config(args.config)
     truth, rng = perturbed(nominal, args.seed)
+    if args.truth_config:
+        truth = load_config(args.truth_config)
     with tempfile.TemporaryDirectory() as tmp:
         truth_path, after_path = Path(tmp) / "truth.yaml", Path(tmp) / "calibrated.yaml"
         dump_config(truth, truth_path)
         t0, c0 = time.monotonic(), time.process_time()
         result = calibrate(nominal, truth, rng, args.faces, args.corners)
         dump_config(result.config, after_path)
-        err = pack_params(result.config) - pack_params(truth)
+        bands = tuple(k for k, (*_, fitted) in enumerate(result.loads) if fitted)
+        err = pack_params(result.config, bands) - pack_params(truth, bands)
         print(f"calibration: {result.n_readings} touches used ({result.n_reclassified} face touches found to be "
               f"pad-end contacts, {result.n_dropped} dropped), {time.monotonic() - t0:.0f} s wall, "
               f"{time.process_time() - c0:.0f} s CPU, residual RMS {result.rms_before_mm:.3f} -> "
               f"{result.rms_after_mm:.4f} mm")
         for e, d in zip(result.estimates, err):
             print(f"  {e.name:28s} error {d:+7.3f}  (se {e.se:.3f}; nominal was off by {e.before - (e.after - d):+.3f})")
-        configs = (("perfect config", truth_path), ("before calibration", Path("config/jaw.yaml")),
+        configs = (("perfect config", truth_path), ("before calibration", Path(args.config)),
                    ("after calibration", after_path))
         demo_err: dict[str, list[float]] = {label: [] for label, _ in configs}
         for i, (scene, obj) in enumerate(placed_scenes(args.scene, args.placements, Path(tmp))):
@@ -163,7 +172,7 @@ def main() -> int:
                 print(f"  demo, {label:20s}: {text}")
     kinds = [e.kind for e in result.estimates]
     worst_tick = max(abs(d) for d, k in zip(err, kinds) if k == "zero_tick")
-    worst_mm = max(abs(d) for d, k in zip(err, kinds) if k != "zero_tick")
+    worst_mm = max(abs(d) for d, k in zip(err, kinds) if k in ("link_mm", "offset_mm"))
     stats = {label: _mean_se(v) for label, v in demo_err.items()}
     perfect, after = stats["perfect config"][0], stats["after calibration"][0]
     print(f"summary: seed {args.seed}, worst zero tick {worst_tick:.2f} tick, worst length {worst_mm:.3f} mm, "
