@@ -224,7 +224,7 @@ def inseparable(recognize_touches: RecognizeTouches, recognition: Recognition, t
     ruled out."""
     present = {r.cls for r in recognition.ranking}
     gaps = {rival: departing_gap(recognize_touches, recognition, touches, rival)
-            for rival in sorted(LIMIT_OF.get(recognition.cls, ()) & present)}
+            for rival in sorted(LIMIT_OF.get(recognition.cls, frozenset()) & present)}
     close = {rival: gap for rival, gap in gaps.items() if gap is not None and gap < DECISIVE_CHI2}
     if not close:
         return None

@@ -110,6 +110,13 @@ def test_an_inseparable_limit_answer_is_refused_naming_the_rival_and_the_resolut
     assert inseparable(fine, answer, touches, P_TICKS, budget=4) is None
 
 
+def test_an_answer_that_is_no_limit_is_not_checked(hump):
+    touches, parabola = hump
+    cubical = recognizer(X_NOISE)(touches, classes=("cubical_parabola", "ellipse"))
+    assert cubical.cls in ("cubical_parabola", "ellipse")
+    assert inseparable(recognizer(X_NOISE), cubical, touches, X_TICKS, budget=4) is None
+
+
 def test_round_up_and_refusal_kinds():
     assert round_up(24_871.2) == 24_900 and round_up(1_003_846) == 1_010_000 and round_up(12.0) == 12
     assert finer_ticks(10.0, 4096, 10.0) == 4096 and finer_ticks(0.0, 4096, 10.0) is None
