@@ -24,13 +24,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.units import RAD_PER_TICK
+from hand_driver.units import rad_per_tick
 from tactile_common.angles import wrap_angle
 
 #: central-difference step (rad) of the joint-angle Jacobians
 STEP_RAD = 1e-7
-#: variance of one joint angle quantized to a tick (uniform)
-QUANTIZATION_VAR = RAD_PER_TICK**2 / 12.0
+
+
+def quantization_var(finger) -> np.ndarray:
+    """Variance (rad²) of each joint's angle quantized to a tick of its model (uniform)."""
+    return rad_per_tick(kin.resolutions(finger.joints)) ** 2 / 12.0
 
 
 @dataclass(frozen=True)
@@ -75,13 +78,14 @@ def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None) -> En
     jx, jy = jac[3 : 3 + n], jac[3 + n : 3 + 2 * n]
     across = normal[:, :1] * jx + normal[:, 1:] * jy
     along = -normal[:, 1:] * jx + normal[:, :1] * jy
-    cov = QUANTIZATION_VAR * jac[:3] @ jac[:3].T
+    qv = np.tile(quantization_var(finger), q.shape[0])  # per column of jac: reading-major, joint-minor
+    cov = (jac[:3] * qv) @ jac[:3].T
     rho = float(base.rho[m])
     return EnvelopeFit(base, 1.0 / rho, float(-base.rho_psi[m] / rho**3), cov[:2, :2], rho,
                        float(np.sqrt(cov[2, 2])), _line_chi2(finger, q, base), n - base.degree - 1,
-                       np.sqrt(QUANTIZATION_VAR * np.sum(across**2, axis=1)),
-                       np.sqrt(QUANTIZATION_VAR * np.sum(along**2, axis=1)),
-                       np.sqrt(QUANTIZATION_VAR) * jac[3:])
+                       np.sqrt(np.sum(across**2 * qv, axis=1)),
+                       np.sqrt(np.sum(along**2 * qv, axis=1)),
+                       np.sqrt(qv) * jac[3:])
 
 
 def _line_chi2(finger, q, base: kin.TouchEnvelope) -> float:
@@ -98,5 +102,5 @@ def _line_chi2(finger, q, base: kin.TouchEnvelope) -> float:
         dd = (np.asarray(plus.d) - np.asarray(minus.d)) / (2.0 * STEP_RAD)
         slope = -np.sin(base.psi) * base.x + np.cos(base.psi) * base.y  # d'(ψ) = p·n⊥
         grads.append(dd - slope * dpsi)
-    var = QUANTIZATION_VAR * np.sum(np.square(grads), axis=0)
+    var = np.sum(quantization_var(finger)[:, None] * np.square(grads), axis=0)
     return float(np.sum(base.residual**2 / var))
