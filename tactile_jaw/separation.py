@@ -21,7 +21,6 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from hand_driver.units import TICKS_PER_REV
 from recognizer.curves import CURVES, Pose
 from recognizer.nested import NESTED_FROM, nested_candidates
 from recognizer.result import Candidate, Recognition
@@ -147,5 +146,9 @@ def round_up(value: float, digits: int = 3) -> int:
 
 def jaw_ticks_per_rev(config) -> int:
     """The encoder resolution (ticks per turn) of the jaw ``config``'s joints: what the
-    stated noise of its touches is one tick of."""
-    return TICKS_PER_REV
+    stated noise of its touches is one tick of. A jaw mixing models (config/jaw-p.yaml:
+    1,003,846 at the base joints, 607,500 at the distal ones) counts as the one resolution
+    N that gives every joint's quantization the same total variance (tactile_jaw.settings.
+    phi_sigma): 1/N² the mean of 1/N_j²."""
+    inv2 = [1.0 / float(j.ticks_per_rev) ** 2 for f in config.fingers for j in f.joints]
+    return int(round(1.0 / math.sqrt(sum(inv2) / len(inv2))))

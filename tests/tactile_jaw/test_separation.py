@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
+from hand_driver.config import load_config
 from recognizer.classify import recognize
 from recognizer.curves import CURVES, Pose
 from recognizer.profiles import get_profile
@@ -20,13 +21,14 @@ from recognizer.result import RecognizeOptions
 from recognizer.synth import sample_touch
 from recognizer.touches import NoiseModel, Request, SamplesTouch
 from tactile_jaw.decide import DECISIVE_CHI2, FINER, REFUSAL_KINDS, inseparable, refusal_kind
-from tactile_jaw.separation import answer_ts, departing_gap, exact_touches, expected_gap, finer_ticks, round_up
-from tactile_jaw.settings import PHI_SIGMA
+from tactile_jaw.separation import (answer_ts, departing_gap, exact_touches, expected_gap, finer_ticks,
+                                    jaw_ticks_per_rev, round_up)
+from tactile_jaw.settings import phi_sigma
 
 ALL = ("line", "circle", "ellipse", "parabola", "hyperbola", "cubical_parabola", "semicubical_parabola")
 X_TICKS, P_TICKS = 4096, 1_003_846
 #: the noise the X-series jaw states for a balanced roll (docs/exploration.md#the-stated-noise)
-X_NOISE = NoiseModel(phi=PHI_SIGMA, pos=0.03, pos_along=0.7)
+X_NOISE = NoiseModel(phi=phi_sigma(load_config("config/jaw.yaml").fingers[0].joints), pos=0.03, pos_along=0.7)
 
 
 @dataclass(frozen=True)
@@ -115,6 +117,14 @@ def test_an_answer_that_is_no_limit_is_not_checked(hump):
     cubical = recognizer(X_NOISE)(touches, classes=("cubical_parabola", "ellipse"))
     assert cubical.cls in ("cubical_parabola", "ellipse")
     assert inseparable(recognizer(X_NOISE), cubical, touches, X_TICKS, budget=4) is None
+
+
+def test_a_jaw_resolution_is_its_joints_quantization():
+    assert jaw_ticks_per_rev(load_config("config/jaw.yaml")) == X_TICKS
+    # PH54 (1,003,846) at the base joints and PH42 (607,500) distal: the one resolution with
+    # the same total quantization variance
+    expected = 1.0 / math.sqrt(0.5 / 1_003_846**2 + 0.5 / 607_500**2)
+    assert jaw_ticks_per_rev(load_config("config/jaw-p.yaml")) == pytest.approx(expected, abs=1)
 
 
 def test_round_up_and_refusal_kinds():
