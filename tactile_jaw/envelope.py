@@ -26,7 +26,7 @@ import numpy as np
 from scipy import stats
 
 from hand_driver import kinematics as kin
-from hand_driver.units import RAD_PER_TICK
+from hand_driver.units import rad_per_tick
 from tactile_common.angles import wrap_angle
 
 #: central-difference step (rad) of the joint-angle Jacobians
@@ -37,9 +37,9 @@ STEP_RAD = 1e-7
 class JointNoise:
     """What a finger's two joints put into its readings during one touch: each reading
     quantized to the joint's encoder tick (uniform, independent per reading: σ = tick/√12),
-    and an error that stays the same over the touch (σ per joint, rad: what is left of
-    the zero offset, the backlash and the compliance after calibration; the rolls keep
-    each joint's load in one direction, so backlash is such an offset)."""
+    and an error that stays the same over the touch (σ per joint, rad: where a gear with
+    backlash rests in its dead band; the rolls keep each joint's load in one direction, so
+    backlash is such an offset: docs/exploration.md#the-stated-noise)."""
 
     tick_rad: tuple[float, float]
     offset_rad: tuple[float, float] = (0.0, 0.0)
@@ -50,8 +50,14 @@ class JointNoise:
         return np.asarray(self.tick_rad, dtype=float) / math.sqrt(12.0)
 
 
-#: the X-series encoders (4,096 ticks per turn), nothing else declared
-DEFAULT_NOISE = JointNoise((RAD_PER_TICK, RAD_PER_TICK))
+def joint_noise(finger) -> JointNoise:
+    """The noise a finger's joints declare (hand_driver.config): each joint's tick (its
+    model's resolution) and, for a declared ``backlash_deg`` b, an offset over the touch of
+    σ = b/2 (the gear rests against one side of its dead band, which side the zero tick
+    does not say)."""
+    ticks = rad_per_tick(kin.resolutions(finger.joints))
+    return JointNoise(tuple(float(t) for t in ticks),
+                      tuple(math.radians(j.backlash_deg) / 2.0 for j in finger.joints))
 
 
 @dataclass(frozen=True)
@@ -89,12 +95,13 @@ def degrees(n: int) -> range:
 
 
 def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None,
-                 noise: JointNoise = DEFAULT_NOISE) -> EnvelopeFit:
+                 noise: JointNoise | None = None) -> EnvelopeFit:
     """:class:`EnvelopeFit` of a touch of ``finger`` (hand_driver.config.FingerConfig) from its
     joint angles ``q`` (n, 2) and their pad lines ``lines`` (n ≥ 3 readings with distinct ψ);
-    deviations from ``noise``. The ``degree`` of d(ψ): given, else the order rule
-    (:func:`choose_degree`)."""
+    deviations from ``noise`` (default: what the finger's joints declare, :func:`joint_noise`).
+    The ``degree`` of d(ψ): given, else the order rule (:func:`choose_degree`)."""
     q = np.asarray(q, dtype=float)
+    noise = joint_noise(finger) if noise is None else noise
     first = kin.touch_from_pad_lines(lines.psi, lines.d, degree=degree)
     weighed = degrees(q.shape[0]) if degree is None else range(first.degree, first.degree + 1)
     fits = {}

@@ -27,7 +27,7 @@ from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, Samples
 from tactile_common.errors import InputError
 from tactile_jaw.envelope import MIN_DEGREE, EnvelopeFit, fit_envelope
 from tactile_jaw.flat import FLAT_NOISE, Face, feel_flat, recognized_touches
-from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, PHI_SIGMA, ExploreSettings
+from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
 
 #: a touch whose radius of curvature at the contact is below this (mm), or below
 #: CORNER_SIGMAS of its deviation, rolled on a corner (the contact stayed put while the pad
@@ -331,7 +331,9 @@ def stated_noise(touches: Sequence[FeltTouch]) -> NoiseModel:
     rolling = [t for t in touches if t.fit is not None]
     across = np.concatenate([t.fit.sigma_across for t in rolling])
     along = np.concatenate([t.fit.sigma_along for t in rolling])
-    return NoiseModel(phi=PHI_SIGMA, pos=float(np.sqrt(np.mean(across**2))),
+    # σ_φ of each sample from its joints' ticks (the φ rows of the fit's noise factor)
+    phi = np.concatenate([np.sum(t.fit.noise_factor[2 * len(t.fit.sigma_across):] ** 2, axis=1) for t in rolling])
+    return NoiseModel(phi=float(np.sqrt(np.mean(phi))), pos=float(np.sqrt(np.mean(across**2))),
                       pos_along=float(np.sqrt(np.mean(along**2))))
 
 

@@ -9,7 +9,7 @@ scene is explored by ``tactile demo --scene S --json --log L`` (balanced profile
 redrawn. Per scene: the answer, right class or not, parameter error, usable/tried
 touches, robot and wall time. With ``--chi2 [POS ...]`` it also re-recognizes every
 scene's logged touches with the true class only, with the noise the jaw states and with
-each isotropic position deviation POS (φ as ``PHI_SIGMA``), and prints the true class's χ²
+each isotropic position deviation POS (φ as the jaw's ``phi_sigma``), and prints the true class's χ²
 tail probability (χ²/dof), to calibrate the stated noise (docs/exploration.md). With
 ``--follow``, every refused object whose refusal names a move (the log's ``stopped_early`` or
 ``budget_spent`` event, tactile_jaw.choose.move_advice) is moved so (:func:`moved_object`) and explored once
@@ -129,10 +129,10 @@ def param_error(obj: dict, rec: dict) -> str:
 def true_chi2(log: Path, obj: dict, pos_values: list[float]) -> list[tuple[float, float, int] | None]:
     """The true class's (χ² tail probability, χ², dof) on the log's usable touches: first with
     the noise the jaw states (tactile_jaw.pipeline.stated_noise), then per stated pos σ
-    (φ as ``PHI_SIGMA``, isotropic positions)."""
+    (φ as ``phi_sigma`` of the coarser finger, isotropic positions)."""
     from hand_driver.log import read_log
     from tactile_jaw.pipeline import logged_touches, make_recognizer
-    from tactile_jaw.settings import PHI_SIGMA, ExploreSettings
+    from tactile_jaw.settings import ExploreSettings, phi_sigma
 
     contents = read_log(str(log))
     header = contents.header
@@ -145,7 +145,8 @@ def true_chi2(log: Path, obj: dict, pos_values: list[float]) -> list[tuple[float
             out.append(None)
             continue
         scene = {**header["scene"], "classes": [obj["class"]]}
-        rec = make_recognizer(scene, settings, None if pos is None else {"phi": PHI_SIGMA, "pos": pos})(touches)
+        phi = max(phi_sigma(f.joints) for f in config.fingers)
+        rec = make_recognizer(scene, settings, None if pos is None else {"phi": phi, "pos": pos})(touches)
         top = rec.ranking[0] if rec.ranking else None
         out.append(None if top is None or top.cls != obj["class"] else (top.p_value, top.chi2, top.dof))
     return out

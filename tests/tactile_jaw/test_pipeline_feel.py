@@ -13,13 +13,13 @@ import pytest
 from hand_driver import kinematics as kin
 from hand_driver.config import load_config
 from hand_driver.motion import Sample, TouchResult
-from hand_driver.units import RAD_PER_TICK
+from hand_driver.units import rad_per_tick
 from recognizer.curves import CURVES, Pose
 from recognizer.touches import parse_request
 from tactile_common.errors import InputError
 from tactile_jaw.envelope import fit_envelope
 from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel, make_recognizer, stated_noise
-from tactile_jaw.settings import PHI_SIGMA, ExploreSettings
+from tactile_jaw.settings import ExploreSettings, phi_sigma
 
 CONFIG = load_config("config/jaw.yaml")
 LEFT = CONFIG.finger("left")
@@ -67,17 +67,21 @@ def test_ellipse_curvature_against_closed_form(centre_deg):
     assert kappa_s == pytest.approx(float(curve.kappa_s(t)), abs=0.03 * float(curve.kappa(t)) ** 2)
 
 
-def test_covariance_matches_quantization_scatter():
+@pytest.mark.parametrize("path", ["config/jaw.yaml", "config/jaw-p.yaml"])
+def test_covariance_matches_quantization_scatter(path):
     """The stated covariance is the scatter of κ, κ_s when every joint angle is off by a
-    uniform error of up to half a tick (Monte Carlo, 400 draws), at the cubic the order rule
-    gives these rolls (it takes another degree on 1 of the 400 draws)."""
+    uniform error of up to half a tick of its model (Monte Carlo, 400 draws; X-series, and
+    the P-series jaw whose two joints differ in resolution), at the cubic (the order rule
+    gives these rolls a cubic but for about 1 draw in 400)."""
     a, b = 28.0, 17.0
     psis = math.radians(-75.0) + np.linspace(-1, 1, 9) * math.radians(9.0)
     q, _, _ = ellipse_tangent_angles(a, b, psis)
-    cov = fit_envelope(LEFT, q, kin.finger_pad_line(LEFT, q), degree=3).cov
+    left = load_config(path).finger("left")
+    cov = fit_envelope(left, q, kin.finger_pad_line(left, q), degree=3).cov
     rng = np.random.default_rng(3)
-    draws_q = [q + rng.uniform(-0.5, 0.5, q.shape) * RAD_PER_TICK for _ in range(400)]
-    fits = [fit_envelope(LEFT, qq, kin.finger_pad_line(LEFT, qq), degree=3) for qq in draws_q]
+    tick = rad_per_tick(kin.resolutions(left.joints))
+    draws_q = [q + rng.uniform(-0.5, 0.5, q.shape) * tick for _ in range(400)]
+    fits = [fit_envelope(left, qq, kin.finger_pad_line(left, qq), degree=3) for qq in draws_q]
     draws = np.array([(f.kappa, f.kappa_s) for f in fits])
     ratio = draws.std(axis=0) / np.sqrt(np.diag(cov))
     assert np.all((ratio > 0.85) & (ratio < 1.15)), ratio
@@ -211,7 +215,7 @@ def test_stated_noise_is_the_scatter_of_quantized_rolls():
     plain = [k for k, f in enumerate(felt) if f.fit.noise_factor.shape[1] == 18]
     assert len(plain) >= 36
     stated = stated_noise([felt[k] for k in plain])
-    assert stated.phi == pytest.approx(PHI_SIGMA)
+    assert stated.phi == pytest.approx(phi_sigma(LEFT.joints))
     assert 0.8 < stated.pos / np.sqrt(np.mean(np.concatenate([errors[k][0] for k in plain]) ** 2)) < 1.25
     assert 0.8 < stated.pos_along / np.sqrt(np.mean(np.concatenate([errors[k][1] for k in plain]) ** 2)) < 1.25
 
