@@ -280,7 +280,8 @@ class TouchEnvelope:
 
 
 def default_degree(n: int) -> int:
-    """Polynomial degree of d(ψ) for n readings: 3 from 6 readings on, else n − 2 ≥ 1."""
+    """Polynomial degree of d(ψ) for n readings when nothing chooses it: 3 from 6 readings
+    on, else n − 2 ≥ 1 (tactile_jaw.envelope chooses it from the data and the noise)."""
     return 3 if n >= 6 else max(1, n - 2)
 
 
