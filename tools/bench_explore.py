@@ -13,7 +13,15 @@ each isotropic position deviation POS (φ as the jaw's ``phi_sigma``), and print
 tail probability (χ²/dof), to calibrate the stated noise (docs/exploration.md). With
 ``--follow``, every refused object whose refusal names a move (the log's ``stopped_early`` or
 ``budget_spent`` event, tactile_jaw.choose.move_advice) is moved so (:func:`moved_object`) and explored once
-more, as a person following the advice would. Run: ``python -m tools.bench_explore [--n 12] [--seed 1]``.
+more, as a person following the advice would. ``--config C`` builds the emulated jaw from C
+and explores with it (config/jaw-p.yaml: the P-series jaw); ``--anywhere`` draws each finite
+object anywhere in the workspace where its curved part faces a finger
+(tools.random_objects.random_object) instead of near its example's place. The last table
+says what the jaw can tell, per class: right / refused / wrong, median error, median robot
+time, each refusal's kind (tactile_jaw.decide.refusal_kind: out of reach, needs finer
+angles, needs another move) and the median robot time per phase. Run: ``python -m
+tools.bench_explore [--n 12] [--seed 1]``, ``python -m tools.bench_explore --finite 10
+--anywhere --config config/jaw-p.yaml --seed 29``.
 """
 
 from __future__ import annotations
@@ -37,8 +45,10 @@ from tactile_common.errors import InputError
 CLASSES = ["line", "circle", "ellipse", "parabola", "hyperbola", "cubical_parabola", "semicubical_parabola"]
 DEFAULT_CONFIG = "config/jaw.yaml"
 #: the robot time's phases as the run log's result splits it (tactile_jaw.rounds): probes and
-#: rolling touches or flat presses, each with its transits, and the final retreat
+#: rolling touches or flat presses, each including its transits (the next column), and the
+#: final retreat
 PHASES = ("probes", "probe_transits", "touches", "touch_transits", "retreat")
+PHASE_HEADS = ("probes", "of which transits", "touches and presses", "of which transits", "retreat")
 #: how a finite object of each class scales by s: factors of its parameters and of its
 #: canonical extent (the curve's points all scale by s; closure points scale by s)
 SCALING = {"line": ({}, 1.0), "circle": ({"r": 1.0}, None), "ellipse": ({"a": 1.0, "b": 1.0}, None),
@@ -376,7 +386,7 @@ def print_tell_table(scenes, results, config: str) -> None:
 
     print(f"\nWhat the jaw {config} can tell (robot time per phase: medians, s)")
     print("| class | objects | right / refused / wrong | median error | robot time median | "
-          + " | ".join(f"refused: {k}" for k in REFUSAL_KINDS) + " | " + " | ".join(PHASES) + " |")
+          + " | ".join(f"refused: {k}" for k in REFUSAL_KINDS) + " | " + " | ".join(PHASE_HEADS) + " |")
     print("|---" * (5 + len(REFUSAL_KINDS) + len(PHASES)) + "|")
     for cls in CLASSES:
         rows = [(obj, res) for (_, obj), res in zip(scenes, results) if obj["class"] == cls]
