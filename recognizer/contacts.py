@@ -27,6 +27,9 @@ class Contacts:
     cov: np.ndarray  # (n, 2, 2) covariance of (κ, κ_s)
     sig_pos: np.ndarray
     sig_phi: np.ndarray
+    #: arc length (mm) a touch reaches either side of its contact (half the median roll of
+    #: the request's samples-touches; 0 for contacts): no touch rolls through a cusp
+    reach: float = 0.0
 
     @property
     def n(self) -> int:
@@ -129,7 +132,7 @@ class Contacts:
             cov[:, 0, 1] *= -1.0
             cov[:, 1, 0] *= -1.0
             f = Contacts(self.x, self.y, self.phi + np.pi, -self.kappa, self.kappa_s, cov,
-                         self.sig_pos, self.sig_phi)
+                         self.sig_pos, self.sig_phi, self.reach)
             f._scale = self.scale
             f._wl = [(-w00, w01, -w10, w11) for w00, w01, w10, w11 in self._whitener_rows()]
             f._rows = [(x, y, p + np.pi, -k, ks, sp, sf, -w00, w01, -w10, w11)

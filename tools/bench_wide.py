@@ -203,9 +203,10 @@ def _recognize(touches, nm, reach=None):
     return out, time.process_time() - t0, req
 
 
-def _oracle(shape, ts, direction, rec, req, nm) -> str:
-    """'data-limited' or 'search miss' for a wrong answer (module docstring)."""
-    t_true = np.asarray(ts if direction > 0 else ts[::-1], float)
+def _oracle(shape, ts, direction, rec, req, nm, extra_ts=()) -> str:
+    """'data-limited' or 'search miss' for a wrong answer (module docstring); ``extra_ts``:
+    the true t's of touches appended after the first ones (the suggested ones)."""
+    t_true = np.concatenate((np.asarray(ts if direction > 0 else ts[::-1], float), np.asarray(extra_ts, float)))
     truth = refine_one(Candidate(shape.cls, dict(shape.params), shape.pose, t_true, 0.0, 0, 0), req.touches, nm)
     if rec.cls == "unclassified":
         return "search miss" if truth.consistent else "data-limited"
@@ -298,7 +299,9 @@ def run_trial(task) -> dict:
                                                 "miss_mm": float(math.hypot(float(qx) - nt["x"], float(qy) - nt["y"]))})
         tl.append(_extra_touch(shape, t, rs, direction))
         used += 1
-        cur, _, _ = _recognize(tl, nm)
+        cur, _, reqS = _recognize(tl, nm)
+    if cur.cls != cls and used:
+        out["oracleS"] = _oracle(shape, ts, direction, cur, reqS, nm, [s["t"] for s in out["suggested"]])
     out.update(rankS=_ranking(cur), t3=[float(v) for v in ts], span=[float(lo), float(hi)],
                params=dict(shape.params), gotS=cur.cls, errS=rel_error(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
     return out
@@ -339,7 +342,7 @@ def report(recs: list[dict]) -> str:
             f"{(f'{np.median(miss):.2g} / {np.max(miss):.2g}') if miss else '–'} | {cov} | {rms} | {np.mean([r['ms'] for r in rs]):.0f} | "
             f"{(f'{nt.mean():.0f} / {nt.max():.0f}') if nt.size else '–'} | {_exact_pct(rs)} |")
     lines += ["", "Per region (3 touches / 3 + 2 random / 3 + ≤2 suggested, right class %):", "",
-              "| class | region | trials | 3 | 3+2 random | 3+≤2 suggested | search misses | wrong answers | noise-free exact % |",
+              "| class | region | trials | 3 | 3+2 random | 3+≤2 suggested | search misses (3 / suggested) | wrong answers (3) | noise-free exact % |",
               "|---|---|---|---|---|---|---|---|---|"]
     by = defaultdict(list)
     for r in recs:
@@ -348,7 +351,8 @@ def report(recs: list[dict]) -> str:
         wrong = sorted({r["got3"] for r in rs if r["got3"] != c})
         lines.append(f"| {c} | {reg} | {len(rs)} | {_pct([r['got3'] == c for r in rs])} | "
                      f"{_pct([r['got5'] == c for r in rs])} | {_pct([r['gotS'] == c for r in rs])} | "
-                     f"{sum(r.get('oracle') == 'search miss' for r in rs)} | {', '.join(wrong) or '–'} | {_exact_pct(rs)} |")
+                     f"{sum(r.get('oracle') == 'search miss' for r in rs)} / {sum(r.get('oracleS') == 'search miss' for r in rs)} | "
+                     f"{', '.join(wrong) or '–'} | {_exact_pct(rs)} |")
     rep = [r for r in recs if r.get("repeated")]
     if rep:
         lines += ["", f"Trials with one place touched twice: {len(rep)}; right class 3 / 3+2 random / 3+≤2 suggested: "
