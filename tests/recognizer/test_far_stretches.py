@@ -1,0 +1,52 @@
+"""Far stretches of issue 21 (tools.bench_wide --set wide): a hyperbola far out on its arm,
+noise-free, whose touches' κ are barely measured but one (the direction of travel is the
+κ's in their deviations, not the largest κ), and a semicubical far out on one branch after
+two suggested touches, whose contact fits put a touch within its roll of the cusp (its
+scan starts clear of the cusp are refined). Each fails on main 6613250."""
+
+import numpy as np
+import pytest
+
+from recognizer import synth
+from recognizer.touches import NoiseModel
+from tools import bench_wide as B
+
+
+@pytest.mark.parametrize("i", [3, 11])
+def test_far_arm_hyperbola_noise_free_is_exact(i):
+    """Seed 1 hyperbola trials 3 and 11 (far on an arm, t 3.2–5.3, regions 7.6 and 21 mm):
+    the largest κ, 1.9e-4 ± 1.6e-4, flipped the direction; answered unclassified."""
+    region, shape, ts, _, rs = B.draw_case("hyperbola", i, 1, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, _ = synth.sample_shape(shape, ts, B.SAMPLES, B.SPACING * shape.size, direction, None, None, with_s=False)
+    rec, _, _ = B._recognize(touches, NoiseModel(0.0, 0.0))
+    assert region == "far on an arm"
+    assert rec.cls == "hyperbola", rec.reason
+    for k, v in shape.params.items():
+        assert rec.params[k] == pytest.approx(v, rel=1e-6)
+
+
+def _with_suggested(cls, i, seed, suggested_t):
+    """A wide-set trial's three touches, its two random ones drawn (for the same noise
+    after them) and touches at ``suggested_t`` (where the bench touched its suggestions)."""
+    region, shape, ts, (lo, hi, sign, both, clear), rs = B.draw_case(cls, i, seed, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = B._touches(shape, ts, rs, direction)
+    for _ in range(2):
+        t = max(abs(rs.uniform(lo, hi)), clear) * (rs.choice([-1.0, 1.0]) if both else sign)
+        B._extra_touch(shape, t, rs, direction)
+    touches = list(touches) + [B._extra_touch(shape, t, rs, direction) for t in suggested_t]
+    return region, touches, NoiseModel(noise.phi, noise.pos)
+
+
+@pytest.mark.parametrize("i,suggested_t", [(3, (-2.313, -5.415)), (11, (-0.205, -0.497))])
+def test_far_branch_semicubical_after_suggestions(i, suggested_t):
+    """Seed 5 semicubical trials 3 and 11 (far out on a branch, regions 389 and 3.1 mm),
+    five touches on one branch: answered ellipse (the semicubical refined to 4.7e4 and
+    110.9 from contact fits with a touch 15 mm of arc from the cusp, its samples spanning
+    ±31 mm); the truth refined from itself fits 60.9 and 83.6."""
+    region, touches, nm = _with_suggested("semicubical_parabola", i, 5, suggested_t)
+    rec, _, _ = B._recognize(touches, nm)
+    assert region == "far out on a branch"
+    assert rec.cls == "semicubical_parabola", [(r.cls, r.chi2) for r in rec.ranking]
+    assert rec.ranking[0].chi2 < 90
