@@ -391,8 +391,6 @@ def ellipse_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
 #: the hyperbola scan: shape e = b/a on a log grid over SCAN_E, the first touch's t over ±SCAN_T
 SCAN_E, SCAN_NE = (1e-2, 1e2), 49
 SCAN_T, SCAN_NT = 7.0, 71
-#: a touch placed by its tangent no farther than this from the first touch's t, then by its position
-PLACE_T = 2.0
 
 
 def hyperbola_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
@@ -409,27 +407,22 @@ def hyperbola_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
     (h = hypot(sinh t, e cosh t), eqs. 6–7's quantities) under their stated deviations.
     The best ``n_best`` points separated on the grid (``_separated_best``) are returned."""
     x, y, phi, k, ks, w_pos, W = _scan_data(d)
-    sig_phi = np.array([r[6] for r in d.rows()])
     e = np.geomspace(*SCAN_E, SCAN_NE)[:, None, None]
     t0 = np.linspace(-SCAN_T, SCAN_T, SCAN_NT)[None, :, None]
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         th = phi[0] - np.arctan2(e * np.cosh(t0), np.sinh(t0))
         psi = wrap_angle(phi - th)
-        # by the tangent where it points into the branch's range, else at t₀; then by position
+        ok = np.all((psi > 0) & (psi < _PI), axis=-1)
         tt = np.arctanh(e * np.cos(psi) / np.sin(psi))
-        tt = np.where((psi > 0) & (psi < _PI) & np.isfinite(tt), tt, t0 + 0.0 * tt)
-        tt = np.clip(tt, t0 - PLACE_T, t0 + PLACE_T)
-        tt, scale, cost = _placed(x, y, w_pos, th[..., 0], tt, lambda u: (np.cosh(u), e * np.sinh(u)),
-                                  lambda u: (np.sinh(u), e * np.cosh(u)), lambda u, un: un)
-        ok = scale > 0
-        sc = scale[..., None]
+        ok &= np.all(np.isfinite(tt), axis=-1)
         ch, sh = np.cosh(tt), np.sinh(tt)
+        scale, cost = _similarity_fit(x, y, w_pos, th, ch, e * sh)
+        ok &= scale > 0
+        sc = scale[..., None]
         h = np.hypot(sh, e * ch)
-        rphi = wrap_angle(phi - th - np.arctan2(e * ch, sh)) / sig_phi
         rk = k + e / (sc * h**3)
         rks = ks - 3 * e * (1 + e * e) * sh * ch / (sc * sc * h**6)
-        cost = cost + (rphi * rphi).sum(-1) + _curvature_chi2(W, rk, rks)
-        cost = np.where(ok & np.isfinite(cost), cost, np.inf)
+        cost = np.where(ok & np.isfinite(cost), cost + _curvature_chi2(W, rk, rks), np.inf)
     return [({"a": float(scale[i, j]), "b": float(e[i, 0, 0]) * float(scale[i, j])}, tt[i, j].tolist())
             for i, j in _separated_best(cost, n_best)]
 
