@@ -73,3 +73,17 @@ def test_nearly_straight_semicubical_branch_noise_free_is_exact():
     assert rec.cls == "semicubical_parabola", rec.reason
     for k, v in params.items():
         assert rec.params[k] == pytest.approx(v, rel=1e-6)
+
+
+def test_far_arm_hyperbola_refined_from_its_exact_start():
+    """Seed 9 hyperbola trial 3 (far on an arm, t 3.6–5.4, 183 mm), noise-free: the
+    invariants' start was exact, its contact fit 16 % off (the estimated κ, κ_s weigh
+    more than their truncation error allows) and refined to χ² 6e13: unclassified."""
+    region, shape, ts, _, rs = B.draw_case("hyperbola", 3, 9, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, _ = synth.sample_shape(shape, ts, B.SAMPLES, B.SPACING * shape.size, direction, None, None, with_s=False)
+    rec, _, _ = B._recognize(touches, NoiseModel(0.0, 0.0))
+    assert region == "far on an arm"
+    assert rec.cls == "hyperbola", rec.reason
+    for k, v in shape.params.items():
+        assert rec.params[k] == pytest.approx(v, rel=1e-6)
