@@ -199,7 +199,7 @@ def _similarity_pose(x, y, w_pos, th, scale, px, py):
 #: scale and placement are approximate: the truth lies at ≥ 1 reach)
 CUSP_CLEAR = 1.0
 #: rounds of placing the touches by their positions in a scan (``_placed``), Newton steps each
-PLACE_ROUNDS, PLACE_STEPS = 2, 3
+PLACE_ROUNDS, PLACE_STEPS = 1, 3
 
 
 def _placed(x, y, w_pos, th, t, point, deriv, keep):
@@ -277,8 +277,8 @@ def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
         v = (2 * np.tan(psi) - 2 * b) / 3
         # each touch on the branch its tangent points to: ψ within ±π/2 on v > 0, beyond on v < 0
         ok = np.all((np.abs(psi) < _PI / 2) == (v > 0), axis=-1)
-        v, scale, cost = _placed(x, y, w_pos, th, v, lambda u: (u * u, u**3 + b * u * u),
-                                 lambda u: (2 * u, 3 * u * u + 2 * b * u),
+        v, scale, cost = _placed(x, y, w_pos, th, v, lambda u: (u * u, u * u * (u + b)),
+                                 lambda u: (2 * u, u * (3 * u + 2 * b)),
                                  lambda u, un: np.where(un * u > 0, un, 0.5 * u))
         ok &= scale > 0
         sc = scale[..., None]
