@@ -205,8 +205,7 @@ def scaled_covariance(J: np.ndarray) -> np.ndarray:
 
 def _complement(Vt: np.ndarray) -> np.ndarray:
     """Orthonormal rows spanning the complement of Vt's rows."""
-    q, _ = np.linalg.qr(np.eye(Vt.shape[1]) - Vt.T @ Vt)
-    _, s, vt = np.linalg.svd(np.eye(Vt.shape[1]) - Vt.T @ Vt)
+    _, _, vt = np.linalg.svd(np.eye(Vt.shape[1]) - Vt.T @ Vt)
     return vt[: Vt.shape[1] - Vt.shape[0]]
 
 
