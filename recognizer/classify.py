@@ -263,7 +263,45 @@ def choose(consistent: list[Candidate]) -> Candidate:
         best = min(simpler, key=lambda c: c.bic)
 
 
-def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: Contacts) -> str:
+def also_fits(chosen: Candidate, consistent: list[Candidate]) -> list[dict]:
+    """The consistent classes of which the answer is a limit (``LIMIT_OF``: a line of every
+    curved class, a circle of the ellipse, a parabola of the conics and cubics), best χ²
+    first: each fits the touches within their noise, so the answer is the simplest of them,
+    not the only one (a cubical touched within 1e-4 of its size from its inflection, or
+    with slope 3e4, a hyperbola far out on an arm: answered line). ``gain``: how much
+    lower its χ² is; ``needed``: the likelihood-ratio test's threshold it stayed below
+    (``MODEL_ALPHA``; classes that BIC alone compares with the answer: null)."""
+    out = []
+    for c in sorted(consistent, key=lambda c: c.chi2):
+        if c.cls not in LIMIT_OF.get(chosen.cls, ()):
+            continue
+        tested = c.cls in CHOICE_LIMIT_OF.get(chosen.cls, ())
+        out.append({"class": c.cls, "chi2": c.chi2, "gain": chosen.chi2 - c.chi2,
+                    "needed": chi2_limit(MODEL_ALPHA, N_SHAPE[c.cls] - N_SHAPE[chosen.cls]) if tested else None})
+    return out
+
+
+def _too_few_places(cls: str, places: list[list[int]], n: int) -> str:
+    """Why ``cls`` is not tested: fewer places than it needs (touches at one place count once)."""
+    if len(places) == n:
+        return f"needs {MIN_TOUCHES[cls]} touches, got {n}"
+    return f"needs {MIN_TOUCHES[cls]} touches at distinct places, got {len(places)}"
+
+
+def _same_places(places: list[list[int]]) -> str:
+    """The touches at one place, for a person: 'touches 0, 1, 2 at one place within their noise'."""
+    same = "; ".join("touches " + ", ".join(map(str, g)) for g in places if len(g) > 1)
+    return f"{same} at one place within their noise ({len(places)} distinct)" if same else ""
+
+
+def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: Contacts, untested: dict) -> str:
+    if not cands and untested and len(untested) == len(skipped):
+        need: dict[str, list[str]] = {}
+        for cls, why in untested.items():
+            need.setdefault(why, []).append(cls)
+        same = _same_places(d.places())
+        return ("no class of the scene could be tested (no spare degrees of freedom): " + (same + "; " if same else "")
+                + "; ".join(f"{', '.join(cs)}: {why}" for why, cs in need.items()))
     parts = []
     if cands:
         best = min(cands, key=lambda c: c.chi2 / chi2_limit(1e-3, c.dof))
@@ -288,10 +326,12 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
     d = contacts_of(request, options)
     t_est = time.perf_counter()
     cands: list[Candidate] = []
-    skipped: dict[str, str] = {}
+    skipped: dict[str, str] = {}  # class → why it has no fit: untested, or hopeless from its start
+    untested: dict[str, str] = {}
+    places = d.places()
     for cls in request.classes:
-        if d.n < MIN_TOUCHES[cls]:
-            skipped[cls] = f"needs {MIN_TOUCHES[cls]} touches, got {d.n}"
+        if len(places) < MIN_TOUCHES[cls]:
+            skipped[cls] = untested[cls] = _too_few_places(cls, places, d.n)
             continue
         limit = chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[cls] + d.n), 1))  # as in _candidate
         give_up = 1e4 * limit
@@ -326,20 +366,21 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
     timing = {"estimate_ms": 1e3 * (t_est - t0)}
     if not consistent:
         pairs = _pair_invariants(d)
-        reason = _unclassified_reason(cands, skipped, pairs, d)
+        reason = _unclassified_reason(cands, skipped, pairs, d, untested)
         leader = min(cands, key=lambda c: c.chi2 / chi2_limit(options.alpha, c.dof), default=None)
         nxt = _suggest(request, options, cands, leader, d, timing)
         timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
-                           {}, reason, ranked, timing, nxt)
+                           {}, reason, ranked, timing, nxt, untested=untested)
     chosen = choose(consistent)
+    also = also_fits(chosen, consistent)
     # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys
     best = rival_basins(profile_uncertainty(chosen), [f for f in fits if f is not chosen])
     pairs = _pair_invariants(d) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
     nxt = _suggest(request, options, cands, chosen, d, timing)
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, d, pairs),
-                       dict(best.uncertainty), None, ranked, timing, nxt)
+                       dict(best.uncertainty), None, ranked, timing, nxt, untested=untested, also_fits=also)
 
 
 def _roll(request: Request) -> float:
