@@ -21,17 +21,19 @@ recognizer.contacts):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from recognizer.contacts import Contacts
 from recognizer.curves import CURVES, Pose
+from recognizer.result import Candidate
 from recognizer.solver import ContactModel, svd
 from recognizer.starts import pose_from, starts
 from tactile_common.angles import wrap_angle
 
-__all__ = ["Fit", "fit_class", "fit_class_every_start", "N_SHAPE"]
+__all__ = ["Fit", "fit_class", "fit_class_every_start", "N_SHAPE", "scaled_covariance", "profiled",
+           "ProfiledCandidate"]
 
 #: shape parameters + pose degrees of freedom not lost to a symmetry (BIC counts these)
 N_SHAPE = {"line": 0 + 2, "circle": 1 + 2, "ellipse": 2 + 3, "parabola": 1 + 3, "hyperbola": 2 + 3,
@@ -108,14 +110,19 @@ def fit_class_every_start(cls: str, data: Contacts, give_up: float = math.inf,
     return _fit_starts(cls, data, 10, give_up, sigma_below, every=True)
 
 
-def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma_below: float,
-                every: bool) -> list[Fit]:
+def _oriented(cls: str, data: Contacts) -> Contacts:
+    """The touches in the class's canonical direction (module docstring, 1)."""
     sign = CURVES[cls].kappa_sign
-    d = data
     if sign != 0:
         dom = data.dominant_kappa()
         if dom != 0 and math.copysign(1.0, dom) != sign:
-            d = data.flipped()
+            return data.flipped()
+    return data
+
+
+def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma_below: float,
+                every: bool) -> list[Fit]:
+    d = _oriented(cls, data)
     model = ContactModel(cls, d)
     placed = []
     try:
@@ -251,3 +258,61 @@ def _finish(model: ContactModel, cls: str, d: Contacts, z, cost, r, parts, p0, s
         sigma["a"], sigma["b"] = sigma["b"], sigma["a"]
     params, th, X, Y, t = _canonical(cls, params, th, X, Y, t)
     return Fit(cls, params, Pose(th, X, Y), t, cost, 5 * d.n, N_SHAPE[cls] + d.n, r.reshape(-1, 5), sigma, p0)
+
+
+@dataclass
+class ProfiledCandidate(Candidate):
+    """A contact-stage candidate with what recognizer.intervals needs to profile it:
+    ``fit`` = (problem, unknowns, their covariance, canonical permutation)."""
+
+    fit: tuple | None = field(default=None, repr=False, compare=False)
+
+
+class _ContactProblem:
+    """The contact fit as recognizer.intervals walks it: residuals and Jacobian of z."""
+
+    def __init__(self, model: ContactModel, n: int):
+        self.model, self.n_res = model, 5 * n
+        self.names = list(model.names) + ["theta", "x", "y"] + [f"t{i}" for i in range(n)]
+        self.pos_names = tuple(nm for nm, lg in zip(model.names, model.log) if lg)
+
+    def residuals(self, z: np.ndarray) -> np.ndarray:
+        r, _, _ = self.model.eval(z)
+        return np.full(self.n_res, 1e30) if r is None else np.clip(np.array(r), -1e30, 1e30)
+
+    def jacobian(self, z: np.ndarray) -> np.ndarray:
+        r, _, parts = self.model.eval(z)
+        if r is None:
+            return np.zeros((self.n_res, z.size))
+        J = self.model.jac(z, np.array(r), parts)
+        return np.where(np.isfinite(J), np.clip(J, -1e120, 1e120), 0.0)
+
+
+def profiled(cand: Candidate, data: Contacts) -> Candidate:
+    """``cand``, a contact-stage fit of ``data``, as a ProfiledCandidate that
+    recognizer.intervals.profile_uncertainty can walk (its unknowns packed from the
+    canonical answer, the same curve and residuals; their covariance ``scaled_covariance``,
+    a circle's θ held); ``cand`` itself for a line (no shape parameter) or when the
+    residuals are not finite there."""
+    if cand.cls == "line" or not cand.params:
+        return cand
+    model = ContactModel(cand.cls, _oriented(cand.cls, data))
+    z = model.pack(cand.params, cand.pose.theta, cand.pose.x, cand.pose.y, np.asarray(cand.t, float))
+    r, cost, parts = model.eval(z)
+    if r is None:
+        return cand
+    J = model.jac(z, np.array(r), parts)
+    if not np.all(np.isfinite(J)):
+        return cand
+    o = model.np
+    with np.errstate(over="ignore", invalid="ignore"):
+        if cand.cls == "circle":  # θ held: its row and column 0
+            c = scaled_covariance(np.delete(J, o, axis=1))
+            cov = np.zeros((z.size, z.size))
+            keep = np.delete(np.arange(z.size), o)
+            cov[np.ix_(keep, keep)] = c
+        else:
+            cov = scaled_covariance(J)
+    fields = {f: getattr(cand, f) for f in Candidate.__dataclass_fields__}
+    return ProfiledCandidate(**fields, fit=(_ContactProblem(model, data.n), z, cov, list(range(o))))
+
