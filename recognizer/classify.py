@@ -53,6 +53,12 @@ DEFAULT_SAMPLES_NOISE = NoiseModel(phi=1e-3, pos=0.05)
 #: one side fits a parabola within the test's 10.8 more often than a parabola's touches
 #: fit a semicubical better by BIC's penalty)
 CHOICE_LIMIT_OF = {**LIMIT_OF, "parabola": frozenset({"ellipse", "hyperbola"})}
+#: a contact-stage answer's shape parameter whose linearized relative σ is above this is walked
+#: along its profile (recognizer.intervals; refined answers: above 2 %): 3-5 touches, ~5 ms a
+#: parameter; near a cubical's inflection c's valley stays flat 4.5 linearized σ's out at a
+#: relative σ of 0.8 %, while exact data away from the extremes (σ's at the 1e-7 floor) are
+#: not walked at all
+CONTACT_REL_SIGMA_CHECK = 1e-3
 #: level of the likelihood-ratio test a class must pass against a simpler class it contains
 MODEL_ALPHA = 1e-3
 _MEAS = ("x", "y", "phi", "kappa", "kappa_s")
@@ -375,10 +381,8 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
     chosen = choose(consistent)
     also = also_fits(chosen, consistent)
     # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys
-    # (a contact-stage answer, 3-5 touches: every shape parameter is walked, ~5 ms each; near a
-    # cubical's inflection c's valley stays flat 4.5 linearized σ's out at a relative σ of 0.8 %)
     walked = profile_uncertainty(chosen) if isinstance(chosen, RefinedCandidate) else \
-        profile_uncertainty(profiled(chosen, d), rel_check=0.0)
+        profile_uncertainty(profiled(chosen, d), rel_check=CONTACT_REL_SIGMA_CHECK)
     best = rival_basins(walked, [f for f in fits if f is not chosen])
     pairs = _pair_invariants(d) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
     nxt = _suggest(request, options, cands, chosen, d, timing)
