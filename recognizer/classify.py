@@ -36,6 +36,7 @@ from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start, profi
 from recognizer.nested import NESTED_FROM, nested_candidates
 from recognizer.refine import RefinedCandidate, refine_candidates
 from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
+from recognizer.scale_free import Unit
 from recognizer.intervals import profile_uncertainty, rival_basins
 from recognizer.next_touch import next_touch
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request, SamplesTouch
@@ -70,9 +71,11 @@ def _pos_sd(nz: NoiseModel) -> float:
     return max(nz.pos, nz.along)
 
 
-def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
+def contacts_of(request: Request, options: RecognizeOptions,
+                default_noise: NoiseModel = DEFAULT_SAMPLES_NOISE) -> Contacts:
     """Local geometry of every touch: contacts as given (covariance from the request or
-    zero); samples-touches through recognizer.estimate.estimate_local."""
+    zero); samples-touches through recognizer.estimate.estimate_local (their deviations
+    ``default_noise`` when neither the options nor the request state any)."""
     noise = options.noise or request.noise
     rows = []
     for i, t in enumerate(request.touches):
@@ -83,7 +86,7 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
             from recognizer.estimate import estimate_local
 
             g = estimate_local(t, method=options.estimator, noise=noise, where=f"{request.source}.touches[{i}]")
-            nz = noise or DEFAULT_SAMPLES_NOISE
+            nz = noise or default_noise
             # the contact sample's own φ, with its stated deviation: the estimator's smoothed
             # φ carries a truncation error no covariance states (up to 1e-2 rad on noise-free
             # hyperbola touches, judged at the 1e-7 floor: right classes were rejected)
@@ -326,10 +329,17 @@ def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: 
 
 
 def recognize(request: Request, options: RecognizeOptions | None = None) -> Recognition:
-    """Recognize the class, parameters, pose and contacts from a validated request."""
-    t0 = time.perf_counter()
+    """Recognize the class, parameters, pose and contacts from a validated request, its
+    numerics in units of the touches' spread (recognizer.scale_free), the answer in mm."""
     options = options or options_for(request)
-    d = contacts_of(request, options)
+    unit = Unit.of(request)
+    return unit.answer(_recognize(unit.request(request), unit.options(options), unit))
+
+
+def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recognition:
+    t0 = time.perf_counter()
+    default_noise = unit.noise(DEFAULT_SAMPLES_NOISE)
+    d = contacts_of(request, options, default_noise)
     t_est = time.perf_counter()
     cands: list[Candidate] = []
     skipped: dict[str, str] = {}  # class → why it has no fit: untested, or hopeless from its start
@@ -371,10 +381,10 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
     ranked = [Ranked(c.cls, c.consistent, c.chi2, c.dof, c.bic, c.p_value) for c in ranking]
     timing = {"estimate_ms": 1e3 * (t_est - t0)}
     if not consistent:
-        pairs = _pair_invariants(d)
+        pairs = _pair_invariants(unit.contacts(d))
         reason = _unclassified_reason(cands, skipped, pairs, d, untested)
         leader = min(cands, key=lambda c: c.chi2 / chi2_limit(options.alpha, c.dof), default=None)
-        nxt = _suggest(request, options, cands, leader, d, timing)
+        nxt = _suggest(request, options, cands, leader, d, timing, default_noise)
         timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
                            {}, reason, ranked, timing, nxt, untested=untested)
@@ -384,10 +394,11 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
     walked = profile_uncertainty(chosen) if isinstance(chosen, RefinedCandidate) else \
         profile_uncertainty(profiled(chosen, d), rel_check=CONTACT_REL_SIGMA_CHECK)
     best = rival_basins(walked, [f for f in fits if f is not chosen])
-    pairs = _pair_invariants(d) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
-    nxt = _suggest(request, options, cands, chosen, d, timing)
+    dh = unit.contacts(d)  # the invariants a person reads, in mm
+    pairs = _pair_invariants(dh) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
+    nxt = _suggest(request, options, cands, chosen, d, timing, default_noise)
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
-    return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, d, pairs),
+    return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, dh, pairs),
                        dict(best.uncertainty), None, ranked, timing, nxt, untested=untested, also_fits=also)
 
 
@@ -399,13 +410,13 @@ def _roll(request: Request) -> float:
 
 
 def _suggest(request: Request, options: RecognizeOptions, cands: list[Candidate], leader: Candidate | None,
-             d: Contacts, timing: dict) -> dict | None:
+             d: Contacts, timing: dict, default_noise: NoiseModel = DEFAULT_SAMPLES_NOISE) -> dict | None:
     """recognizer.next_touch for a request with samples-touches (None otherwise)."""
     sizes = [len(t.phi) for t in request.touches if isinstance(t, SamplesTouch)]
     if not sizes or leader is None:
         return None
     t0, c0 = time.perf_counter(), time.process_time()
-    noise = options.noise or request.noise or DEFAULT_SAMPLES_NOISE
+    noise = options.noise or request.noise or default_noise
     try:
         out = next_touch(cands, leader, d, noise, int(np.median(sizes)), options.reach, _roll(request))
     except (np.linalg.LinAlgError, ValueError, ArithmeticError):  # numerics of a degenerate candidate:
