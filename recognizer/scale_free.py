@@ -26,7 +26,7 @@ import numpy as np
 from recognizer.contacts import Contacts
 from recognizer.curves import Pose
 from recognizer.noise import NoiseModel
-from recognizer.touches import ContactTouch, Reach, Request, SamplesTouch
+from recognizer.touches import ContactTouch, Request, SamplesTouch
 
 __all__ = ["Unit", "PARAM_POWER"]
 
@@ -48,6 +48,17 @@ def _spread(touches) -> float:
         return span
     k = max((abs(float(t.kappa)) for t in touches if isinstance(t, ContactTouch)), default=0.0)
     return 1.0 / k if k > 0 else 1.0
+
+
+class _ReachInUnits:
+    """A reach in mm asked about places in units of U."""
+
+    def __init__(self, reach, unit: "Unit"):
+        self.reach, self.unit = reach, unit
+
+    def contains(self, px, py, phi=None):
+        u = self.unit
+        return self.reach.contains(np.asarray(px, float) * u.u + u.ox, np.asarray(py, float) * u.u + u.oy, phi)
 
 
 @dataclass(frozen=True)
@@ -77,8 +88,9 @@ class Unit:
             return nm
         return NoiseModel(nm.phi, nm.pos / self.u, None if nm.pos_along is None else nm.pos_along / self.u)
 
-    def _reach(self, r: Reach | None) -> Reach | None:
-        return None if r is None else Reach((r.x - self.ox) / self.u, (r.y - self.oy) / self.u, r.radius / self.u)
+    def _reach(self, r):
+        """A reach (anything with ``contains(x, y, phi)``: a disk, a jaw's pads) asked in units of U."""
+        return None if r is None else _ReachInUnits(r, self)
 
     def _cov(self, cov) -> np.ndarray:
         d = np.array([self.u, self.u * self.u])
