@@ -54,6 +54,12 @@ DEFAULT_SAMPLES_NOISE = NoiseModel(phi=1e-3, pos=0.05)
 #: one side fits a parabola within the test's 10.8 more often than a parabola's touches
 #: fit a semicubical better by BIC's penalty)
 CHOICE_LIMIT_OF = {**LIMIT_OF, "parabola": frozenset({"ellipse", "hyperbola"})}
+#: distinct places (contacts.Contacts.places) a class needs to be tested: as many as touches
+#: (touches.MIN_TOUCHES: its invariants need pairs of places), but one for the line, whose test
+#: is that κ and κ_s vanish where it is touched (two spare degrees of freedom at one place:
+#: a flat press measures that over its whole seated segment, and the jaw presses a face at
+#: one place again and again: tactile_jaw.flat)
+MIN_PLACES = {**MIN_TOUCHES, "line": 1}
 #: a contact-stage answer's shape parameter whose linearized relative σ is above this is walked
 #: along its profile (recognizer.intervals; refined answers: above 2 %): 3-5 touches, ~5 ms a
 #: parameter; near a cubical's inflection c's valley stays flat 4.5 linearized σ's out at a
@@ -292,9 +298,9 @@ def also_fits(chosen: Candidate, consistent: list[Candidate]) -> list[dict]:
 
 def _too_few_places(cls: str, places: list[list[int]], n: int) -> str:
     """Why ``cls`` is not tested: fewer places than it needs (touches at one place count once)."""
-    if len(places) == n:
+    if n < MIN_TOUCHES[cls]:
         return f"needs {MIN_TOUCHES[cls]} touches, got {n}"
-    return f"needs {MIN_TOUCHES[cls]} touches at distinct places, got {len(places)}"
+    return f"needs {MIN_PLACES[cls]} touches at distinct places, got {len(places)}"
 
 
 def _same_places(places: list[list[int]]) -> str:
@@ -323,6 +329,9 @@ def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: 
         sig = max(max(pairs["I_c1_sigma"][i] for i in good), EPS_FLOOR * scale)
         parts.append(f"I_c1 over {len(good)} pairs spans {float(v.min()):.4g}..{float(v.max()):.4g} "
                      f"({(float(v.max()) - float(v.min())) / sig:.3g} sigma)")
+    same = _same_places(d.places())
+    if same:
+        parts.append(same)
     for cls, why in skipped.items():
         parts.append(f"{cls} not tested: {why}")
     return "no class of the scene fits: " + "; ".join(parts) if parts else "no class of the scene fits"
@@ -346,7 +355,7 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
     untested: dict[str, str] = {}
     places = d.places()
     for cls in request.classes:
-        if len(places) < MIN_TOUCHES[cls]:
+        if d.n < MIN_TOUCHES[cls] or len(places) < MIN_PLACES[cls]:
             skipped[cls] = untested[cls] = _too_few_places(cls, places, d.n)
             continue
         limit = chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[cls] + d.n), 1))  # as in _candidate

@@ -146,9 +146,17 @@ def _copies(n, cov=None):
 def test_one_contact_sent_again_and_again_tests_no_class(n):
     # main: 4 copies of one ellipse contact -> parabola sigma_a 2.5e-7
     rec = recognize(parse_request(_copies(n)))
-    assert rec.cls == "unclassified" and "could be tested" in rec.reason
-    assert set(rec.untested) == set(CURVES) and "distinct places, got 1" in rec.untested["circle"]
+    assert rec.cls == "unclassified" and f"touches {', '.join(map(str, range(n)))} at one place" in rec.reason
+    assert set(rec.untested) == set(CURVES) - {"line"} and "distinct places, got 1" in rec.untested["circle"]
     assert rec.to_json()["untested"] == rec.untested
+    assert [r.cls for r in rec.ranking] == ["line"] and not rec.ranking[0].consistent  # kappa != 0 there
+
+
+def test_a_straight_place_pressed_again_and_again_is_a_line():
+    # a line is tested at one place (kappa = kappa_s = 0 there: the jaw's flat presses of one face)
+    req = exact_request("line", {}, np.array([5.0]), POSE, False)
+    rec = recognize(parse_request({"touches": req["touches"] * 3, "noise": {"pos": 0.1, "phi": 3e-3}}))
+    assert rec.cls == "line" and "circle" in rec.untested and rec.uncertainty["pose_offset"] > 0
 
 
 def test_copies_with_a_stated_kappa_sigma_give_no_circle():
