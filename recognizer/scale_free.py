@@ -136,7 +136,8 @@ class Unit:
             return d
         u = self.u
         cov = np.asarray(d.cov, float) * np.outer([1 / u, 1 / u**2], [1 / u, 1 / u**2])
-        return Contacts(d.x * u + self.ox, d.y * u + self.oy, d.phi, d.kappa / u, d.kappa_s / u**2, cov, d.sig_pos * u, d.sig_phi)
+        return Contacts(d.x * u + self.ox, d.y * u + self.oy, d.phi, d.kappa / u, d.kappa_s / u**2, cov, d.sig_pos * u, d.sig_phi,
+                        d.reach * u)
 
     def _param(self, cls: str, name: str) -> float:
         return self.u ** PARAM_POWER[(cls, name)]
