@@ -673,3 +673,46 @@ def scan(port: str, ids: Sequence[int], baudrates: Sequence[int], **attempts) ->
     """Servos answering on ``port`` (no jaw config needed); ``attempts``: see JointBus.scan."""
     with JointBus(port, int(baudrates[0]), (), handle_signals=False) as bus:
         return bus.scan(ids, baudrates, **attempts)
+
+
+#: how long :func:`clock_rate` lets the servo's Realtime Tick run (s of wall clock): 1 ms of
+#: tick resolution and a few ms of read latency make the rate good to about 1 %
+CLOCK_WINDOW_S = 0.3
+#: Realtime Tick (ms) wraps at this
+_TICK_WRAP_MS = 32768
+
+
+@dataclass(frozen=True)
+class ClockRate:
+    """Servo seconds per wall-clock second (1 for real hardware; an emulator's time scale),
+    from ``ticks_ms`` of servo ``dxl_id``'s Realtime Tick over ``wall_s``."""
+
+    rate: float
+    dxl_id: int
+    ticks_ms: int
+    wall_s: float
+
+    def describe(self) -> str:
+        return (f"servo {self.dxl_id}'s Realtime Tick counted {self.ticks_ms} ms in {self.wall_s:.3f} s "
+                f"of wall clock: {self.rate:.2f}x")
+
+
+def clock_rate(port: str, baudrate: int, joint: JointConfig, window_s: float = CLOCK_WINDOW_S) -> ClockRate | None:
+    """How fast the bus's clock runs against the wall clock, from one servo's Realtime Tick
+    (a millisecond counter, mod 32768) read twice ``window_s`` apart, each read timed at its
+    midpoint. Opens the port without configuring anything (no torque, no watchdog), before
+    a command's real session. None when the model has no Realtime Tick."""
+    field = model_spec(joint.model).fields.get("realtime_tick")
+    if field is None:
+        return None
+    with JointBus(port, int(baudrate), (), handle_signals=False) as bus:
+        def timed() -> tuple[int, float]:
+            t0 = time.monotonic()
+            tick = bus._read(int(joint.id), field)
+            return tick, (t0 + time.monotonic()) / 2.0
+
+        tick0, t0 = timed()
+        time.sleep(window_s)
+        tick1, t1 = timed()
+    ticks = (tick1 - tick0) % _TICK_WRAP_MS
+    return ClockRate(ticks / 1000.0 / (t1 - t0), int(joint.id), ticks, t1 - t0)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
 import time
 from contextlib import nullcontext
@@ -49,7 +50,15 @@ def check_outputs(args, log_path: str | None, reads) -> None:
 def add_arguments(parser) -> None:
     parser.add_argument("--config", default=None, help="jaw config YAML (default config/jaw.yaml)")
     parser.add_argument("--port", default=None, help="serial port of the servo bus (default: the config's bus.port)")
+    add_time_scale_argument(parser)
     add_common_arguments(parser, scene_default=None)
+
+
+def add_time_scale_argument(parser) -> None:
+    """``--time-scale`` of the commands that run on the wall clock (explore, calibrate)."""
+    parser.add_argument("--time-scale", type=float, default=None, metavar="X",
+                        help="servo seconds per wall-clock second (an emulator's tactile sim --time-scale); "
+                             "default: measured from the servos' Realtime Tick, and a given X must agree with it")
 
 
 @dataclass
@@ -181,11 +190,48 @@ def run(args) -> int:
         from recognizer.scene import load_scene
 
         load_scene(scene_mapping, source=args.scene)  # validate before the jaw moves
-    session = run_session(port=args.port or config.bus.port, config=config, scene_mapping=scene_mapping,
+    port = args.port or config.bus.port
+    say = progress_printer()
+    scale = bus_time_scale(config, port, say, args.time_scale)
+    session = run_session(port=port, config=config, scene_mapping=scene_mapping,
                           profile=args.profile, log_path=log_path, force=args.force,
-                          clock_factory=WallClock, bus_timeout_s=config.bus.timeout_s,
-                          progress=progress_printer())
+                          clock_factory=partial(WallClock, scale), bus_timeout_s=config.bus.timeout_s,
+                          progress=say)
     return finish(session, args, config=config)
+
+
+#: a bus clock within this fraction of the wall clock's rate is real time (a servo's crystal
+#: and CLOCK_WINDOW_S's measurement are good to about 1 %)
+REAL_TIME_TOLERANCE = 0.1
+
+
+def bus_time_scale(config, port: str, say: Callable[[str], None], given: float | None = None) -> float:
+    """The robot clock's time scale, learned from the bus (hand_driver.bus.clock_rate): 1
+    for real servos, an emulator's ``tactile sim --time-scale`` otherwise, so that robot time,
+    motion cycles and waits follow the servos' own clock. ``given`` (``--time-scale``) must
+    agree with the measurement: a mismatch is refused here, before anything moves, instead
+    of looking like a bad object later."""
+    from hand_driver.bus import clock_rate
+    from tactile_common.errors import InputError
+
+    if given is not None and not (math.isfinite(given) and given > 0):
+        raise InputError(f"--time-scale {given}: must be a number > 0")
+    measured = clock_rate(port, config.bus.baudrate, config.joints[0])
+    if measured is None:  # a model without Realtime Tick: trust the option, else real time
+        return given or 1.0
+    if not measured.rate > 0.0:
+        raise InputError(f"the bus on {port} has a clock that does not advance ({measured.describe()}): "
+                         f"restart the emulator (tactile sim) or power-cycle the servos")
+    learned = 1.0 if abs(measured.rate - 1.0) <= REAL_TIME_TOLERANCE else measured.rate
+    if given is not None and abs(measured.rate / given - 1.0) > REAL_TIME_TOLERANCE:
+        raise InputError(f"--time-scale {given:g} but the bus on {port} runs {measured.rate:.2f}x the wall clock "
+                         f"({measured.describe()}): pass --time-scale {learned:.3g} or leave the option out")
+    if given is not None:
+        return given
+    if learned != 1.0:
+        say(f"the bus on {port} runs {measured.rate:.2f}x the wall clock ({measured.describe()}): "
+            f"robot time follows it")
+    return learned
 
 
 def default_log_path() -> str:
