@@ -107,6 +107,6 @@ def run(args) -> int:
                              f"disk's edge, config 'workspace'): place it clear of them")
         session = run_session(port=sim.port, config=config, scene_mapping=scene_mapping, profile=args.profile,
                               log_path=args.log, force=args.force, clock_factory=lambda: LockstepClock(sim),
-                              bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say)
+                              bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say, mcap_path=args.mcap)
     extra = truth_lines(session.recognition, scene.object) if session.recognition else []
     return finish(session, args, config=config, truth=scene.object, extra_lines=extra)
