@@ -175,6 +175,7 @@ class BagWriter:
         self.reading_ns: list[int] = []  # every reading's stamp
         self.touch_ns: dict[int, int] = {}  # a touch's last sample reading's stamp
         self.counts = {topic: 0 for topic in TOPICS}
+        self._zeros: dict[str, Any] = {}
 
     # -- messages ---------------------------------------------------------------------------
     def _build(self, msgtype: str, value: Any):
@@ -197,8 +198,12 @@ class BagWriter:
             if base == "bool":
                 return bool(v)
             return (float(v) if v is not None else 0.0) if base.startswith("float") else (int(v) if v is not None else 0)
-        if kind == 2:  # NAME: a message
-            return self._build(desc, v or {})
+        if kind == 2:  # NAME: a message; an absent one is its type's zero, built once (serializing only reads it)
+            if v:
+                return self._build(desc, v)
+            if desc not in self._zeros:
+                self._zeros[desc] = self._build(desc, {})
+            return self._zeros[desc]
         (inner_node, inner_desc), size = desc  # ARRAY (3) or SEQUENCE (4)
         items = list(v) if v is not None else ([None] * size if size else [])
         if int(inner_node) == 1 and inner_desc[0] != "string":
