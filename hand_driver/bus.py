@@ -242,7 +242,7 @@ class JointBus:
 
     def _configure(self) -> None:
         for j, spec in zip(self.joints, self.specs):
-            number = self._call(f"ping of servo {j.id}", lambda i=j.id: self._ph.ping(self._port, i))[0]
+            number = self.first_contact(f"ping of servo {j.id}", lambda i=j.id: self._ph.ping(self._port, i), j.id)[0]
             if number != spec.number:
                 found = MODELS_BY_NUMBER.get(number)
                 raise ModelMismatchError(
@@ -414,6 +414,18 @@ class JointBus:
             self._check(out[-2], out[-1], what, dxl_id)
             return out
         return self._attempt(what, once)
+
+    def first_contact(self, what: str, fn: Callable, dxl_id: int):
+        """A first transaction with servo ``dxl_id`` (:meth:`_call`); its timeout says what a
+        silent bus usually is (no power, another baud rate or id) and the command that finds out."""
+        try:
+            return self._call(what, fn, dxl_id)
+        except BusTimeout as exc:
+            bauds = ",".join(str(b) for b in sorted(BAUD_RATES))
+            raise BusTimeout(f"{exc}: nothing answers as servo {dxl_id} at {self.baudrate} baud on {self.port_name}; "
+                             f"is the jaw powered, at this baud rate and id? `tactile scan --port {self.port_name} "
+                             f"--baud {bauds}` lists the servos that answer and their baud rates "
+                             f"(then set the jaw config's bus.baudrate and ids)") from None
 
     def _read(self, dxl_id: int, f) -> int:
         data = self._call(f"read of {f.name} from servo {dxl_id}",
@@ -708,8 +720,9 @@ def clock_rate(port: str, baudrate: int, joint: JointConfig, window_s: float = C
     with JointBus(port, int(baudrate), (), handle_signals=False) as bus:
         def timed() -> tuple[int, float]:
             t0 = time.monotonic()
-            tick = bus._read(int(joint.id), field)
-            return tick, (t0 + time.monotonic()) / 2.0
+            data = bus.first_contact(f"read of realtime_tick from servo {joint.id}", lambda: bus._ph.readTxRx(
+                bus._port, int(joint.id), field.addr, field.size), int(joint.id))[0]
+            return decode_field(field, data), (t0 + time.monotonic()) / 2.0
 
         tick0, t0 = timed()
         time.sleep(window_s)

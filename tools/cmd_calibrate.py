@@ -118,7 +118,8 @@ def run(args) -> int:
     result = fit(cfg, scene.object, readings, tolerances)
     dump_config(result.config, out, header=f"calibrated by tactile calibrate from {src} "
                                            f"({result.n_readings} touches, residual RMS "
-                                           f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm)")
+                                           f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm)",
+                source=src)
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
     else:

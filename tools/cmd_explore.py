@@ -141,14 +141,25 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     return Session(exploration, recognition, settings, time.monotonic() - t0, log_path)
 
 
-def describe(recognition: dict[str, Any]) -> str:
-    """One line for people: class, parameters and pose (a line's pose as its foot and
-    direction, the convention of docs/formats.md), or the refusal's reason."""
+def describe(recognition: dict[str, Any], anchor: tuple[float, float] | None = None) -> str:
+    """One line for people: class, parameters and pose, or the refusal's reason. A line's
+    pose is printed as its point nearest ``anchor`` (a scene's pose: the two then read in
+    one convention), else as the answer's own, the foot of the perpendicular from the hand
+    origin (docs/formats.md)."""
     if recognition["class"] == "unclassified":
         return f"unclassified: {recognition['reason']}"
     params = " ".join(f"{k}={v:.3f}" for k, v in recognition["params"].items())
     p = recognition["pose"]
-    return f"{recognition['class']} {params} | pose theta={p['theta']:.4f} rad x={p['x']:.2f} mm y={p['y']:.2f} mm"
+    x, y, note = p["x"], p["y"], ""
+    if recognition["class"] == "line":
+        ux, uy = math.cos(p["theta"]), math.sin(p["theta"])
+        ax, ay = anchor if anchor is not None else (0.0, 0.0)
+        along = (ax - x) * ux + (ay - y) * uy
+        x, y = x + along * ux, y + along * uy
+        note = (" (its point nearest the scene's pose)" if anchor is not None
+                else " (the foot of the perpendicular from the hand origin)")
+    head = f"{recognition['class']} {params}" if params else recognition["class"]
+    return f"{head} | pose theta={p['theta']:.4f} rad x={x:.2f} mm y={y:.2f} mm{note}"
 
 
 def too_few_reason(used: int, tried: int) -> str:
@@ -208,7 +219,8 @@ def finish(session: Session, args, *, config, truth=None, extra_lines: list[str]
         sys.stdout.write(json.dumps(answer, allow_nan=False) + "\n")
         return status
     used = len(ex.used)
-    lines = [*answer_lines(answer), *extra_lines,
+    anchor = (truth.pose.x, truth.pose.y) if truth is not None else None
+    lines = [*answer_lines(answer, anchor), *extra_lines,
              f"touches: {used} used of {len(ex.touches)} tried ({session.settings.samples_per_touch} samples each), "
              f"{ex.rounds} rounds; robot time {ex.robot_time_s:.1f} s (" + time_breakdown(ex.time_s)
              + f"); wall time {session.wall_time_s:.1f} s"]
@@ -222,11 +234,11 @@ def finish(session: Session, args, *, config, truth=None, extra_lines: list[str]
     return status
 
 
-def answer_lines(answer: dict[str, Any]) -> list[str]:
-    """The answer's first lines for people: ``recognized: ...``, or ``refused: reason`` and
-    ``advice: ...``."""
+def answer_lines(answer: dict[str, Any], anchor: tuple[float, float] | None = None) -> list[str]:
+    """The answer's first lines for people: ``recognized: ...`` (``anchor``: see
+    :func:`describe`), or ``refused: reason`` and ``advice: ...``."""
     if answer["class"] != "unclassified":
-        return [f"recognized: {describe(answer)}"]
+        return [f"recognized: {describe(answer, anchor)}"]
     return [f"refused:    {answer['reason']}", f"advice:     {answer['advice']}"]
 
 
