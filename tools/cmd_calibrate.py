@@ -81,7 +81,8 @@ def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, cloc
 
 
 def run(args) -> int:
-    from hand_driver.calibration_fit import fit
+    from hand_driver.calibration_fit import CalibrationRefused, fit
+    from tools.cli import EXIT_REFUSED
     from hand_driver.config import dump_config, load_config
     from hand_driver.cycle import WallClock
     from recognizer.scene import load_scene
@@ -115,7 +116,13 @@ def run(args) -> int:
     readings, _ = touch_placements(cfg, scene.object, places, args.port, faces=args.faces, corners=args.corners,
                                    clock_for=lambda k: WallClock(scales[args.port[k % len(args.port)]]), say=say,
                                    wait_for_user=wait_for_user)
-    result = fit(cfg, scene.object, readings, tolerances)
+    try:
+        result = fit(cfg, scene.object, readings, tolerances)
+    except CalibrationRefused as exc:  # touched, but the touches do not determine a parameter
+        if args.json:
+            print(json.dumps({"refused": True, "reason": str(exc)}))
+        sys.stderr.write(f"tactile calibrate: refused: {exc}\n")
+        return EXIT_REFUSED
     dump_config(result.config, out, header=f"calibrated by tactile calibrate from {src} "
                                            f"({result.n_readings} touches, residual RMS "
                                            f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm)",

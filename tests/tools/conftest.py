@@ -41,3 +41,14 @@ def demo_answer():
     ``tactile demo`` on that scene, written to the path (exit 0, or 3 for a refusal, and no
     traceback asserted)."""
     return _demo_answer
+
+
+@pytest.fixture(scope="session")
+def default_demo(tmp_path_factory):
+    """``tactile demo`` on the default scene as the README shows it (text output), with
+    ``--log`` and ``--mcap``: one run shared by the docs' and the bag's tests."""
+    d = tmp_path_factory.mktemp("default_demo")
+    log, bag = d / "demo.jsonl", d / "demo.mcap"
+    rc, out, err = _tactile_in_process(["demo", "--log", str(log), "--mcap", str(bag)])
+    assert rc == 0 and "Traceback" not in err, err
+    return {"out": out, "err": err, "log": log, "mcap": bag, "dir": d}
