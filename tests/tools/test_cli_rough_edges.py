@@ -83,3 +83,12 @@ def test_a_line_is_printed_in_the_scenes_convention():
     assert x == pytest.approx(105.0, abs=0.01) and y == pytest.approx(9.97 + 105.0 * math.tan(0.0002), abs=0.01)
     assert "nearest the scene's pose" in shown
     assert "foot of the perpendicular" in describe(answer)
+
+
+def test_the_log_header_records_the_port_the_run_used(default_demo):
+    """The config's bus.port is /dev/ttyUSB0; the demo ran on the emulator's pseudo-terminal,
+    and its log (like explore's with --port) says which."""
+    from hand_driver.log import read_log
+
+    port = read_log(default_demo["log"]).header["config"]["bus"]["port"]
+    assert CFG.bus.port == "/dev/ttyUSB0" and port.startswith("/dev/pts/")
