@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import math
 import sys
+import tempfile
 import time
 from contextlib import nullcontext
 from dataclasses import dataclass
@@ -91,8 +92,24 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
                 force: bool, clock_factory: Callable[[], Any], bus_timeout_s: float, progress: Callable[[str], None],
                 mcap_path: str | None = None) -> Session:
     """Open the bus, explore, log everything (and with ``mcap_path`` write the bag as the
-    run goes, tools.ros_bag); returns the :class:`Session`. ``clock_factory`` is called once
-    the log is open, before the bus is: it may talk to the bus (tools.cmd_explore.bus_time_scale)."""
+    run goes, from the log's records: without ``log_path`` the log is a scratch file,
+    tools.ros_bag); returns the :class:`Session`. ``clock_factory`` is called once the log
+    is open, before the bus is: it may talk to the bus (:func:`bus_time_scale`)."""
+    from tactile_jaw.settings import ExploreSettings
+
+    settings = ExploreSettings.from_profile(profile)
+    t0 = time.monotonic()
+    if mcap_path is not None and log_path is None:
+        with tempfile.TemporaryDirectory(prefix="tactile-") as scratch:
+            return _run_session(port, config, scene_mapping, settings, str(Path(scratch) / "run.jsonl"), None,
+                                force, clock_factory, bus_timeout_s, progress, mcap_path, t0)
+    return _run_session(port, config, scene_mapping, settings, log_path, log_path, force, clock_factory,
+                        bus_timeout_s, progress, mcap_path, t0)
+
+
+def _run_session(port, config, scene_mapping, settings, log_path, shown_log, force, clock_factory, bus_timeout_s,
+                 progress, mcap_path, t0) -> Session:
+    """:func:`run_session` once the log's path is known (``shown_log``: the one to print, or None)."""
     from hand_driver.bus import JointBus
     from hand_driver.config import config_to_mapping
     from hand_driver.log import RunLog
@@ -100,14 +117,12 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     from tactile_jaw.explore import explore
     from tactile_jaw.choose import JawReach
     from tactile_jaw.pipeline import make_recognizer, workspace_reach
-    from tactile_jaw.settings import NOISE_FROM_TOUCHES, ExploreSettings
+    from tactile_jaw.settings import NOISE_FROM_TOUCHES
 
-    settings = ExploreSettings.from_profile(profile)
     recognize_touches = make_recognizer(scene_mapping, settings, reach=JawReach(config, settings))
     recognize_anywhere = partial(recognize_touches, reach=workspace_reach(config))
-    t0 = time.monotonic()
     log = None
-    if log_path is not None or mcap_path is not None:
+    if log_path is not None:
         recorded = config_to_mapping(config)
         recorded["bus"] = {**recorded["bus"], "port": port}  # the port this run used, --port's if given
         if mcap_path is not None:
@@ -138,7 +153,7 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
             log.write({"type": "result", "recognition": recognition, "robot_time_s": exploration.robot_time_s,
                        "touches_used": len(exploration.used),
                        "touches_tried": len(exploration.touches), "time_s": exploration.time_s})
-    return Session(exploration, recognition, settings, time.monotonic() - t0, log_path)
+    return Session(exploration, recognition, settings, time.monotonic() - t0, shown_log)
 
 
 def describe(recognition: dict[str, Any], anchor: tuple[float, float] | None = None) -> str:

@@ -351,23 +351,16 @@ def _log_records(contents) -> list[dict]:
 
 
 class BaggedLog(RunLog):
-    """A run log whose every record also goes, as it is written, to a bag (``mcap_path``);
-    without a log path only the bag is written."""
+    """A run log whose every record also goes, as it is written, to a bag (``mcap_path``)."""
 
     def __init__(self, path, mcap_path, *, force: bool):
-        super().__init__(path if path is not None else os.devnull)
-        self.has_file = path is not None
+        super().__init__(path)
         self.stream = create_exclusive(mcap_path, force=force, flag="--mcap", binary=True)
         try:
             self.bag = BagWriter(self.stream, durable=True)
         except BaseException:
             self.stream.close()
             raise
-
-    def open(self, **header) -> "BaggedLog":
-        if self.has_file:
-            return super().open(**header)
-        return super().open(**{**header, "force": True})  # os.devnull
 
     def write(self, record: dict) -> None:
         super().write(record)
@@ -383,4 +376,3 @@ class BaggedLog(RunLog):
                 finally:
                     self.stream.close()
                     self.stream = None
-

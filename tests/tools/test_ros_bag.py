@@ -305,3 +305,15 @@ def test_a_killed_demo_leaves_its_readings_in_the_bag(tmp_path):
         except (McapError, EOFError, ValueError):
             pass  # the cut end
     assert readings >= 60 and readings - 1 <= joint_states <= readings
+
+
+def test_demo_writes_the_bag_without_a_log(tmp_path, tactile_in_process):
+    """--mcap alone: the bag is built from the records of a scratch log, which is not left behind."""
+    bag_path = tmp_path / "only.mcap"
+    rc, out, err = tactile_in_process(["demo", "--json", "--mcap", str(bag_path)])
+    assert rc == 0, err
+    bag = read_bag(bag_path)
+    n = len(bag["/joint_states"])
+    assert n > 100 and len(bag["/tf"]) == len(bag["/jaw/pads"]) == n
+    assert json.loads(bag["/recognition/answer"][0].msg.data) == json.loads(out)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["only.mcap"]
