@@ -48,6 +48,9 @@ def check_outputs(args, log_path: str | None, reads) -> None:
     if log_path is not None:
         check_output(log_path, force=args.force, reads=reads, flag="--log")
     if args.mcap:
+        from tools.ros_bag import require_ros
+
+        require_ros()
         check_output(args.mcap, force=args.force, reads=[*reads, log_path], flag="--mcap")
     if args.plot:
         check_output(args.plot, force=args.force, reads=[*reads, log_path, args.mcap], flag="--plot")

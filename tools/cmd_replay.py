@@ -40,11 +40,12 @@ def run(args) -> int:
     from tactile_jaw.pipeline import clear_of_corners, logged_felt, make_recognizer, stated_noise, too_few_clear, \
         workspace_reach
     from tactile_jaw.settings import ExploreSettings
-    from tools.ros_bag import write_bag
+    from tools.ros_bag import require_ros, write_bag
 
     if args.touches:
         check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
     if args.mcap:
+        require_ros()
         check_output(args.mcap, force=args.force, reads=[args.log, args.touches], flag="--mcap")
     contents = read_log(args.log)
     header = contents.header

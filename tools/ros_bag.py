@@ -56,8 +56,9 @@ _COLORS = {"left": (0.2, 0.5, 1.0, 1.0), "right": (1.0, 0.5, 0.1, 1.0), "contact
            "tangent": (0.1, 0.6, 0.2, 0.8), "curve": (0.9, 0.1, 0.6, 1.0), "link": (0.6, 0.6, 0.6, 1.0)}
 
 
-def _ros():
-    """The libraries of the ``ros`` extra, imported when a bag is written."""
+def require_ros():
+    """The libraries of the ``ros`` extra (imported when a bag is written); without them one
+    line saying what to install, before a command does anything."""
     try:
         from mcap.writer import CompressionType, Writer
         from rosbags.interfaces import Qos, QosDurability, QosHistory, QosLiveliness, QosReliability, QosTime
@@ -152,7 +153,7 @@ class BagWriter:
     recognition (the answer the command printed); ``close()`` writes the summary."""
 
     def __init__(self, stream, *, durable: bool):
-        self.ros = _ros()
+        self.ros = require_ros()
         self.store = self.ros["get_typestore"](self.ros["Stores"].ROS2_JAZZY)
         compression = self.ros["CompressionType"].NONE if durable else self.ros["CompressionType"].ZSTD
         self.stream = stream
