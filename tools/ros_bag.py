@@ -20,6 +20,7 @@ import datetime
 import json
 import math
 import os
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -51,6 +52,8 @@ TANGENT_HALF_MM = 6.0
 CURVE_MARGIN_MM = 20.0
 CURVE_POINTS = 200
 #: topics whose last message a late subscriber still gets (ROS 2 transient-local durability)
+#: how many of a latched topic's messages a late subscriber gets: every touch of a run
+LATCHED_DEPTH = 100
 LATCHED = ("/tf_static", "/jaw/touches", "/recognition/curve", "/recognition/pose", "/recognition/answer")
 _COLORS = {"left": (0.2, 0.5, 1.0, 1.0), "right": (1.0, 0.5, 0.1, 1.0), "contact": (0.1, 0.8, 0.2, 1.0),
            "tangent": (0.1, 0.6, 0.2, 0.8), "curve": (0.9, 0.1, 0.6, 1.0), "link": (0.6, 0.6, 0.6, 1.0)}
@@ -67,18 +70,20 @@ def require_ros():
     except ImportError as exc:
         raise InputError(f"--mcap needs the packages of the ros extra ({exc.name} is missing): "
                          f"pip install -e '.[ros]'") from None
-    return locals()
+    return SimpleNamespace(Writer=Writer, CompressionType=CompressionType, Qos=Qos, QosDurability=QosDurability,
+                           QosHistory=QosHistory, QosLiveliness=QosLiveliness, QosReliability=QosReliability,
+                           QosTime=QosTime, dump_qos_v8=dump_qos_v8, Stores=Stores, get_typestore=get_typestore)
 
 
 def _qos(ros, latched: bool) -> str:
-    """The channel's ``offered_qos_profiles`` (rosbag2's YAML): reliable, keep last; latched
-    topics transient-local, as ``ros2 bag play`` then offers them to late subscribers."""
-    never = ros["QosTime"](0x7FFFFFFF, 0xFFFFFFFF)  # rmw's "infinite" duration
-    zero = ros["QosTime"](0, 0)
-    durability = ros["QosDurability"].TRANSIENT_LOCAL if latched else ros["QosDurability"].VOLATILE
-    qos = ros["Qos"](ros["QosHistory"].KEEP_LAST, 1 if latched else 10, ros["QosReliability"].RELIABLE,
-                     durability, never, never, ros["QosLiveliness"].AUTOMATIC, never if not latched else zero, False)
-    return ros["dump_qos_v8"]([qos])
+    """The channel's ``offered_qos_profiles`` (rosbag2's YAML): reliable, keep last 10; latched
+    topics transient-local, keep last ``LATCHED_DEPTH``, as ``ros2 bag play`` then offers them
+    to late subscribers."""
+    never = ros.QosTime(0x7FFFFFFF, 0xFFFFFFFF)  # rmw's "infinite" duration: no deadline, lifespan, lease
+    durability = ros.QosDurability.TRANSIENT_LOCAL if latched else ros.QosDurability.VOLATILE
+    qos = ros.Qos(ros.QosHistory.KEEP_LAST, LATCHED_DEPTH if latched else 10, ros.QosReliability.RELIABLE, durability,
+                  never, never, ros.QosLiveliness.AUTOMATIC, never, False)
+    return ros.dump_qos_v8([qos])
 
 
 def _ns(seconds: float) -> int:
@@ -154,11 +159,11 @@ class BagWriter:
 
     def __init__(self, stream, *, durable: bool):
         self.ros = require_ros()
-        self.store = self.ros["get_typestore"](self.ros["Stores"].ROS2_JAZZY)
-        compression = self.ros["CompressionType"].NONE if durable else self.ros["CompressionType"].ZSTD
+        self.store = self.ros.get_typestore(self.ros.Stores.ROS2_JAZZY)
+        compression = self.ros.CompressionType.NONE if durable else self.ros.CompressionType.ZSTD
         self.stream = stream
         self.durable = durable
-        self.writer = self.ros["Writer"](stream, compression=compression)
+        self.writer = self.ros.Writer(stream, compression=compression)
         self.writer.start(profile="ros2", library="tactile-jaw")
         self.channels: dict[str, int] = {}
         for topic, msgtype in TOPICS.items():
