@@ -89,14 +89,12 @@ def atomic_write(path: str | os.PathLike[str], data: str | bytes, flag: str = "-
     return Path(path)
 
 
-def create_exclusive(path: str | os.PathLike[str], *, force: bool, flag: str = "--log", binary: bool = False):
-    """Open a new file (text, or ``binary``) for appending records: refused if it exists
-    unless ``force`` (then truncated). Returns the open file."""
+def create_exclusive(path: str | os.PathLike[str], *, force: bool, flag: str = "--log"):
+    """Open a new text file for appending records: refused if it exists unless ``force``
+    (then truncated). Returns the open file."""
     target = Path(path)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        if binary:
-            return open(target, "wb" if force else "xb")
         return open(target, "w" if force else "x", encoding="utf-8")
     except FileExistsError:
         raise InputError(f"{flag} {target}: exists; pass --force to overwrite it") from None

@@ -361,9 +361,9 @@ class BaggedLog(RunLog):
 
     def __init__(self, path, mcap_path, *, force: bool):
         super().__init__(path)
-        self.stream = create_exclusive(mcap_path, force=force, flag="--mcap", binary=True)
+        self.stream = create_exclusive(mcap_path, force=force, flag="--mcap")
         try:
-            self.bag = BagWriter(self.stream, durable=True)
+            self.bag = BagWriter(getattr(self.stream, "buffer", self.stream), durable=True)  # its bytes
         except BaseException:
             self.stream.close()
             raise
