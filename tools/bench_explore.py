@@ -89,12 +89,14 @@ def finite_object(rng, example: dict) -> dict:
 
 
 def run_scene(path: Path, log: Path, profile: str, config: str = DEFAULT_CONFIG) -> dict:
+    from tools.cli import EXIT_RECOGNIZED, EXIT_REFUSED
+
     t0 = time.monotonic()
     out = subprocess.run([sys.executable, "-m", "tools.cli", "demo", "--scene", str(path), "--json", "--log", str(log),
                           "--profile", profile, "--config", config], capture_output=True, text=True)
     wall = time.monotonic() - t0
     result = {"rc": out.returncode, "wall_s": wall, "stderr": out.stderr.strip().splitlines()[-1:] or [""]}
-    if out.returncode == 0:
+    if out.returncode in (EXIT_RECOGNIZED, EXIT_REFUSED):  # a refusal prints its answer too
         result["recognition"] = json.loads(out.stdout)
     if log.exists():
         from hand_driver.log import read_log
