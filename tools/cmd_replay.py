@@ -2,7 +2,10 @@
 
 The touches are rebuilt from the log's joint readings and touch boundaries with the
 jaw config and settings of the log's header (tactile_jaw.pipeline.logged_touches), then
-recognized exactly as during the run.
+recognized exactly as during the run. The log is verified first (hand_driver.log.read_log:
+record numbers, hash chain, cross-checks): damage is "line N: ..." (exit 2); a log cut by a
+crash replays up to its last whole record and says it was cut; a version 1 log says it
+cannot be verified. ``--verify`` only checks.
 """
 
 from __future__ import annotations
@@ -23,6 +26,9 @@ def add_arguments(parser) -> None:
     parser.add_argument("--touches", metavar="FILE",
                         help="also write the rebuilt touches as a touches request (docs/formats.md; for tactile recognize)")
     parser.add_argument("--force", action="store_true", help="overwrite an existing --touches file (never the log)")
+    parser.add_argument("--verify", action="store_true",
+                        help="only check the log (record numbers, hash chain, cross-checks) and say whether it is "
+                             "whole, cut or cannot be verified; no recognition")
 
 
 def run(args) -> int:
@@ -40,6 +46,11 @@ def run(args) -> int:
     if args.touches:
         check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
     contents = read_log(args.log)
+    if args.verify:
+        sys.stdout.write(f"{args.log}: {contents.integrity()}\n")
+        return 0
+    if args.json and (contents.truncated or not contents.verified):
+        sys.stderr.write(f"tactile replay: {args.log}: {contents.integrity()}\n")
     header = contents.header
     config = contents.jaw_config()
     try:
@@ -75,8 +86,8 @@ def run(args) -> int:
         return 0
     faults = [e for e in contents.events if e.get("kind") == "fault"]
     lines = [f"recognized: {describe(recognition)}",
-             f"from {len(touches)} usable touches of {len(contents.touches)} in {len(contents.readings)} readings"
-             + (" (the log ends mid-line: the run was cut)" if contents.truncated else "")]
+             f"from {len(touches)} usable touches of {len(contents.touches)} in {len(contents.readings)} readings",
+             f"log: {contents.integrity()}"]
     if faults:
         lines.append(f"the run ended with a fault: {faults[-1]['message']}")
     sys.stdout.write("\n".join(lines) + "\n")
