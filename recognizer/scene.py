@@ -255,8 +255,6 @@ def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Sce
             path = Path(base_dir) / path
         source, stem = str(path), path.stem
         raw, lines = read_yaml_located(path, "scene")
-        if not isinstance(raw, Mapping):
-            raise InputError(f"{source}: a scene must be a mapping with classes (and optionally object)")
         with lines.errors(source):
             return _parse_scene(raw, source, stem)
     else:
@@ -264,7 +262,9 @@ def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Sce
     return _parse_scene(raw, source, stem)
 
 
-def _parse_scene(raw: Mapping, source: str, stem: str) -> Scene:
+def _parse_scene(raw, source: str, stem: str) -> Scene:
+    if not isinstance(raw, Mapping):
+        raise InputError(f"{source}: a scene must be a mapping with classes (and optionally object)")
 
     check_keys(raw, sorted(_TOP_KEYS), source)
     name = raw.get("name", stem)

@@ -40,8 +40,7 @@ from typing import Any, Iterator
 import yaml
 
 from tactile_common.errors import InputError
-from tactile_common.inputs import MAX_DEPTH, MAX_NUMBER_CHARS, NumberLimit, bracket_depth, check_int, decode_utf8, \
-    read_bounded
+from tactile_common.inputs import MAX_DEPTH, MAX_NUMBER_CHARS, NumberLimit, bracket_depth, check_int, read_bounded
 
 __all__ = ["read_yaml", "read_yaml_located", "YamlLines", "MAX_YAML_BYTES", "MAX_ALIASES"]
 
@@ -227,17 +226,26 @@ class YamlLines:
             if not text.startswith(prefix) or text[len(prefix):].startswith("line "):
                 raise
             rest = text[len(prefix):]
-            line = self.line_of(rest.split(": ", 1)[0] if ": " in rest else "")
-            if line is None:
-                raise
+            line = self.line_of(rest.split(": ", 1)[0] if ": " in rest else "") or 1  # a scalar document: line 1
             raise InputError(f"{prefix}line {line}: {rest}") from None
 
 
 def _load(path: str | Path, what: str) -> tuple[Any, dict]:
-    text = decode_utf8(read_bounded(path, MAX_YAML_BYTES, what), f"{path}: {what}")
+    raw = read_bounded(path, MAX_YAML_BYTES, what)
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = raw[:exc.start].count(b"\n") + 1
+        raise InputError(f"{path}: {what} at line {line}: not valid UTF-8 (byte 0x{raw[exc.start]:02x} at offset "
+                         f"{exc.start})") from None
     if text.count("[") + text.count("{") > MAX_DEPTH and bracket_depth(text, "\"'") > MAX_DEPTH:
         raise InputError(f"{path}: {what}: nested deeper than {MAX_DEPTH} levels")  # before PyYAML scans it all
-    loader = _StrictLoader(text)
+    try:
+        loader = _StrictLoader(text)
+    except yaml.reader.ReaderError as exc:  # a control character: PyYAML checks them all first
+        line = text[:exc.position].count("\n") + 1
+        raise InputError(f"{path}: {what} at line {line}: a control character (#x{exc.character:04x}) YAML does "
+                         f"not allow") from None
     try:
         return loader.get_single_data(), loader.lines
     except _Limit as exc:

@@ -32,9 +32,34 @@ def add_arguments(parser) -> None:
 
 
 def run(args) -> int:
+    from hand_driver.log import read_log
+
+    if args.touches:
+        check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
+    contents = read_log(args.log)
+    if args.verify:
+        sys.stdout.write(f"{args.log}: {contents.integrity()}\n")
+        return 0
+    caveat = contents.truncated or not contents.verified
+    try:
+        lines = _replay(args, contents)
+    except InputError as exc:
+        if caveat:  # one line still: what went wrong, and that the log was cut or is unverified
+            raise InputError(f"{exc}; {contents.integrity()}") from None
+        raise
+    if args.json:
+        if caveat:
+            sys.stderr.write(f"tactile replay: {args.log}: {contents.integrity()}\n")
+    else:
+        sys.stdout.write("\n".join(lines) + "\n")
+    return 0
+
+
+def _replay(args, contents) -> list[str]:
+    """Recognize from the log's contents (read and verified); prints the JSON answer with
+    ``--json``, else returns the lines for people."""
     # here, not at the top: tactile --help imports every command module (tools.cli), and these
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
-    from hand_driver.log import read_log
     from tactile_jaw.choose import JawReach, last_stop
     from tactile_jaw.decide import final_answer
     from tactile_jaw.flat import is_flat
@@ -43,14 +68,6 @@ def run(args) -> int:
         workspace_reach
     from tactile_jaw.settings import ExploreSettings
 
-    if args.touches:
-        check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
-    contents = read_log(args.log)
-    if args.verify:
-        sys.stdout.write(f"{args.log}: {contents.integrity()}\n")
-        return 0
-    if args.json and (contents.truncated or not contents.verified):
-        sys.stderr.write(f"tactile replay: {args.log}: {contents.integrity()}\n")
     header = contents.header
     config = contents.jaw_config()
     try:
@@ -83,12 +100,11 @@ def run(args) -> int:
         recognition = too_few_clear(touches, len(usable), exc).to_json()  # as the exploration answered
     if args.json:
         sys.stdout.write(json.dumps(recognition, allow_nan=False) + "\n")
-        return 0
+        return []
     faults = [e for e in contents.events if e.get("kind") == "fault"]
     lines = [f"recognized: {describe(recognition)}",
              f"from {len(touches)} usable touches of {len(contents.touches)} in {len(contents.readings)} readings",
              f"log: {contents.integrity()}"]
     if faults:
         lines.append(f"the run ended with a fault: {faults[-1]['message']}")
-    sys.stdout.write("\n".join(lines) + "\n")
-    return 0
+    return lines
