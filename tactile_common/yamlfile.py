@@ -12,7 +12,8 @@ Strict:
   or write the number (``90``, ``16``) or ``true``/``false``. Nothing is read silently
   otherwise than its author meant under either version.
 - **Duplicate keys** in a mapping are refused, naming the key and both lines (PyYAML keeps
-  the last silently).
+  the last silently); so is a key **without a value** (``object:`` and nothing: what a file
+  cut short after a key leaves; no key of the project's formats takes null).
 - A file's refusals by its format (a missing key, a value out of range) name the line of
   the key they are about: :func:`read_yaml_located` returns a :class:`YamlLines` whose
   :meth:`~YamlLines.errors` adds "line N" to the format's one-line errors.
@@ -170,6 +171,9 @@ def _core_map(loader: _StrictLoader, node) -> Iterator[dict]:
             raise _Limit(f"duplicate key {key!r} (lines {lines[key]} and {key_node.start_mark.line + 1}); a key may "
                          f"appear once in a mapping", key_node.start_mark)
         lines[key] = key_node.start_mark.line + 1
+        if value_node.tag == _NULL:
+            raise _Limit(f"{key!r} has no value (a file cut short, or a value left out): write it, or delete the "
+                         f"key", key_node.start_mark)
         data[key] = loader.construct_object(value_node, deep=True)
     loader.lines[id(data)] = (node.start_mark.line + 1, lines)
 

@@ -215,7 +215,7 @@ def bench_logs(n: int, rng: random.Random, work: Path, progress) -> tuple[Counte
 
     outcomes, by_kind, versions = Counter(), defaultdict(Counter), Counter()
     bases = []
-    for log in _base_logs(work):
+    for log in _base_logs(work) if n else []:
         touches = work / (log.stem + ".touches.json")
         rc, out, err = _tactile(["replay", str(log), "--json", "--touches", str(touches), "--force"])
         assert rc == 0, err
@@ -268,7 +268,9 @@ def _damage_yaml(raw: bytes, rng: random.Random) -> tuple[str, bytes]:
                        "YAML 1.1 number", "yes/no/on/off", "flip", "tab", "cut"])
     k = rng.choice(content)
     if kind == "delete line":
+        kind = "delete line", lines[k]
         del lines[k]
+        return kind, b"".join(lines)
     elif kind == "repeat line":
         lines.insert(k, lines[k])
     elif kind == "swap lines":
@@ -314,13 +316,33 @@ def _config_key(config) -> dict:
     return asdict(replace(config, source=""))
 
 
-def _valid_edit(kind: str, base: bytes, damaged: bytes) -> bool:
-    """A damage that leaves a valid file saying something else, which no reader can tell:
-    a digit for a digit, or the deletion of a line holding an optional key."""
+#: keys the formats make optional, with a documented default (docs/formats.md): deleting one
+#: leaves a valid file that says something else
+OPTIONAL_KEYS = {"scene": {"name", "description", "classes", "profile", "noise", "side", "extent", "closure"},
+                 "config": {"bus", "port", "baudrate", "protocol", "retries", "timeout_s", "watchdog_ms", "motion",
+                            "workspace", "profile_velocity", "profile_acceleration", "approach_speed_mm_s",
+                            "approach_step_mm", "move_speed_mm_s", "turn_speed_deg_s", "contact_current_ma",
+                            "goal_current_ma", "backoff_mm", "max_touch_s", "center_mm", "radius_mm", "direction",
+                            "min_deg", "max_deg", "current_limit_ma"}}
+OPTIONAL_KEYS["calibrated config"] = OPTIONAL_KEYS["config"]
+
+
+def _valid_edit(what: str, kind: str, base: bytes, damaged: bytes, deleted: bytes) -> str | None:
+    """Why a damaged file that is still valid and says something else cannot be told from a
+    file written so (a digit for a digit; an optional key deleted: its default applies), or None."""
     if kind == "flip" and len(base) == len(damaged):
         i = next(k for k in range(len(base)) if base[k] != damaged[k])
-        return chr(base[i]).isdigit() and chr(damaged[i]).isdigit()
-    return kind == "delete line"
+        if chr(base[i]).isdigit() and chr(damaged[i]).isdigit():
+            return "a digit for a digit"
+    if kind == "delete line":
+        m = re.match(rb"\s*(?:-\s*)?(\w+):", deleted)
+        if m and m.group(1).decode() in OPTIONAL_KEYS[what]:
+            return f"optional {m.group(1).decode()} deleted"
+    if kind == "cut" and damaged.endswith(b"\n"):
+        gone = set(re.findall(rb"^\s*(?:-\s*)?(\w+):", base[len(damaged):], re.M))
+        if gone and all(k.decode() in OPTIONAL_KEYS[what] for k in gone):
+            return "cut at a line end before optional keys only"
+    return None
 
 
 def bench_yaml(n: int, rng: random.Random, work: Path, progress) -> tuple[Counter, dict, Counter]:
@@ -339,11 +361,12 @@ def bench_yaml(n: int, rng: random.Random, work: Path, progress) -> tuple[Counte
                "config": (lambda p: _config_key(load_config(p))),
                "calibrated config": (lambda p: _config_key(load_config(p)))}
     bases = [(what, path.read_bytes(), readers[what](path)) for what, path in files]
-    outcomes, by_kind, by_file = Counter(), defaultdict(Counter), Counter()
+    outcomes, by_kind, by_file, edits = Counter(), defaultdict(Counter), Counter(), Counter()
     damaged = work / "damaged.yaml"
     for i in range(n):
         what, raw, base = rng.choice(bases)
         kind, text = _damage_yaml(raw, rng)
+        kind, deleted = kind if isinstance(kind, tuple) else (kind, b"")
         damaged.write_bytes(text)
         try:
             got = readers[what](damaged)
@@ -353,16 +376,18 @@ def bench_yaml(n: int, rng: random.Random, work: Path, progress) -> tuple[Counte
         except Exception as exc:  # noqa: BLE001 - counted
             outcome, msg = "crash", f"{type(exc).__name__}: {exc}"
         else:
-            msg = ""
-            outcome = "same" if got == base else "valid edit" if _valid_edit(kind, raw, text) else "silent change"
+            msg = "" if got == base else _valid_edit(what, kind, raw, text, deleted)
+            outcome = "same" if got == base else "valid edit" if msg else "silent change"
+            if msg:
+                edits[msg] += 1
         outcomes[outcome] += 1
         by_kind[kind][outcome] += 1
         by_file[(what, outcome)] += 1
         if outcome in ("silent change", "crash", "refused without a line"):
             keep = work / f"kept-{i}.yaml"
             keep.write_bytes(text)
-            progress(f"yaml {i}: {outcome} ({kind}, {what}): {msg[:200]} [{keep}]")
-    return outcomes, by_kind, by_file
+            progress(f"yaml {i}: {outcome} ({kind}, {what}): {(msg or '')[:200]} [{keep}]")
+    return outcomes, by_kind, by_file, edits
 
 
 # ----------------------------------------------------------------------------- report
@@ -387,7 +412,7 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory(prefix="bench_damage_") as tmp:
         work = args.keep or Path(tmp)
         work.mkdir(parents=True, exist_ok=True)
-        y_out, y_kind, y_file = bench_yaml(args.yaml, random.Random(args.seed * 7919 + 1), work, say)
+        y_out, y_kind, y_file, y_edits = bench_yaml(args.yaml, random.Random(args.seed * 7919 + 1), work, say)
         l_out, l_kind, l_ver = bench_logs(args.logs, random.Random(args.seed), work, say)
     print(f"damage bench, seed {args.seed}: {args.logs} logs, {args.yaml} YAML files, "
           f"{time.perf_counter() - t0:.0f} s\n")
@@ -396,6 +421,8 @@ def main(argv=None) -> int:
     print()
     print("\n".join(_table("YAML damage", y_kind, y_out)))
     print("\nby file: " + ", ".join(f"{w} {o} {c}" for (w, o), c in sorted(y_file.items())))
+    if y_edits:
+        print("valid edits: " + ", ".join(f"{k} {c}" for k, c in sorted(y_edits.items())))
     bad = l_out["silent change"] + l_out["crash"] + y_out["silent change"] + y_out["crash"]
     return 1 if bad else 0
 
