@@ -253,7 +253,7 @@ class LogContents:
         if not self.verified:
             return (f"version {self.version} log: it carries no record numbers or hash chain, so it cannot be "
                     f"verified (read as it is: {self.records} records)"
-                    + (f"; {self.cut}" if self.cut else ""))
+                    + (f"; the run was cut: {self.cut}" if self.cut else ""))
         if self.cut:
             return f"the run was cut: {self.cut}; the {self.records} records before are whole (hash chain verified)"
         return f"whole: {self.records} records, hash chain verified, closed by its end record"

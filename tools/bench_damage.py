@@ -201,6 +201,8 @@ def _judge_log(rc: int, out: str, err: str, base: tuple[dict, bytes], touches: P
     if rc == 2:
         if said_cut:
             return "cut, said"
+        if unverified:  # a version 1 log: what it holds is refused (too few touches), with its caveat
+            return "unverified, said"
         return "refused" if re.search(r": line \d+: ", err) and err.count("\n") == 1 else "refused without a line"
     same = _without_timing(out) == base[0] and touches.exists() and touches.read_bytes() == base[1]
     if same:

@@ -91,8 +91,15 @@ def test_core_schema_floats_and_booleans(tmp_path):
     p = _write(tmp_path, SCENE.replace("a: 28.0, b: 17.0", "a: 1e-3, b: 5E-4").replace("name: t", "name: '1:30'"))
     scene = load_scene(str(p))
     assert scene.object.params == {"a": 1e-3, "b": 5e-4} and scene.name == "1:30"
-    assert read_yaml(_write(tmp_path, "a: true\nb: 'yes'\nc: .5\nd: -1.\ne: ~\nf: 2001-12-14\n"), "t") == \
-        {"a": True, "b": "yes", "c": 0.5, "d": -1.0, "e": None, "f": "2001-12-14"}
+    assert read_yaml(_write(tmp_path, "a: true\nb: 'yes'\nc: .5\nd: -1.\nf: 2001-12-14\n"), "t") == \
+        {"a": True, "b": "yes", "c": 0.5, "d": -1.0, "f": "2001-12-14"}
+
+
+@pytest.mark.parametrize("text", ["a: 1\nobject:\n", "a: 1\nobject: ~\n", "a: 1\nobject: null\n"])
+def test_a_key_without_a_value_is_refused(tmp_path, text):
+    """A scene cut after ``object:`` read as a scene without an object."""
+    with pytest.raises(InputError, match=r"at line 2: 'object' has no value"):
+        read_yaml(_write(tmp_path, text), "scene")
 
 
 def test_a_scene_object_without_pose_is_refused(tmp_path):
