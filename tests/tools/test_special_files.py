@@ -109,6 +109,7 @@ def test_a_full_disk_during_a_demo_ends_with_one_line_torque_off_and_the_log_who
     real_exit = server.EmulatedBus.__exit__
 
     def recording_exit(self, *exc):
+        self.wait_idle()  # the torque-off packets are in the pty: served before the bus stops
         torque_at_exit.extend(s.torque_on for s in self.servos.values())
         return real_exit(self, *exc)
 
