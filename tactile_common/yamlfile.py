@@ -13,7 +13,9 @@ Strict:
   otherwise than its author meant under either version.
 - **Duplicate keys** in a mapping are refused, naming the key and both lines (PyYAML keeps
   the last silently); so is a key **without a value** (``object:`` and nothing: what a file
-  cut short after a key leaves; no key of the project's formats takes null).
+  cut short after a key leaves; no key of the project's formats takes null), and a file
+  whose last line has no newline (what a file cut mid-line leaves; every editor's file
+  ends with one, or can).
 - A file's refusals by its format (a missing key, a value out of range) name the line of
   the key they are about: :func:`read_yaml_located` returns a :class:`YamlLines` whose
   :meth:`~YamlLines.errors` adds "line N" to the format's one-line errors.
@@ -242,6 +244,9 @@ def _load(path: str | Path, what: str) -> tuple[Any, dict]:
         line = raw[:exc.start].count(b"\n") + 1
         raise InputError(f"{path}: {what} at line {line}: not valid UTF-8 (byte 0x{raw[exc.start]:02x} at offset "
                          f"{exc.start})") from None
+    if text and not text.endswith("\n"):
+        raise InputError(f"{path}: {what} at line {text.count(chr(10)) + 1}: the file does not end with a newline, "
+                         f"as a file cut short does; if it is whole, end its last line")
     if text.count("[") + text.count("{") > MAX_DEPTH and bracket_depth(text, "\"'") > MAX_DEPTH:
         raise InputError(f"{path}: {what}: nested deeper than {MAX_DEPTH} levels")  # before PyYAML scans it all
     try:
