@@ -15,8 +15,8 @@ A quarter of the logs are made version 1 (no record numbers, hash chain or end r
 earlier versions wrote them) before the damage.
 
 YAML: every scene in config/scenes/, config/jaw.yaml and a calibrated config (what
-``tactile calibrate --out`` writes), each damaged copy read by ``load_scene`` /
-``load_config``. Damage: a line deleted, repeated, swapped or indented; a key misspelt; a
+``tactile calibrate --out`` writes), each damaged copy read by ``load_scene`` (as ``tactile
+demo`` reads it: a scene without an object is refused) / ``load_config``. Damage: a line deleted, repeated, swapped or indented; a key misspelt; a
 number written in a YAML 1.1 form (sexagesimal, 0x, 0o, leading zero, underscores) or a
 value as yes/no/on/off; a byte flipped, a tab inserted; the file cut at a random byte.
 
@@ -359,7 +359,13 @@ def bench_yaml(n: int, rng: random.Random, work: Path, progress) -> tuple[Counte
                 calibrated, header="tactile calibrate --out (bench_damage)\nrms after 0.02 mm")
     files = [("scene", p) for p in sorted((ROOT / "config/scenes").glob("*.yaml"))]
     files += [("config", ROOT / "config/jaw.yaml"), ("calibrated config", calibrated)]
-    readers = {"scene": (lambda p: _scene_key(load_scene(str(p)))),
+    def demo_scene(p):  # as tactile demo reads a scene: its object is required (recognize ignores it)
+        scene = load_scene(str(p))
+        if scene.object is None:
+            raise InputError(f"{p}: line 1: object: missing: the scene has no object for the emulator to show")
+        return _scene_key(scene)
+
+    readers = {"scene": demo_scene,
                "config": (lambda p: _config_key(load_config(p))),
                "calibrated config": (lambda p: _config_key(load_config(p)))}
     bases = [(what, path.read_bytes(), readers[what](path)) for what, path in files]
