@@ -241,7 +241,7 @@ class LogContents:
     config: JawConfig | None = None
     config_error: str | None = None
     version: int = LOG_VERSION
-    #: the hash chain and the record numbers were checked (version 2); a version 1 log cannot be
+    #: the hash chain and the record numbers were checked (version 2; a version 1 log has neither)
     verified: bool = False
     #: why the log counts as cut (None when it ends with its ``end`` record, or is version 1)
     cut: str | None = None
