@@ -20,7 +20,7 @@ from tools.cmd_explore import (
     default_path,
     finish,
     progress_printer,
-    read_yaml_mapping,
+    read_yaml_mapping_located,
     run_session,
 )
 
@@ -90,7 +90,7 @@ def run(args) -> int:
     scene_path = default_path(args.scene)
     config_path = args.config or default_path("config/jaw.yaml")
     check_outputs(args, args.log, [config_path, args.truth_config, scene_path])
-    scene_mapping, lines = read_yaml_mapping(scene_path, "scene")
+    scene_mapping, lines = read_yaml_mapping_located(scene_path, "scene")
     config = load_config(config_path)
     with lines.errors(scene_path):
         scene = load_scene(scene_mapping, source=scene_path)

@@ -63,14 +63,15 @@ class Session:
     log_path: str | None
 
 
-def read_yaml_mapping(path: str, what: str):
-    """A YAML file that must be a mapping, and where its keys were written (YamlLines)."""
+def read_yaml_mapping_located(path: str, what: str):
+    """A YAML file that must be a mapping, and where its keys were written (YamlLines: its
+    ``errors(path)`` adds the line to a format's refusal)."""
     from tactile_common.errors import InputError
     from tactile_common.yamlfile import read_yaml_located
 
     obj, lines = read_yaml_located(path, what)
     if not isinstance(obj, dict):
-        raise InputError(f"{path}: {what} must be a YAML mapping")
+        raise InputError(f"{path}: line 1: {what} must be a YAML mapping")
     return obj, lines
 
 
@@ -181,7 +182,7 @@ def run(args) -> int:
     if args.scene:
         from recognizer.scene import load_scene
 
-        scene_mapping, lines = read_yaml_mapping(args.scene, "scene")
+        scene_mapping, lines = read_yaml_mapping_located(args.scene, "scene")
         with lines.errors(args.scene):
             load_scene(scene_mapping, source=args.scene)  # validate before the jaw moves
     session = run_session(port=args.port or config.bus.port, config=config, scene_mapping=scene_mapping,
