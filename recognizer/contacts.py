@@ -62,10 +62,10 @@ class Contacts:
         x, y = self.x.tolist(), self.y.tolist()
         span = max((math.hypot(x[i] - x[j], y[i] - y[j]) for i in range(len(x)) for j in range(i + 1, len(x))),
                    default=0.0)
-        if span > 0:
+        if span > 1e-150:  # the floors divide by L²: touches a denormal apart are at one point
             return span
         k = float(np.max(np.abs(self.kappa)))
-        return 1.0 / k if k > 0 else 1.0
+        return 1.0 / k if k > 1e-150 else 1.0
 
     def whitener(self) -> np.ndarray:
         """(n, 2, 2) W with W·(δκ, δκ_s) standardized; floors EPS_FLOOR·(|κ| + 1/L) and

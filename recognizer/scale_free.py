@@ -28,7 +28,12 @@ from recognizer.curves import Pose
 from recognizer.noise import NoiseModel
 from recognizer.touches import ContactTouch, Request, SamplesTouch
 
-__all__ = ["Unit", "PARAM_POWER"]
+__all__ = ["Unit", "PARAM_POWER", "UNIT_RANGE_MM"]
+
+#: the unit stays within these (mm): touches 1e-300 mm apart (a hostile request) would put
+#: 1/U² beyond the floating-point range; 1e-9 … 1e9 holds every spread limits.py lets through
+#: with room (positions within 1 km, recognized at 1e-4 mm and below)
+UNIT_RANGE_MM = (1e-9, 1e9)
 
 #: each shape parameter's power of length: p in mm^k scales as U^k
 PARAM_POWER = {("circle", "r"): 1, ("ellipse", "a"): 1, ("ellipse", "b"): 1, ("parabola", "a"): 1,
@@ -73,9 +78,10 @@ class Unit:
     def of(cls, request: Request) -> "Unit":
         if not request.touches:
             return cls(1.0)
+        lo, hi = UNIT_RANGE_MM
         xs = np.concatenate([np.atleast_1d(np.asarray(t.x, float)) for t in request.touches])
         ys = np.concatenate([np.atleast_1d(np.asarray(t.y, float)) for t in request.touches])
-        return cls(2.0 ** round(math.log2(_spread(request.touches))), 0.5 * float(xs.min() + xs.max()),
+        return cls(2.0 ** round(math.log2(min(max(_spread(request.touches), lo), hi))), 0.5 * float(xs.min() + xs.max()),
                    0.5 * float(ys.min() + ys.max()))
 
     @property

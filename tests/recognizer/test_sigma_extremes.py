@@ -190,3 +190,12 @@ def test_touches_apart_by_more_than_their_noise_are_distinct_places():
                                      for y in (0.0, 0.05, 0.5)], "noise": {"pos": 0.01, "phi": 1e-3}})
     d = contacts_of(req, options_for(req))
     assert d.places() == [[0, 1], [2]]  # 0.05 mm is 3.5 sigma of a difference: one place; 0.5 mm, 35
+
+
+def test_touches_a_denormal_apart_are_answered_without_a_crash():
+    # the scale-free unit is held within 1e-9 ... 1e9 mm (1/U^2 overflowed for a spread of 5e-324 mm)
+    req = {"touches": [{"contact": {"x": 5e-324 * k, "y": 0.0, "phi": 0.0, "kappa": 0.0, "kappa_s": 0.0}}
+                       for k in range(3)], "noise": {"pos": 1e5, "phi": 1.0},
+           "options": {"reach": {"x": 0.0, "y": 0.0, "radius": 1e5}}}
+    out = recognize(parse_request(req)).to_json()
+    assert out["class"] in ("line", "unclassified")
