@@ -3,19 +3,22 @@
 (Over 400 lines on purpose: one class, whose opening, retry policy, cycle, single-servo
 operations and scan all share one port, one lock and one retry state.)
 
-``JointBus(port, baudrate, joints)`` is a context manager. Opening it checks every servo
-(model, hardware error), writes Return Delay Time 0, the operating mode (current-based
-position, 5, where the model senses current; position, 3, otherwise), the joint limits
-as Min/Max Position Limit and the Current Limit, sets Goal Position to the present
-position and turns torque on. Each cycle reads the block Moving (122) .. Present
-Position (135) of every joint in ONE sync read, or one fast sync read when every servo
-answers it (probed at open), and writes every goal in ONE sync write after checking all
-goals against the joint limits. SDK result codes become typed exceptions
+``JointBus(port, baudrate, joints)`` is a context manager. Every address, size and unit is
+the joint's model's (hand_driver.control_table: X-series or DYNAMIXEL-P; a jaw may mix
+them). Opening it checks every servo (model, hardware error), writes Return Delay Time 0,
+the model's guard mode (X-series with current sensing: current-based position, 5;
+DYNAMIXEL-P: position, 3, where Goal Current still caps the current; XL430: position), the
+joint limits as Min/Max Position Limit and the Current Limit, sets Goal Position to the
+present position and turns torque on. Each cycle reads the block Moving .. Present
+Position (X 122..135, P 570..583) of every joint in ONE sync read, or one fast sync read
+when every servo answers it (probed at open), or one bulk read when the joints' models
+keep it at different addresses; and writes every goal in ONE sync write (bulk write when
+mixed) after checking all goals against the joint limits. SDK result codes become typed exceptions
 (hand_driver.errors), transient ones (timeout, corrupt packet, CRC error at the servo)
 are retried ``retries`` times. Torque goes off in ``__exit__`` and on SIGINT/SIGTERM,
 best effort, never masking the error that is propagating.
 
-Bus Watchdog (98): opening clears a watchdog error left by a host that died (and says
+Bus Watchdog (X 98, P 546): opening clears a watchdog error left by a host that died (and says
 so), then arms every servo with ``watchdog_ms`` (the jaw config's ``bus.watchdog_ms``,
 100 ms by default, 0: off). Each servo then stops by itself when no instruction packet
 reaches it for that long, e.g. after ``kill -9`` of the host; every cycle's read and write
@@ -44,15 +47,10 @@ from hand_driver.control_table import (
     ALERT_BIT,
     BAUD_RATES,
     COMMON_FIELDS,
-    MODE_CURRENT_BASED_POSITION,
-    MODE_POSITION,
     MODELS_BY_NUMBER,
-    STATE_BLOCK_ADDR,
-    STATE_BLOCK_LEN,
     STATUS_ERRORS,
     ModelSpec,
     decode_field,
-    decode_hardware_error,
     encode_field,
 )
 from hand_driver.control_table import model as model_spec
@@ -93,7 +91,7 @@ class JointState:
     t_monotonic: float
     ticks: np.ndarray  # int64, Present Position
     current_ma: np.ndarray | None  # Present Current in mA; None if a joint cannot sense current
-    moving: np.ndarray  # bool, Moving (122)
+    moving: np.ndarray  # bool, Moving
     velocity_rad_s: np.ndarray  # Present Velocity
 
 
@@ -123,7 +121,7 @@ class BusStats:
 def tick_limits(joint: JointConfig) -> tuple[int, int]:
     """(min_tick, max_tick): the whole ticks inside the joint's min_deg..max_deg about
     zero_tick along direction."""
-    a, b = (float(units.deg_to_ticks_exact(deg, joint.zero_tick, joint.direction))
+    a, b = (float(units.deg_to_ticks_exact(deg, joint.zero_tick, joint.direction, joint.ticks_per_rev))
             for deg in (joint.min_deg, joint.max_deg))
     return int(math.ceil(min(a, b) - 1e-9)), int(math.floor(max(a, b) + 1e-9))
 
@@ -169,6 +167,9 @@ class JointBus:
         self._vanished = False  # the serial port failed (adapter unplugged)
         self._last_io = 0.0  # time.monotonic() of the last transaction
         self.current_sensing = all(s.has_current_sensing for s in self.specs)
+        blocks = {s.state_block() for s in self.specs}
+        #: the joints' state blocks lie at one address (sync read), else a bulk read
+        self.state_block = blocks.pop() if len(blocks) == 1 else None
 
     @classmethod
     def for_config(cls, config: JawConfig, port: str | None = None, **options) -> "JointBus":
@@ -251,15 +252,14 @@ class JointBus:
             self.firmware[j.id] = self._read(j.id, spec.field("firmware_version"))
             hw = self._read(j.id, spec.field("hardware_error_status"))
             if hw:
-                raise ServoHardwareError(j.id, hw, decode_hardware_error(hw))
+                raise ServoHardwareError(j.id, hw, spec.decode_hardware_error(hw))
             if self._read(j.id, spec.field("bus_watchdog")) < 0:
                 log.warning("servo %d: its Bus Watchdog had stopped it (the last host stopped talking to it "
                             "mid-run); cleared", j.id)
         self._sync_write_field("bus_watchdog", [0] * len(self.ids))  # clears a watchdog error
         self._sync_write_field("torque_enable", [0] * len(self.ids))
         for j, spec, lo, hi in zip(self.joints, self.specs, self.min_ticks, self.max_ticks):
-            mode = MODE_CURRENT_BASED_POSITION if spec.has_current_sensing else MODE_POSITION
-            wanted = {"return_delay_time": 0, "operating_mode": mode,
+            wanted = {"return_delay_time": 0, "operating_mode": spec.guard_mode,
                       "min_position_limit": int(lo), "max_position_limit": int(hi)}
             if spec.has_current_sensing:
                 wanted["current_limit"] = self._current_limit_raw(j, spec)
@@ -294,11 +294,12 @@ class JointBus:
         return min(units.ma_to_current(joint.current_limit_ma, spec), spec.current_limit_default)
 
     def _choose_read_mode(self) -> None:
-        capable = all(s.fast_sync_read for s in self.specs)
+        capable = all(s.fast_sync_read for s in self.specs) and self.state_block is not None
         if self.fast_read_requested is False or not capable:
             self.fast_read = False
             if self.fast_read_requested and not capable:
-                raise CapabilityError("fast sync read requested but not every servo model supports it")
+                raise CapabilityError("fast sync read requested but not every servo model supports it at one "
+                                      "address")
             return
         self.fast_read = True
         try:  # asked for: every retry; automatic: one try, then sync read
@@ -336,18 +337,17 @@ class JointBus:
             return
         try:
             self._port.is_using = False  # the interrupted transaction is abandoned
-            self._sync_write_raw(self.specs[0].field("torque_enable"), [0] * len(self.ids))
+            self._write_field_raw("torque_enable", [0] * len(self.ids))
         except Exception as exc:
             log.warning("emergency torque off failed: %s", exc)
 
     def _torque_off_best_effort(self) -> None:
         try:
             self._port.is_using = False
-            f = self.specs[0].field("torque_enable")
             for _ in range(2):  # broadcast: no status; send twice against a lost packet
-                self._sync_write_raw(f, [0] * len(self.ids))
+                self._write_field_raw("torque_enable", [0] * len(self.ids))
             if self.watchdog_ms:
-                self._sync_write_raw(self.specs[0].field("bus_watchdog"), [0] * len(self.ids))
+                self._write_field_raw("bus_watchdog", [0] * len(self.ids))
         except Exception as exc:  # never mask the error that is propagating
             log.warning("torque off on %s failed: %s", self.port_name, exc)
 
@@ -425,25 +425,38 @@ class JointBus:
         self._call(f"write of {f.name}={value} to servo {dxl_id}",
                    lambda: self._ph.writeTxRx(self._port, dxl_id, f.addr, f.size, data), dxl_id)
 
-    def _sync_write_raw(self, f, values) -> None:
-        self._sync_write_bytes(f.name, f.addr, [encode_field(f, v) for v in values])
+    def _write_field_raw(self, name: str, values) -> None:
+        """Item ``name`` of every joint (``values`` in joint order, each in its model's units),
+        one packet, no retries."""
+        fields = [s.field(name) for s in self.specs]
+        self._write_joint_bytes(name, [f.addr for f in fields], [encode_field(f, v) for f, v in zip(fields, values)])
 
-    def _sync_write_bytes(self, what: str, addr: int, blocks: Sequence[bytes]) -> None:
-        """One sync write of ``blocks[k]`` (all of one length) at ``addr`` of servo ``ids[k]``."""
-        g = self._sdk.GroupSyncWrite(self._port, self._ph, addr, len(blocks[0]))
-        for i, b in zip(self.ids, blocks):
-            g.addParam(i, list(b))
+    def _write_joint_bytes(self, what: str, addrs: Sequence[int], blocks: Sequence[bytes]) -> None:
+        """``blocks[k]`` at ``addrs[k]`` of servo ``ids[k]``: one sync write when every address
+        and length agree (one model family), else one bulk write (a jaw mixing families)."""
+        sdk = self._sdk
+        if len(set(addrs)) == 1 and len({len(b) for b in blocks}) == 1:
+            g = sdk.GroupSyncWrite(self._port, self._ph, addrs[0], len(blocks[0]))
+            for i, b in zip(self.ids, blocks):
+                g.addParam(i, list(b))
+            kind = "sync"
+        else:
+            g = sdk.GroupBulkWrite(self._port, self._ph)
+            for i, a, b in zip(self.ids, addrs, blocks):
+                g.addParam(i, a, len(b), list(b))
+            kind = "bulk"
         result = g.txPacket()
-        if result != self._sdk.COMM_SUCCESS:
-            self._check(result, 0, f"sync write of {what}")
+        if result != sdk.COMM_SUCCESS:
+            self._check(result, 0, f"{kind} write of {what}")
 
     def _sync_write_field(self, name: str, values) -> None:
-        f = self.specs[0].field(name)
-        self._attempt(f"sync write of {name}", lambda: self._sync_write_raw(f, values))
+        values = list(values)
+        self._attempt(f"write of {name}", lambda: self._write_field_raw(name, values))
 
     # -- the cycle ---------------------------------------------------------------------------
     def _read_state_raw(self, attempts: int | None = None) -> JointState:
-        what = f"{'fast ' if self.fast_read else ''}sync read of servos {','.join(map(str, self.ids))}"
+        kind = "bulk" if self.state_block is None else "fast sync" if self.fast_read else "sync"
+        what = f"{kind} read of servos {','.join(map(str, self.ids))}"
         blocks, errors = self._attempt(what, lambda: self._sync_read_once(what), attempts)
         t = time.monotonic()
         raw = [bytes(blocks[i]) for i in self.ids]
@@ -452,7 +465,7 @@ class JointBus:
             out = []
             for b, s in zip(raw, self.specs):
                 f = s.field(name)
-                out.append(decode_field(f, b, f.addr - STATE_BLOCK_ADDR))
+                out.append(decode_field(f, b, f.addr - s.state_block()[0]))
             return np.array(out, dtype=np.int64)
 
         ticks = field("present_position")
@@ -466,10 +479,18 @@ class JointBus:
 
     def _sync_read_once(self, what: str):
         sdk, ph, port = self._sdk, self._ph, self._port
-        n, ln = len(self.ids), STATE_BLOCK_LEN
-        g = sdk.GroupSyncRead(port, ph, STATE_BLOCK_ADDR, ln)
-        for i in self.ids:
-            g.addParam(i)
+        n = len(self.ids)
+        if self.state_block is None:  # models of both families: one bulk read
+            g = sdk.GroupBulkRead(port, ph)
+            for i, s in zip(self.ids, self.specs):
+                g.addParam(i, *s.state_block())
+            lengths = [s.state_block()[1] for s in self.specs]
+        else:
+            g = sdk.GroupSyncRead(port, ph, *self.state_block)
+            for i in self.ids:
+                g.addParam(i)
+            lengths = [self.state_block[1]] * n
+        ln = lengths[0]
         blocks, errors = {}, {}
         if self.fast_read:
             self._check(g.fastSyncReadTxPacket(), 0, what)
@@ -487,7 +508,7 @@ class JointBus:
                 blocks[dxl_id], errors[dxl_id] = slot[2 : 2 + ln], err
         else:
             self._check(g.txPacket(), 0, what)
-            for i in self.ids:
+            for i, ln in zip(self.ids, lengths):
                 data, result, err = ph.readRx(port, i, ln)
                 self._check(result, err, what, i)
                 if len(data) != ln:
@@ -540,13 +561,17 @@ class JointBus:
 
     def require_current_sensing(self, what: str = "a current-based guarded touch") -> None:
         """CapabilityError unless every joint's model senses current (XL430 does not)."""
-        bad = [f"id {i} ({s.name})" for i, s in zip(self.ids, self.specs) if not s.has_current_sensing]
+        bad = [(i, s) for i, s in zip(self.ids, self.specs) if not s.has_current_sensing]
         if bad:
-            raise CapabilityError(f"{what} needs current sensing, but {', '.join(bad)} has none: its address "
-                                  "126 is Present Load, not current; use XM430 or XC330 servos")
+            names = ", ".join(f"id {i} ({s.name})" for i, s in bad)
+            load = bad[0][1].fields.get("present_load")
+            why = f"its address {load.addr} is Present Load, not current" if load is not None else "no Present Current"
+            raise CapabilityError(f"{what} needs current sensing, but {names} has none ({why}); use XM430, XC330 "
+                                  "or DYNAMIXEL-P servos")
 
     def set_goal_current(self, ma) -> None:
-        """Goal Current (the current cap in current-based position mode), mA, scalar or per joint."""
+        """Goal Current (the current cap in the guard mode: X current-based position, P position), mA,
+        scalar or per joint."""
         self.require_current_sensing("setting a goal current")
         ma = np.broadcast_to(np.asarray(ma, dtype=float), (len(self.ids),))
         raw = []
@@ -561,21 +586,26 @@ class JointBus:
         self._rearm_after_pause()
         self._sync_write_field("goal_current", raw)
 
-    def set_profile_raw(self, velocity: int, accel: int) -> None:
-        """Profile Velocity (0.229 rev/min units) and Acceleration (214.577 rev/min²) of all joints."""
-        for name, v in (("profile velocity", velocity), ("profile acceleration", accel)):
-            if not 0 <= int(v) <= 32767:
-                raise InputError(f"{name} {v} outside 0..32767 (raw units; 0 = unlimited)")
-        fa, fv = self.specs[0].field("profile_acceleration"), self.specs[0].field("profile_velocity")
-        # 108..115 in one write: Profile Velocity (112) follows Profile Acceleration (108)
-        block = encode_field(fa, int(accel)) + encode_field(fv, int(velocity))
-        self._attempt("sync write of profile", lambda: self._sync_write_bytes(
-            "profile", fa.addr, [block] * len(self.ids)))
+    def set_profile_raw(self, velocity, accel) -> None:
+        """Profile Velocity and Acceleration of all joints (raw, each in its model's units: X
+        0.229 rev/min and 214.577 rev/min², P 0.01 rev/min and 1 rev/min²; scalar or per joint)."""
+        vel = np.broadcast_to(np.asarray(velocity), (len(self.ids),))
+        acc = np.broadcast_to(np.asarray(accel), (len(self.ids),))
+        addrs, blocks = [], []
+        for i, s, v, a in zip(self.ids, self.specs, vel, acc):
+            fa, fv = s.field("profile_acceleration"), s.field("profile_velocity")
+            for name, f, x in (("profile velocity", fv, v), ("profile acceleration", fa, a)):
+                if not 0 <= int(x) <= f.hi:
+                    raise InputError(f"{name} {x} for servo {i} outside 0..{f.hi} ({s.name} raw units; 0 = unlimited)")
+            # one write: Profile Velocity follows Profile Acceleration (X 108, 112; P 556, 560)
+            addrs.append(fa.addr)
+            blocks.append(encode_field(fa, int(a)) + encode_field(fv, int(v)))
+        self._attempt("write of profile", lambda: self._write_joint_bytes("profile", addrs, blocks))
 
     def set_profile(self, velocity_rad_s: float, accel_rad_s2: float) -> None:
-        """Profile in SI units (rad/s, rad/s² of the output shaft)."""
-        s = self.specs[0]
-        self.set_profile_raw(units.rad_s_to_velocity(velocity_rad_s, s), units.rad_s2_to_accel(accel_rad_s2, s))
+        """Profile in SI units (rad/s, rad/s² of the output shaft), each joint in its model's units."""
+        self.set_profile_raw([units.rad_s_to_velocity(velocity_rad_s, s) for s in self.specs],
+                             [units.rad_s2_to_accel(accel_rad_s2, s) for s in self.specs])
 
     def torque(self, on: bool) -> None:
         """Torque Enable of every joint in one sync write."""
@@ -636,10 +666,21 @@ class JointBus:
         spec = MODELS_BY_NUMBER.get(number)
         return ServoInfo(dxl_id, spec.name if spec else f"unknown-{number}", number, fw, self._port.getBaudRate())
 
+    def _spec_of(self, dxl_id: int) -> ModelSpec:
+        """The model of servo ``dxl_id``: a joint's, else the one its ping reports."""
+        if dxl_id in self.ids:
+            return self.specs[self.ids.index(dxl_id)]
+        number = self._call(f"ping of servo {dxl_id}", lambda: self._ph.ping(self._port, dxl_id), dxl_id)[0]
+        spec = MODELS_BY_NUMBER.get(number)
+        if spec is None:
+            raise ModelMismatchError(f"servo {dxl_id} reports model number {number}, which no supported model has")
+        return spec
+
     def read_hardware_error(self, dxl_id: int) -> HardwareStatus:
-        """Hardware Error Status (70) of one servo, decoded."""
-        bits = self._read(dxl_id, COMMON_FIELDS["hardware_error_status"])
-        return HardwareStatus(bits, tuple(decode_hardware_error(bits)))
+        """Hardware Error Status (X 70, P 518) of one servo, decoded by its model."""
+        spec = self._spec_of(dxl_id)
+        bits = self._read(dxl_id, spec.field("hardware_error_status"))
+        return HardwareStatus(bits, tuple(spec.decode_hardware_error(bits)))
 
     def reboot(self, dxl_id: int) -> None:
         """Reboot one servo (clears a hardware error) and wait until it answers again.

@@ -176,7 +176,7 @@ class ContactModel:
         k = 5 * fi
         zero, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
         sign = np.array([j.direction for j in f.joints], dtype=float)
-        q = ticks_to_rad(ticks, zero, sign)
+        q = ticks_to_rad(ticks, zero, sign, kin.resolutions(f.joints))
         return kin.chain_pad_line((f.base.x, f.base.y, f.base.angle), q, links, off, f.pad.length_mm,
                                   f.pad.side_sign)
 

@@ -4,7 +4,19 @@ A jaw is a bus plus fingers; a finger is a planar chain of revolute joints fixed
 base pose in the hand frame, with a flat pad on the side of its distal link that ends at
 the fingertip. Joint angle (ARCHITECTURE "Units and frames")::
 
-    q = direction · (tick − zero_tick) · 2π/4096      (rad, counter-clockwise; hand_driver.units)
+    q = direction · (tick − zero_tick) · 2π/ticks_per_rev   (rad, counter-clockwise; hand_driver.units)
+
+with ``ticks_per_rev`` the joint's model's resolution (hand_driver.control_table: X-series
+4,096, DYNAMIXEL-P 502,834–1,003,846); ``zero_tick`` and the joint limits are held to the
+positions of one turn of that model in position mode (X 0..4,095, P ±half a turn).
+
+The errors a real servo puts between its encoder and its link may be declared (docs/driver.md,
+declared errors): a joint's ``backlash_deg`` (the gear's dead band, full width) and
+``compliance_deg_per_nm`` (link and gear deflection per N·m of joint torque), a pad's
+``compliance_mm_per_n`` (its face yielding along its normal per N of contact force). The
+emulator simulates exactly the errors its truth config declares (none: none); a zero error is
+the truth config's ``zero_tick`` differing from the nominal one. All default to 0 and are
+written out only when declared.
 
 Link i starts at joint i and points along ``base.angle + q_1 + … + q_i``; its length is
 ``link_mm``. The pad is a segment parallel to the distal link, ``pad.offset_mm`` from
@@ -23,8 +35,9 @@ from typing import Any
 
 import yaml
 
-from hand_driver.control_table import BAUD_RATES, MODELS
-from hand_driver.units import TICKS_PER_REV, WATCHDOG_STEP_MS, deg_to_ticks_exact
+from hand_driver.control_table import BAUD_RATES, MODELS, ModelSpec
+from hand_driver.control_table import model as model_spec
+from hand_driver.units import WATCHDOG_STEP_MS, deg_to_ticks_exact
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_write
 from tactile_common.yamlfile import read_yaml_located
@@ -51,6 +64,21 @@ class JointConfig:
     min_deg: float = -90.0
     max_deg: float = 90.0
     current_limit_ma: float = 1000.0
+    backlash_deg: float = 0.0  # gear dead band, full width (declared error)
+    compliance_deg_per_nm: float = 0.0  # link and gear deflection per joint torque (declared error)
+
+    @property
+    def spec(self) -> ModelSpec:
+        """The joint's model (its control table, units and resolution)."""
+        return model_spec(self.model)
+
+    @property
+    def ticks_per_rev(self) -> int:
+        return self.spec.ticks_per_rev
+
+    @property
+    def rad_per_tick(self) -> float:
+        return self.spec.rad_per_tick
 
     @property
     def min_rad(self) -> float:
@@ -69,6 +97,7 @@ class PadConfig:
     side: str
     offset_mm: float
     length_mm: float
+    compliance_mm_per_n: float = 0.0  # the face yields along its normal per N (declared error)
 
     @property
     def side_sign(self) -> int:
@@ -99,8 +128,8 @@ class FingerConfig:
 class MotionConfig:
     """How the jaw moves and how it feels a contact (used by hand_driver.motion)."""
 
-    profile_velocity: int = 100  # raw, 0.229 rev/min units
-    profile_acceleration: int = 100  # raw, 214.577 rev/min² units
+    profile_velocity: int = 100  # raw, in each joint's model's unit (X 0.229, P 0.01 rev/min)
+    profile_acceleration: int = 100  # raw, each model's unit (X 214.577, P 1 rev/min²)
     approach_speed_mm_s: float = 25.0
     approach_step_mm: float = 0.5
     move_speed_mm_s: float = 60.0  # Cartesian moves (hand_driver.motion.move_line): pad shift
@@ -234,33 +263,40 @@ def _watchdog_ms(c: _Checker, m: dict, default: int) -> int:
 
 
 def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointConfig:
-    allowed = ("id", "model", "zero_tick", "link_mm", "direction", "min_deg", "max_deg", "current_limit_ma")
+    allowed = ("id", "model", "zero_tick", "link_mm", "direction", "min_deg", "max_deg", "current_limit_ma",
+               "backlash_deg", "compliance_deg_per_nm")
     m = c.mapping(obj, key, allowed, required=("id", "model", "zero_tick", "link_mm"))
     d = JointConfig(0, "", 0, 0)
     model = c.string(m, key, "model", None, models)
     direction = m.get("direction", d.direction)
     if direction not in (1, -1) or isinstance(direction, bool):
         c.fail(f"{key}.direction", f"{direction!r} not allowed; choose 1 or -1")
+    spec = model_spec(model)
+    lo_tick, hi_tick = spec.position_range
     j = JointConfig(
         id=c.number(m, key, "id", None, 0, 252, integer=True),
         model=model,
-        zero_tick=c.number(m, key, "zero_tick", None, 0, TICKS_PER_REV - 1),
+        zero_tick=c.number(m, key, "zero_tick", None, lo_tick, hi_tick),
         link_mm=c.number(m, key, "link_mm", None, 0.0, 1000.0, lo_open=True),
         direction=int(direction),
         min_deg=c.number(m, key, "min_deg", d.min_deg, -180.0, 0.0),
         max_deg=c.number(m, key, "max_deg", d.max_deg, 0.0, 180.0),
         current_limit_ma=c.number(m, key, "current_limit_ma", d.current_limit_ma, 0.0, 10_000.0, lo_open=True),
+        backlash_deg=c.number(m, key, "backlash_deg", d.backlash_deg, 0.0, 5.0),
+        compliance_deg_per_nm=c.number(m, key, "compliance_deg_per_nm", d.compliance_deg_per_nm, 0.0, 10.0),
     )
-    # Limits must stay inside one encoder turn of position mode (ticks 0..4095).
+    # Limits must stay inside one encoder turn of position mode (the model's Min/Max
+    # Position Limit range).
+    per_deg = spec.ticks_per_rev / 360.0
     for name, deg in (("min_deg", j.min_deg), ("max_deg", j.max_deg)):
-        tick = float(deg_to_ticks_exact(deg, j.zero_tick, j.direction))
-        if not 0 <= tick <= TICKS_PER_REV - 1:
-            lo = -j.zero_tick * 360.0 / TICKS_PER_REV
-            hi = (TICKS_PER_REV - 1 - j.zero_tick) * 360.0 / TICKS_PER_REV
+        tick = float(deg_to_ticks_exact(deg, j.zero_tick, j.direction, spec.ticks_per_rev))
+        if not lo_tick <= tick <= hi_tick:
+            lo = (lo_tick - j.zero_tick) / per_deg
+            hi = (hi_tick - j.zero_tick) / per_deg
             if j.direction < 0:
                 lo, hi = -hi, -lo
-            c.fail(f"{key}.{name}", f"{deg:g}° puts the encoder at tick {tick:.0f}, outside 0..4095; "
-                                    f"with zero_tick {j.zero_tick:g} allowed range [{lo:.1f}, {hi:.1f}]")
+            c.fail(f"{key}.{name}", f"{deg:g}° puts the encoder at tick {tick:.0f}, outside {lo_tick}..{hi_tick} "
+                                    f"({spec.name}); with zero_tick {j.zero_tick:g} allowed range [{lo:.1f}, {hi:.1f}]")
     return j
 
 
@@ -277,12 +313,14 @@ def _finger(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> FingerC
     if not isinstance(joints_obj, list) or len(joints_obj) != 2:
         c.fail(f"{key}.joints", "expected a list of exactly 2 joints (a 2-joint planar chain)")
     joints = tuple(_joint(c, j, f"{key}.joints[{i}]", models) for i, j in enumerate(joints_obj))
-    pm = c.mapping(m["pad"], f"{key}.pad", ("side", "offset_mm", "length_mm"), required=("side", "offset_mm", "length_mm"))
+    pm = c.mapping(m["pad"], f"{key}.pad", ("side", "offset_mm", "length_mm", "compliance_mm_per_n"),
+                   required=("side", "offset_mm", "length_mm"))
     distal = joints[-1].link_mm
     pad = PadConfig(
         side=c.string(pm, f"{key}.pad", "side", None, ("left", "right")),
         offset_mm=c.number(pm, f"{key}.pad", "offset_mm", None, 0.0, 100.0),
         length_mm=c.number(pm, f"{key}.pad", "length_mm", None, 0.0, distal, lo_open=True),
+        compliance_mm_per_n=c.number(pm, f"{key}.pad", "compliance_mm_per_n", 0.0, 0.0, 5.0),
     )
     return FingerConfig(name=name, base=base, joints=joints, pad=pad)
 
@@ -298,8 +336,9 @@ def _motion(c: _Checker, obj: Any, recorded: bool) -> MotionConfig:
     m = c.mapping(obj if obj is not None else {}, "motion", tuple(asdict(d)))
     k = "motion"
     cfg = MotionConfig(
-        profile_velocity=c.number(m, k, "profile_velocity", d.profile_velocity, 0, 32767, integer=True),
-        profile_acceleration=c.number(m, k, "profile_acceleration", d.profile_acceleration, 0, 32767, integer=True),
+        profile_velocity=c.number(m, k, "profile_velocity", d.profile_velocity, 0, 2**31 - 1, integer=True),
+        profile_acceleration=c.number(m, k, "profile_acceleration", d.profile_acceleration, 0, 2**31 - 1,
+                                      integer=True),
         approach_speed_mm_s=c.number(m, k, "approach_speed_mm_s", d.approach_speed_mm_s, 0.0, 200.0, lo_open=True),
         approach_step_mm=c.number(m, k, "approach_step_mm", d.approach_step_mm, 0.0, 10.0, lo_open=True),
         move_speed_mm_s=c.number(m, k, "move_speed_mm_s", d.move_speed_mm_s, 0.0, 1000.0, lo_open=True),
@@ -313,6 +352,18 @@ def _motion(c: _Checker, obj: Any, recorded: bool) -> MotionConfig:
         c.fail("motion.goal_current_ma", f"{cfg.goal_current_ma:g} must be ≥ motion.contact_current_ma "
                                          f"({cfg.contact_current_ma:g}) or a contact is never felt")
     return cfg
+
+
+def _check_profile(c: _Checker, motion: MotionConfig, fingers: tuple[FingerConfig, ...]) -> None:
+    """The raw profile values are in each joint's model's units: each must fit every model's item."""
+    for name in ("profile_velocity", "profile_acceleration"):
+        value = getattr(motion, name)
+        for f in fingers:
+            for j in f.joints:
+                hi = j.spec.field(name).hi
+                if hi is not None and value > hi:
+                    c.fail(f"motion.{name}", f"{value} is beyond {j.model}'s {name} range 0..{hi} (raw units of "
+                                             f"each joint's model; joint id {j.id})")
 
 
 def _workspace(c: _Checker, obj: Any) -> WorkspaceConfig:
@@ -349,6 +400,7 @@ def parse_config(obj: Any, source: str = "<memory>", recorded: bool = False) -> 
                 c.fail(key, f"id {j.id} is used twice (also {seen[j.id]}); ids must be unique on the bus")
             seen[j.id] = key
     bus, motion = _bus(c, m.get("bus")), _motion(c, m.get("motion"), recorded)
+    _check_profile(c, motion, fingers)
     period_ms = 1000.0 * motion.approach_step_mm / motion.approach_speed_mm_s
     if bus.watchdog_ms and bus.watchdog_ms < 2.0 * period_ms:
         if isinstance(m.get("bus"), dict) and "watchdog_ms" in m["bus"]:
@@ -373,15 +425,16 @@ def load_config(path: str | Path) -> JawConfig:
         return parse_config(obj, str(path))
 
 
-def perturbed(cfg: JawConfig, rng, zero_tick: float = 20.0, link_mm: float = 1.0,
+def perturbed(cfg: JawConfig, rng, zero_deg: float = 1.75, link_mm: float = 1.0,
               pad_mm: float = 0.5) -> JawConfig:
-    """A jaw that differs from ``cfg`` as a real one does: every joint's ``zero_tick`` and
-    ``link_mm`` and every pad's ``offset_mm`` off by uniform errors within ± the given
-    bounds, drawn from the numpy Generator ``rng`` (for ``tactile sim --truth-config``
-    experiments, the calibration tests and benchmark)."""
+    """A jaw that differs from ``cfg`` as a real one does: every joint's zero (``zero_tick``,
+    by up to ``zero_deg`` degrees in its model's ticks) and ``link_mm`` and every pad's
+    ``offset_mm`` off by uniform errors within ± the given bounds, drawn from the numpy
+    Generator ``rng`` (for ``tactile sim --truth-config`` experiments, the calibration tests
+    and benchmark)."""
     fingers = []
     for f in cfg.fingers:
-        joints = tuple(replace(j, zero_tick=j.zero_tick + rng.uniform(-zero_tick, zero_tick),
+        joints = tuple(replace(j, zero_tick=j.zero_tick + rng.uniform(-zero_deg, zero_deg) * j.ticks_per_rev / 360.0,
                                link_mm=j.link_mm + rng.uniform(-link_mm, link_mm)) for j in f.joints)
         pad = replace(f.pad, offset_mm=f.pad.offset_mm + rng.uniform(-pad_mm, pad_mm))
         fingers.append(replace(f, joints=joints, pad=pad))
@@ -391,6 +444,18 @@ def perturbed(cfg: JawConfig, rng, zero_tick: float = 20.0, link_mm: float = 1.0
 def _num(v: float) -> float | int:
     """Integers stay integers in YAML; other floats round-trip exactly (repr)."""
     return int(v) if float(v).is_integer() else float(v)
+
+
+def _declared(obj, keys: tuple[str, ...]) -> dict:
+    """The declared errors among ``keys`` (nonzero ones only: a config without errors is
+    written as before)."""
+    return {k: _num(getattr(obj, k)) for k in keys if getattr(obj, k)}
+
+
+def declares_errors(cfg: JawConfig) -> bool:
+    """Whether the jaw declares any servo error (backlash, compliance) for the emulator."""
+    return any(j.backlash_deg or j.compliance_deg_per_nm for j in cfg.joints) or any(
+        f.pad.compliance_mm_per_n for f in cfg.fingers)
 
 
 def config_to_mapping(cfg: JawConfig) -> dict:
@@ -403,8 +468,10 @@ def config_to_mapping(cfg: JawConfig) -> dict:
             "base": {"x": _num(f.base.x), "y": _num(f.base.y), "angle_deg": _num(f.base.angle_deg)},
             "joints": [{"id": j.id, "model": j.model, "zero_tick": _num(j.zero_tick), "link_mm": _num(j.link_mm),
                         "direction": j.direction, "min_deg": _num(j.min_deg), "max_deg": _num(j.max_deg),
-                        "current_limit_ma": _num(j.current_limit_ma)} for j in f.joints],
-            "pad": {"side": f.pad.side, "offset_mm": _num(f.pad.offset_mm), "length_mm": _num(f.pad.length_mm)},
+                        "current_limit_ma": _num(j.current_limit_ma),
+                        **_declared(j, ("backlash_deg", "compliance_deg_per_nm"))} for j in f.joints],
+            "pad": {"side": f.pad.side, "offset_mm": _num(f.pad.offset_mm), "length_mm": _num(f.pad.length_mm),
+                    **_declared(f.pad, ("compliance_mm_per_n",))},
         } for f in cfg.fingers],
         "motion": {k: _num(v) if isinstance(v, float) else v for k, v in asdict(cfg.motion).items()},
         "workspace": {"center_mm": [_num(v) for v in cfg.workspace.center_mm],

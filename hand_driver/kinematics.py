@@ -3,7 +3,7 @@
 Pure, vectorized functions (numpy broadcasting over leading axes of readings).
 
 Frames and conventions (docs/ARCHITECTURE.md): hand frame x forward, y left, angles CCW;
-``q = direction · (tick − zero_tick) · 2π/4096``. Finger with base ``(bx, by, β)``, joint
+``q = direction · (tick − zero_tick) · 2π/ticks_per_rev`` (each joint's model's resolution). Finger with base ``(bx, by, β)``, joint
 angles ``q1, q2`` and links ``L1, L2``: ``α1 = β + q1``, ``α2 = α1 + q2``, distal joint
 ``J2 = B + L1·e(α1)``, fingertip ``J2 + L2·e(α2)``. The pad is the segment
 ``J2 + u·e(α2) + offset·n`` for ``u ∈ [L2 − length, L2]``, with outward normal
@@ -20,9 +20,9 @@ come from one least-squares polynomial of d(ψ) over the touch, about the touch'
 curvature so the polynomial only has to follow the change of the boundary's curvature; the
 same fit gives ρ and dρ/dψ at every sample (tactile_jaw.envelope reads κ, κ_s from them).
 
-Accuracy: the only data error is encoder quantization, ±½ tick = ±π/4096 rad per joint.
-:func:`quantization_bound` propagates it to first order (worst case over all joints,
-Σ_j |∂output/∂q_j|·π/4096) for every output of :func:`touch_from_pad_lines`; the
+Accuracy: the only data error is encoder quantization, ±½ tick = ±π/ticks_per_rev rad per
+joint. :func:`quantization_bound` propagates it to first order (worst case over all joints,
+Σ_j |∂output/∂q_j|·π/ticks_per_rev_j) for every output of :func:`touch_from_pad_lines`; the
 tests check the errors on exact curves against it (docs/kinematics.md).
 """
 
@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hand_driver.config import FingerConfig, JawConfig, JointConfig
-from hand_driver.units import HALF_TICK_RAD, rad_to_ticks_exact, ticks_to_rad
+from hand_driver.units import half_tick_rad, rad_to_ticks_exact, ticks_to_rad
 from tactile_common.angles import wrap_angle
 from tactile_common.errors import InputError
 
@@ -61,14 +61,19 @@ def ticks_to_angles(joints: tuple[JointConfig, ...], ticks) -> np.ndarray:
     """Encoder ticks (..., n_joints) → joint angles q (rad), same shape."""
     zero = np.array([j.zero_tick for j in joints])
     sign = np.array([j.direction for j in joints], dtype=float)
-    return ticks_to_rad(ticks, zero, sign)
+    return ticks_to_rad(ticks, zero, sign, resolutions(joints))
 
 
 def angles_to_ticks(joints: tuple[JointConfig, ...], q) -> np.ndarray:
     """Joint angles (..., n_joints) → encoder ticks (float; round to command a servo)."""
     zero = np.array([j.zero_tick for j in joints])
     sign = np.array([j.direction for j in joints], dtype=float)
-    return rad_to_ticks_exact(q, zero, sign)
+    return rad_to_ticks_exact(q, zero, sign, resolutions(joints))
+
+
+def resolutions(joints: tuple[JointConfig, ...]) -> np.ndarray:
+    """Encoder ticks per turn of each joint (its model's resolution)."""
+    return np.array([j.ticks_per_rev for j in joints], dtype=float)
 
 
 def within_limits(joints: tuple[JointConfig, ...], q, margin_rad: float = 0.0) -> np.ndarray:
@@ -158,6 +163,21 @@ def finger_pad_line_from_ticks(cfg: JawConfig, finger: str, ticks) -> PadLine:
 
 
 # ----------------------------------------------------------------------------- inverse
+
+
+def moment_arms(finger: FingerConfig, q, point, direction) -> np.ndarray:
+    """Moment arm (mm) about each joint of a unit force the finger applies at ``point`` along
+    the unit vector ``direction``: ((p − J_j) × direction)_z, counter-clockwise positive, so
+    joint j carries the torque arm_j·F (N·mm) and its gear's teeth bear on the side
+    sign(arm_j) (hand_driver.sim.errors; the calibration's load direction). For a pad
+    pressing an object, ``direction`` is the pad's outward normal."""
+    q = np.asarray(q, dtype=float)
+    a1 = finger.base.angle + q[0]
+    j1 = np.array([finger.base.x, finger.base.y])
+    j2 = j1 + finger.joints[0].link_mm * unit(a1)
+    p = np.asarray(point, dtype=float)
+    u = np.asarray(direction, dtype=float)
+    return np.array([float((p[0] - j[0]) * u[1] - (p[1] - j[1]) * u[0]) for j in (j1, j2)])
 
 
 def ik_line_solutions(finger: FingerConfig, psi: float, d: float) -> list[np.ndarray]:
@@ -260,7 +280,8 @@ class TouchEnvelope:
 
 
 def default_degree(n: int) -> int:
-    """Polynomial degree of d(ψ) for n readings: 3 from 6 readings on, else n − 2 ≥ 1."""
+    """Polynomial degree of d(ψ) for n readings when nothing chooses it: 3 from 6 readings
+    on, else n − 2 ≥ 1 (tactile_jaw.envelope chooses it from the data and the noise)."""
     return 3 if n >= 6 else max(1, n - 2)
 
 
@@ -327,9 +348,10 @@ def touch_from_ticks(cfg: JawConfig, finger: str, ticks, degree: int | None = No
 
 
 def quantization_bound(finger: FingerConfig, q, degree: int | None = None,
-                       half_step: float = HALF_TICK_RAD) -> dict[str, np.ndarray]:
+                       half_step=None) -> dict[str, np.ndarray]:
     """First-order worst-case error of every output of a touch when each joint angle of
-    each reading may be off by up to ``half_step`` (default ½ tick): for each output
+    each reading may be off by up to ``half_step`` (rad, scalar or one per joint; default
+    ½ tick of each joint's model): for each output
     Σ over readings and joints of |∂output/∂q|·half_step (central differences).
 
     Returns arrays (in output order) for keys 'phi', 'x', 'y', 's' and 'point'
@@ -341,6 +363,8 @@ def quantization_bound(finger: FingerConfig, q, degree: int | None = None,
         c = touch_from_pad_lines(line.psi, line.d, degree=degree)
         return c, np.concatenate([c.phi, c.x, c.y, c.s])
 
+    half = np.broadcast_to(half_tick_rad(resolutions(finger.joints)) if half_step is None
+                           else np.asarray(half_step, dtype=float), (q.shape[1],))
     base, _ = outputs(q)
     m = q.shape[0]
     h = 1e-6
@@ -353,6 +377,6 @@ def quantization_bound(finger: FingerConfig, q, degree: int | None = None,
             c_minus, v_minus = outputs(q - dq)
             if not (np.array_equal(c_plus.order, base.order) and np.array_equal(c_minus.order, base.order)):
                 raise InputError("readings too close in psi for a first-order bound")
-            bound += np.abs((v_plus - v_minus) / (2 * h)) * half_step
+            bound += np.abs((v_plus - v_minus) / (2 * h)) * half[k]
     phi_b, x_b, y_b, s_b = np.split(bound, 4)
     return {"phi": phi_b, "x": x_b, "y": y_b, "s": s_b, "point": np.hypot(x_b, y_b)}

@@ -48,8 +48,11 @@ ROLL_CLEARANCE_MM = 1.0
 #: a contact this close (mm) to either end of the pad is a pad end resting on the
 #: object, not a tangent contact of the pad's face
 EDGE_MARGIN_MM = 1.0
-#: a goal is "reached" when every joint of the finger is within this many ticks of it
-REACHED_TICKS = 3
+#: a goal is "reached" when every joint of the finger is within this angle of it (rad): 3
+#: ticks of an X-series encoder, about 750 of a PH54's; each joint compares in its own ticks
+REACHED_RAD = math.radians(0.27)
+#: a joint that moved less than this (rad) over a cycle stands still: 1 X-series tick
+STILL_RAD = math.radians(0.09)
 
 
 # --------------------------------------------------------------------------------- motions
@@ -89,13 +92,15 @@ def move_to(jaw: Jaw, finger: str, q_goal, max_cycles: int = 200) -> Motion:
     or ``max_cycles``); returns True when reached."""
     f = jaw.config.finger(finger)
     target = np.rint(kin.angles_to_ticks(f.joints, q_goal))
+    per_rad = kin.resolutions(f.joints) / (2.0 * math.pi)  # ticks per rad of each joint
+    reached, still_ticks = REACHED_RAD * per_rad, STILL_RAD * per_rad
     state, _ = yield np.asarray(q_goal, dtype=float)
     still, last = 0, jaw.finger_ticks(state, finger)
     for _ in range(max_cycles):
         ticks = jaw.finger_ticks(state, finger)
-        if np.all(np.abs(ticks - target) <= REACHED_TICKS):
+        if np.all(np.abs(ticks - target) <= reached):
             return True
-        moved = not np.all(np.abs(ticks - last) <= 1)
+        moved = not np.all(np.abs(ticks - last) <= still_ticks)
         still = 0 if moved else still + 1
         if still >= 3:
             return False

@@ -11,6 +11,7 @@ felt touches from its readings (replay, benchmarks).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import Any, Callable, Sequence
 
@@ -24,9 +25,9 @@ from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
 from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, SamplesTouch, check_touch_count, parse_noise
 from tactile_common.errors import InputError
-from tactile_jaw.envelope import EnvelopeFit, fit_envelope
+from tactile_jaw.envelope import MIN_DEGREE, EnvelopeFit, fit_envelope
 from tactile_jaw.flat import FLAT_NOISE, Face, feel_flat, recognized_touches
-from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, PHI_SIGMA, ExploreSettings
+from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
 
 #: a touch whose radius of curvature at the contact is below this (mm), or below
 #: CORNER_SIGMAS of its deviation, rolled on a corner (the contact stayed put while the pad
@@ -94,7 +95,7 @@ class FeltTouch:
                 for p0, p1 in zip(self.lines.proximal, self.lines.distal)]
 
 
-def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) -> FeltTouch:
+def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, trim: bool = True) -> FeltTouch:
     """The touch's pad lines (one forward-kinematics pass over its readings), their
     envelope (and, for rolling touches, its :class:`EnvelopeFit`), and why it cannot be used, or None: at least ``MIN_SAMPLES_PER_TOUCH``
     samples (all ``samples`` planned ones, or those taken before the roll ran out of reach
@@ -104,7 +105,9 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
     ``EDGE_MARGIN_MM`` from its ends (a pad end resting on the object is not a tangent
     contact); and, with ``curve_checks`` (rolling touches; not probes, whose short rolls
     cannot measure a radius of curvature), that it rolled on the curved part
-    (:func:`off_curve_reason`). A flat press is felt by tactile_jaw.flat.feel_flat."""
+    (:func:`off_curve_reason`); a roll that ran off it at an end is used on its longest
+    stretch that passes (``trim``, :func:`smooth_stretch`). A flat press is felt by
+    tactile_jaw.flat.feel_flat."""
     if isinstance(touch, FlatResult):
         lines, problem, contact, face = feel_flat(config, touch)
         return FeltTouch(touch, lines, None, None, problem, contact, face=face)
@@ -136,8 +139,12 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         return out(f"{finger}: {exc}")
     u = _pad_u(lines, c)
     if curve_checks:
-        off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)))
+        off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)), lines)
         if off_curve is not None:
+            if trim and rough(fit) and off_curve == rough(fit):
+                shorter = smooth_stretch(config, touch, samples)
+                if shorter is not None:
+                    return shorter
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
                        corner=pivot_point(lines) if on_corner(fit) else None)
     if fit is not None and np.any(np.diff(c.s) <= 0.0):
@@ -158,6 +165,24 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         return out(f"{finger}: contact {float(np.min(u)):.1f}..{float(np.max(u)):.1f} mm along the pad, "
                    f"not inside {EDGE_MARGIN_MM:g}..{length - EDGE_MARGIN_MM:g} mm (a pad end touched)", c, u, fit)
     return out(None, c, u, fit)
+
+
+def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None:
+    """A rolling touch that failed the smoothness test, felt again on its longest run of
+    consecutive samples (in ψ order, at least ``MIN_SAMPLES_PER_TOUCH``) that passes every
+    check, the fewest samples dropped from its ends first; None if none does. A roll that
+    ran onto the object's end corner or a closing segment past the curve's end: fine encoders
+    see its last lines pivot (at 1,000,000 ticks per turn a pivot and an arc of radius 20 mm
+    differ by 0.01 mm over 2°, 50 times the lines' noise) and the curved part is kept."""
+    order = np.argsort([s.psi for s in touch.samples], kind="stable")
+    n = order.size
+    for drop in range(1, n - MIN_SAMPLES_PER_TOUCH + 1):
+        for head in range(drop + 1):
+            keep = sorted(int(i) for i in order[head : n - (drop - head)])
+            again = feel(config, replace(touch, samples=[touch.samples[i] for i in keep]), len(keep), trim=False)
+            if again.problem is None:
+                return again
+    return None
 
 
 def _pad_u(lines: kin.PadLine, contacts: kin.TouchEnvelope) -> np.ndarray:
@@ -237,21 +262,55 @@ def _longest_run(mask: np.ndarray) -> np.ndarray:
     return best
 
 
-def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float) -> str | None:
+def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float, lines: kin.PadLine | None = None) -> str | None:
     """Why a touch fell off the object's curved part, or None: on a corner (the radius of
     curvature at the contact is below ``CORNER_RADIUS_MM`` or ``CORNER_SIGMAS`` of its
-    deviation: the contact stayed put while the pad turned) or across a corner or closing
-    segment (the pad lines are no smooth curve's tangents: their χ² about the envelope fit
-    above its limit at ``SMOOTH_ALPHA``: a straight segment bridged between two corners
-    makes d(ψ) kink)."""
+    deviation: the contact stayed put while the pad turned), across a closing segment (the
+    order rule needed more than a cubic and the pad ``lines`` pass through two points, a
+    segment's end corners, within their noise: :func:`pivots_chi2`) or across a corner or
+    closing segment (the pad lines are no smooth curve's tangents: their χ² about the
+    envelope fit above its limit at ``SMOOTH_ALPHA``: a straight segment bridged between two
+    corners makes d(ψ) kink)."""
     m = len(contacts.x) // 2
     if on_corner(fit):
         return (f"corner: the contact stayed near ({contacts.x[m]:.1f}, {contacts.y[m]:.1f}) mm while the pad "
                 f"turned {np.degrees(turn_rad):.0f} deg (radius of curvature {fit.rho:.2f} ± {fit.sigma_rho:.2f} mm)")
+    n = len(contacts.x)
+    if lines is not None and contacts.degree > MIN_DEGREE and n >= 6:
+        chi2, split = pivots_chi2(lines, contacts, fit.line_sigma)
+        # two points (4 numbers and a split) against the polynomial (degree + 1): Akaike's criterion
+        if chi2 <= chi2_limit(SMOOTH_ALPHA, n - 4) and chi2 + 2 * 5 < fit.chi2 + 2 * (contacts.degree + 1):
+            return (f"off the curved part: the pad lines pass through two points within their noise (chi2 {chi2:.3g} "
+                    f"on {n - 4} dof, {split} and {n - split} lines): the roll crossed a straight closing segment")
+    return rough(fit)
+
+
+def rough(fit: EnvelopeFit) -> str | None:
+    """Why a touch's pad lines are no smooth curve's tangents, or None: their χ² about the
+    envelope fit above its limit at ``SMOOTH_ALPHA`` (a roll across a corner or a closing
+    segment, or, with fine encoders, one that ran onto the end corner: :func:`smooth_stretch`)."""
     if fit.dof > 0 and fit.chi2 > chi2_limit(SMOOTH_ALPHA, fit.dof):
         return (f"off the curved part: the pad lines are no smooth curve's tangents (chi2 {fit.chi2:.3g} on "
                 f"{fit.dof} dof): the roll crossed a corner or a straight closing segment")
     return None
+
+
+def pivots_chi2(lines: kin.PadLine, contacts, sigma: np.ndarray) -> tuple[float, int]:
+    """How well two points explain a touch's pad lines (ψ order): the least χ², over the
+    splits into a first run of ≥ 2 lines through one point and the rest through another (a
+    pad rolled across a straight segment rests on one end corner, then on the other), of the
+    lines' distances from their point, each by its deviation ``sigma`` (mm, ψ order); and
+    the first run's length."""
+    normal, d = np.asarray(lines.normal)[contacts.order], np.asarray(lines.d)[contacts.order]
+    best, split = math.inf, 0
+    for k in range(2, normal.shape[0] - 1):
+        chi2 = 0.0
+        for part in (slice(0, k), slice(k, None)):
+            point = kin.nearest_point(normal[part] / sigma[part, None], d[part] / sigma[part])
+            chi2 += float(np.sum(((normal[part] @ point - d[part]) / sigma[part]) ** 2))
+        if chi2 < best:
+            best, split = chi2, k
+    return best, split
 
 
 def workspace_reach(config) -> Reach:
@@ -272,7 +331,9 @@ def stated_noise(touches: Sequence[FeltTouch]) -> NoiseModel:
     rolling = [t for t in touches if t.fit is not None]
     across = np.concatenate([t.fit.sigma_across for t in rolling])
     along = np.concatenate([t.fit.sigma_along for t in rolling])
-    return NoiseModel(phi=PHI_SIGMA, pos=float(np.sqrt(np.mean(across**2))),
+    # σ_φ of each sample from its joints' ticks (the φ rows of the fit's noise factor)
+    phi = np.concatenate([np.sum(t.fit.noise_factor[2 * len(t.fit.sigma_across):] ** 2, axis=1) for t in rolling])
+    return NoiseModel(phi=float(np.sqrt(np.mean(phi))), pos=float(np.sqrt(np.mean(across**2))),
                       pos_along=float(np.sqrt(np.mean(along**2))))
 
 
@@ -287,17 +348,20 @@ def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noi
     log's; default: each call's :func:`stated_noise` of its touches) and the settings'
     recognizer options. Each call extends one validated request with the touches' samples
     (already checked by :func:`feel`): nothing is parsed again per decision. A call's
-    ``reach`` replaces ``reach`` for that call (where its ``next_touch`` may point)."""
+    ``reach`` replaces ``reach`` for that call (where its ``next_touch`` may point); its
+    ``classes`` (a subset of the scene's) fits only those (tactile_jaw.separation)."""
     source = "exploration"
     loaded = load_scene(scene) if scene is not None else None
     fixed = parse_noise(dict(noise), f"{source}.noise") if noise is not None else None
     base = Request((), loaded, loaded.classes if loaded is not None else ALL_CLASSES, fixed, {}, source)
     options = RecognizeOptions(noise=fixed, reach=reach, **settings.recognize)
 
-    def run(touches: Sequence[FeltTouch], reach: Reach | None = None) -> Recognition:
-        check_touch_count(len(touches), base.classes, source)
+    def run(touches: Sequence[FeltTouch], reach: Reach | None = None,
+            classes: Sequence[str] | None = None) -> Recognition:
+        request = base if classes is None else replace(base, classes=tuple(c for c in base.classes if c in classes))
+        check_touch_count(len(touches), request.classes, source)
         stated = stated_noise(touches) if fixed is None or _flat_only(touches) else fixed
-        return recognize(replace(base, touches=tuple(t.samples for t in touches), noise=stated),
+        return recognize(replace(request, touches=tuple(t.samples for t in touches), noise=stated),
                          replace(options, noise=stated, reach=options.reach if reach is None else reach))
 
     return run

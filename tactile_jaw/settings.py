@@ -7,17 +7,22 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from hand_driver.units import RAD_PER_TICK
+from hand_driver.units import rad_per_tick
 from recognizer.profiles import get_profile
 
 #: a touch cut short (out of reach or contact) is still used with this many samples
 #: (with all of them when fewer were planned)
 MIN_SAMPLES_PER_TOUCH = 7
-#: deviation of a pad's angle ψ (and of a sample's tangent angle φ = ψ − π/2): ψ = β + q1 +
-#: q2, each joint quantized to a tick (uniform, σ = tick/√12), so σ_φ = √2·(2π/4096)/√12 =
-#: 6.3e-4 rad. The samples' position deviations come from each touch's own envelope fit
-#: (tactile_jaw.pipeline.stated_noise; docs/exploration.md#the-stated-noise)
-PHI_SIGMA = math.sqrt(2.0) * RAD_PER_TICK / math.sqrt(12.0)
+
+
+def phi_sigma(joints) -> float:
+    """Deviation of a pad's angle ψ (and of a sample's tangent angle φ = ψ − π/2): ψ = β + q1 +
+    q2, each joint quantized to a tick of its model (uniform, σ = tick/√12), so σ_φ =
+    √(Σ_j tick_j²/12) (X-series: √2·(2π/4,096)/√12 = 6.3e-4 rad). The samples' position
+    deviations come from each touch's own envelope fit (tactile_jaw.pipeline.stated_noise;
+    docs/exploration.md#the-stated-noise)."""
+    return math.sqrt(sum(float(rad_per_tick(j.ticks_per_rev)) ** 2 for j in joints) / 12.0)
+
 #: what a run log's header ``settings.noise`` says when the noise was stated from the touches
 #: (older logs hold the fixed noise mapping their run stated, and replay with it)
 NOISE_FROM_TOUCHES = "per-touch"

@@ -66,6 +66,7 @@ def _replay(args, contents) -> list[str]:
     from tactile_jaw.flat import recognized_touches
     from tactile_jaw.pipeline import clear_of_corners, logged_felt, make_recognizer, stated_noise, too_few_clear, \
         workspace_reach
+    from tactile_jaw.separation import jaw_ticks_per_rev
     from tactile_jaw.settings import ExploreSettings
 
     header = contents.header
@@ -93,7 +94,7 @@ def _replay(args, contents) -> list[str]:
     stop = last_stop(contents.events)
     stopped = stop.get("message") if stop is not None else None
     try:
-        recognition = final_answer(recognize_touches, touches, settings, stopped).to_json()
+        recognition = final_answer(recognize_touches, touches, settings, stopped, jaw_ticks_per_rev(config)).to_json()
     except InputError as exc:
         if len(touches) >= len(usable):
             raise

@@ -54,7 +54,7 @@ def run(args) -> int:
     if not found:
         print(f"no servo answered on {args.port} (ids {args.ids}, baud {args.baud})")
         return 0
-    print(f"{'id':>3}  {'model':<12} {'number':>6}  {'firmware':>8}  {'baud':>8}")
+    print(f"{'id':>3}  {'model':<16} {'number':>6}  {'firmware':>8}  {'baud':>8}")
     for s in found:
-        print(f"{s.id:>3}  {s.model_name:<12} {s.model_number:>6}  {s.firmware:>8}  {s.baudrate:>8}")
+        print(f"{s.id:>3}  {s.model_name:<16} {s.model_number:>6}  {s.firmware:>8}  {s.baudrate:>8}")
     return 0

@@ -1,4 +1,4 @@
-"""The emulated servo bus: X-series servos behind a pseudo-terminal.
+"""The emulated servo bus: servos of any supported model behind a pseudo-terminal.
 
 (Just over 400 lines: every instruction of Protocol 2.0 is served here, beside the
 simulated clock it advances.)
@@ -13,7 +13,9 @@ simulated time (``time_scale`` × wall clock) before each packet is served; when
 scene has an object and ``hand_driver.sim.physics.ContactWorld`` is available, every
 step is constrained so that no pad penetrates the object (unbounded or finite: curve,
 closing segments and corners) (joint angles from ticks use
-the *truth* config: zero_tick, direction), and a blocked servo's current rises.
+the *truth* config: zero_tick, direction), and a blocked servo's current rises. The errors
+the truth config declares (backlash, link and pad compliance: hand_driver.sim.errors) lie
+between the servos' encoders and the links the contact world moves; none declared, none.
 """
 
 from __future__ import annotations
@@ -31,10 +33,11 @@ from typing import Sequence
 
 import numpy as np
 
-from hand_driver.config import JawConfig, JointConfig
+from hand_driver.config import JawConfig, JointConfig, declares_errors
 from hand_driver.control_table import BAUD_RATES
 from hand_driver.control_table import model as model_spec
 from hand_driver.sim import protocol as P
+from hand_driver.sim.errors import ServoErrors
 from hand_driver.sim.faults import FaultPlan
 from hand_driver.sim.servo import EmulatedServo
 from hand_driver.units import rad_to_ticks_exact, ticks_to_rad
@@ -73,6 +76,9 @@ class EmulatedBus:
         self.truth_joints = joints_of(truth)
         if len(self.truth_joints) != len(self.joints):
             raise ValueError("truth config and config have different numbers of joints")
+        for j, t in zip(self.joints, self.truth_joints):
+            if j.model != t.model:
+                raise ValueError(f"joint id {j.id} is {j.model} in the config but {t.model} in the truth config")
         self.faults = faults if faults is not None else FaultPlan()
         self.time_scale = float(time_scale)
         self.wire_timing = wire_timing
@@ -86,7 +92,10 @@ class EmulatedBus:
         self._order = [int(j.id) for j in self.joints]
         self._zero = np.array([float(j.zero_tick) for j in self.truth_joints])
         self._dir = np.array([float(j.direction) for j in self.truth_joints])
+        self._per_rev = np.array([float(j.ticks_per_rev) for j in self.truth_joints])
         self._truth = truth
+        #: the declared errors of the truth jaw (None: it declares none)
+        self.errors = ServoErrors(truth) if isinstance(truth, JawConfig) and declares_errors(truth) else None
         self.lock = threading.RLock()
         self.world = None
         self.place(scene)
@@ -128,6 +137,13 @@ class EmulatedBus:
         (None): what a person does between calibration placements."""
         with self.lock:
             self.world = _contact_world(self._truth, scene) if scene is not None else None
+
+    def link_angles(self) -> np.ndarray:
+        """The truth jaw's link angles now (rad, config order): the encoders' angles less the
+        declared errors' gap (backlash and compliance; for tests against exact geometry)."""
+        with self.lock:
+            motor = ticks_to_rad([self.servos[i].pos for i in self._order], self._zero, self._dir, self._per_rev)
+            return motor if self.errors is None else motor - self.errors.gap
 
     def vanish(self) -> None:
         """The adapter disappears: the pty is closed, the port path stops existing."""
@@ -190,16 +206,38 @@ class EmulatedBus:
             for _ in range(n):
                 pos = [s.pos for s in servos]
                 prop = [s.propose(h) for s in servos]
-                if self.world is not None and prop != pos:
-                    q_from = ticks_to_rad(pos, self._zero, self._dir)
-                    q_to = ticks_to_rad(prop, self._zero, self._dir)
+                if self.errors is not None:
+                    prop = self._step_with_errors(pos, prop)
+                elif self.world is not None and prop != pos:
+                    q_from = ticks_to_rad(pos, self._zero, self._dir, self._per_rev)
+                    q_to = ticks_to_rad(prop, self._zero, self._dir, self._per_rev)
                     q = np.asarray(self.world.constrain(q_from, q_to), dtype=float)
-                    prop = list(rad_to_ticks_exact(q, self._zero, self._dir))
+                    prop = list(rad_to_ticks_exact(q, self._zero, self._dir, self._per_rev))
                 for s, p in zip(servos, prop):
                     s.settle(float(p), h)
             for s in servos:
                 s.publish(dt)
             self.sim_time += dt
+            if self.errors is not None:
+                self._judge_load(servos)
+
+    def _step_with_errors(self, pos: list[float], prop: list[float]) -> list[float]:
+        """One substep through the declared errors: the motors' proposed angles become the
+        links' (play, load side, compliance), the contact world constrains those, and the
+        motors end where the links let them (hand_driver.sim.errors)."""
+        e = self.errors
+        world_from = e.world_angles(ticks_to_rad(pos, self._zero, self._dir, self._per_rev))
+        world_to, gap = e.target(world_from, ticks_to_rad(prop, self._zero, self._dir, self._per_rev))
+        world = (np.asarray(self.world.constrain(world_from, world_to), dtype=float)
+                 if self.world is not None else world_to)
+        return list(rad_to_ticks_exact(e.settle(world, gap), self._zero, self._dir, self._per_rev))
+
+    def _judge_load(self, servos: list[EmulatedServo]) -> None:
+        """The pads' contact forces from the servos' present currents (for the next span)."""
+        currents = [None if not s.spec.has_current_sensing
+                    else d * s.get("present_current") * s.spec.current_unit_ma for s, d in zip(servos, self._dir)]
+        motor = ticks_to_rad([s.pos for s in servos], self._zero, self._dir, self._per_rev)
+        self.errors.judge_load(self.world, self.errors.world_angles(motor), currents)
 
     def wait_idle(self, quiet_s: float = 0.02, timeout: float = 10.0) -> None:
         """Return once the bus has had nothing to serve for ``quiet_s`` (for tests: the pty

@@ -1,4 +1,5 @@
-"""One emulated X-series servo: control-table memory and motion toward its goal.
+"""One emulated servo of any supported model (X-series or DYNAMIXEL-P): control-table memory
+and motion toward its goal.
 
 Memory follows the model's control table (hand_driver.control_table): reads return the
 bytes; writes check access (read-only items, EEPROM while torque is on → access error),
@@ -8,19 +9,23 @@ position mode the servo follows a trapezoidal profile (Profile Velocity/Accelera
 0 means unlimited, capped by Velocity Limit) toward Goal Position. The host of the servo
 (the emulated bus) may block the motion (a pad touching the object): Present Current
 then rises with the gap between trajectory and actual position, clipped at Goal Current
-(or Current Limit); it is 0 while the shaft follows its trajectory freely.
+in the modes where the e-Manual says Goal Current caps it (X: current and current-based
+position; P: current, velocity, position and extended position), else at Current Limit;
+it is 0 while the shaft follows its trajectory freely. The rise is the same for every model
+in physical units (``BLOCKED_MA_PER_RAD``), so a P-series joint lags by the same angle as an
+X-series one at the same current.
 A hardware error (set on demand, or the overload error after a sustained stall) turns
 torque off, sets the alert bit of every status packet and keeps torque off until reboot,
 as real servos do.
 
 What the ROBOTIS e-Manual describes and other tools rely on (docs/driver.md):
 
-- **Bus Watchdog (98)**, 20 ms units: while torque is on and the watchdog is set, a gap
-  between instruction packets longer than it stops the servo where it is and the item
-  reads −1; the goal items (100, 102, 104, 116) then refuse writes with a data range
-  error until 0 is written to 98. The servo holds its position until a new goal arrives.
-- **Indirect addressing**: Indirect Data k (224…, 634…) reads and writes the byte that
-  Indirect Address k (168…, 578…) points to, with that item's own checks.
+- **Bus Watchdog** (X 98, P 546), 20 ms units: while torque is on and the watchdog is set, a
+  gap between instruction packets longer than it stops the servo where it is and the item
+  reads −1; the goal items (PWM, current, velocity, position) then refuse writes with a
+  data range error until 0 is written to it. The servo holds its position until a new goal.
+- **Indirect addressing**: Indirect Data k reads and writes the byte that Indirect Address
+  k points to (X: 168…/224…, 578…/634…; P: 168…/634…), with that item's own checks.
 - **Factory reset** (all / all but ID / all but ID and baud rate) and **clear** (the
   multi-turn revolution count; refused while moving), **Startup Configuration (60)** bit 0
   (torque on after a reboot), **Secondary ID (12)** (handled by the bus).
@@ -37,22 +42,29 @@ from __future__ import annotations
 import math
 
 from hand_driver.control_table import (
-    COMMON_FIELDS,
-    INDIRECT_BLOCKS,
-    MODE_CURRENT,
     MODE_CURRENT_BASED_POSITION,
     MODE_EXTENDED_POSITION,
     MODE_POSITION,
-    TABLE_SIZE,
+    MODELS,
     ModelSpec,
     decode_field,
     encode_field,
 )
 from hand_driver.sim import protocol as P
-from hand_driver.units import TICKS_PER_REV, WATCHDOG_STEP_MS, accel_unit_ticks_s2, velocity_unit_ticks_s
+from hand_driver.units import WATCHDOG_STEP_MS, accel_unit_ticks_s2, velocity_unit_ticks_s
 
-# Present Current per tick of trajectory-following error when blocked (raw current units).
-CURRENT_PER_TICK = 8.0
+_XM430 = MODELS["XM430-W350"]
+#: Present Current of a blocked servo per angle of its shaft's lag behind its trajectory
+#: (mA/rad): 8 XM430 units (21.5 mA) per XM430 tick, 14.0 A/rad, the same for every model
+BLOCKED_MA_PER_RAD = 8.0 * _XM430.current_unit_ma / _XM430.rad_per_tick
+#: Present Load (XL430, 0.1 % of maximum torque) per tick of lag
+LOAD_PER_TICK = 5.0
+
+
+def current_per_tick(spec: ModelSpec) -> float:
+    """A blocked servo's Present Current per tick of lag, in its model's raw units."""
+    return BLOCKED_MA_PER_RAD * spec.rad_per_tick / spec.current_unit_ma
+
 #: the goal items a Bus Watchdog error makes read-only
 _GOALS = ("goal_pwm", "goal_current", "goal_velocity", "goal_position")
 #: overload model (module docstring): blocked at ≥ this fraction of the maximum current or
@@ -61,19 +73,28 @@ OVERLOAD_FRACTION = 1.0 / 3.0
 OVERLOAD_TIME_S = 5.0
 #: Hardware Error Status (70) / Shutdown (63) bit of the overload error
 OVERLOAD_BIT = 0x20
-#: Indirect Data address → the Indirect Address item pointing for it
-_INDIRECT = {COMMON_FIELDS[f"indirect_data_{k}"].addr: COMMON_FIELDS[f"indirect_address_{k}"]
-             for first, last, _, _ in INDIRECT_BLOCKS for k in range(first, last + 1)}
+_MOTION_MODES = (MODE_POSITION, MODE_EXTENDED_POSITION, MODE_CURRENT_BASED_POSITION)
+
+
+def _indirect_map(spec: ModelSpec) -> dict:
+    """Indirect Data address → the Indirect Address item pointing for it."""
+    return {spec.field(f"indirect_data_{k}").addr: spec.field(f"indirect_address_{k}")
+            for b in spec.indirect for k in range(b.first, b.last + 1)}
 
 
 class EmulatedServo:
     """Control-table memory plus a simple motion model, stepped by the bus."""
 
-    def __init__(self, dxl_id: int, spec: ModelSpec, firmware: int = 46, position: int = 2048,
+    def __init__(self, dxl_id: int, spec: ModelSpec, firmware: int = 46, position: int | None = None,
                  baud_register: int = 3):
         self.spec = spec
         self.firmware = firmware
-        self.mem = bytearray(TABLE_SIZE)
+        self.table_size = spec.table_size
+        self._indirect = _indirect_map(spec)
+        self._current_per_tick = current_per_tick(spec) if spec.has_current_sensing else 0.0
+        self.mem = bytearray(self.table_size)
+        if position is None:
+            position = spec.position_center
         self._eeprom_defaults = {"id": dxl_id, "baud_rate": baud_register}
         self._reset_eeprom()
         self._reset_ram(position)
@@ -134,12 +155,12 @@ class EmulatedServo:
     def _target(self, addr: int) -> int:
         """Where a byte access at ``addr`` lands: through Indirect Data, the address its
         Indirect Address points to; elsewhere ``addr`` itself."""
-        ptr = _INDIRECT.get(addr)
+        ptr = self._indirect.get(addr)
         return addr if ptr is None else decode_field(ptr, self.mem, ptr.addr)
 
     def read(self, addr: int, length: int) -> tuple[int, bytes]:
         """(error code, data) of a Read of ``length`` bytes from ``addr``."""
-        if length == 0 or addr + length > TABLE_SIZE:
+        if length == 0 or addr + length > self.table_size:
             return P.ERR_ACCESS, b""
         return 0, bytes(self.mem[self._target(a)] for a in range(addr, addr + length))
 
@@ -156,7 +177,7 @@ class EmulatedServo:
 
     def check_write(self, addr: int, data: bytes) -> int:
         """The error code a Write would get (0: accepted)."""
-        if not data or addr + len(data) > TABLE_SIZE:
+        if not data or addr + len(data) > self.table_size:
             return P.ERR_ACCESS
         for a, d in self._runs(addr, data):
             code = self._check_direct(a, d)
@@ -166,7 +187,7 @@ class EmulatedServo:
 
     def _check_direct(self, addr: int, data: bytes) -> int:
         end = addr + len(data)
-        if not data or end > TABLE_SIZE:
+        if not data or end > self.table_size:
             return P.ERR_ACCESS
         touched = [f for f in self.spec.fields.values() if f.addr < end and addr < f.addr + f.size]
         if not touched:
@@ -243,7 +264,7 @@ class EmulatedServo:
         self._reset_ram(self.pos)
         self.overload_s = 0.0
         self.booting_until = now + boot_time
-        if self.get("startup_configuration") & 1:
+        if "startup_configuration" in self.spec.fields and self.get("startup_configuration") & 1:
             self._put("torque_enable", 1)
 
     def factory_reset(self, option: int, now: float, boot_time: float) -> int:
@@ -260,12 +281,14 @@ class EmulatedServo:
         return 0
 
     def clear_revolutions(self, params: bytes) -> int:
-        """Clear (0x10): Present Position back into one turn (0..4095), only while stopped."""
+        """Clear (0x10): Present Position back into one turn (X: 0..4,095), only while stopped."""
         if params != P.CLEAR_REVOLUTION:
             return P.ERR_DATA_RANGE
         if abs(self.actual_vel) > 0.0 or abs(self.vel) > 0.0:
             return P.ERR_RESULT_FAIL
-        turns = math.floor(self.pos / TICKS_PER_REV) * TICKS_PER_REV
+        lo, _ = self.spec.position_range
+        n = self.spec.ticks_per_rev
+        turns = math.floor((self.pos - lo) / n) * n
         self.pos -= turns
         self.traj -= turns
         self._put("goal_position", self.get("goal_position") - turns)
@@ -275,12 +298,11 @@ class EmulatedServo:
     def propose(self, dt: float) -> float:
         """Advance the trajectory by dt; return where the shaft would be if unobstructed."""
         mode = self.get("operating_mode")
-        if (not self.torque_on or self.halted
-                or mode not in (MODE_POSITION, MODE_EXTENDED_POSITION, MODE_CURRENT_BASED_POSITION)):
+        if not self.torque_on or self.halted or mode not in _MOTION_MODES:
             self.traj, self.vel = self.pos, 0.0
             return self.pos
         goal = float(self.get("goal_position"))
-        vmax = self.get("profile_velocity") or self.get("velocity_limit") or 1023
+        vmax = self.get("profile_velocity") or self.get("velocity_limit") or self.spec.field("velocity_limit").hi
         vmax *= velocity_unit_ticks_s(self.spec)
         amax = self.get("profile_acceleration") * accel_unit_ticks_s2(self.spec)
         err = goal - self.traj
@@ -325,12 +347,12 @@ class EmulatedServo:
         gap = self.traj - self.pos
         if "present_current" in self.spec.fields:
             limit = self.get("current_limit")
-            if self.get("operating_mode") in (MODE_CURRENT, MODE_CURRENT_BASED_POSITION):
+            if self.get("operating_mode") in self.spec.current_capped_modes:
                 limit = min(limit, abs(self.get("goal_current")))  # Goal Current caps only these modes
-            cur = max(-limit, min(limit, CURRENT_PER_TICK * gap)) if self.torque_on else 0.0
+            cur = max(-limit, min(limit, self._current_per_tick * gap)) if self.torque_on else 0.0
             self._put("present_current", int(round(cur)))
         else:  # XL430: Present Load in 0.1 % of max torque
-            self._put("present_load", int(round(max(-1000.0, min(1000.0, 5.0 * gap)))) if self.torque_on else 0)
+            self._put("present_load", int(round(max(-1000.0, min(1000.0, LOAD_PER_TICK * gap)))) if self.torque_on else 0)
         vunit = velocity_unit_ticks_s(self.spec)
         pv = int(round(self.actual_vel / vunit))
         self._put("present_velocity", pv)

@@ -158,7 +158,7 @@ def test_pads_stop_at_the_scene_object_with_current_at_the_cap(jaw_config):
         assert all(0 < abs(s.ticks[k] - zero[k]) < 600 for k in blocked)  # stopped short of the goal
         cap = 2.69 * round(300.0 / 2.69)
         assert np.allclose(np.abs(s.current_ma[blocked]), cap) and not s.moving.any()
-        q = units.ticks_to_rad(s.ticks, zero, np.array([j.direction for j in cfg.joints]))
+        q = units.ticks_to_rad(s.ticks, zero, np.array([j.direction for j in cfg.joints]), 4096)
         # the reading is the true angle rounded to a tick: one tick open, no pad is inside
         tick = 2 * np.pi / 4096
         assert not sim.world.penetrates(q + np.array([tick, 0.0, -tick, 0.0]))
@@ -176,7 +176,7 @@ def test_free_servo_current_is_zero_and_blocked_current_tracks_gap(bus_joints):
     with EmulatedBus(joints) as sim, JointBus(sim.port, 1_000_000, joints, timeout_s=0.25, watchdog_ms=0) as bus:
         sim.world = Wall()
         bus.set_goal_current(2.69 * 150)
-        wall_tick = units.rad_to_ticks(0.1, 2048, 1)
+        wall_tick = units.rad_to_ticks(0.1, 2048, 1, 4096)
         bus.write_goal_ticks([wall_tick + 10])
         sim.step(2.0)
         s = bus.read_state()

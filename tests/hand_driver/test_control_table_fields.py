@@ -6,12 +6,13 @@ from hypothesis import given, settings, strategies as st
 
 from hand_driver.control_table import COMMON_FIELDS, FIELD_SIZES, MODELS, Field, decode_field, encode_field
 
-GOAL_POSITION = COMMON_FIELDS["goal_position"]  # 116, 4 bytes, signed
-PRESENT_CURRENT = MODELS["XM430-W350"].field("present_current")  # 126, 2 bytes, signed
-BUS_WATCHDOG = COMMON_FIELDS["bus_watchdog"]  # 98, 1 byte, signed
+XM = MODELS["XM430-W350"]
+GOAL_POSITION = XM.field("goal_position")  # 116, 4 bytes, signed
+PRESENT_CURRENT = XM.field("present_current")  # 126, 2 bytes, signed
+BUS_WATCHDOG = XM.field("bus_watchdog")  # 98, 1 byte, signed
 MODEL_NUMBER = COMMON_FIELDS["model_number"]  # 0, 2 bytes, unsigned
-PROFILE_VELOCITY = COMMON_FIELDS["profile_velocity"]  # 112, 4 bytes, unsigned
-TORQUE_ENABLE = COMMON_FIELDS["torque_enable"]  # 64, 1 byte, unsigned
+PROFILE_VELOCITY = XM.field("profile_velocity")  # 112, 4 bytes, unsigned
+TORQUE_ENABLE = XM.field("torque_enable")  # 64, 1 byte, unsigned
 
 
 def test_known_bytes():
@@ -83,6 +84,7 @@ def test_round_trip_and_twos_complement(size, signed, data):
 
 
 def test_profile_block_is_contiguous():
-    # the profile is written as one 8-byte block 108..115 (JointBus.set_profile_raw)
-    acc = COMMON_FIELDS["profile_acceleration"]
-    assert PROFILE_VELOCITY.addr == acc.addr + acc.size
+    # the profile is written as one 8-byte block (X 108..115, P 556..563; JointBus.set_profile_raw)
+    for spec in MODELS.values():
+        acc, vel = spec.field("profile_acceleration"), spec.field("profile_velocity")
+        assert vel.addr == acc.addr + acc.size and acc.size == vel.size == 4

@@ -125,14 +125,15 @@ def test_quantized_touch_within_the_quantization_bound(case):
     trunc_pt = np.hypot(exact.x - x, exact.y - y)
     trunc_s = np.abs(exact.s - s)
     bound = kin.quantization_bound(f, q)
-    assert np.max(bound["phi"]) == pytest.approx(2 * units.HALF_TICK_RAD, rel=1e-6)  # ψ = β + q1 + q2
+    half = units.half_tick_rad(kin.resolutions(f.joints))
+    assert np.max(bound["phi"]) == pytest.approx(np.sum(half), rel=1e-6)  # ψ = β + q1 + q2
     rng = np.random.default_rng(7)
     for _ in range(5):
         phase = rng.uniform(-0.5, 0.5, size=2)  # a different encoder offset each time
         joints = tuple(type(j)(**{**j.__dict__, "zero_tick": j.zero_tick + p}) for j, p in zip(f.joints, phase))
         ticks = np.rint(kin.angles_to_ticks(joints, q))
         qq = kin.ticks_to_angles(joints, ticks)
-        assert np.max(np.abs(qq - q)) <= units.HALF_TICK_RAD + 1e-12
+        assert np.all(np.abs(qq - q) <= half + 1e-12)
         line = kin.finger_pad_line(f, qq)
         c = kin.touch_from_pad_lines(line.psi, line.d)
         phi_err = np.abs(np.vectorize(math.remainder)(c.phi - phis, 2 * math.pi))
@@ -148,18 +149,19 @@ def test_quantization_rms_matches_the_uniform_model():
     h = 1e-6
     base = kin.touch_from_pad_lines(*(lambda ln: (ln.psi, ln.d))(kin.finger_pad_line(f, q)))
     var = np.zeros_like(base.x)
+    tick = units.rad_per_tick(kin.resolutions(f.joints))
     for i in range(q.shape[0]):
         for k in range(2):
             dq = np.zeros_like(q)
             dq[i, k] = h
             a = kin.touch_from_pad_lines(*(lambda ln: (ln.psi, ln.d))(kin.finger_pad_line(f, q + dq)))
             b = kin.touch_from_pad_lines(*(lambda ln: (ln.psi, ln.d))(kin.finger_pad_line(f, q - dq)))
-            var += ((a.x - b.x) / (2 * h)) ** 2
-    predicted = math.sqrt(float(np.mean(var)) * units.RAD_PER_TICK**2 / 12)
+            var += ((a.x - b.x) / (2 * h)) ** 2 * tick[k] ** 2
+    predicted = math.sqrt(float(np.mean(var)) / 12)
     rng = np.random.default_rng(1)
     errs = []
     for _ in range(60):
-        qq = q + rng.uniform(-units.HALF_TICK_RAD, units.HALF_TICK_RAD, q.shape)
+        qq = q + rng.uniform(-0.5, 0.5, q.shape) * tick
         ln = kin.finger_pad_line(f, qq)
         errs.append(kin.touch_from_pad_lines(ln.psi, ln.d).x - base.x)
     measured = float(np.sqrt(np.mean(np.square(errs))))

@@ -145,7 +145,7 @@ def test_move_line_keeps_its_speeds_per_second_and_passes_its_via_lines_without_
                 times[name], reached, passed = _timed_move(jaw, "left", psi1, _edge(psi1), via=[out], **kw)
                 gap = min(abs(float(p.d) - out[1]) + 50.0 * abs(float(p.psi) - psi0) for p in passed)
                 assert gap < 1.0
-            end = jaw.pad_line(jaw.last_state, "left")  # reached: every joint within REACHED_TICKS
+            end = jaw.pad_line(jaw.last_state, "left")  # reached: every joint within REACHED_RAD
             assert reached and float(end.d) == pytest.approx(_edge(psi1), abs=0.7)
             assert float(end.psi) == pytest.approx(psi1, abs=math.radians(0.6))
     assert times["via"] < times["two"]

@@ -26,16 +26,18 @@ def tactile_in_process():
     return _tactile_in_process
 
 
-def _demo_answer(scene: dict, path, log=None) -> dict:
+def _demo_answer(scene: dict, path, log=None, config: str | None = None) -> dict:
     path.write_text(yaml.safe_dump(scene))
     rc, out, err = _tactile_in_process(["demo", "--scene", str(path), "--json"]
-                                       + (["--log", str(log)] if log is not None else []))
+                                       + (["--log", str(log)] if log is not None else [])
+                                       + (["--config", config] if config is not None else []))
     assert "Traceback" not in err and rc == 0, err
     return json.loads(out)
 
 
 @pytest.fixture(scope="session")
 def demo_answer():
-    """``demo_answer(scene mapping, scene path, log path or None)`` → the JSON answer of
-    ``tactile demo`` on that scene, written to the path (exit 0, no traceback asserted)."""
+    """``demo_answer(scene mapping, scene path, log path or None, config=None)`` → the JSON
+    answer of ``tactile demo`` on that scene (with that jaw config), written to the path
+    (exit 0, no traceback asserted)."""
     return _demo_answer

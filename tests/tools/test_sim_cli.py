@@ -65,6 +65,24 @@ def test_sim_prints_port_first_and_exits_cleanly_on_signal(sig):
         proc.wait()
 
 
+def test_sim_of_the_p_series_jaw_scans_as_p_series_servos():
+    proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "sim", "--config", "config/jaw-p.yaml"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        port = proc.stdout.readline().strip()
+        servos = json.loads(scan(port, "1-5", 4, "--json").stdout)["servos"]
+        assert [(s["id"], s["model"], s["model_number"]) for s in servos] == [
+            (1, "PH54-100-S500-R", 2010), (2, "PH42-020-S300-R", 2000), (3, "PH54-100-S500-R", 2010),
+            (4, "PH42-020-S300-R", 2000)]
+        table = scan(port, "1-2", 2).stdout.splitlines()
+        assert table[1].split() == ["1", "PH54-100-S500-R", "2010", "46", "1000000"]
+        proc.send_signal(signal.SIGTERM)
+        assert proc.wait(timeout=30) == 0
+    finally:
+        proc.kill()
+        proc.wait()
+
+
 def test_scan_table_and_errors():
     with EmulatedBus([JointConfig(7, "XC330-M288", 2048, 50.0)]) as sim:
         out = scan(sim.port, "5-8", 1)

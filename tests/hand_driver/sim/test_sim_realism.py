@@ -17,7 +17,7 @@ class WallAtTick2100:
 
     def constrain(self, q_from, q_to):
         q = list(q_to)
-        q[0] = min(q[0], float(ticks_to_rad(2100, 2048, 1)))
+        q[0] = min(q[0], float(ticks_to_rad(2100, 2048, 1, 4096)))
         return q
 
 

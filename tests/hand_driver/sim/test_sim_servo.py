@@ -6,7 +6,7 @@ import pytest
 
 from hand_driver.control_table import MODELS, model
 from hand_driver.sim import protocol as P
-from hand_driver.sim.servo import CURRENT_PER_TICK, EmulatedServo
+from hand_driver.sim.servo import EmulatedServo, current_per_tick
 
 
 def le(v, n):
@@ -80,7 +80,7 @@ def test_blocked_servo_current_rises_to_goal_current_and_free_is_zero():
         s.settle(wall, 0.002)
         s.publish(0.002)
         gap = s.traj - wall
-        assert s.get("present_current") == min(100, round(CURRENT_PER_TICK * gap))
+        assert s.get("present_current") == min(100, round(current_per_tick(s.spec) * gap))
         assert s.get("moving") == 0
     assert s.get("present_current") == 100
 
