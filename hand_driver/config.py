@@ -40,7 +40,7 @@ from hand_driver.control_table import model as model_spec
 from hand_driver.units import WATCHDOG_STEP_MS, deg_to_ticks_exact
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_write
-from tactile_common.yamlfile import read_yaml
+from tactile_common.yamlfile import read_yaml_located
 
 
 @dataclass(frozen=True)
@@ -301,9 +301,9 @@ def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointCon
 
 
 def _finger(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> FingerConfig:
-    m = c.mapping(obj, key, ("name", "base", "joints", "pad"), required=("name", "joints", "pad"))
+    m = c.mapping(obj, key, ("name", "base", "joints", "pad"), required=("name", "base", "joints", "pad"))
     name = c.string(m, key, "name", None)
-    base_obj = c.mapping(m.get("base", {}), f"{key}.base", ("x", "y", "angle_deg"))
+    base_obj = c.mapping(m["base"], f"{key}.base", ("x", "y", "angle_deg"), required=("x", "y", "angle_deg"))
     base = BasePose(
         x=c.number(base_obj, f"{key}.base", "x", 0.0, -1000.0, 1000.0),
         y=c.number(base_obj, f"{key}.base", "y", 0.0, -1000.0, 1000.0),
@@ -420,8 +420,9 @@ def parse_config(obj: Any, source: str = "<memory>", recorded: bool = False) -> 
 
 def load_config(path: str | Path) -> JawConfig:
     """Read and validate a jaw YAML file; :class:`InputError` (one line) if it is bad."""
-    obj = read_yaml(path, "jaw config")
-    return parse_config(obj, str(path))
+    obj, lines = read_yaml_located(path, "jaw config")
+    with lines.errors(str(path)):
+        return parse_config(obj, str(path))
 
 
 def perturbed(cfg: JawConfig, rng, zero_deg: float = 1.75, link_mm: float = 1.0,

@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Mapping
 
+from recognizer.limits import MIN_NOISE
 from tactile_common.errors import InputError, check_keys
 from tactile_common.inputs import finite_number
 
@@ -45,4 +46,7 @@ def parse_noise(raw, where: str = "noise") -> NoiseModel:
     for k, v in vals.items():
         if v < 0:
             raise InputError(f"{where}.{k}: must be >= 0, got {v}")
+        if 0 < v < MIN_NOISE:
+            raise InputError(f"{where}.{k}: {v:.3g} is below {MIN_NOISE:g} (mm, rad): no instrument resolves "
+                             f"errors that small; write 0 for exact data")
     return NoiseModel(**vals)

@@ -26,7 +26,7 @@ from recognizer.noise import NoiseModel, parse_noise
 from recognizer.profiles import PROFILES
 from tactile_common.errors import InputError, check_keys
 from tactile_common.inputs import check_path_text, finite_number
-from tactile_common.yamlfile import read_yaml
+from tactile_common.yamlfile import read_yaml_located
 
 __all__ = ["Scene", "SceneObject", "load_scene", "check_profile", "ALL_CLASSES"]
 
@@ -89,17 +89,20 @@ class Scene:
 
 
 def _parse_pose(raw, where: str) -> Pose:
-    if raw is None:
-        return Pose()
+    """``{theta | theta_deg, x, y}``, every one required (a pose left out is not the palm)."""
     if not isinstance(raw, Mapping):
         raise InputError(f"{where}: must be a mapping with theta (or theta_deg), x, y")
     check_keys(raw, _POSE_KEYS, where)
     if "theta" in raw and "theta_deg" in raw:
         raise InputError(f"{where}: give theta or theta_deg, not both")
-    theta = finite_number(raw["theta"], f"{where}.theta") if "theta" in raw else 0.0
-    if "theta_deg" in raw:
-        theta = math.radians(finite_number(raw["theta_deg"], f"{where}.theta_deg"))
-    return Pose(theta, finite_number(raw.get("x", 0.0), f"{where}.x"), finite_number(raw.get("y", 0.0), f"{where}.y"))
+    values = {k: finite_number(v, f"{where}.{k}") for k, v in raw.items()}
+    for key in ("x", "y"):
+        if key not in raw:
+            raise InputError(f"{where}.{key}: missing (required: theta or theta_deg, x, y)")
+    if "theta" not in raw and "theta_deg" not in raw:
+        raise InputError(f"{where}.theta: missing (required: theta or theta_deg, x, y)")
+    theta = values["theta"] if "theta" in raw else math.radians(values["theta_deg"])
+    return Pose(theta, values["x"], values["y"])
 
 
 def _parse_object(raw, where: str) -> SceneObject:
@@ -115,8 +118,10 @@ def _parse_object(raw, where: str) -> SceneObject:
     side = raw.get("side", DEFAULT_SIDE[cls])
     if not isinstance(side, str) or side not in ("left", "right"):
         raise InputError(f"{where}.side: must be 'left' or 'right', got {side!r}")
-    pose = _parse_pose(raw.get("pose"), f"{where}.pose")
     extent, closure = _parse_bounds(raw, cls, where)
+    if "pose" not in raw:
+        raise InputError(f"{where}.pose: missing (required: where the object is, {{theta, x, y}} in the hand frame)")
+    pose = _parse_pose(raw["pose"], f"{where}.pose")
     if extent is None:
         return SceneObject(cls, params, pose, side)
     obj = SceneObject(cls, params, pose, side, extent, closure)
@@ -247,11 +252,17 @@ def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Sce
         if not path.is_absolute() and not _exists(path) and base_dir is not None:
             path = Path(base_dir) / path
         source, stem = str(path), path.stem
-        raw = read_yaml(path, "scene")
-        if not isinstance(raw, Mapping):
-            raise InputError(f"{source}: a scene must be a mapping with classes (and optionally object)")
+        raw, lines = read_yaml_located(path, "scene")
+        with lines.errors(source):
+            return _parse_scene(raw, source, stem)
     else:
         raise InputError(f"scene: must be a path or a mapping, got {type(path_or_mapping).__name__}")
+    return _parse_scene(raw, source, stem)
+
+
+def _parse_scene(raw, source: str, stem: str) -> Scene:
+    if not isinstance(raw, Mapping):
+        raise InputError(f"{source}: a scene must be a mapping with classes (and optionally object)")
 
     check_keys(raw, sorted(_TOP_KEYS), source)
     name = raw.get("name", stem)

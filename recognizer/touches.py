@@ -10,6 +10,7 @@ profile, alpha, reach: {x, y, radius}}``. Every problem raises a one-line :class
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Mapping
@@ -63,6 +64,9 @@ def parse_reach(raw, where: str = "options.reach") -> Reach:
     vals = _required(raw, ("x", "y", "radius"), where, "a reach")
     if vals["radius"] <= 0:
         raise InputError(f"{where}.radius: must be > 0, got {vals['radius']}")
+    for k, v in vals.items():
+        if abs(v) > limits.MAX_COORD_MM:
+            raise InputError(f"{where}.{k}: |{v:.6g}| mm is beyond {limits.MAX_COORD_MM:g} mm")
     return Reach(**vals)
 
 
@@ -169,6 +173,10 @@ def _parse_noise_factor(raw, n: int, where: str) -> np.ndarray:
     factor = np.array(rows)
     if np.max(np.abs(factor)) > limits.MAX_COORD_MM or not np.any(factor):
         raise InputError(f"{where}: entries must be within {limits.MAX_COORD_MM:g} and not all zero")
+    tiny = np.abs(factor[(factor != 0) & (np.abs(factor) < limits.MIN_NOISE)])
+    if tiny.size:
+        raise InputError(f"{where}: an entry of {float(tiny[0]):.3g} is below {limits.MIN_NOISE:g} (mm, rad): no "
+                         f"instrument resolves errors that small; write 0 for none")
     return factor
 
 
@@ -215,7 +223,9 @@ def _parse_cov(raw: Mapping, where: str) -> np.ndarray:
         cov = np.array(rows)
         if abs(cov[0, 1] - cov[1, 0]) > 1e-12 * (abs(cov[0, 1]) + 1e-300):
             raise InputError(f"{where}.cov: must be a symmetric 2x2 matrix")
-        if cov[0, 0] < 0 or cov[1, 1] < 0 or cov[0, 0] * cov[1, 1] - cov[0, 1] ** 2 < -1e-12 * (cov[0, 0] * cov[1, 1] + 1e-300):
+        # c01² ≤ c00·c11 compared as square roots: no product of two large variances overflows
+        if cov[0, 0] < 0 or cov[1, 1] < 0 or \
+                abs(cov[0, 1]) > math.sqrt(cov[0, 0]) * math.sqrt(cov[1, 1]) * (1.0 + 1e-12) + 1e-300:
             raise InputError(f"{where}.cov: must be positive semi-definite")
     for i, k in enumerate(("sigma_kappa", "sigma_kappa_s")):
         if k in raw:
@@ -290,7 +300,7 @@ def parse_request(obj, base_dir=None, source: str = "request") -> Request:
     if noise is None and scene is not None:
         noise = scene.noise
     limits.check_magnitudes(touches, noise, source)
-    options = _parse_options(obj.get("options") or {}, f"{source}.options")
+    options = _parse_options({} if obj.get("options") is None else obj["options"], f"{source}.options")
     if "profile" in options:
         check_profile(options["profile"], f"{source}.options.profile")
     return Request(tuple(touches), scene, classes, noise, options, source)

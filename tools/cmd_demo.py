@@ -20,7 +20,7 @@ from tools.cmd_explore import (
     default_path,
     finish,
     progress_printer,
-    read_yaml_mapping,
+    read_yaml_mapping_located,
     run_session,
 )
 
@@ -89,16 +89,18 @@ def run(args) -> int:
     from hand_driver.sim.server import EmulatedBus
     from tactile_common.errors import InputError
     from recognizer.scene import load_scene
-    from tactile_jaw.plan import open_pose
+    from tactile_jaw.plan import check_in_workspace, open_pose
 
     scene_path = default_path(args.scene)
     config_path = args.config or default_path("config/jaw.yaml")
     check_outputs(args, args.log, [config_path, args.truth_config, scene_path])
-    scene_mapping = read_yaml_mapping(scene_path, "scene")
-    scene = load_scene(scene_mapping, source=scene_path)
-    if scene.object is None:
-        raise InputError(f"{scene_path}: the scene has no object for the emulator to show (key 'object')")
+    scene_mapping, lines = read_yaml_mapping_located(scene_path, "scene")
     config = load_config(config_path)
+    with lines.errors(scene_path):
+        scene = load_scene(scene_mapping, source=scene_path)
+        if scene.object is None:
+            raise InputError(f"{scene_path}: object: missing: the scene has no object for the emulator to show")
+        check_in_workspace(scene.object, config, scene_path)
     truth = load_config(args.truth_config) if args.truth_config else None
     say = progress_printer()
     sys.setswitchinterval(5e-4)  # the emulator thread answers sooner while the SDK polls

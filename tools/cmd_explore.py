@@ -81,14 +81,16 @@ class Session:
     log_path: str | None
 
 
-def read_yaml_mapping(path: str, what: str) -> dict[str, Any]:
+def read_yaml_mapping_located(path: str, what: str):
+    """A YAML file that must be a mapping, and where its keys were written (YamlLines: its
+    ``errors(path)`` adds the line to a format's refusal)."""
     from tactile_common.errors import InputError
-    from tactile_common.yamlfile import read_yaml
+    from tactile_common.yamlfile import read_yaml_located
 
-    obj = read_yaml(path, what)
+    obj, lines = read_yaml_located(path, what)
     if not isinstance(obj, dict):
-        raise InputError(f"{path}: {what} must be a YAML mapping")
-    return obj
+        raise InputError(f"{path}: line 1: {what} must be a YAML mapping")
+    return obj, lines
 
 
 def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, log_path: str | None,
@@ -282,11 +284,13 @@ def run(args) -> int:
     config = load_config(args.config or default_path("config/jaw.yaml"))
     log_path = args.log or default_log_path()
     check_outputs(args, log_path, [args.config or default_path("config/jaw.yaml"), args.scene])
-    scene_mapping = read_yaml_mapping(args.scene, "scene") if args.scene else None
-    if scene_mapping is not None:
+    scene_mapping = None
+    if args.scene:
         from recognizer.scene import load_scene
 
-        load_scene(scene_mapping, source=args.scene)  # validate before the jaw moves
+        scene_mapping, lines = read_yaml_mapping_located(args.scene, "scene")
+        with lines.errors(args.scene):
+            load_scene(scene_mapping, source=args.scene)  # validate before the jaw moves
     port = args.port or config.bus.port
     say = progress_printer()
     session = run_session(port=port, config=config, scene_mapping=scene_mapping,

@@ -2,7 +2,10 @@
 
 The touches are rebuilt from the log's joint readings and touch boundaries with the
 jaw config and settings of the log's header (tactile_jaw.pipeline.logged_touches), then
-recognized exactly as during the run.
+recognized exactly as during the run. The log is verified first (hand_driver.log.read_log:
+record numbers, hash chain, cross-checks): damage is "line N: ..." (exit 2); a log cut by a
+crash replays up to its last whole record and says it was cut; a version 1 log says it
+cannot be verified. ``--verify`` only checks.
 """
 
 from __future__ import annotations
@@ -27,12 +30,46 @@ def add_arguments(parser) -> None:
                         help="also write the run as a ROS 2 bag (MCAP, CDR messages: docs/formats.md#ros-2-bag)")
     parser.add_argument("--force", action="store_true",
                         help="overwrite an existing --touches or --mcap file (never the log)")
+    parser.add_argument("--verify", action="store_true",
+                        help="only check the log (record numbers, hash chain, cross-checks) and say whether it is "
+                             "whole, cut or cannot be verified; no recognition")
 
 
 def run(args) -> int:
+    from hand_driver.log import read_log
+    from tools.ros_bag import require_ros
+
+    if args.touches:
+        check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
+    if args.mcap:
+        require_ros()
+        check_output(args.mcap, force=args.force, reads=[args.log, args.touches], flag="--mcap")
+    contents = read_log(args.log)
+    if args.verify:
+        sys.stdout.write(f"{args.log}: {contents.integrity()}\n")
+        return 0
+    caveat = contents.truncated or not contents.verified
+    try:
+        answer, lines = _replay(args, contents)
+    except InputError as exc:
+        if caveat:  # one line still: what went wrong, and that the log was cut or is unverified
+            raise InputError(f"{exc}; {contents.integrity()}") from None
+        raise
+    if args.json:
+        sys.stdout.write(json.dumps(answer, allow_nan=False) + "\n")
+        if caveat:
+            sys.stderr.write(f"tactile replay: {args.log}: {contents.integrity()}\n")
+    else:
+        sys.stdout.write("\n".join(lines) + "\n")
+    return EXIT_REFUSED if answer["class"] == "unclassified" else EXIT_RECOGNIZED
+
+
+def _replay(args, contents) -> tuple[dict, list[str]]:
+    """Recognize from the log's contents (read and verified): the answer (a refusal with its
+    advice when no class is answered) and the lines for people; writes ``--touches`` and
+    ``--mcap``."""
     # here, not at the top: tactile --help imports every command module (tools.cli), and these
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
-    from hand_driver.log import read_log
     from tactile_jaw.choose import JawReach, last_stop
     from tactile_jaw.decide import final_answer
     from tactile_jaw.flat import is_flat
@@ -41,14 +78,8 @@ def run(args) -> int:
         workspace_reach
     from tactile_jaw.separation import jaw_ticks_per_rev
     from tactile_jaw.settings import ExploreSettings
-    from tools.ros_bag import require_ros, write_bag
+    from tools.ros_bag import write_bag
 
-    if args.touches:
-        check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
-    if args.mcap:
-        require_ros()
-        check_output(args.mcap, force=args.force, reads=[args.log, args.touches], flag="--mcap")
-    contents = read_log(args.log)
     header = contents.header
     config = contents.jaw_config()
     try:
@@ -86,17 +117,12 @@ def run(args) -> int:
         answer = refusal(recognition, too_few, stop, config)
     if args.mcap:
         write_bag(args.mcap, contents, answer)
-    status = EXIT_REFUSED if answer["class"] == "unclassified" else EXIT_RECOGNIZED
-    if args.json:
-        sys.stdout.write(json.dumps(answer, allow_nan=False) + "\n")
-        return status
     faults = [e for e in contents.events if e.get("kind") == "fault"]
     lines = [*answer_lines(answer),
-             f"from {len(touches)} usable touches of {len(contents.touches)} in {len(contents.readings)} readings"
-             + (" (the log ends mid-line: the run was cut)" if contents.truncated else "")]
+             f"from {len(touches)} usable touches of {len(contents.touches)} in {len(contents.readings)} readings",
+             f"log: {contents.integrity()}"]
     if faults:
         lines.append(f"the run ended with a fault: {faults[-1]['message']}")
     if args.mcap:
         lines.append(f"mcap: {args.mcap}")
-    sys.stdout.write("\n".join(lines) + "\n")
-    return status
+    return answer, lines

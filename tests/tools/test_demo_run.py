@@ -57,6 +57,7 @@ def test_demo_log_has_header_readings_touches_and_result(demo):
     assert h["config"]["fingers"][0]["name"] == "left" and h["scene"]["object"]["class"] == "ellipse"
     assert h["versions"]["dynamixel-sdk"] and h["start_time"]
     assert len(contents.readings) > 100 and not contents.truncated
+    assert contents.verified and contents.cut is None and contents.integrity().startswith("whole: ")
     t = [r["t"] for r in contents.readings]
     assert all(b >= a for a, b in zip(t, t[1:]))  # monotonic timestamps
     assert contents.touches and all(x.outcome is not None for x in contents.touches)
