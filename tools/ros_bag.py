@@ -17,6 +17,7 @@ base, docs/formats.md's hand frame), and per finger ``<f>_base``, ``<f>_link1``,
 from __future__ import annotations
 
 import datetime
+import io
 import json
 import math
 import os
@@ -230,6 +231,7 @@ class BagWriter:
         """Live: this record's messages to disk (their own chunk), like the log's line."""
         if self.durable:
             self.writer.flush()
+            self.stream.flush()
             os.fsync(self.stream.fileno())
 
     # -- records ----------------------------------------------------------------------------
@@ -361,9 +363,11 @@ class BaggedLog(RunLog):
 
     def __init__(self, path, mcap_path, *, force: bool):
         super().__init__(path)
-        self.stream = create_exclusive(mcap_path, force=force, flag="--mcap")
+        # create_exclusive's file is unbuffered: a raw write may take part of what it is given,
+        # which the MCAP writer does not retry, so its bytes go through a buffer flushed per record
+        self.stream = io.BufferedWriter(create_exclusive(mcap_path, force=force, flag="--mcap"))
         try:
-            self.bag = BagWriter(getattr(self.stream, "buffer", self.stream), durable=True)  # its bytes
+            self.bag = BagWriter(self.stream, durable=True)
         except BaseException:
             self.stream.close()
             raise
