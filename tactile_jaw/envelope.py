@@ -84,7 +84,7 @@ class EnvelopeFit:
 MIN_DEGREE = 3
 #: degrees of freedom the order rule leaves the pad lines' χ² about the fit (the smoothness
 #: test, tactile_jaw.pipeline.off_curve_reason): a polynomial with fewer left follows a kink
-DEGREE_DOF = 2
+DEGREE_DOF = 3
 
 
 def degrees(n: int) -> range:
