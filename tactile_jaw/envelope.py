@@ -52,15 +52,15 @@ class JointNoise:
 
 def joint_noise(finger) -> JointNoise:
     """The noise a finger's joints declare (hand_driver.config): each joint's tick (its
-    model's resolution) and its offset over a touch: after calibration its zero's standard
-    error ``zero_sigma_deg`` (the touches load each joint one way, as the calibration's did,
-    so a backlash is in the calibrated zero: kinematics.contact_load_signs); uncalibrated,
-    half its declared ``backlash_deg`` (which side of the dead band the gear rests on, the
-    zero tick does not say)."""
+    model's resolution) and its offset over a touch, σ = √(z² + (b/2)²): z its zero's standard
+    error after calibration (``zero_sigma_deg``; the touches load each joint one way, so the
+    part of a backlash the calibration's face touches saw is in the calibrated zero:
+    kinematics.contact_load_signs), b its declared ``backlash_deg`` (which side of the dead
+    band the gear rests on is not known: the calibration's pad-end touches may load a joint
+    the other way; measured, docs/exploration.md#the-stated-noise)."""
     ticks = rad_per_tick(kin.resolutions(finger.joints))
     return JointNoise(tuple(float(t) for t in ticks),
-                      tuple(math.radians(j.zero_sigma_deg if j.zero_sigma_deg > 0.0 else j.backlash_deg / 2.0)
-                            for j in finger.joints))
+                      tuple(math.radians(math.hypot(j.zero_sigma_deg, j.backlash_deg / 2.0)) for j in finger.joints))
 
 
 @dataclass(frozen=True)
