@@ -481,10 +481,48 @@ def config_to_mapping(cfg: JawConfig) -> dict:
     }
 
 
-def dump_config(cfg: JawConfig, path: str | Path, header: str | None = None) -> None:
+def dump_config(cfg: JawConfig, path: str | Path, header: str | None = None, source: str | Path | None = None) -> None:
     """Write ``cfg`` as YAML that :func:`load_config` reads back to an equal config, whole
-    or not at all (tactile_common.files.atomic_write)."""
-    text = yaml.safe_dump(config_to_mapping(cfg), sort_keys=False, default_flow_style=None, width=120)
+    or not at all (tactile_common.files.atomic_write). With ``source``, the config file
+    ``cfg`` was made from (a calibration's), its text is kept, comments and layout included,
+    and only the values that differ are rewritten (:func:`_rewritten`)."""
+    text = _rewritten(cfg, Path(source)) if source is not None else None
+    if text is None:
+        text = yaml.safe_dump(config_to_mapping(cfg), sort_keys=False, default_flow_style=None, width=120)
     if header:
         text = "".join(f"# {line}\n" for line in header.splitlines()) + text
     atomic_write(path, text)
+
+
+def _rewritten(cfg: JawConfig, source: Path) -> str | None:
+    """``source``'s text with the values of ``cfg`` that differ from the config it holds
+    written in place (ruamel.yaml's round trip keeps comments, flow style and key order),
+    or None when the source cannot be read back so (then the config is written plainly)."""
+    from io import StringIO
+
+    from ruamel.yaml import YAML
+
+    rt = YAML()
+    rt.width = 4096  # keep each flow mapping on its line
+    rt.indent(mapping=2, sequence=4, offset=2)  # config/jaw.yaml's "  - " lists
+    try:
+        doc = rt.load(source.read_text(encoding="utf-8"))
+        old = config_to_mapping(load_config(source))
+    except Exception:  # noqa: BLE001 - any failure only loses the comments
+        return None
+    _set_changed(doc, old, config_to_mapping(cfg))
+    out = StringIO()
+    rt.dump(doc, out)
+    return out.getvalue()
+
+
+def _set_changed(doc, old, new) -> None:
+    """Set in ``doc`` (the source's round-trip tree) every leaf where ``new`` differs from
+    ``old`` (the source's own values, defaults included), recursing through mappings and lists."""
+    for key in (new.keys() if isinstance(new, dict) else range(len(new))):
+        was, now = old[key], new[key]
+        if isinstance(now, (dict, list)) and isinstance(doc.get(key) if isinstance(doc, dict) else doc[key],
+                                                        (dict, list)):
+            _set_changed(doc[key], was, now)
+        elif was != now:
+            doc[key] = now

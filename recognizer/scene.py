@@ -22,12 +22,13 @@ from typing import Mapping
 import numpy as np
 
 from recognizer.curves import CURVES, DEFAULT_SIDE, Pose, validate_params
+from recognizer.noise import NoiseModel, parse_noise
+from recognizer.profiles import PROFILES
 from tactile_common.errors import InputError, check_keys
-from recognizer.touches import NoiseModel, finite_number, parse_noise
-from tactile_common.inputs import check_path_text
+from tactile_common.inputs import check_path_text, finite_number
 from tactile_common.yamlfile import read_yaml
 
-__all__ = ["Scene", "SceneObject", "load_scene", "ALL_CLASSES"]
+__all__ = ["Scene", "SceneObject", "load_scene", "check_profile", "ALL_CLASSES"]
 
 ALL_CLASSES: tuple[str, ...] = tuple(CURVES)
 _TOP_KEYS = {"name", "classes", "object", "profile", "noise", "description"}
@@ -215,15 +216,12 @@ def _segments_meet(p, q, a, b, eps: float) -> np.ndarray:
     return proper | overlap
 
 
-def _check_profile(profile, where: str) -> str | None:
+def check_profile(profile, where: str) -> str | None:
+    """``profile`` when it names one of recognizer.profiles.PROFILES (or is None)."""
     if profile is None:
         return None
     if not isinstance(profile, str):
         raise InputError(f"{where}: must be a profile name (string), got {profile!r}")
-    try:
-        from recognizer.profiles import PROFILES  # owned by the estimation area
-    except ImportError:
-        return profile
     if profile not in PROFILES:
         raise InputError(f"{where}: unknown profile {profile!r}; allowed: {', '.join(PROFILES)}")
     return profile
@@ -267,7 +265,7 @@ def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Sce
             raise InputError(f"{source}: classes: unknown class {c!r}; allowed: {', '.join(CURVES)}")
     ordered = tuple(c for c in ALL_CLASSES if c in set(classes))
     obj = _parse_object(raw["object"], f"{source}: object") if raw.get("object") is not None else None
-    profile = _check_profile(raw.get("profile"), f"{source}: profile")
+    profile = check_profile(raw.get("profile"), f"{source}: profile")
     noise = parse_noise(raw["noise"], f"{source}: noise") if raw.get("noise") is not None else None
     desc = raw.get("description")
     return Scene(name, ordered, obj, profile, noise, source, {"description": desc} if desc else {})

@@ -10,7 +10,6 @@ profile, alpha, reach: {x, y, radius}}``. Every problem raises a one-line :class
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Mapping
@@ -18,7 +17,10 @@ from typing import Mapping
 import numpy as np
 
 from recognizer import limits
+from recognizer.noise import NoiseModel, parse_noise
+from recognizer.scene import ALL_CLASSES, check_profile, load_scene
 from tactile_common.errors import InputError, check_keys
+from tactile_common.inputs import finite_number
 
 __all__ = ["NoiseModel", "Reach", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
            "MIN_TOUCHES", "check_touch_count", "finite_number"]
@@ -35,29 +37,6 @@ _CURVATURE_KEYS = ("kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s")
 _CONTACT_KEYS = ("x", "y", "phi") + _CURVATURE_KEYS
 _OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float, "reach": dict}
 ESTIMATORS = ("auto", "central", "poly")
-
-
-@dataclass(frozen=True)
-class NoiseModel:
-    """Measurement noise: standard deviation of a tangent angle (rad) and of a position (mm);
-    optionally ``pos_along``, the deviation of a sample's position along the boundary's
-    tangent when it differs from across it (``pos``): a flat pad fixes the tangent line
-    well but the contact point along it only from neighbouring readings."""
-
-    phi: float = 0.0
-    pos: float = 0.0
-    pos_along: float | None = None
-
-    @property
-    def along(self) -> float:
-        """σ of a position along the tangent (``pos_along``, else ``pos``)."""
-        return self.pos if self.pos_along is None else self.pos_along
-
-    def to_json(self) -> dict:
-        out = {"phi": self.phi, "pos": self.pos}
-        if self.pos_along is not None:
-            out["pos_along"] = self.pos_along
-        return out
 
 
 @dataclass(frozen=True)
@@ -146,31 +125,10 @@ class Request:
     source: str = "<request>"
 
 
-def finite_number(v, where: str) -> float:
-    """``v`` as a float when it is a finite int or float (not a bool); else a one-line
-    InputError naming ``where``. The one number check of the request and scene readers."""
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise InputError(f"{where}: must be a finite number, got {v!r}")
-    return float(v)
-
-
 def _vec(v, where: str) -> np.ndarray:
     if not isinstance(v, (list, tuple)):
         raise InputError(f"{where}: must be a list of numbers")
     return np.array([finite_number(e, f"{where}[{i}]") for i, e in enumerate(v)], dtype=float)
-
-
-def parse_noise(raw, where: str = "noise") -> NoiseModel:
-    if not isinstance(raw, Mapping):
-        raise InputError(f"{where}: must be a mapping {{phi: rad, pos: mm, pos_along: mm (optional)}}")
-    check_keys(raw, ("phi", "pos", "pos_along"), where)
-    vals = {k: finite_number(raw.get(k, 0.0), f"{where}.{k}") for k in ("phi", "pos")}
-    if raw.get("pos_along") is not None:
-        vals["pos_along"] = finite_number(raw["pos_along"], f"{where}.pos_along")
-    for k, v in vals.items():
-        if v < 0:
-            raise InputError(f"{where}.{k}: must be >= 0, got {v}")
-    return NoiseModel(**vals)
 
 
 def _parse_samples(raw: Mapping, where: str) -> SamplesTouch:
@@ -303,8 +261,6 @@ def check_touch_count(n: int, classes, source: str = "request") -> None:
 def parse_request(obj, base_dir=None, source: str = "request") -> Request:
     """Validate a decoded JSON request; ``base_dir`` resolves a relative scene path
     after the current directory."""
-    from recognizer.scene import ALL_CLASSES, load_scene
-
     if not isinstance(obj, Mapping):
         raise InputError(f"{source}: must be a JSON object with 'touches'")
     check_keys(obj, sorted(_TOP_KEYS), source)
@@ -336,7 +292,5 @@ def parse_request(obj, base_dir=None, source: str = "request") -> Request:
     limits.check_magnitudes(touches, noise, source)
     options = _parse_options(obj.get("options") or {}, f"{source}.options")
     if "profile" in options:
-        from recognizer.scene import _check_profile
-
-        _check_profile(options["profile"], f"{source}.options.profile")
+        check_profile(options["profile"], f"{source}.options.profile")
     return Request(tuple(touches), scene, classes, noise, options, source)

@@ -367,17 +367,20 @@ def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noi
     log's; default: each call's :func:`stated_noise` of its touches) and the settings'
     recognizer options. Each call extends one validated request with the touches' samples
     (already checked by :func:`feel`): nothing is parsed again per decision. A call's
-    ``reach`` replaces ``reach`` for that call (where its ``next_touch`` may point)."""
+    ``reach`` replaces ``reach`` for that call (where its ``next_touch`` may point); its
+    ``classes`` (a subset of the scene's) fits only those (tactile_jaw.separation)."""
     source = "exploration"
     loaded = load_scene(scene) if scene is not None else None
     fixed = parse_noise(dict(noise), f"{source}.noise") if noise is not None else None
     base = Request((), loaded, loaded.classes if loaded is not None else ALL_CLASSES, fixed, {}, source)
     options = RecognizeOptions(noise=fixed, reach=reach, **settings.recognize)
 
-    def run(touches: Sequence[FeltTouch], reach: Reach | None = None) -> Recognition:
-        check_touch_count(len(touches), base.classes, source)
+    def run(touches: Sequence[FeltTouch], reach: Reach | None = None,
+            classes: Sequence[str] | None = None) -> Recognition:
+        request = base if classes is None else replace(base, classes=tuple(c for c in base.classes if c in classes))
+        check_touch_count(len(touches), request.classes, source)
         stated = stated_noise(touches) if fixed is None or _flat_only(touches) else fixed
-        return recognize(replace(base, touches=tuple(t.samples for t in touches), noise=stated),
+        return recognize(replace(request, touches=tuple(t.samples for t in touches), noise=stated),
                          replace(options, noise=stated, reach=options.reach if reach is None else reach))
 
     return run

@@ -40,7 +40,11 @@ def truth_lines(recognition: dict, obj) -> list[str]:
     """The true object and the relative parameter error, when the classes agree."""
     params = " ".join(f"{k}={v:.3f}" for k, v in obj.params.items())
     p = obj.pose
-    lines = [f"true:       {obj.cls} {params} | pose theta={p.theta:.4f} rad x={p.x:.2f} mm y={p.y:.2f} mm"]
+    head = f"{obj.cls} {params}" if params else obj.cls
+    lines = [f"true:       {head} | pose theta={p.theta:.4f} rad x={p.x:.2f} mm y={p.y:.2f} mm"]
+    if recognition["class"] == "unclassified":
+        lines.append(f"error:      no answer to compare: refused (the truth is {obj.cls})")
+        return lines
     if recognition["class"] != obj.cls:
         lines.append(f"error:      wrong class ({recognition['class']} for {obj.cls})")
         return lines
@@ -107,6 +111,6 @@ def run(args) -> int:
                              f"disk's edge, config 'workspace'): place it clear of them")
         session = run_session(port=sim.port, config=config, scene_mapping=scene_mapping, profile=args.profile,
                               log_path=args.log, force=args.force, clock_factory=lambda: LockstepClock(sim),
-                              bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say)
-    extra = truth_lines(session.recognition, scene.object) if session.recognition else []
+                              bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say, mcap_path=args.mcap)
+    extra = truth_lines(session.recognition or {"class": "unclassified"}, scene.object)
     return finish(session, args, config=config, truth=scene.object, extra_lines=extra)

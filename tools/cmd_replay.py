@@ -12,7 +12,8 @@ import sys
 
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_write, check_output
-from tools.cmd_explore import describe
+from tools.cli import EXIT_RECOGNIZED, EXIT_REFUSED
+from tools.cmd_explore import answer_lines, refusal
 
 HELP = "recognizes from a recorded run log (tactile explore/demo --log), no hardware"
 
@@ -22,7 +23,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print the recognition as JSON only (docs/formats.md)")
     parser.add_argument("--touches", metavar="FILE",
                         help="also write the rebuilt touches as a touches request (docs/formats.md; for tactile recognize)")
-    parser.add_argument("--force", action="store_true", help="overwrite an existing --touches file (never the log)")
+    parser.add_argument("--mcap", metavar="OUT",
+                        help="also write the run as a ROS 2 bag (MCAP, CDR messages: docs/formats.md#ros-2-bag)")
+    parser.add_argument("--force", action="store_true",
+                        help="overwrite an existing --touches or --mcap file (never the log)")
 
 
 def run(args) -> int:
@@ -35,10 +39,15 @@ def run(args) -> int:
     from tactile_jaw.flat import recognized_touches
     from tactile_jaw.pipeline import clear_of_corners, logged_felt, make_recognizer, stated_noise, too_few_clear, \
         workspace_reach
+    from tactile_jaw.separation import jaw_ticks_per_rev
     from tactile_jaw.settings import ExploreSettings
+    from tools.ros_bag import require_ros, write_bag
 
     if args.touches:
         check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
+    if args.mcap:
+        require_ros()
+        check_output(args.mcap, force=args.force, reads=[args.log, args.touches], flag="--mcap")
     contents = read_log(args.log)
     header = contents.header
     config = contents.jaw_config()
@@ -58,26 +67,36 @@ def run(args) -> int:
                              else stated_noise(touches).to_json() if touches else None),
                    "options": {**settings.recognize, "reach": workspace_reach(config).to_json()}}
         atomic_write(args.touches, json.dumps(request), flag="--touches")
-    if not touches:
-        raise InputError(f"{args.log}: no usable touch in the log ({len(contents.touches)} touches logged)")
-    recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
-                                        reach=JawReach(config, settings))
     stop = last_stop(contents.events)
-    stopped = stop.get("message") if stop is not None else None
-    try:
-        recognition = final_answer(recognize_touches, touches, settings, stopped).to_json()
-    except InputError as exc:
-        if len(touches) >= len(usable):
-            raise
-        recognition = too_few_clear(touches, len(usable), exc).to_json()  # as the exploration answered
+    recognition, too_few = None, None
+    if not touches:
+        too_few = f"no usable touch in the log ({len(contents.touches)} touches logged): too few to recognize"
+    else:
+        recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
+                                            reach=JawReach(config, settings))
+        try:
+            recognition = final_answer(recognize_touches, touches, settings,
+                                       stop.get("message") if stop is not None else None,
+                                       jaw_ticks_per_rev(config)).to_json()
+        except InputError as exc:  # fewer usable touches than any class needs: the exploration refused
+            recognition = too_few_clear(touches, len(usable), exc).to_json() if len(touches) < len(usable) else None
+            too_few = str(exc)
+    answer = recognition
+    if recognition is None or recognition["class"] == "unclassified":
+        answer = refusal(recognition, too_few, stop, config)
+    if args.mcap:
+        write_bag(args.mcap, contents, answer)
+    status = EXIT_REFUSED if answer["class"] == "unclassified" else EXIT_RECOGNIZED
     if args.json:
-        sys.stdout.write(json.dumps(recognition, allow_nan=False) + "\n")
-        return 0
+        sys.stdout.write(json.dumps(answer, allow_nan=False) + "\n")
+        return status
     faults = [e for e in contents.events if e.get("kind") == "fault"]
-    lines = [f"recognized: {describe(recognition)}",
+    lines = [*answer_lines(answer),
              f"from {len(touches)} usable touches of {len(contents.touches)} in {len(contents.readings)} readings"
              + (" (the log ends mid-line: the run was cut)" if contents.truncated else "")]
     if faults:
         lines.append(f"the run ended with a fault: {faults[-1]['message']}")
+    if args.mcap:
+        lines.append(f"mcap: {args.mcap}")
     sys.stdout.write("\n".join(lines) + "\n")
-    return 0
+    return status

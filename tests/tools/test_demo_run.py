@@ -117,7 +117,7 @@ def test_killed_demo_leaves_a_valid_log(tmp_path, tactile_in_process):
     assert len(contents.readings) >= 60
     assert [r["i"] for r in contents.readings] == list(range(len(contents.readings)))
     rc, _, err = tactile_in_process(["replay", str(log)])
-    assert rc in (0, 2) and "Traceback" not in err
+    assert rc in (0, 3) and "Traceback" not in err  # recognized, or refused: too few touches yet
 
 
 def test_explore_without_an_adapter_is_one_line_exit_1(tmp_path, tactile_in_process):
