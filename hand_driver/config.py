@@ -66,6 +66,7 @@ class JointConfig:
     current_limit_ma: float = 1000.0
     backlash_deg: float = 0.0  # gear dead band, full width (declared error)
     compliance_deg_per_nm: float = 0.0  # link and gear deflection per joint torque (declared error)
+    zero_sigma_deg: float = 0.0  # standard error of zero_tick after calibration (tactile calibrate writes it)
 
     @property
     def spec(self) -> ModelSpec:
@@ -264,7 +265,7 @@ def _watchdog_ms(c: _Checker, m: dict, default: int) -> int:
 
 def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointConfig:
     allowed = ("id", "model", "zero_tick", "link_mm", "direction", "min_deg", "max_deg", "current_limit_ma",
-               "backlash_deg", "compliance_deg_per_nm")
+               "backlash_deg", "compliance_deg_per_nm", "zero_sigma_deg")
     m = c.mapping(obj, key, allowed, required=("id", "model", "zero_tick", "link_mm"))
     d = JointConfig(0, "", 0, 0)
     model = c.string(m, key, "model", None, models)
@@ -284,6 +285,7 @@ def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointCon
         current_limit_ma=c.number(m, key, "current_limit_ma", d.current_limit_ma, 0.0, 10_000.0, lo_open=True),
         backlash_deg=c.number(m, key, "backlash_deg", d.backlash_deg, 0.0, 5.0),
         compliance_deg_per_nm=c.number(m, key, "compliance_deg_per_nm", d.compliance_deg_per_nm, 0.0, 10.0),
+        zero_sigma_deg=c.number(m, key, "zero_sigma_deg", d.zero_sigma_deg, 0.0, 5.0),
     )
     # Limits must stay inside one encoder turn of position mode (the model's Min/Max
     # Position Limit range).
@@ -469,7 +471,8 @@ def config_to_mapping(cfg: JawConfig) -> dict:
             "joints": [{"id": j.id, "model": j.model, "zero_tick": _num(j.zero_tick), "link_mm": _num(j.link_mm),
                         "direction": j.direction, "min_deg": _num(j.min_deg), "max_deg": _num(j.max_deg),
                         "current_limit_ma": _num(j.current_limit_ma),
-                        **_declared(j, ("backlash_deg", "compliance_deg_per_nm"))} for j in f.joints],
+                        **_declared(j, ("backlash_deg", "compliance_deg_per_nm", "zero_sigma_deg"))}
+                       for j in f.joints],
             "pad": {"side": f.pad.side, "offset_mm": _num(f.pad.offset_mm), "length_mm": _num(f.pad.length_mm),
                     **_declared(f.pad, ("compliance_mm_per_n",))},
         } for f in cfg.fingers],

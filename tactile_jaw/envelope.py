@@ -52,12 +52,15 @@ class JointNoise:
 
 def joint_noise(finger) -> JointNoise:
     """The noise a finger's joints declare (hand_driver.config): each joint's tick (its
-    model's resolution) and, for a declared ``backlash_deg`` b, an offset over the touch of
-    σ = b/2 (the gear rests against one side of its dead band, which side the zero tick
-    does not say)."""
+    model's resolution) and its offset over a touch, σ = √(z² + (b/2)²): z its zero's standard
+    error after calibration (``zero_sigma_deg``; the touches load each joint one way, so the
+    part of a backlash the calibration's face touches saw is in the calibrated zero:
+    kinematics.contact_load_signs), b its declared ``backlash_deg`` (which side of the dead
+    band the gear rests on is not known: the calibration's pad-end touches may load a joint
+    the other way; measured, docs/exploration.md#the-stated-noise)."""
     ticks = rad_per_tick(kin.resolutions(finger.joints))
     return JointNoise(tuple(float(t) for t in ticks),
-                      tuple(math.radians(j.backlash_deg) / 2.0 for j in finger.joints))
+                      tuple(math.radians(math.hypot(j.zero_sigma_deg, j.backlash_deg / 2.0)) for j in finger.joints))
 
 
 @dataclass(frozen=True)
@@ -84,7 +87,7 @@ class EnvelopeFit:
 MIN_DEGREE = 3
 #: degrees of freedom the order rule leaves the pad lines' χ² about the fit (the smoothness
 #: test, tactile_jaw.pipeline.off_curve_reason): a polynomial with fewer left follows a kink
-DEGREE_DOF = 2
+DEGREE_DOF = 3
 
 
 def degrees(n: int) -> range:

@@ -154,12 +154,19 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
         # so its samples (and their deviations) come from the smoother fit of constant ρ
         # (degree 2); κ, κ_s stay the cubic's
         smooth = fit_envelope(f, q, lines, degree=SMOOTH_DEGREE)
+        if rough(smooth) is not None:  # fine encoders: a constant ρ does not explain the lines
+            return out(f"{finger}: arc length not increasing, and {rough(smooth)}", c, u, fit, off_curve=True)
         fit = replace(fit, contacts=smooth.contacts, sigma_across=smooth.sigma_across,
                       sigma_along=smooth.sigma_along, noise_factor=smooth.noise_factor)
         c = fit.contacts
         u = _pad_u(lines, c)
     if np.any(np.diff(c.s) <= 0.0):
         return out(f"{finger}: arc length not increasing: the pad rolled on an edge or corner", c, u, fit)
+    loads = kin.contact_load_signs(f, q[c.order], np.stack([c.x, c.y], axis=-1))
+    turned = [k for k in range(loads.shape[1]) if np.ptp(loads[:, k]) > 0 and f.joints[k].backlash_deg > 0.0]
+    if turned:
+        return out(f"{finger}: the load on joint {f.joints[turned[0]].id} reversed during the touch (its backlash "
+                   f"would not stay one offset)", c, u, fit)
     length = f.pad.length_mm
     if np.any(u < EDGE_MARGIN_MM) or np.any(u > length - EDGE_MARGIN_MM):
         return out(f"{finger}: contact {float(np.min(u)):.1f}..{float(np.max(u)):.1f} mm along the pad, "
@@ -169,20 +176,32 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
 
 def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None:
     """A rolling touch that failed the smoothness test, felt again on its longest run of
-    consecutive samples (in ψ order, at least ``MIN_SAMPLES_PER_TOUCH``) that passes every
-    check, the fewest samples dropped from its ends first; None if none does. A roll that
-    ran onto the object's end corner or a closing segment past the curve's end: fine encoders
-    see its last lines pivot (at 1,000,000 ticks per turn a pivot and an arc of radius 20 mm
-    differ by 0.01 mm over 2°, 50 times the lines' noise) and the curved part is kept."""
+    consecutive samples (in ψ order) that passes every check once the fewest samples are
+    dropped from its ends, and one more beside each cut (the roll left the curved part
+    somewhere within that step: a first line past the end differs from the arc's
+    continuation by ρδ²/2, a few µm, which a polynomial follows and then places that contact
+    0.1–0.3 mm off along the pad); it must keep ``MIN_SAMPLES_PER_TOUCH``. None if no run
+    does. With fine encoders a roll that ran onto the object's end corner shows it (at
+    1,000,000 ticks per turn a pivot and an arc of radius 20 mm differ by 0.01 mm over 2°,
+    50 times the lines' noise) and its curved part is kept."""
     order = np.argsort([s.psi for s in touch.samples], kind="stable")
     n = order.size
     for drop in range(1, n - MIN_SAMPLES_PER_TOUCH + 1):
         for head in range(drop + 1):
-            keep = sorted(int(i) for i in order[head : n - (drop - head)])
-            again = feel(config, replace(touch, samples=[touch.samples[i] for i in keep]), len(keep), trim=False)
-            if again.problem is None:
-                return again
+            tail = drop - head
+            lo, hi = head + (head > 0), n - tail - (tail > 0)
+            if hi - lo < MIN_SAMPLES_PER_TOUCH:
+                continue
+            if feel(config, _subset(touch, order[head : n - tail]), n - drop, trim=False).problem is not None:
+                continue
+            again = feel(config, _subset(touch, order[lo:hi]), hi - lo, trim=False)
+            return again if again.problem is None else None
     return None
+
+
+def _subset(touch: TouchResult, taken) -> TouchResult:
+    """The touch with only the samples ``taken`` (indices), in the order taken."""
+    return replace(touch, samples=[touch.samples[i] for i in sorted(int(k) for k in taken)])
 
 
 def _pad_u(lines: kin.PadLine, contacts: kin.TouchEnvelope) -> np.ndarray:
