@@ -243,7 +243,7 @@ class JointBus:
 
     def _configure(self) -> None:
         for j, spec in zip(self.joints, self.specs):
-            number = self._call(f"ping of servo {j.id}", lambda i=j.id: self._ph.ping(self._port, i))[0]
+            number = self.first_contact(f"ping of servo {j.id}", lambda i=j.id: self._ph.ping(self._port, i), j.id)[0]
             if number != spec.number:
                 found = MODELS_BY_NUMBER.get(number)
                 raise ModelMismatchError(
@@ -414,6 +414,18 @@ class JointBus:
             self._check(out[-2], out[-1], what, dxl_id)
             return out
         return self._attempt(what, once)
+
+    def first_contact(self, what: str, fn: Callable, dxl_id: int):
+        """A first transaction with servo ``dxl_id`` (:meth:`_call`); its timeout says what a
+        silent bus usually is (no power, another baud rate or id) and the command that finds out."""
+        try:
+            return self._call(what, fn, dxl_id)
+        except BusTimeout as exc:
+            bauds = ",".join(str(b) for b in sorted(BAUD_RATES))
+            raise BusTimeout(f"{exc}: nothing answers as servo {dxl_id} at {self.baudrate} baud on {self.port_name}; "
+                             f"is the jaw powered, at this baud rate and id? `tactile scan --port {self.port_name} "
+                             f"--baud {bauds}` lists the servos that answer and their baud rates "
+                             f"(then set the jaw config's bus.baudrate and ids)") from None
 
     def _read(self, dxl_id: int, f) -> int:
         data = self._call(f"read of {f.name} from servo {dxl_id}",
@@ -714,3 +726,56 @@ def scan(port: str, ids: Sequence[int], baudrates: Sequence[int], **attempts) ->
     """Servos answering on ``port`` (no jaw config needed); ``attempts``: see JointBus.scan."""
     with JointBus(port, int(baudrates[0]), (), handle_signals=False) as bus:
         return bus.scan(ids, baudrates, **attempts)
+
+
+#: how long :func:`clock_rate` lets the servo's Realtime Tick run (s of wall clock): 1 ms of
+#: tick resolution and a few ms of read latency make the rate good to about 1 %
+CLOCK_WINDOW_S = 0.3
+#: reads of the tick at each end of the window, the one with the shortest round trip kept
+CLOCK_READS = 5
+#: Realtime Tick (ms) wraps at this
+_TICK_WRAP_MS = 32768
+
+
+@dataclass(frozen=True)
+class ClockRate:
+    """Servo seconds per wall-clock second (1 for real hardware; an emulator's time scale),
+    from ``ticks_ms`` of servo ``dxl_id``'s Realtime Tick over ``wall_s``."""
+
+    rate: float
+    dxl_id: int
+    ticks_ms: int
+    wall_s: float
+
+    def describe(self) -> str:
+        return (f"servo {self.dxl_id}'s Realtime Tick counted {self.ticks_ms} ms in {self.wall_s:.3f} s "
+                f"of wall clock: {self.rate:.2f}x")
+
+
+def clock_rate(port: str, baudrate: int, joint: JointConfig, window_s: float = CLOCK_WINDOW_S) -> ClockRate | None:
+    """How fast the bus's clock runs against the wall clock, from one servo's Realtime Tick
+    (a millisecond counter, mod 32768) read ``window_s`` apart, each end the read of
+    ``CLOCK_READS`` with the shortest round trip, timed at its midpoint. Opens the port without configuring anything (no torque, no watchdog), before
+    a command's real session. None when the model has no Realtime Tick."""
+    field = model_spec(joint.model).fields.get("realtime_tick")
+    if field is None:
+        return None
+    with JointBus(port, int(baudrate), (), handle_signals=False) as bus:
+        def timed() -> tuple[int, float]:
+            """The tick of the read with the shortest round trip of CLOCK_READS (a loaded host
+            answers late; the shortest round trip pins the tick's wall time best)."""
+            best = None
+            for _ in range(CLOCK_READS):
+                t0 = time.monotonic()
+                data = bus.first_contact(f"read of realtime_tick from servo {joint.id}", lambda: bus._ph.readTxRx(
+                    bus._port, int(joint.id), field.addr, field.size), int(joint.id))[0]
+                t1 = time.monotonic()
+                if best is None or t1 - t0 < best[0]:
+                    best = (t1 - t0, decode_field(field, data), (t0 + t1) / 2.0)
+            return best[1], best[2]
+
+        tick0, t0 = timed()
+        time.sleep(window_s)
+        tick1, t1 = timed()
+    ticks = (tick1 - tick0) % _TICK_WRAP_MS
+    return ClockRate(ticks / 1000.0 / (t1 - t0), int(joint.id), ticks, t1 - t0)

@@ -463,10 +463,25 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     poses = tuple({"x": float(w[2 * i]), "y": float(w[2 * i + 1])} if model.cls == "circle"
                   else {"normal_angle": float(w[2 * i]), "offset_mm": float(w[2 * i + 1])}
                   for i in model.placements)
-    return CalibrationResult(config=apply_params(cfg, res.x[:nv], bands), estimates=estimates, reference_poses=poses,
+    return CalibrationResult(config=_with_zero_sigmas(apply_params(cfg, res.x[:nv], bands), estimates),
+                             estimates=estimates, reference_poses=poses,
                              rms_before_mm=float(np.sqrt(np.mean(before.fun**2))),
                              rms_after_mm=float(np.sqrt(np.mean(r**2))), max_after_mm=float(np.max(np.abs(r))),
                              n_readings=len(used), n_reclassified=n_reclassified, n_dropped=n_dropped,
                              loads=tuple((f"{f.name}.joint{j.id}", *counts.get(k, (0, 0)), k in bands)
                                          for k, (f, j) in enumerate((f, j) for f in cfg.fingers for j in f.joints)
                                          if counts))
+
+
+def _with_zero_sigmas(cfg: JawConfig, estimates) -> JawConfig:
+    """The calibrated config with each joint's ``zero_sigma_deg``, its zero tick's standard
+    error in degrees: what the exploration states as each joint's offset over a touch
+    (tactile_jaw.envelope.joint_noise: the zero error and a backlash measured under the same
+    load as the touches, docs/exploration.md#the-stated-noise)."""
+    se = {e.name: e.se for e in estimates if e.kind == "zero_tick"}
+    fingers = []
+    for f in cfg.fingers:
+        joints = tuple(dataclasses.replace(j, zero_sigma_deg=float(se[f"{f.name}.joint{j.id}.zero_tick"])
+                                           * 360.0 / j.spec.ticks_per_rev) for j in f.joints)
+        fingers.append(dataclasses.replace(f, joints=joints))
+    return dataclasses.replace(cfg, fingers=tuple(fingers))

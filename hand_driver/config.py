@@ -40,7 +40,7 @@ from hand_driver.control_table import model as model_spec
 from hand_driver.units import WATCHDOG_STEP_MS, deg_to_ticks_exact
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_write
-from tactile_common.yamlfile import read_yaml
+from tactile_common.yamlfile import read_yaml_located
 
 
 @dataclass(frozen=True)
@@ -66,6 +66,7 @@ class JointConfig:
     current_limit_ma: float = 1000.0
     backlash_deg: float = 0.0  # gear dead band, full width (declared error)
     compliance_deg_per_nm: float = 0.0  # link and gear deflection per joint torque (declared error)
+    zero_sigma_deg: float = 0.0  # standard error of zero_tick after calibration (tactile calibrate writes it)
 
     @property
     def spec(self) -> ModelSpec:
@@ -264,7 +265,7 @@ def _watchdog_ms(c: _Checker, m: dict, default: int) -> int:
 
 def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointConfig:
     allowed = ("id", "model", "zero_tick", "link_mm", "direction", "min_deg", "max_deg", "current_limit_ma",
-               "backlash_deg", "compliance_deg_per_nm")
+               "backlash_deg", "compliance_deg_per_nm", "zero_sigma_deg")
     m = c.mapping(obj, key, allowed, required=("id", "model", "zero_tick", "link_mm"))
     d = JointConfig(0, "", 0, 0)
     model = c.string(m, key, "model", None, models)
@@ -284,6 +285,7 @@ def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointCon
         current_limit_ma=c.number(m, key, "current_limit_ma", d.current_limit_ma, 0.0, 10_000.0, lo_open=True),
         backlash_deg=c.number(m, key, "backlash_deg", d.backlash_deg, 0.0, 5.0),
         compliance_deg_per_nm=c.number(m, key, "compliance_deg_per_nm", d.compliance_deg_per_nm, 0.0, 10.0),
+        zero_sigma_deg=c.number(m, key, "zero_sigma_deg", d.zero_sigma_deg, 0.0, 5.0),
     )
     # Limits must stay inside one encoder turn of position mode (the model's Min/Max
     # Position Limit range).
@@ -301,9 +303,9 @@ def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointCon
 
 
 def _finger(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> FingerConfig:
-    m = c.mapping(obj, key, ("name", "base", "joints", "pad"), required=("name", "joints", "pad"))
+    m = c.mapping(obj, key, ("name", "base", "joints", "pad"), required=("name", "base", "joints", "pad"))
     name = c.string(m, key, "name", None)
-    base_obj = c.mapping(m.get("base", {}), f"{key}.base", ("x", "y", "angle_deg"))
+    base_obj = c.mapping(m["base"], f"{key}.base", ("x", "y", "angle_deg"), required=("x", "y", "angle_deg"))
     base = BasePose(
         x=c.number(base_obj, f"{key}.base", "x", 0.0, -1000.0, 1000.0),
         y=c.number(base_obj, f"{key}.base", "y", 0.0, -1000.0, 1000.0),
@@ -420,8 +422,9 @@ def parse_config(obj: Any, source: str = "<memory>", recorded: bool = False) -> 
 
 def load_config(path: str | Path) -> JawConfig:
     """Read and validate a jaw YAML file; :class:`InputError` (one line) if it is bad."""
-    obj = read_yaml(path, "jaw config")
-    return parse_config(obj, str(path))
+    obj, lines = read_yaml_located(path, "jaw config")
+    with lines.errors(str(path)):
+        return parse_config(obj, str(path))
 
 
 def perturbed(cfg: JawConfig, rng, zero_deg: float = 1.75, link_mm: float = 1.0,
@@ -468,7 +471,8 @@ def config_to_mapping(cfg: JawConfig) -> dict:
             "joints": [{"id": j.id, "model": j.model, "zero_tick": _num(j.zero_tick), "link_mm": _num(j.link_mm),
                         "direction": j.direction, "min_deg": _num(j.min_deg), "max_deg": _num(j.max_deg),
                         "current_limit_ma": _num(j.current_limit_ma),
-                        **_declared(j, ("backlash_deg", "compliance_deg_per_nm"))} for j in f.joints],
+                        **_declared(j, ("backlash_deg", "compliance_deg_per_nm", "zero_sigma_deg"))}
+                       for j in f.joints],
             "pad": {"side": f.pad.side, "offset_mm": _num(f.pad.offset_mm), "length_mm": _num(f.pad.length_mm),
                     **_declared(f.pad, ("compliance_mm_per_n",))},
         } for f in cfg.fingers],
@@ -478,10 +482,48 @@ def config_to_mapping(cfg: JawConfig) -> dict:
     }
 
 
-def dump_config(cfg: JawConfig, path: str | Path, header: str | None = None) -> None:
+def dump_config(cfg: JawConfig, path: str | Path, header: str | None = None, source: str | Path | None = None) -> None:
     """Write ``cfg`` as YAML that :func:`load_config` reads back to an equal config, whole
-    or not at all (tactile_common.files.atomic_write)."""
-    text = yaml.safe_dump(config_to_mapping(cfg), sort_keys=False, default_flow_style=None, width=120)
+    or not at all (tactile_common.files.atomic_write). With ``source``, the config file
+    ``cfg`` was made from (a calibration's), its text is kept, comments and layout included,
+    and only the values that differ are rewritten (:func:`_rewritten`)."""
+    text = _rewritten(cfg, Path(source)) if source is not None else None
+    if text is None:
+        text = yaml.safe_dump(config_to_mapping(cfg), sort_keys=False, default_flow_style=None, width=120)
     if header:
         text = "".join(f"# {line}\n" for line in header.splitlines()) + text
     atomic_write(path, text)
+
+
+def _rewritten(cfg: JawConfig, source: Path) -> str | None:
+    """``source``'s text with the values of ``cfg`` that differ from the config it holds
+    written in place (ruamel.yaml's round trip keeps comments, flow style and key order),
+    or None when the source cannot be read back so (then the config is written plainly)."""
+    from io import StringIO
+
+    from ruamel.yaml import YAML
+
+    rt = YAML()
+    rt.width = 4096  # keep each flow mapping on its line
+    rt.indent(mapping=2, sequence=4, offset=2)  # config/jaw.yaml's "  - " lists
+    try:
+        doc = rt.load(source.read_text(encoding="utf-8"))
+        old = config_to_mapping(load_config(source))
+    except Exception:  # noqa: BLE001 - any failure only loses the comments
+        return None
+    _set_changed(doc, old, config_to_mapping(cfg))
+    out = StringIO()
+    rt.dump(doc, out)
+    return out.getvalue()
+
+
+def _set_changed(doc, old, new) -> None:
+    """Set in ``doc`` (the source's round-trip tree) every leaf where ``new`` differs from
+    ``old`` (the source's own values, defaults included), recursing through mappings and lists."""
+    for key in (new.keys() if isinstance(new, dict) else range(len(new))):
+        was, now = old[key], new[key]
+        if isinstance(now, (dict, list)) and isinstance(doc.get(key) if isinstance(doc, dict) else doc[key],
+                                                        (dict, list)):
+            _set_changed(doc[key], was, now)
+        elif was != now:
+            doc[key] = now

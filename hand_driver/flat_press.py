@@ -45,10 +45,13 @@ from hand_driver.motion import ROLL_CLEARANCE_MM, ApproachResult, TouchResult, g
 #: steps: with 3° steps arcs of radius 100–1000 mm stopped seated presses 0.25–0.98 mm
 #: early (2° steps: from 0.15 mm, within the encoders' scatter of a flat seat)
 FLAT_STEP_DEG = 3.0
-#: ... at most this far (deg) either way from where it started: the random blocks of
-#: bench_explore are turned up to ±20° (0.35 rad) from the pad's nominal normal, and the
-#: press turns three steps past the seat; a face turned 25° is seated from the nominal
-FLAT_MAX_TURN_DEG = 36.0
+#: ... at most this far (deg) either way from where it started: a block placed anywhere its
+#: face lies flat under a pad (tools.random_objects) may be turned 30° and more from the
+#: pad's nominal normal, and the press turns three steps past the seat (at 36°, until this
+#: version, a block of bench_explore --finite 3 --anywhere --seed 11 turned 31.5° was never
+#: seated: refused; at 60° seated at 31.9°, answered line); a face turned 25° is seated from
+#: the nominal
+FLAT_MAX_TURN_DEG = 60.0
 #: a pad line passes through a support point when the point is within this (mm) of it;
 #: the mean of a press's seated stops must be this close to where its two supports say
 #: (tactile_jaw.flat): on 32 presses of the emulated jaw's line example 0.043 mm rms, at

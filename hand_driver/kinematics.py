@@ -183,6 +183,25 @@ def finger_pad_line_from_ticks(cfg: JawConfig, finger: str, ticks) -> PadLine:
     return finger_pad_line(f, ticks_to_angles(f.joints, ticks))
 
 
+def contact_load_signs(finger: FingerConfig, q, points) -> np.ndarray:
+    """The direction of each joint's load while the pad presses on ``points`` (n, 2), for
+    joint angles ``q`` (n, 2): the sign of the moment (p − J_j) × n of a force along the pad's
+    normal n at p about joint j (the object pushes back along −n). For the distal joint it is
+    the pad's side, the same wherever the contact lies on the pad; for the base joint it is
+    the side times sign(L1·cos q2 + u), u the contact's distance from the distal joint along
+    the link, so it stays the same unless the finger folds past |q2| ≈ 90°. A gear's backlash
+    is then one offset over all of a finger's contacts (docs/exploration.md#the-stated-noise)."""
+    q = np.asarray(q, dtype=float)
+    pts = np.asarray(points, dtype=float)
+    line = finger_pad_line(finger, q)
+    base = np.array([finger.base.x, finger.base.y])
+    out = []
+    for joint in (np.broadcast_to(base, pts.shape), line.joint2):
+        r = pts - joint
+        out.append(np.sign(r[..., 0] * line.normal[..., 1] - r[..., 1] * line.normal[..., 0]))
+    return np.stack(out, axis=-1)
+
+
 # ----------------------------------------------------------------------------- inverse
 
 
@@ -301,7 +320,8 @@ class TouchEnvelope:
 
 
 def default_degree(n: int) -> int:
-    """Polynomial degree of d(ψ) for n readings: 3 from 6 readings on, else n − 2 ≥ 1."""
+    """Polynomial degree of d(ψ) for n readings when nothing chooses it: 3 from 6 readings
+    on, else n − 2 ≥ 1 (tactile_jaw.envelope chooses it from the data and the noise)."""
     return 3 if n >= 6 else max(1, n - 2)
 
 

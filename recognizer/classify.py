@@ -32,10 +32,14 @@ from scipy import special, stats
 from recognizer import invariants as inv
 from recognizer.class_limits import LIMIT_OF
 from recognizer.contacts import EPS_FLOOR, Contacts
-from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start
+from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start, profiled
 from recognizer.nested import NESTED_FROM, nested_candidates
+from recognizer.curves import CURVES, Pose
 from recognizer.refine import RefinedCandidate, refine_candidates
+from recognizer.starts import clear_of_cusp, cusp_clearance, pose_from, semicubical_scan
+from recognizer.starts import starts as class_starts
 from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
+from recognizer.scale_free import Unit
 from recognizer.intervals import profile_uncertainty, rival_basins
 from recognizer.next_touch import next_touch
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request, SamplesTouch
@@ -53,6 +57,18 @@ DEFAULT_SAMPLES_NOISE = NoiseModel(phi=1e-3, pos=0.05)
 #: one side fits a parabola within the test's 10.8 more often than a parabola's touches
 #: fit a semicubical better by BIC's penalty)
 CHOICE_LIMIT_OF = {**LIMIT_OF, "parabola": frozenset({"ellipse", "hyperbola"})}
+#: distinct places (contacts.Contacts.places) a class needs to be tested: as many as touches
+#: (touches.MIN_TOUCHES: its invariants need pairs of places), but one for the line, whose test
+#: is that κ and κ_s vanish where it is touched (two spare degrees of freedom at one place:
+#: a flat press measures that over its whole seated segment, and the jaw presses a face at
+#: one place again and again: tactile_jaw.flat)
+MIN_PLACES = {**MIN_TOUCHES, "line": 1}
+#: a contact-stage answer's shape parameter whose linearized relative σ is above this is walked
+#: along its profile (recognizer.intervals; refined answers: above 2 %): 3-5 touches, ~5 ms a
+#: parameter; near a cubical's inflection c's valley stays flat 4.5 linearized σ's out at a
+#: relative σ of 0.8 %, while exact data away from the extremes (σ's at the 1e-7 floor) are
+#: not walked at all
+CONTACT_REL_SIGMA_CHECK = 1e-3
 #: level of the likelihood-ratio test a class must pass against a simpler class it contains
 MODEL_ALPHA = 1e-3
 _MEAS = ("x", "y", "phi", "kappa", "kappa_s")
@@ -64,9 +80,11 @@ def _pos_sd(nz: NoiseModel) -> float:
     return max(nz.pos, nz.along)
 
 
-def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
+def contacts_of(request: Request, options: RecognizeOptions,
+                default_noise: NoiseModel = DEFAULT_SAMPLES_NOISE) -> Contacts:
     """Local geometry of every touch: contacts as given (covariance from the request or
-    zero); samples-touches through recognizer.estimate.estimate_local."""
+    zero); samples-touches through recognizer.estimate.estimate_local (their deviations
+    ``default_noise`` when neither the options nor the request state any)."""
     noise = options.noise or request.noise
     rows = []
     for i, t in enumerate(request.touches):
@@ -77,7 +95,7 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
             from recognizer.estimate import estimate_local
 
             g = estimate_local(t, method=options.estimator, noise=noise, where=f"{request.source}.touches[{i}]")
-            nz = noise or DEFAULT_SAMPLES_NOISE
+            nz = noise or default_noise
             # the contact sample's own φ, with its stated deviation: the estimator's smoothed
             # φ carries a truncation error no covariance states (up to 1e-2 rad on noise-free
             # hyperbola touches, judged at the 1e-7 floor: right classes were rejected)
@@ -87,7 +105,7 @@ def contacts_of(request: Request, options: RecognizeOptions) -> Contacts:
     cols = list(zip(*rows))
     arr = [np.array(c, dtype=float) for c in cols[:5]]
     return Contacts(*arr, np.array(cols[5], dtype=float).reshape(-1, 2, 2), np.array(cols[6], float),
-                    np.array(cols[7], float))
+                    np.array(cols[7], float), 0.5 * _roll(request))
 
 
 def options_for(request: Request, overrides: dict | None = None) -> RecognizeOptions:
@@ -251,6 +269,72 @@ def _nested_fits(cands: list[Candidate], request: Request, options: RecognizeOpt
     return [f for f in fits if math.isfinite(f.chi2)]
 
 
+def _best_starts_refined(d: Contacts, request: Request, options: RecognizeOptions,
+                         cands: list[Candidate]) -> list[Candidate]:
+    """Noise-free samples that no class fits yet: every class refined from its best placed
+    closed-form start (``starts.pose_from``), not from its contact fit. The contact fit
+    weighs the estimated κ, κ_s, whose truncation error on noise-free samples exceeds
+    their stated deviation, and moves an exact start away (tools.bench_wide --set wide
+    seed 9, hyperbola trial 3 far on an arm: the invariants' start exact, its contact fit
+    16 % off, whose refinement stopped at χ² 6e13; from the start itself, exact)."""
+    dof, n_obs = (cands[0].dof, cands[0].n_obs) if cands else (1, 1)
+    out = []
+    for cls in request.classes:
+        sign = CURVES[cls].kappa_sign
+        dom = d.dominant_kappa()
+        dd = d.flipped() if sign != 0 and dom != 0 and math.copysign(1.0, dom) != sign else d
+        try:
+            placed = [(pose_from(cls, p, t, dd), p, t) for p, t in class_starts(cls, dd, True)]
+        except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+            continue
+        placed = [q for q in placed if math.isfinite(q[0][3])]
+        if placed:
+            (th, x, y, cost), p, t = min(placed, key=lambda q: q[0][3])
+            out.append(Candidate(cls, dict(p), Pose(th, x, y), np.asarray(t, float), cost, dof, n_obs))
+    fits = refine_candidates(out, request, options) if out else []
+    return [f for f in fits if math.isfinite(f.chi2)]
+
+
+#: scan starts refined directly when every semicubical contact fit puts a touch at its cusp
+CLEAR_SCAN_STARTS = 3
+#: ... among the scan's starts within this χ² of its best (positions and tangents of the
+#: contacts), those farthest from the cusp
+CLEAR_SCAN_BAND = 20.0
+
+
+def _clear_of_cusp_fits(cands: list[Candidate], d: Contacts, request: Request,
+                        options: RecognizeOptions) -> list[Candidate]:
+    """Refined semicubical fits from its scan's best starts clear of the cusp
+    (``starts.semicubical_scan``: every touch at least its reach from the cusp), when the
+    semicubical's best fit is inconsistent and puts some touch nearer. The contact fit sees one point per
+    touch, not how far its samples reach: from a start clear of the cusp it can slide to a
+    consistent fit whose cusp lies within a touch's roll, where the refinement piles that
+    touch's samples at the cusp and stalls (tools.bench_wide seed 5, semicubical trial 3
+    after two suggested touches: every contact fit at χ² 13.5, refined 4.7e4, the answer
+    ellipse; from the scan's start clear of the cusp, the truth's 61)."""
+    cls = "semicubical_parabola"
+    if not (options.refine and cls in request.classes and d.reach > 0):
+        return []
+    own = [c for c in cands if c.cls == cls]
+    best = min(own, key=lambda c: c.chi2, default=None)
+    if best is None or best.consistent or clear_of_cusp((best.params, list(best.t)), d.reach):
+        return []
+    dom = d.dominant_kappa()
+    dd = d.flipped() if dom != 0 and math.copysign(1.0, dom) != CURVES[cls].kappa_sign else d
+    placed = []
+    for params, t in semicubical_scan(dd):
+        th, x, y, cost = pose_from(cls, params, t, dd)
+        if math.isfinite(cost):
+            placed.append((cost, cusp_clearance((params, t)), Candidate(cls, params, Pose(th, x, y), np.asarray(t, float),
+                                                                        cost, own[0].dof, own[0].n_obs)))
+    # the contact data cannot tell these apart: the ones farthest from the cusp first
+    low = min((p[0] for p in placed), default=math.inf)
+    placed = sorted((p for p in placed if p[0] <= low + CLEAR_SCAN_BAND), key=lambda p: -p[1])
+    starts = [p[2] for p in placed[:CLEAR_SCAN_STARTS]]
+    fits = refine_candidates(starts, request, options) if starts else []
+    return [f for f in fits if math.isfinite(f.chi2)]
+
+
 def choose(consistent: list[Candidate]) -> Candidate:
     """The consistent candidate of lowest BIC, replaced by a simpler class it is a limit of
     (``CHOICE_LIMIT_OF``) while the richer one fails the likelihood-ratio test against it."""
@@ -263,7 +347,45 @@ def choose(consistent: list[Candidate]) -> Candidate:
         best = min(simpler, key=lambda c: c.bic)
 
 
-def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: Contacts) -> str:
+def also_fits(chosen: Candidate, consistent: list[Candidate]) -> list[dict]:
+    """The consistent classes of which the answer is a limit (``LIMIT_OF``: a line of every
+    curved class, a circle of the ellipse, a parabola of the conics and cubics), best χ²
+    first: each fits the touches within their noise, so the answer is the simplest of them,
+    not the only one (a cubical touched within 1e-4 of its size from its inflection, or
+    with slope 3e4, a hyperbola far out on an arm: answered line). ``gain``: how much
+    lower its χ² is; ``needed``: the likelihood-ratio test's threshold it stayed below
+    (``MODEL_ALPHA``; classes that BIC alone compares with the answer: null)."""
+    out = []
+    for c in sorted(consistent, key=lambda c: c.chi2):
+        if c.cls not in LIMIT_OF.get(chosen.cls, ()):
+            continue
+        tested = c.cls in CHOICE_LIMIT_OF.get(chosen.cls, ())
+        out.append({"class": c.cls, "chi2": c.chi2, "gain": chosen.chi2 - c.chi2,
+                    "needed": chi2_limit(MODEL_ALPHA, N_SHAPE[c.cls] - N_SHAPE[chosen.cls]) if tested else None})
+    return out
+
+
+def _too_few_places(cls: str, places: list[list[int]], n: int) -> str:
+    """Why ``cls`` is not tested: fewer places than it needs (touches at one place count once)."""
+    if n < MIN_TOUCHES[cls]:
+        return f"needs {MIN_TOUCHES[cls]} touches, got {n}"
+    return f"needs {MIN_PLACES[cls]} touches at distinct places, got {len(places)}"
+
+
+def _same_places(places: list[list[int]]) -> str:
+    """The touches at one place, for a person: 'touches 0, 1, 2 at one place within their noise'."""
+    same = "; ".join("touches " + ", ".join(map(str, g)) for g in places if len(g) > 1)
+    return f"{same} at one place within their noise ({len(places)} distinct)" if same else ""
+
+
+def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: Contacts, untested: dict) -> str:
+    if not cands and untested and len(untested) == len(skipped):
+        need: dict[str, list[str]] = {}
+        for cls, why in untested.items():
+            need.setdefault(why, []).append(cls)
+        same = _same_places(d.places())
+        return ("no class of the scene could be tested (no spare degrees of freedom): " + (same + "; " if same else "")
+                + "; ".join(f"{', '.join(cs)}: {why}" for why, cs in need.items()))
     parts = []
     if cands:
         best = min(cands, key=lambda c: c.chi2 / chi2_limit(1e-3, c.dof))
@@ -276,22 +398,34 @@ def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: 
         sig = max(max(pairs["I_c1_sigma"][i] for i in good), EPS_FLOOR * scale)
         parts.append(f"I_c1 over {len(good)} pairs spans {float(v.min()):.4g}..{float(v.max()):.4g} "
                      f"({(float(v.max()) - float(v.min())) / sig:.3g} sigma)")
+    same = _same_places(d.places())
+    if same:
+        parts.append(same)
     for cls, why in skipped.items():
         parts.append(f"{cls} not tested: {why}")
     return "no class of the scene fits: " + "; ".join(parts) if parts else "no class of the scene fits"
 
 
 def recognize(request: Request, options: RecognizeOptions | None = None) -> Recognition:
-    """Recognize the class, parameters, pose and contacts from a validated request."""
-    t0 = time.perf_counter()
+    """Recognize the class, parameters, pose and contacts from a validated request, its
+    numerics in units of the touches' spread (recognizer.scale_free), the answer in mm."""
     options = options or options_for(request)
-    d = contacts_of(request, options)
+    unit = Unit.of(request)
+    return unit.answer(_recognize(unit.request(request), unit.options(options), unit))
+
+
+def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recognition:
+    t0 = time.perf_counter()
+    default_noise = unit.noise(DEFAULT_SAMPLES_NOISE)
+    d = contacts_of(request, options, default_noise)
     t_est = time.perf_counter()
     cands: list[Candidate] = []
-    skipped: dict[str, str] = {}
+    skipped: dict[str, str] = {}  # class → why it has no fit: untested, or hopeless from its start
+    untested: dict[str, str] = {}
+    places = d.places()
     for cls in request.classes:
-        if d.n < MIN_TOUCHES[cls]:
-            skipped[cls] = f"needs {MIN_TOUCHES[cls]} touches, got {d.n}"
+        if d.n < MIN_TOUCHES[cls] or len(places) < MIN_PLACES[cls]:
+            skipped[cls] = untested[cls] = _too_few_places(cls, places, d.n)
             continue
         limit = chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[cls] + d.n), 1))  # as in _candidate
         give_up = 1e4 * limit
@@ -317,6 +451,9 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
             rest = [i for i in range(len(cands)) if i not in set(near)]
             for i, c in zip(rest, refine_candidates([cands[i] for i in rest], request, options)):
                 cands[i] = c
+            if not any(c.consistent for c in cands):
+                cands += _best_starts_refined(d, request, options, cands)
+        cands += _clear_of_cusp_fits(cands, d, request, options)
         cands += _nested_fits(cands, request, options)
         cands = _restarted(cands, request, options)
     fits, cands = cands, _best_per_class(cands)
@@ -325,21 +462,25 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
     ranked = [Ranked(c.cls, c.consistent, c.chi2, c.dof, c.bic, c.p_value) for c in ranking]
     timing = {"estimate_ms": 1e3 * (t_est - t0)}
     if not consistent:
-        pairs = _pair_invariants(d)
-        reason = _unclassified_reason(cands, skipped, pairs, d)
+        pairs = _pair_invariants(unit.contacts(d))
+        reason = _unclassified_reason(cands, skipped, pairs, d, untested)
         leader = min(cands, key=lambda c: c.chi2 / chi2_limit(options.alpha, c.dof), default=None)
-        nxt = _suggest(request, options, cands, leader, d, timing)
+        nxt = _suggest(request, options, cands, leader, d, timing, default_noise)
         timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
-                           {}, reason, ranked, timing, nxt)
+                           {}, reason, ranked, timing, nxt, untested=untested)
     chosen = choose(consistent)
+    also = also_fits(chosen, consistent)
     # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys
-    best = rival_basins(profile_uncertainty(chosen), [f for f in fits if f is not chosen])
-    pairs = _pair_invariants(d) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
-    nxt = _suggest(request, options, cands, chosen, d, timing)
+    walked = profile_uncertainty(chosen) if isinstance(chosen, RefinedCandidate) else \
+        profile_uncertainty(profiled(chosen, d), rel_check=CONTACT_REL_SIGMA_CHECK)
+    best = rival_basins(walked, [f for f in fits if f is not chosen])
+    dh = unit.contacts(d)  # the invariants a person reads, in mm
+    pairs = _pair_invariants(dh) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
+    nxt = _suggest(request, options, cands, chosen, d, timing, default_noise)
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
-    return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, d, pairs),
-                       dict(best.uncertainty), None, ranked, timing, nxt)
+    return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, dh, pairs),
+                       dict(best.uncertainty), None, ranked, timing, nxt, untested=untested, also_fits=also)
 
 
 def _roll(request: Request) -> float:
@@ -350,13 +491,13 @@ def _roll(request: Request) -> float:
 
 
 def _suggest(request: Request, options: RecognizeOptions, cands: list[Candidate], leader: Candidate | None,
-             d: Contacts, timing: dict) -> dict | None:
+             d: Contacts, timing: dict, default_noise: NoiseModel = DEFAULT_SAMPLES_NOISE) -> dict | None:
     """recognizer.next_touch for a request with samples-touches (None otherwise)."""
     sizes = [len(t.phi) for t in request.touches if isinstance(t, SamplesTouch)]
     if not sizes or leader is None:
         return None
     t0, c0 = time.perf_counter(), time.process_time()
-    noise = options.noise or request.noise or DEFAULT_SAMPLES_NOISE
+    noise = options.noise or request.noise or default_noise
     try:
         out = next_touch(cands, leader, d, noise, int(np.median(sizes)), options.reach, _roll(request))
     except (np.linalg.LinAlgError, ValueError, ArithmeticError):  # numerics of a degenerate candidate:

@@ -48,18 +48,23 @@ MAX_NFEV = 30
 _SLOPES = {("cubical_parabola", "c"), ("semicubical_parabola", "b")}
 
 
-def _walk(problem, z_hat: np.ndarray, cov_z: np.ndarray, i: int, side: float, chi2_hat: float) -> float | None:
-    """Offset of unknown i at the end of its 95 % profile interval on one side: steps of
-    ``STEP`` linearized σ's, each fit of the other unknowns started from the previous
-    step's (the valley's ridge followed as it bends), until the profile χ² has risen by
-    ``CHI2_95``, the end interpolated in √rise; beyond ``MAX_STEPS`` steps the last offset
-    reached (a lower bound of the end); None when a fit is not finite."""
+def _walk(problem, z_hat: np.ndarray, cov_z: np.ndarray, i: int, side: float, chi2_hat: float):
+    """(offset of unknown i at the end of its 95 % profile interval on one side, the largest
+    offset of every unknown along the way): steps of ``STEP`` linearized σ's, each fit of
+    the other unknowns started from the previous step's (the valley's ridge followed as it
+    bends), until the profile χ² has risen by ``CHI2_95``, the end interpolated in √rise;
+    beyond ``MAX_STEPS`` steps the last offset reached (a lower bound of the end); None
+    when a fit is not finite. Every point of the walk up to the end lies in the 95 %
+    likelihood region, so the other unknowns' offsets there are within their own profile
+    intervals: they bound those from below."""
     sd = math.sqrt(cov_z[i, i])
     free = np.ones(z_hat.size, bool)
     free[i] = False
-    lin = cov_z[:, i] / cov_z[i, i]
+    lin = np.nan_to_num(cov_z[:, i] / cov_z[i, i], nan=0.0, posinf=0.0, neginf=0.0)
     zf = z_hat.copy()
     prev_delta, prev_root = 0.0, 0.0
+    far = np.zeros(z_hat.size)
+    prev_z = z_hat.copy()
     for n in range(1, MAX_STEPS + 1):
         delta = side * STEP * sd * n
         start = zf + lin * (delta - (zf[i] - z_hat[i]))
@@ -81,14 +86,22 @@ def _walk(problem, z_hat: np.ndarray, cov_z: np.ndarray, i: int, side: float, ch
         root = math.sqrt(max(rise, 0.0))
         if root >= math.sqrt(CHI2_95):
             frac = (math.sqrt(CHI2_95) - prev_root) / max(root - prev_root, 1e-12)
-            return prev_delta + frac * (delta - prev_delta)
-        prev_delta, prev_root = delta, root
-    return prev_delta
+            far = np.maximum(far, np.abs(prev_z + frac * (zf - prev_z) - z_hat))
+            return prev_delta + frac * (delta - prev_delta), far
+        far = np.maximum(far, np.abs(zf - z_hat))
+        prev_delta, prev_root, prev_z = delta, root, zf.copy()
+    return prev_delta, far
 
 
-def profile_uncertainty(cand):
-    """``cand`` (a recognizer.refine.RefinedCandidate) with profile-likelihood σ's where its
-    linearized ones are in doubt (module docstring); unchanged otherwise."""
+def profile_uncertainty(cand, rel_check: float = REL_SIGMA_CHECK):
+    """``cand`` (a recognizer.refine.RefinedCandidate, or a contact-stage candidate that
+    carries its problem: recognizer.localize.profiled) with profile-likelihood σ's where
+    its linearized ones are in doubt (relative σ above ``rel_check``; module docstring);
+    unchanged otherwise. A parameter
+    walked gets the half-width of its interval / 1.96; every other shape parameter at
+    least the mean over the walk's two sides of the farthest it moved along them / 1.96
+    (near a cubical's inflection a poorly determined a drags c along a bending valley: c
+    off by 4.5 linearized σ's with the truth's χ² as low as the answer's)."""
     fit = getattr(cand, "fit", None)
     if fit is None:
         return cand
@@ -96,16 +109,19 @@ def profile_uncertainty(cand):
     names = CURVES[cand.cls].param_names
     unc = dict(cand.uncertainty)
     scale = np.ones(len(names))
+    dragged = np.zeros(z_hat.size)
     for j, name in enumerate(names):  # canonical name j is the problem's unknown perm[j]
         i = perm[j]
         p, sd = float(cand.params[name]), float(unc.get(name) or 0.0)
         ref = max(abs(p), 1.0) if (cand.cls, name) in _SLOPES else abs(p)
-        if not (sd > REL_SIGMA_CHECK * ref and cov_z[i, i] > 0 and math.isfinite(cov_z[i, i])):
+        if not (sd > rel_check * ref and cov_z[i, i] > 0 and math.isfinite(cov_z[i, i])):
             continue
         with np.errstate(all="ignore"):
-            ends = [_walk(problem, z_hat, cov_z, i, side, float(cand.chi2)) for side in (-1.0, 1.0)]
-        if None in ends:
+            walks = [_walk(problem, z_hat, cov_z, i, side, float(cand.chi2)) for side in (-1.0, 1.0)]
+        if None in walks:
             continue
+        ends = [w[0] for w in walks]
+        dragged = np.maximum(dragged, 0.5 * (walks[0][1] + walks[1][1]))
         if problem.names[i] in problem.pos_names:  # log parameter: back to the parameter
             lo, hi = p * (math.exp(ends[0]) - 1.0), p * (math.exp(ends[1]) - 1.0)
         else:
@@ -114,6 +130,14 @@ def profile_uncertainty(cand):
         if math.isfinite(sd_new) and sd_new > sd:
             scale[j] = sd_new / sd
             unc[name] = sd_new
+    for j, name in enumerate(names):  # how far each parameter moved along the walks
+        i = perm[j]
+        p, sd = float(cand.params[name]), float(unc.get(name) or 0.0)
+        off = abs(p) * math.expm1(dragged[i]) if problem.names[i] in problem.pos_names else dragged[i]
+        need = off / 1.96
+        if math.isfinite(need) and sd > 0 and need > sd:
+            scale[j] *= need / sd
+            unc[name] = need
     return _widened(cand, unc, scale)
 
 

@@ -18,7 +18,7 @@ import numpy as np
 from tactile_common.errors import InputError
 
 __all__ = ["MAX_TOUCHES", "MAX_SAMPLES_PER_TOUCH", "MAX_SAMPLES", "MAX_COORD_MM", "KAPPA_L", "KAPPA_S_L2",
-           "MIN_SCALE_MM", "MAX_PHI_RAD", "MAX_TIMEOUT_S", "check_sizes", "check_magnitudes"]
+           "MIN_SCALE_MM", "MIN_NOISE", "MAX_PHI_RAD", "MAX_TIMEOUT_S", "check_sizes", "check_magnitudes"]
 
 MAX_TOUCHES = 64
 MAX_SAMPLES_PER_TOUCH = 500
@@ -34,6 +34,9 @@ KAPPA_L = 1e9
 #: |kappa_s|·L²: every class touched at its extremes stays below 50 (tests' EXTREMES)
 KAPPA_S_L2 = 1e12
 MIN_SCALE_MM = 1e-3
+#: the smallest nonzero entry of a noise factor (mm, rad): below it the whitening's weights
+#: (its pseudo-inverse) leave double precision
+MIN_NOISE = 1e-12
 MAX_TIMEOUT_S = 3600.0
 
 
@@ -88,13 +91,16 @@ def check_magnitudes(touches, noise, source: str) -> None:
     k_max, ks_max = KAPPA_L / scale, KAPPA_S_L2 / scale ** 2
     what = f"L = {scale:.4g} mm is the touches' spread"
     for i, t in enumerate(touches):
-        if not hasattr(t, "kappa"):
+        if hasattr(t, "kappa"):
+            where, (kappa, kappa_s, cov) = f"{source}.touches[{i}].contact", (t.kappa, t.kappa_s, t.cov)
+        elif getattr(t, "curvature", None) is not None:  # a samples touch's measured κ, κ_s
+            where, (kappa, kappa_s, cov) = f"{source}.touches[{i}].curvature", t.curvature
+        else:
             continue
-        where = f"{source}.touches[{i}].contact"
-        _bound(t.kappa, k_max, f"{where}.kappa", f"1e9 / L: a radius of curvature below L/1e9; {what}")
-        _bound(t.kappa_s, ks_max, f"{where}.kappa_s", f"1e12 / L²; {what}")
-        _bound(math.sqrt(abs(t.cov[0, 0])), k_max, f"{where}: sigma of kappa", what)
-        _bound(math.sqrt(abs(t.cov[1, 1])), ks_max, f"{where}: sigma of kappa_s", what)
+        _bound(kappa, k_max, f"{where}.kappa", f"1e9 / L: a radius of curvature below L/1e9; {what}")
+        _bound(kappa_s, ks_max, f"{where}.kappa_s", f"1e12 / L²; {what}")
+        _bound(math.sqrt(abs(cov[0, 0])), k_max, f"{where}: sigma of kappa", what)
+        _bound(math.sqrt(abs(cov[1, 1])), ks_max, f"{where}: sigma of kappa_s", what)
     if noise is not None:
         _bound(noise.pos, MAX_COORD_MM, f"{source}.noise.pos", "mm")
         _bound(noise.along, MAX_COORD_MM, f"{source}.noise.pos_along", "mm")

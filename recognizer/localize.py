@@ -21,17 +21,19 @@ recognizer.contacts):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from recognizer.contacts import Contacts
 from recognizer.curves import CURVES, Pose
+from recognizer.result import Candidate
 from recognizer.solver import ContactModel, svd
 from recognizer.starts import pose_from, starts
 from tactile_common.angles import wrap_angle
 
-__all__ = ["Fit", "fit_class", "fit_class_every_start", "N_SHAPE"]
+__all__ = ["Fit", "fit_class", "fit_class_every_start", "N_SHAPE", "scaled_covariance", "profiled",
+           "ProfiledCandidate"]
 
 #: shape parameters + pose degrees of freedom not lost to a symmetry (BIC counts these)
 N_SHAPE = {"line": 0 + 2, "circle": 1 + 2, "ellipse": 2 + 3, "parabola": 1 + 3, "hyperbola": 2 + 3,
@@ -108,14 +110,19 @@ def fit_class_every_start(cls: str, data: Contacts, give_up: float = math.inf,
     return _fit_starts(cls, data, 10, give_up, sigma_below, every=True)
 
 
-def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma_below: float,
-                every: bool) -> list[Fit]:
+def _oriented(cls: str, data: Contacts) -> Contacts:
+    """The touches in the class's canonical direction (module docstring, 1)."""
     sign = CURVES[cls].kappa_sign
-    d = data
     if sign != 0:
         dom = data.dominant_kappa()
         if dom != 0 and math.copysign(1.0, dom) != sign:
-            d = data.flipped()
+            return data.flipped()
+    return data
+
+
+def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma_below: float,
+                every: bool) -> list[Fit]:
+    d = _oriented(cls, data)
     model = ContactModel(cls, d)
     placed = []
     try:
@@ -174,20 +181,138 @@ def _eased_start(cls: str, d: Contacts, z0: np.ndarray, cost0: float) -> np.ndar
     return z if math.isfinite(cost) else z0
 
 
+#: a column-scaled singular value below this fraction of the largest is zero to rounding:
+#: the direction it spans is not determined by the touches (its σ's are infinite)
+SINGULAR = 1e-14
+
+
+def scaled_covariance(J: np.ndarray) -> np.ndarray:
+    """(JᵀJ)⁻¹ from the SVD of J with its columns scaled to unit norm: well-conditioned at
+    any scale and aspect (an unscaled Jacobian's columns span 1e-10…1e10 at the extremes,
+    and dropping its small singular values gave a badly determined direction zero variance,
+    σ_a/a = 1e-23). No singular value is dropped: a direction numerically undetermined
+    (below ``SINGULAR``, or a zero column) gets infinite variance in every unknown it
+    involves, never zero."""
+    cn = np.sqrt(np.einsum("ij,ij->j", J, J))
+    dead = ~(cn > 0)
+    cn[dead] = 1.0
+    _, s, Vt = svd(J / cn)
+    m = J.shape[1]
+    if s.size < m:  # fewer residuals than unknowns: the missing directions are undetermined
+        s = np.concatenate((s, np.zeros(m - s.size)))
+        Vt = np.vstack((Vt, _complement(Vt)))
+    zero = ~(s > SINGULAR * s[0]) if s.size and s[0] > 0 else np.ones(m, bool)
+    inv = np.where(zero, 0.0, 1.0 / np.where(zero, 1.0, s) ** 2)
+    cov = (Vt.T * inv) @ Vt
+    lost = (np.abs(Vt[zero]) > 1e-8).any(axis=0) | dead  # unknowns an undetermined direction moves
+    cov[lost, :] = cov[:, lost] = np.nan
+    cov[lost, lost] = np.inf
+    return cov / np.outer(cn, cn)
+
+
+def _complement(Vt: np.ndarray) -> np.ndarray:
+    """Orthonormal rows spanning the complement of Vt's rows."""
+    _, _, vt = np.linalg.svd(np.eye(Vt.shape[1]) - Vt.T @ Vt)
+    return vt[: Vt.shape[1] - Vt.shape[0]]
+
+
+def _gauge_free(model: ContactModel, z, J: np.ndarray) -> tuple[np.ndarray, tuple[str, ...]]:
+    """J's columns in unknowns without the class's gauge freedom, and the names of its pose
+    columns: a circle's θ is absorbed by its t's (held); a line's position along itself
+    too, so its pose is (θ, offset across the line), θ's column turning the line about its
+    foot on the normal (rotation about the pose point moved that foot along the normal by
+    the point's distance τ along the line)."""
+    o = model.np
+    if model.cls == "circle":
+        return np.delete(J, o, axis=1), ("x", "y")
+    if model.cls != "line":
+        return J, ("theta", "x", "y")
+    th, X, Y = (float(v) for v in z[o: o + 3])
+    c, s = math.cos(th), math.sin(th)
+    jn = -s * J[:, o + 1] + c * J[:, o + 2]  # offset along the normal n = (−sin θ, cos θ)
+    tau = X * c + Y * s
+    out = np.delete(J, o + 2, axis=1)
+    out[:, o] = J[:, o] + tau * jn
+    out[:, o + 1] = jn
+    return out, ("theta", "offset")
+
+
 def _finish(model: ContactModel, cls: str, d: Contacts, z, cost, r, parts, p0, sigma_below: float) -> Fit:
-    """The Fit at the solution z: parameters, σ's (χ² ≤ ``sigma_below``), canonical form."""
+    """The Fit at the solution z: parameters, σ's (χ² ≤ ``sigma_below``: shape parameters
+    and pose, from the column-scaled Jacobian, ``scaled_covariance``), canonical form."""
     params = model.params_of(z)
     th, X, Y = (float(v) for v in z[model.np: model.np + 3])
     t = z[model.np + 3:]
     sigma = {}
-    J = model.jac(z, r, parts) if model.np and cost <= sigma_below else None
+    J = model.jac(z, r, parts) if cost <= sigma_below else None
     if J is not None and np.all(np.isfinite(J)):
-        # diagonal of pinv(JᵀJ) from the SVD of J (singular values of JᵀJ below 1e-15 of the largest dropped)
-        _, s, Vt = svd(J)
-        keep = s * s > 1e-15 * s[0] ** 2
-        var = (Vt[keep, : model.np] ** 2 / (s[keep] ** 2)[:, None]).sum(axis=0)
+        Jg, pose_names = _gauge_free(model, z, J)
+        with np.errstate(over="ignore", invalid="ignore"):
+            var = np.diag(scaled_covariance(Jg))
         for idx, (name, lg) in enumerate(zip(model.names, model.log)):
             sd = math.sqrt(max(float(var[idx]), 0.0))
             sigma[name] = sd * params[name] if lg else sd
+        for idx, name in enumerate(pose_names):
+            sigma[f"pose_{name}"] = math.sqrt(max(float(var[model.np + idx]), 0.0))
+    if cls == "ellipse" and params["b"] > params["a"] and sigma:  # the axes swap below: so do their σ's
+        sigma["a"], sigma["b"] = sigma["b"], sigma["a"]
     params, th, X, Y, t = _canonical(cls, params, th, X, Y, t)
     return Fit(cls, params, Pose(th, X, Y), t, cost, 5 * d.n, N_SHAPE[cls] + d.n, r.reshape(-1, 5), sigma, p0)
+
+
+@dataclass
+class ProfiledCandidate(Candidate):
+    """A contact-stage candidate with what recognizer.intervals needs to profile it:
+    ``fit`` = (problem, unknowns, their covariance, canonical permutation)."""
+
+    fit: tuple | None = field(default=None, repr=False, compare=False)
+
+
+class _ContactProblem:
+    """The contact fit as recognizer.intervals walks it: residuals and Jacobian of z."""
+
+    def __init__(self, model: ContactModel, n: int):
+        self.model, self.n_res = model, 5 * n
+        self.names = list(model.names) + ["theta", "x", "y"] + [f"t{i}" for i in range(n)]
+        self.pos_names = tuple(nm for nm, lg in zip(model.names, model.log) if lg)
+
+    def residuals(self, z: np.ndarray) -> np.ndarray:
+        r, _, _ = self.model.eval(z)
+        return np.full(self.n_res, 1e30) if r is None else np.clip(np.array(r), -1e30, 1e30)
+
+    def jacobian(self, z: np.ndarray) -> np.ndarray:
+        r, _, parts = self.model.eval(z)
+        if r is None:
+            return np.zeros((self.n_res, z.size))
+        J = self.model.jac(z, np.array(r), parts)
+        return np.where(np.isfinite(J), np.clip(J, -1e120, 1e120), 0.0)
+
+
+def profiled(cand: Candidate, data: Contacts) -> Candidate:
+    """``cand``, a contact-stage fit of ``data``, as a ProfiledCandidate that
+    recognizer.intervals.profile_uncertainty can walk (its unknowns packed from the
+    canonical answer, the same curve and residuals; their covariance ``scaled_covariance``,
+    a circle's θ held); ``cand`` itself for a line (no shape parameter) or when the
+    residuals are not finite there."""
+    if cand.cls == "line" or not cand.params:
+        return cand
+    model = ContactModel(cand.cls, _oriented(cand.cls, data))
+    z = model.pack(cand.params, cand.pose.theta, cand.pose.x, cand.pose.y, np.asarray(cand.t, float))
+    r, cost, parts = model.eval(z)
+    if r is None:
+        return cand
+    J = model.jac(z, np.array(r), parts)
+    if not np.all(np.isfinite(J)):
+        return cand
+    o = model.np
+    with np.errstate(over="ignore", invalid="ignore"):
+        if cand.cls == "circle":  # θ held: its row and column 0
+            c = scaled_covariance(np.delete(J, o, axis=1))
+            cov = np.zeros((z.size, z.size))
+            keep = np.delete(np.arange(z.size), o)
+            cov[np.ix_(keep, keep)] = c
+        else:
+            cov = scaled_covariance(J)
+    fields = {f: getattr(cand, f) for f in Candidate.__dataclass_fields__}
+    return ProfiledCandidate(**fields, fit=(_ContactProblem(model, data.n), z, cov, list(range(o))))
+

@@ -53,12 +53,13 @@ SIGMA_FLOOR_PHI = 1e-9
 SIGMA_FLOOR_POS = 1e-9
 """mm: σ_pos used when the noise model says 0."""
 MAX_NFEV = 40
-MAX_NFEV_EXACT, TOL_EXACT, EXACT_GO_ON = 400, 1e-15, 1e4
+MAX_NFEV_EXACT, TOL_EXACT, EXACT_GO_ON, EXACT_DONE = 400, 1e-15, 1e4, 1e-6
 """exact data (every stated deviation zero: the σ floors) are fitted on to rounding when,
-after MAX_NFEV evaluations, χ² per residual is between 1 (not yet consistent) and
-EXACT_GO_ON (a right class on the way; a wrong one is ~1e6 and more): a short stretch of
-boundary or touches far out on an arm (ill-conditioned fits) get there only after
-hundreds of steps."""
+after MAX_NFEV evaluations, χ² per residual is between EXACT_DONE (there: a right class
+ends near 1e-15) and EXACT_GO_ON (a right class on the way; a wrong one is ~1e6 and
+more): a short stretch of boundary or touches far out on an arm (ill-conditioned fits)
+get there only after hundreds of steps. (The lower end was 1: a semicubical touched far
+out on a nearly straight branch stopped at χ² 3.6 over 81 residuals, its a 9e-5 off.)"""
 FD_STEP = 1.5e-8
 """relative forward-difference step for the shape parameters' Jacobian columns (√ε)."""
 TOL = 1e-10
@@ -596,7 +597,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
             res = least_squares(problem.residuals, problem.jacobian, z, problem.n_res, MAX_NFEV, TOL)
             nfev += int(res.nfev)
             z = res.x
-        if exact and res.fun.size < 2.0 * res.cost < EXACT_GO_ON * res.fun.size:  # a right class, not yet there
+        if exact and EXACT_DONE * res.fun.size < 2.0 * res.cost < EXACT_GO_ON * res.fun.size:  # a right class, not yet there
             res = least_squares(problem.residuals, problem.jacobian, z, problem.n_res, MAX_NFEV_EXACT, TOL_EXACT)
             nfev += int(res.nfev)
             z = res.x

@@ -117,6 +117,10 @@ class Recognition:
     ranking: list[Ranked] = field(default_factory=list)  # every fitted class, best first
     timing: dict = field(default_factory=dict)
     next_touch: dict | None = None  # recognizer.next_touch: where one more touch tells most
+    #: classes of the scene not tested, and why (too few touches at distinct places)
+    untested: dict = field(default_factory=dict)
+    #: consistent richer classes the answer is a limit of (recognizer.classify.also_fits)
+    also_fits: list = field(default_factory=list)
 
     def to_json(self) -> dict:
         out = {
@@ -128,6 +132,8 @@ class Recognition:
             "uncertainty": _clean(self.uncertainty),
             "reason": self.reason,
             "next_touch": _clean(self.next_touch),
+            "untested": dict(self.untested),
+            "also_fits": _clean(self.also_fits),
         }
         out["ranking"] = _clean([r.to_json() for r in self.ranking])
         if self.timing:

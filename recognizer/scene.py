@@ -22,12 +22,13 @@ from typing import Mapping
 import numpy as np
 
 from recognizer.curves import CURVES, DEFAULT_SIDE, Pose, validate_params
+from recognizer.noise import NoiseModel, parse_noise
+from recognizer.profiles import PROFILES
 from tactile_common.errors import InputError, check_keys
-from recognizer.touches import NoiseModel, finite_number, parse_noise
-from tactile_common.inputs import check_path_text
-from tactile_common.yamlfile import read_yaml
+from tactile_common.inputs import check_path_text, finite_number
+from tactile_common.yamlfile import read_yaml_located
 
-__all__ = ["Scene", "SceneObject", "load_scene", "ALL_CLASSES"]
+__all__ = ["Scene", "SceneObject", "load_scene", "check_profile", "ALL_CLASSES"]
 
 ALL_CLASSES: tuple[str, ...] = tuple(CURVES)
 _TOP_KEYS = {"name", "classes", "object", "profile", "noise", "description"}
@@ -88,17 +89,20 @@ class Scene:
 
 
 def _parse_pose(raw, where: str) -> Pose:
-    if raw is None:
-        return Pose()
+    """``{theta | theta_deg, x, y}``, every one required (a pose left out is not the palm)."""
     if not isinstance(raw, Mapping):
         raise InputError(f"{where}: must be a mapping with theta (or theta_deg), x, y")
     check_keys(raw, _POSE_KEYS, where)
     if "theta" in raw and "theta_deg" in raw:
         raise InputError(f"{where}: give theta or theta_deg, not both")
-    theta = finite_number(raw["theta"], f"{where}.theta") if "theta" in raw else 0.0
-    if "theta_deg" in raw:
-        theta = math.radians(finite_number(raw["theta_deg"], f"{where}.theta_deg"))
-    return Pose(theta, finite_number(raw.get("x", 0.0), f"{where}.x"), finite_number(raw.get("y", 0.0), f"{where}.y"))
+    values = {k: finite_number(v, f"{where}.{k}") for k, v in raw.items()}
+    for key in ("x", "y"):
+        if key not in raw:
+            raise InputError(f"{where}.{key}: missing (required: theta or theta_deg, x, y)")
+    if "theta" not in raw and "theta_deg" not in raw:
+        raise InputError(f"{where}.theta: missing (required: theta or theta_deg, x, y)")
+    theta = values["theta"] if "theta" in raw else math.radians(values["theta_deg"])
+    return Pose(theta, values["x"], values["y"])
 
 
 def _parse_object(raw, where: str) -> SceneObject:
@@ -114,8 +118,10 @@ def _parse_object(raw, where: str) -> SceneObject:
     side = raw.get("side", DEFAULT_SIDE[cls])
     if not isinstance(side, str) or side not in ("left", "right"):
         raise InputError(f"{where}.side: must be 'left' or 'right', got {side!r}")
-    pose = _parse_pose(raw.get("pose"), f"{where}.pose")
     extent, closure = _parse_bounds(raw, cls, where)
+    if "pose" not in raw:
+        raise InputError(f"{where}.pose: missing (required: where the object is, {{theta, x, y}} in the hand frame)")
+    pose = _parse_pose(raw["pose"], f"{where}.pose")
     if extent is None:
         return SceneObject(cls, params, pose, side)
     obj = SceneObject(cls, params, pose, side, extent, closure)
@@ -215,15 +221,12 @@ def _segments_meet(p, q, a, b, eps: float) -> np.ndarray:
     return proper | overlap
 
 
-def _check_profile(profile, where: str) -> str | None:
+def check_profile(profile, where: str) -> str | None:
+    """``profile`` when it names one of recognizer.profiles.PROFILES (or is None)."""
     if profile is None:
         return None
     if not isinstance(profile, str):
         raise InputError(f"{where}: must be a profile name (string), got {profile!r}")
-    try:
-        from recognizer.profiles import PROFILES  # owned by the estimation area
-    except ImportError:
-        return profile
     if profile not in PROFILES:
         raise InputError(f"{where}: unknown profile {profile!r}; allowed: {', '.join(PROFILES)}")
     return profile
@@ -249,11 +252,17 @@ def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Sce
         if not path.is_absolute() and not _exists(path) and base_dir is not None:
             path = Path(base_dir) / path
         source, stem = str(path), path.stem
-        raw = read_yaml(path, "scene")
-        if not isinstance(raw, Mapping):
-            raise InputError(f"{source}: a scene must be a mapping with classes (and optionally object)")
+        raw, lines = read_yaml_located(path, "scene")
+        with lines.errors(source):
+            return _parse_scene(raw, source, stem)
     else:
         raise InputError(f"scene: must be a path or a mapping, got {type(path_or_mapping).__name__}")
+    return _parse_scene(raw, source, stem)
+
+
+def _parse_scene(raw, source: str, stem: str) -> Scene:
+    if not isinstance(raw, Mapping):
+        raise InputError(f"{source}: a scene must be a mapping with classes (and optionally object)")
 
     check_keys(raw, sorted(_TOP_KEYS), source)
     name = raw.get("name", stem)
@@ -267,7 +276,7 @@ def load_scene(path_or_mapping, base_dir=None, source: str | None = None) -> Sce
             raise InputError(f"{source}: classes: unknown class {c!r}; allowed: {', '.join(CURVES)}")
     ordered = tuple(c for c in ALL_CLASSES if c in set(classes))
     obj = _parse_object(raw["object"], f"{source}: object") if raw.get("object") is not None else None
-    profile = _check_profile(raw.get("profile"), f"{source}: profile")
+    profile = check_profile(raw.get("profile"), f"{source}: profile")
     noise = parse_noise(raw["noise"], f"{source}: noise") if raw.get("noise") is not None else None
     desc = raw.get("description")
     return Scene(name, ordered, obj, profile, noise, source, {"description": desc} if desc else {})

@@ -36,7 +36,8 @@ from recognizer.curves import CURVES
 from recognizer.solver import KERNELS
 from tactile_common.angles import wrap_angle
 
-__all__ = ["starts", "pose_from", "conic_start", "semicubical_scan", "hyperbola_scan", "ellipse_scan"]
+__all__ = ["starts", "pose_from", "conic_start", "semicubical_scan", "hyperbola_scan", "ellipse_scan", "clear_of_cusp",
+           "cusp_clearance"]
 
 _PI = math.pi
 
@@ -183,6 +184,57 @@ def _similarity_fit(x, y, w_pos, th, px, py):
     return scale, (w_pos * ((dx - sc * dqx) ** 2 + (dy - sc * dqy) ** 2)).sum(-1)
 
 
+def _similarity_pose(x, y, w_pos, th, scale, px, py):
+    """The translation of ``_similarity_fit``'s solution: weighted mean position minus
+    scale · R(θ)·(weighted mean of (px, py))."""
+    c, s_ = np.cos(th), np.sin(th)
+    wsum = w_pos.sum()
+    mx = (w_pos * (c * px - s_ * py)).sum(-1) / wsum
+    my = (w_pos * (s_ * px + c * py)).sum(-1) / wsum
+    return (w_pos * x).sum() / wsum - scale * mx, (w_pos * y).sum() / wsum - scale * my
+
+
+#: a semicubical scan point is admissible when every touch's contact lies at least this
+#: fraction of its reach (``Contacts.reach``) from the cusp along the curve (the scan's
+#: scale and placement are approximate: the truth lies at ≥ 1 reach)
+CUSP_CLEAR = 1.0
+#: rounds of placing the touches by their positions in a scan (``_placed``), Newton steps each
+PLACE_ROUNDS, PLACE_STEPS = 1, 3
+
+
+def _placed(x, y, w_pos, th, t, point, deriv, keep):
+    """A scan point's touches after 1..n placed by their positions (touch 0 stays: it and
+    its tangent fix the frame): each moved to the scale-free curve's point nearest its
+    position mapped into the curve's frame (``PLACE_STEPS`` Gauss–Newton steps of the
+    distance, ``keep(t_old, t_new)`` keeping a step on its piece of the curve), then the
+    scale and translation fitted again; ``PLACE_ROUNDS`` rounds. Far out on a branch or an
+    arm the tangent barely turns, so a touch placed by its tangent angle alone is placed by
+    the angle's noise (the semicubical's v moves 0.4 per 1.5 mrad where its slope is 20):
+    positions place it along the curve to within their own deviation. Returns (t, scale,
+    position χ²)."""
+    c, s_ = np.cos(th)[..., None], np.sin(th)[..., None]
+    px, py = point(t)
+    scale, _ = _similarity_fit(x, y, w_pos, th[..., None], px, py)
+    for _ in range(PLACE_ROUNDS):
+        # a negative scale: the touches' order along the curve is wrong (placed by tangents
+        # that barely turn); the positions place them again at the scale's size
+        scale = np.abs(scale)
+        tx, ty = _similarity_pose(x, y, w_pos, th[..., None], scale, px, py)
+        sc = np.where(scale > 0, scale, np.nan)[..., None]
+        dx, dy = x - tx[..., None], y - ty[..., None]
+        qx, qy = (c * dx + s_ * dy) / sc, (c * dy - s_ * dx) / sc
+        for _ in range(PLACE_STEPS):
+            px, py = point(t)
+            dpx, dpy = deriv(t)
+            step = ((qx - px) * dpx + (qy - py) * dpy) / (dpx * dpx + dpy * dpy)
+            moved = keep(t, t + step)
+            moved[..., 0] = t[..., 0]
+            t = np.where(np.isfinite(moved), moved, t)
+        px, py = point(t)
+        scale, cost = _similarity_fit(x, y, w_pos, th[..., None], px, py)
+    return t, scale, cost
+
+
 def _curvature_chi2(W, rk, rks):
     """χ² of the κ, κ_s residuals under the whitener ``W`` (one 2×2 per touch)."""
     r0 = W[:, 0, 0] * rk + W[:, 0, 1] * rks
@@ -203,12 +255,21 @@ def _separated_best(cost: np.ndarray, n_best: int) -> list[tuple[int, int]]:
     return kept
 
 
+def _arc_sf(u, b):
+    """Antiderivative of the scale-free semicubical's (v², v³ + b v²) speed in u = 3v + 2b
+    (recognizer.curves.SemicubicalParabola._arc with a = 1): its arc length from the cusp
+    to v is |_arc_sf(3v + 2b) − _arc_sf(2b)|."""
+    r = np.hypot(2.0, u)
+    return (r**3 / 3 - 2 * b * (u * r / 2 + 2 * np.arcsinh(u / 2))) / 9
+
+
 def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
     """The semicubical scan's score at shapes b and first-touch coordinates v0 on branch
     sg (broadcast arrays): χ² of positions, κ and κ_s with φ fitted exactly; returns
     (cost, v per touch, scale 1/a²), cost inf where a touch's v is not on the branch its
     tangent angle points to (the other touches may lie on either branch)."""
     x, y, phi, k, ks, w_pos, W = _scan_data(d)
+    sig_phi = np.array([r[6] for r in d.rows()])
     b = b[..., None]
     th = phi[0] - np.arctan2(sg * (3 * v0 + 2 * b[..., 0]), 2 * sg)
     psi = wrap_angle(phi - th[..., None])
@@ -216,14 +277,20 @@ def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
         v = (2 * np.tan(psi) - 2 * b) / 3
         # each touch on the branch its tangent points to: ψ within ±π/2 on v > 0, beyond on v < 0
         ok = np.all((np.abs(psi) < _PI / 2) == (v > 0), axis=-1)
-        scale, cost = _similarity_fit(x, y, w_pos, th[..., None], v * v, v**3 + b * v * v)
+        v, scale, cost = _placed(x, y, w_pos, th, v, lambda u: (u * u, u * u * (u + b)),
+                                 lambda u: (2 * u, u * (3 * u + 2 * b)),
+                                 lambda u, un: np.where(un * u > 0, un, 0.5 * u))
         ok &= scale > 0
         sc = scale[..., None]
+        sg = np.where(v > 0, 1.0, -1.0)
         u = 3 * v + 2 * b
+        if d.reach > 0:  # a pad cannot roll through the cusp: every touch reaches clear of it
+            ok &= np.all(sc * np.abs(_arc_sf(u, b) - _arc_sf(2 * b, b)) >= CUSP_CLEAR * d.reach, axis=-1)
         q = 4.0 + u * u
+        rphi = wrap_angle(phi - th[..., None] - np.arctan2(sg * u, 2 * sg)) / sig_phi
         rk = k - 6.0 / (np.abs(v) * q**1.5) / sc
         rks = ks + 6.0 * (q + 9 * u * v) / (v**3 * q**3) / (sc * sc)
-        cost = cost + _curvature_chi2(W, rk, rks)
+        cost = cost + (rphi * rphi).sum(-1) + _curvature_chi2(W, rk, rks)
     return np.where(ok & np.isfinite(cost), cost, np.inf), v, scale
 
 
@@ -512,4 +579,25 @@ def _cubic_starts(cls: str, d: Contacts, every_pair: bool) -> list[tuple[dict, l
             out.append(({"a": a, "b": b}, [2 * (li - b) / (3 * a) for li in lam]))
     if cls == "semicubical_parabola" and every_pair and d.n >= 2:
         out += semicubical_scan(d)
+    if cls == "semicubical_parabola" and d.reach > 0:
+        out = [st for st in out if clear_of_cusp(st, d.reach)]
     return out
+
+
+def clear_of_cusp(start: tuple[dict, list], reach: float) -> bool:
+    """Whether every touch of a semicubical start lies at least ``CUSP_CLEAR`` of its reach
+    from the cusp along the curve: a touch rolls ``reach`` either side of its contact and
+    no pad rolls through a cusp, so a start that puts a touch nearer is not the object
+    (tools.bench_wide seed 5, semicubical trial 3 after two suggested touches: the slope
+    equation's and the scan's best starts placed a touch 15 mm of arc from the cusp where
+    its samples span ±31 mm; their contact fits were consistent, their refinements
+    stalled at χ² 4.7e4 with the samples piled at the cusp)."""
+    return cusp_clearance(start) >= CUSP_CLEAR * reach
+
+
+def cusp_clearance(start: tuple[dict, list]) -> float:
+    """The shortest arc length (mm) from a semicubical start's cusp to one of its touches."""
+    params, t = start
+    arc = CURVES["semicubical_parabola"](params).arc_length(np.zeros(len(t)), np.asarray(t, float))
+    arc = np.abs(np.asarray(arc, float))
+    return float(np.min(arc)) if arc.size and np.all(np.isfinite(arc)) else 0.0

@@ -18,7 +18,10 @@ from typing import Mapping
 import numpy as np
 
 from recognizer import limits
+from recognizer.noise import NoiseModel, parse_noise
+from recognizer.scene import ALL_CLASSES, check_profile, load_scene
 from tactile_common.errors import InputError, check_keys
+from tactile_common.inputs import finite_number
 
 __all__ = ["NoiseModel", "Reach", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
            "MIN_TOUCHES", "check_touch_count", "finite_number"]
@@ -35,29 +38,6 @@ _CURVATURE_KEYS = ("kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s")
 _CONTACT_KEYS = ("x", "y", "phi") + _CURVATURE_KEYS
 _OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float, "reach": dict}
 ESTIMATORS = ("auto", "central", "poly")
-
-
-@dataclass(frozen=True)
-class NoiseModel:
-    """Measurement noise: standard deviation of a tangent angle (rad) and of a position (mm);
-    optionally ``pos_along``, the deviation of a sample's position along the boundary's
-    tangent when it differs from across it (``pos``): a flat pad fixes the tangent line
-    well but the contact point along it only from neighbouring readings."""
-
-    phi: float = 0.0
-    pos: float = 0.0
-    pos_along: float | None = None
-
-    @property
-    def along(self) -> float:
-        """σ of a position along the tangent (``pos_along``, else ``pos``)."""
-        return self.pos if self.pos_along is None else self.pos_along
-
-    def to_json(self) -> dict:
-        out = {"phi": self.phi, "pos": self.pos}
-        if self.pos_along is not None:
-            out["pos_along"] = self.pos_along
-        return out
 
 
 @dataclass(frozen=True)
@@ -84,6 +64,9 @@ def parse_reach(raw, where: str = "options.reach") -> Reach:
     vals = _required(raw, ("x", "y", "radius"), where, "a reach")
     if vals["radius"] <= 0:
         raise InputError(f"{where}.radius: must be > 0, got {vals['radius']}")
+    for k, v in vals.items():
+        if abs(v) > limits.MAX_COORD_MM:
+            raise InputError(f"{where}.{k}: |{v:.6g}| mm is beyond {limits.MAX_COORD_MM:g} mm")
     return Reach(**vals)
 
 
@@ -146,31 +129,10 @@ class Request:
     source: str = "<request>"
 
 
-def finite_number(v, where: str) -> float:
-    """``v`` as a float when it is a finite int or float (not a bool); else a one-line
-    InputError naming ``where``. The one number check of the request and scene readers."""
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        raise InputError(f"{where}: must be a finite number, got {v!r}")
-    return float(v)
-
-
 def _vec(v, where: str) -> np.ndarray:
     if not isinstance(v, (list, tuple)):
         raise InputError(f"{where}: must be a list of numbers")
     return np.array([finite_number(e, f"{where}[{i}]") for i, e in enumerate(v)], dtype=float)
-
-
-def parse_noise(raw, where: str = "noise") -> NoiseModel:
-    if not isinstance(raw, Mapping):
-        raise InputError(f"{where}: must be a mapping {{phi: rad, pos: mm, pos_along: mm (optional)}}")
-    check_keys(raw, ("phi", "pos", "pos_along"), where)
-    vals = {k: finite_number(raw.get(k, 0.0), f"{where}.{k}") for k in ("phi", "pos")}
-    if raw.get("pos_along") is not None:
-        vals["pos_along"] = finite_number(raw["pos_along"], f"{where}.pos_along")
-    for k, v in vals.items():
-        if v < 0:
-            raise InputError(f"{where}.{k}: must be >= 0, got {v}")
-    return NoiseModel(**vals)
 
 
 def _parse_samples(raw: Mapping, where: str) -> SamplesTouch:
@@ -211,6 +173,10 @@ def _parse_noise_factor(raw, n: int, where: str) -> np.ndarray:
     factor = np.array(rows)
     if np.max(np.abs(factor)) > limits.MAX_COORD_MM or not np.any(factor):
         raise InputError(f"{where}: entries must be within {limits.MAX_COORD_MM:g} and not all zero")
+    tiny = np.abs(factor[(factor != 0) & (np.abs(factor) < limits.MIN_NOISE)])
+    if tiny.size:
+        raise InputError(f"{where}: an entry of {float(tiny[0]):.3g} is below {limits.MIN_NOISE:g} (mm, rad): no "
+                         f"instrument resolves errors that small; write 0 for none")
     return factor
 
 
@@ -257,7 +223,9 @@ def _parse_cov(raw: Mapping, where: str) -> np.ndarray:
         cov = np.array(rows)
         if abs(cov[0, 1] - cov[1, 0]) > 1e-12 * (abs(cov[0, 1]) + 1e-300):
             raise InputError(f"{where}.cov: must be a symmetric 2x2 matrix")
-        if cov[0, 0] < 0 or cov[1, 1] < 0 or cov[0, 0] * cov[1, 1] - cov[0, 1] ** 2 < -1e-12 * (cov[0, 0] * cov[1, 1] + 1e-300):
+        # c01² ≤ c00·c11 compared as square roots: no product of two large variances overflows
+        if cov[0, 0] < 0 or cov[1, 1] < 0 or \
+                abs(cov[0, 1]) > math.sqrt(cov[0, 0]) * math.sqrt(cov[1, 1]) * (1.0 + 1e-12) + 1e-300:
             raise InputError(f"{where}.cov: must be positive semi-definite")
     for i, k in enumerate(("sigma_kappa", "sigma_kappa_s")):
         if k in raw:
@@ -303,8 +271,6 @@ def check_touch_count(n: int, classes, source: str = "request") -> None:
 def parse_request(obj, base_dir=None, source: str = "request") -> Request:
     """Validate a decoded JSON request; ``base_dir`` resolves a relative scene path
     after the current directory."""
-    from recognizer.scene import ALL_CLASSES, load_scene
-
     if not isinstance(obj, Mapping):
         raise InputError(f"{source}: must be a JSON object with 'touches'")
     check_keys(obj, sorted(_TOP_KEYS), source)
@@ -334,9 +300,7 @@ def parse_request(obj, base_dir=None, source: str = "request") -> Request:
     if noise is None and scene is not None:
         noise = scene.noise
     limits.check_magnitudes(touches, noise, source)
-    options = _parse_options(obj.get("options") or {}, f"{source}.options")
+    options = _parse_options({} if obj.get("options") is None else obj["options"], f"{source}.options")
     if "profile" in options:
-        from recognizer.scene import _check_profile
-
-        _check_profile(options["profile"], f"{source}.options.profile")
+        check_profile(options["profile"], f"{source}.options.profile")
     return Request(tuple(touches), scene, classes, noise, options, source)

@@ -2,20 +2,25 @@
 and whole files written to a temporary name beside the target and renamed into place.
 
 - :func:`check_output` refuses an existing file unless ``force`` and refuses, even with it,
-  a file the same command reads (``demo --config X --log X``, ``replay L --touches L``).
+  a file the same command reads (``demo --config X --log X``, ``replay L --touches L``)
+  and anything that is not a regular file (a device such as ``/dev/full``, a FIFO, a
+  socket, a directory; a symbolic link is judged by what it points to): ``--force``
+  replaces files, never the special files a rename would destroy.
 - :func:`atomic_write` / :func:`atomic_path` write a whole file (config, touches, table,
   plot) under a temporary name in the same directory, fsync it and ``os.replace`` it onto
   the target: a reader sees the old file or the new one, never half of either; a crash
   leaves at most a ``.NAME.*.tmp`` file beside it.
 
 Append-only logs (hand_driver.log.RunLog) are not rewritten whole: they are created with
-:func:`create_exclusive` and fsync'd record by record.
+:func:`create_exclusive` (``O_EXCL``: never opened on top of anything, so never a FIFO
+that blocks or a device) and fsync'd record by record.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import stat
 import tempfile
 from pathlib import Path
 from typing import Iterable, Iterator
@@ -35,20 +40,42 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
+def _special(path: Path) -> str | None:
+    """What ``path`` is when it exists and is not a regular file (following links), else None."""
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return None
+    for test, what in ((stat.S_ISDIR, "a directory"), (stat.S_ISCHR, "a character device"),
+                       (stat.S_ISBLK, "a block device"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return what
+    return None if stat.S_ISREG(mode) else "not a regular file"
+
+
+def _refuse_special(out: Path, flag: str) -> None:
+    what = _special(out)
+    if what == "a directory":
+        raise InputError(f"{flag} {out}: is a directory; give a file name")
+    if what is not None:
+        raise InputError(f"{flag} {out}: is {what}, not a regular file; outputs only replace regular files "
+                         f"(even with --force): give a file name")
+
+
 def check_output(path: str | os.PathLike[str], *, force: bool, reads: Iterable = (), flag: str = "--out") -> Path:
     """The output ``path`` of a command, refused (one-line :class:`InputError`) when it is one
-    of the files the command reads (``reads``; even with ``force``) or exists without ``force``."""
+    of the files the command reads (``reads``; even with ``force``), when it exists and is not
+    a regular file (even with ``force``), or when it exists without ``force``."""
     out = Path(path)
     for src in reads:
         if src is not None and _same_file(out, Path(src)):
             raise InputError(f"{flag} {out}: is a file this command reads ({src}); choose another path")
     try:
-        is_dir = out.is_dir()
         exists = out.exists() or out.is_symlink()
     except (OSError, ValueError) as exc:
         raise InputError(f"{flag} {str(out)[:200]}: not a usable path ({exc})") from None
-    if is_dir:
-        raise InputError(f"{flag} {out}: is a directory; give a file name")
+    _refuse_special(out, flag)
     if exists and not force:
         raise InputError(f"{flag} {out}: exists; pass --force to overwrite it")
     return out
@@ -72,6 +99,7 @@ def atomic_path(path: str | os.PathLike[str], flag: str = "--out") -> Iterator[P
         with open(tmp_path, "rb+") as fh:
             os.fsync(fh.fileno())
         os.chmod(tmp_path, 0o666 & ~_UMASK)
+        _refuse_special(target, flag)  # again: it may have appeared while the file was written
         os.replace(tmp_path, target)
     except OSError as exc:
         raise InputError(f"{flag} {target}: cannot write ({exc.strerror or exc})") from None
@@ -90,16 +118,23 @@ def atomic_write(path: str | os.PathLike[str], data: str | bytes, flag: str = "-
 
 
 def create_exclusive(path: str | os.PathLike[str], *, force: bool, flag: str = "--log"):
-    """Open a new text file for appending records: refused if it exists unless ``force``
-    (then truncated). Returns the open file."""
+    """Create a new file for appending records, unbuffered (``write`` goes straight to the
+    file: a failed write leaves nothing behind in a buffer). An existing file is refused
+    unless ``force`` (then removed and created anew); anything but a regular file is refused
+    even then. Returns the open binary file."""
     target = Path(path)
     try:
         target.parent.mkdir(parents=True, exist_ok=True)
-        return open(target, "w" if force else "x", encoding="utf-8")
+        if force:
+            _refuse_special(target, flag)
+            with contextlib.suppress(FileNotFoundError):
+                target.unlink()
+        fd = os.open(target, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0), 0o666)
     except FileExistsError:
         raise InputError(f"{flag} {target}: exists; pass --force to overwrite it") from None
     except OSError as exc:
         raise InputError(f"{flag} {target}: cannot write ({exc.strerror or exc})") from None
+    return open(fd, "wb", buffering=0)
 
 
 def _fsync_dir(directory: Path) -> None:

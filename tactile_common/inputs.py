@@ -13,6 +13,7 @@ The limits (docs/formats.md states them for users):
 from __future__ import annotations
 
 import json
+import math
 import os
 import stat
 from pathlib import Path
@@ -20,7 +21,7 @@ from pathlib import Path
 from tactile_common.errors import InputError
 
 __all__ = ["NumberLimit", "MAX_NUMBER_CHARS", "MAX_INT", "MAX_DEPTH", "MAX_PATH_CHARS", "read_bounded", "decode_utf8",
-           "loads_json", "bracket_depth", "check_int", "check_path_text", "megabytes"]
+           "loads_json", "bracket_depth", "check_int", "check_path_text", "megabytes", "finite_number"]
 
 MAX_NUMBER_CHARS = 64
 MAX_INT = 2 ** 53
@@ -140,3 +141,11 @@ def read_bounded(path, limit: int, what: str, *, regular_only: bool = True) -> b
     if len(raw) > limit:
         raise InputError(f"{p}: {what} is over the {megabytes(limit)} limit")
     return raw
+
+
+def finite_number(v, where: str) -> float:
+    """``v`` as a float when it is a finite int or float (not a bool); else a one-line
+    InputError naming ``where``. The one number check of the request and scene readers."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise InputError(f"{where}: must be a finite number, got {v!r}")
+    return float(v)

@@ -226,6 +226,8 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
                       f"where the recognizer points: {suggested.get('why', '')}")
             skip = _aimed_near(aim.point, aimed_at) or _aimed_near(aim.point, empty_at, EMPTY_AIM_MM)
             return (None if skip else aim), None
+    if why.kind == "resolution":  # more touches of this jaw cannot tell them apart (tactile_jaw.decide.inseparable)
+        return None, Stop("more touches of this jaw are not expected to tell them apart")
     if why.kind in ("unstable", "unclassified"):
         return None, None  # one more touch anywhere: the planner's
     what = ("narrow the parameters" if why.kind == "imprecise" else "tell the classes apart")

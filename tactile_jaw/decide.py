@@ -14,6 +14,7 @@ from recognizer.classify import chi2_limit
 from recognizer.profiles import DEFAULT_PROFILE, PROFILES
 from recognizer.result import Recognition
 from tactile_common.errors import InputError
+from tactile_jaw.separation import answer_ts, departing_gap, expected_gap, finer_ticks, is_rolling, round_up
 from tactile_jaw.settings import ExploreSettings
 
 #: a consistent rival class whose χ² exceeds the answer's by this much (likelihood ratio
@@ -61,30 +62,48 @@ VERTEX_SIDE_DEG = 25.0
 #: budget: at 2 % it refused both (24.5 / 23.3 s) and was slower than balanced; the user who
 #: picks it takes a looser answer (5 %)
 DIMENSIONLESS = frozenset({("cubical_parabola", "c"), ("semicubical_parabola", "b")})
+#: (limit, richer class): the member of the richer class :func:`inseparable` holds the answer
+#: against (tactile_jaw.separation.DEPART_FRACTION, recognizer.nested), for its reason
+DEPARTURE = {("parabola", "ellipse"): "the end of its minor axis at the touched stretch's half-width",
+             ("parabola", "hyperbola"): "its semi-axis b the touched stretch's half-width",
+             ("parabola", "cubical_parabola"): "its inflection at the touched stretch's half-width",
+             ("parabola", "semicubical_parabola"): "its cusp at the touched stretch's half-width",
+             ("circle", "ellipse"): "axes 2:1"}
 
-RecognizeTouches = Callable[[Sequence[Any]], Recognition]
+RecognizeTouches = Callable[..., Recognition]
+#: how a refusal says that a jaw with finer angles would settle it (:func:`finer_advice`,
+#: :func:`imprecision`), and what :func:`refusal_kind` looks for
+FINER = "a jaw with >="
+#: what a refusal asks of a person (:func:`refusal_kind`): move the object where a pad can
+#: reach the deciding place; a jaw with finer angles; another placement or exploration
+REFUSAL_KINDS = ("out of reach", "needs finer angles", "needs another move")
 #: what keeps an answer from being decisive (:class:`Why`): no class fits; a richer class
 #: fits significantly better; a rival fits as well; the answer changed with the last touch
 #: (or was not yet checked with one fewer); a parabola felt on one side of its vertex only;
-#: parameters not yet determined. The exploration picks its next touch by it (tactile_jaw.choose)
-KINDS = ("unclassified", "better", "rival", "unstable", "vertex", "imprecise")
+#: parameters not yet determined; a rival the touches of this jaw cannot tell apart however
+#: many the budget allows (:func:`inseparable`). The exploration picks its next touch by it
+#: (tactile_jaw.choose)
+KINDS = ("unclassified", "better", "rival", "unstable", "vertex", "imprecise", "resolution")
 
 
 class Why(str):
-    """Why an answer is not decisive: the sentence for people, with its ``kind`` (``KINDS``)."""
+    """Why an answer is not decisive: the sentence for people, with its ``kind`` (``KINDS``)
+    and the ``rival`` class that fits as well, when one does."""
 
     kind: str
+    rival: str | None
 
-    def __new__(cls, message: str, kind: str) -> "Why":
+    def __new__(cls, message: str, kind: str, rival: str | None = None) -> "Why":
         if kind not in KINDS:
             raise ValueError(f"unknown kind of indecision {kind!r}")
         out = super().__new__(cls, message)
         out.kind = kind
+        out.rival = rival
         return out
 
 
 def indecision(recognition: Recognition, shorter: Recognition | None, settings: ExploreSettings,
-               touched: tuple[np.ndarray, np.ndarray] | None = None) -> Why | None:
+               touched: tuple[np.ndarray, np.ndarray] | None = None, ticks_per_rev: int | None = None) -> Why | None:
     """Why a class answer is not yet decisive, or None when it is. ``recognition`` is on
     every usable touch, ``shorter`` on all but the last (None if too few), ``touched`` the
     touches' sample positions (x, y) (None: unknown). Decisive: (a) no
@@ -110,7 +129,7 @@ def indecision(recognition: Recognition, shorter: Recognition | None, settings: 
     if others:
         runner = min(others, key=lambda r: r.chi2)
         return Why(f"{best.cls} (chi2 {best.chi2:.1f}) and {runner.cls} (chi2 {runner.chi2:.1f}) both "
-                   f"fit, less than {DECISIVE_CHI2:g} apart: the touches cannot tell them apart", "rival")
+                   f"fit, less than {DECISIVE_CHI2:g} apart: the touches cannot tell them apart", "rival", runner.cls)
     if rivals and (shorter is None or shorter.cls != recognition.cls):
         return Why(f"{best.cls} and {rivals[0].cls} both fit and the answer "
                    + ("changed with the last touch" if shorter is not None else "was not yet checked with one touch fewer"),
@@ -122,7 +141,7 @@ def indecision(recognition: Recognition, shorter: Recognition | None, settings: 
             return Why(f"{best.cls} and {richer.cls} both fit and the touches reach {sides[0]:.0f} and {sides[1]:.0f} "
                        f"deg either side of the parabola's vertex (less than {VERTEX_SIDE_DEG:g} on one side, where an "
                        f"arc of the {richer.cls} looks like a parabola's)", "vertex")
-    return imprecision(recognition, settings.profile)
+    return imprecision(recognition, settings.profile, ticks_per_rev)
 
 
 def vertex_sides(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray]) -> tuple[float, float]:
@@ -134,29 +153,43 @@ def vertex_sides(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray
     return max(-float(turn.min()), 0.0), max(float(turn.max()), 0.0)
 
 
-def imprecision(recognition: Recognition, profile: str | None = None) -> Why | None:
+def imprecision(recognition: Recognition, profile: str | None = None, ticks_per_rev: int | None = None) -> Why | None:
     """Why the answer's shape parameters are not yet determined (a standard deviation above
     the profile's ``decisive_rel_sigma`` of the parameter's magnitude), or None. Touches that all see one
     short arc fit one class decisively yet leave its parameters loose (an ellipse from 30°
     of its boundary: a ±4 %, b ±9 %), and their errors along the pad are correlated, so such
-    an answer can be off by far more than its stated deviation: explore on instead."""
+    an answer can be off by far more than its stated deviation: explore on instead. With the
+    jaw's ``ticks_per_rev``, the reason says at which resolution the same touches would
+    state them within the limit (every σ is the ticks' quantization, so it shrinks as one
+    tick; a jaw with ≥ N ticks per turn, 3 significant digits)."""
     rel = PROFILES.get(profile or DEFAULT_PROFILE, PROFILES[DEFAULT_PROFILE]).decisive_rel_sigma
-    loose = []
+    loose, worst = [], 0.0
     for name, value in recognition.params.items():
         sd = recognition.uncertainty.get(name)
         if sd is None:
             continue
         ref = max(abs(value), 1.0) if (recognition.cls, name) in DIMENSIONLESS else abs(value)
         if not (math.isfinite(sd) and sd <= rel * ref):
-            loose.append(f"{name} ±{100.0 * sd / ref:.2g} %" if ref > 0 and math.isfinite(sd) else f"{name} undetermined")
+            finite = ref > 0 and math.isfinite(sd)
+            loose.append(f"{name} ±{100.0 * sd / ref:.2g} %" if finite else f"{name} undetermined")
+            worst = max(worst, sd / (rel * ref) if finite else math.inf)
     if loose:
-        return Why(f"{recognition.cls} parameters not yet within {100 * rel:g} %: {', '.join(loose)}", "imprecise")
+        advice = ""
+        if ticks_per_rev is not None and math.isfinite(worst):
+            need = round_up(ticks_per_rev * worst)
+            advice = (f": this jaw's angle resolution ({ticks_per_rev:,} ticks per turn) leaves them so; {FINER} "
+                      f"{need:,} ticks per turn states them within {100 * rel:g} %")
+        return Why(f"{recognition.cls} parameters not yet within {100 * rel:g} %: {', '.join(loose)}{advice}",
+                   "imprecise")
     return None
 
 
-def decide(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings):
+def decide(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings,
+           ticks_per_rev: int | None = None):
     """(Recognition, why it is not decisive or None): :func:`indecision` on the recognizer's
-    answer on ``touches`` (and on all but the last, when it needs that)."""
+    answer on ``touches`` (and on all but the last, when it needs that), then, for an answer
+    so far decisive, :func:`inseparable` (``ticks_per_rev``: the jaw's encoder resolution,
+    for its advice)."""
     recognition = recognize_touches(touches)
     if recognition.cls == "unclassified":
         return recognition, Why(recognition.reason or "no class fits", "unclassified")
@@ -166,7 +199,77 @@ def decide(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings
             shorter = recognize_touches(touches[:-1])
         except InputError:
             shorter = None
-    return recognition, indecision(recognition, shorter, settings, sample_positions(touches))
+    why = indecision(recognition, shorter, settings, sample_positions(touches), ticks_per_rev)
+    if why is None:
+        why = inseparable(recognize_touches, recognition, touches, ticks_per_rev, settings.touches)
+    return recognition, why
+
+
+def inseparable(recognize_touches: RecognizeTouches, recognition: Recognition, touches: Sequence[Any],
+                ticks_per_rev: int | None = None, budget: int = 0) -> Why | None:
+    """Why an answer that is a limit of a richer class of the scene (``SUBMODELS``: a
+    parabola of the ellipse, the hyperbola and both cubic families, a circle of the
+    ellipse) is not decisive though the richer class fits no better: a member of that class
+    whose own shape shows within the touched stretch (tactile_jaw.separation.departing_gap:
+    its inflection, cusp or far vertex at the stretch's half-width) would fit these touches
+    within ``DECISIVE_CHI2`` of the answer, so the touches cannot tell the two apart and the
+    answer could be that member's limit by chance (random cubical 102 of bench_explore
+    --finite 20 --seed 13, moved as its refusal advised: its hump felt 29° and 38° either
+    side, answered parabola with every class within 0.1 in χ²; a cubical departing there
+    reaches Δχ² 5.6, a semicubical 0.3). The reason says which jaw resolution would tell
+    them apart (Δχ² grows as the square of the ticks per turn:
+    tactile_jaw.separation.finer_ticks). Kind ``rival`` while touches up to the ``budget``,
+    each adding its share of the gap, could reach ``DECISIVE_CHI2``, else ``resolution``
+    (exploration stops: this jaw cannot tell them apart). None when every such member is
+    ruled out."""
+    present = {r.cls for r in recognition.ranking}
+    gaps = {rival: departing_gap(recognize_touches, recognition, touches, rival)
+            for rival in sorted(LIMIT_OF.get(recognition.cls, frozenset()) & present)}
+    close = {rival: gap for rival, gap in gaps.items() if gap is not None and gap < DECISIVE_CHI2}
+    if not close:
+        return None
+    rival = min(close, key=close.get)  # the hardest to tell apart: its resolution tells every other too
+    gap = close[rival]
+    # each touch adds its own share of the expected gap: the whole budget's touches alike
+    # would bring it to gap × budget / touches so far
+    reachable = gap * max(budget, len(touches)) / max(len(touches), 1)
+    kind = "rival" if reachable >= DECISIVE_CHI2 else "resolution"
+    return Why(f"{recognition.cls} and {rival} both fit: a {rival} with {DEPARTURE[recognition.cls, rival]} "
+               f"would fit these touches as well (expected chi2 gap {gap:.2g}, less than "
+               f"{DECISIVE_CHI2:g}){finer_advice(gap, ticks_per_rev)}", kind, rival)
+
+
+def rivals_gap(recognize_touches: RecognizeTouches, recognition: Recognition, touches: Sequence[Any],
+               rival: str) -> float | None:
+    """The expected Δχ² between the answer's fit and the ``rival`` class's own fit to the same
+    touches (tactile_jaw.separation.expected_gap, each taken as the truth in turn, the
+    smaller): what these touches could tell them apart by. None for flat touches or when a
+    fit has no contacts."""
+    try:
+        other = recognize_touches(touches, classes=(rival,))
+    except InputError:
+        return None
+    gaps = []
+    for truth, against in ((recognition, rival), (other, recognition.cls)):
+        ts = answer_ts(truth, touches) if truth.cls != "unclassified" and is_rolling(touches) else None
+        if ts is None:
+            return None
+        gaps.append(expected_gap(recognize_touches, touches, truth.cls, truth.params, truth.pose, ts, against))
+    return min(gaps)
+
+
+def finer_advice(gap: float, ticks_per_rev: int | None) -> str:
+    """The clause naming the encoder resolution at which an expected Δχ² ``gap`` reaches
+    ``DECISIVE_CHI2`` (tactile_jaw.separation.finer_ticks), or '' without the jaw's."""
+    if ticks_per_rev is None:
+        return ""
+    need = finer_ticks(gap, ticks_per_rev, DECISIVE_CHI2)
+    if need is None:
+        return ": no encoder resolution tells them apart on these touches"
+    if need <= ticks_per_rev:
+        return ""  # these touches could tell them apart: more touches may
+    return (f": both fit within this jaw's angle resolution ({ticks_per_rev:,} ticks per turn); "
+            f"{FINER} {need:,} ticks per turn tells them apart")
 
 
 def sample_positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | None:
@@ -180,16 +283,33 @@ def sample_positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | 
 
 
 def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings,
-                 stopped: str | None = None) -> Recognition:
+                 stopped: str | None = None, ticks_per_rev: int | None = None) -> Recognition:
     """The answer on the usable touches once exploration ends: the recognizer's class when
     it is decisive (:func:`decide`), else ``unclassified`` with the reason (and ``stopped``,
     why exploration ended undecided and what a person can do, tactile_jaw.choose) and the
     recognizer's ``next_touch``; a wrong class said confidently is worse than a refusal.
     Replay uses this on the logged touches (and the log's ``stopped_early`` or ``budget_spent``
     event)."""
-    recognition, why = decide(recognize_touches, touches, settings)
+    recognition, why = decide(recognize_touches, touches, settings, ticks_per_rev)
     if recognition.cls == "unclassified" or why is None:
         return recognition
+    if why.kind == "rival" and why.rival is not None and ticks_per_rev is not None:
+        gap = rivals_gap(recognize_touches, recognition, touches, why.rival)
+        if gap is not None:
+            why = Why(f"{why}{finer_advice(gap, ticks_per_rev)} (expected chi2 gap {gap:.2g})", why.kind, why.rival)
     reason = f"not decisive after {len(touches)} usable touches: {why}" + (f"; {stopped}" if stopped else "")
     return Recognition("unclassified", reason=reason, ranking=recognition.ranking, timing=recognition.timing,
                        next_touch=recognition.next_touch)
+
+
+def refusal_kind(reason: str, move: dict | None = None) -> str:
+    """What a refusal (its ``reason``, and the ``move`` its stop event names, if any) asks
+    of a person (``REFUSAL_KINDS``): finer angles when it names a resolution that would
+    settle it (:func:`finer_advice`, :func:`imprecision`); out of reach when it names a
+    move of the object after which a pad rolls where the deciding touch goes, or no pad
+    can roll there (tactile_jaw.choose); else another move or placement of the object."""
+    if FINER in reason:
+        return "needs finer angles"
+    if move is not None or "no pad can roll" in reason:
+        return "out of reach"
+    return "needs another move"

@@ -19,9 +19,11 @@ errors are correlated, rank degree + 1 + n). docs/exploration.md#the-stated-nois
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import stats
 
 from hand_driver import kinematics as kin
 from hand_driver.units import rad_per_tick
@@ -31,9 +33,34 @@ from tactile_common.angles import wrap_angle
 STEP_RAD = 1e-7
 
 
-def quantization_var(finger) -> np.ndarray:
-    """Variance (rad²) of each joint's angle quantized to a tick of its model (uniform)."""
-    return rad_per_tick(kin.resolutions(finger.joints)) ** 2 / 12.0
+@dataclass(frozen=True)
+class JointNoise:
+    """What a finger's two joints put into its readings during one touch: each reading
+    quantized to the joint's encoder tick (uniform, independent per reading: σ = tick/√12),
+    and an error that stays the same over the touch (σ per joint, rad: where a gear with
+    backlash rests in its dead band; the rolls keep each joint's load in one direction, so
+    backlash is such an offset: docs/exploration.md#the-stated-noise)."""
+
+    tick_rad: tuple[float, float]
+    offset_rad: tuple[float, float] = (0.0, 0.0)
+
+    @property
+    def quantization(self) -> np.ndarray:
+        """σ of each joint's quantization (rad)."""
+        return np.asarray(self.tick_rad, dtype=float) / math.sqrt(12.0)
+
+
+def joint_noise(finger) -> JointNoise:
+    """The noise a finger's joints declare (hand_driver.config): each joint's tick (its
+    model's resolution) and its offset over a touch, σ = √(z² + (b/2)²): z its zero's standard
+    error after calibration (``zero_sigma_deg``; the touches load each joint one way, so the
+    part of a backlash the calibration's face touches saw is in the calibrated zero:
+    kinematics.contact_load_signs), b its declared ``backlash_deg`` (which side of the dead
+    band the gear rests on is not known: the calibration's pad-end touches may load a joint
+    the other way; measured, docs/exploration.md#the-stated-noise)."""
+    ticks = rad_per_tick(kin.resolutions(finger.joints))
+    return JointNoise(tuple(float(t) for t in ticks),
+                      tuple(math.radians(math.hypot(j.zero_sigma_deg, j.backlash_deg / 2.0)) for j in finger.joints))
 
 
 @dataclass(frozen=True)
@@ -44,27 +71,150 @@ class EnvelopeFit:
     kappa: float  # 1/mm
     kappa_s: float  # 1/mm²
     cov: np.ndarray  # 2×2 covariance of (κ, κ_s)
-    rho: float  # radius of curvature (mm); ≈ 0 on a corner
-    sigma_rho: float
+    rho: float  # radius of curvature (mm) at the contact, of the lowest degree weighed; ≈ 0 on a corner
+    sigma_rho: float  # its deviation
     chi2: float  # of the pad lines about the fitted smooth support function, each by its deviation
     dof: int  # readings − fitted coefficients
     sigma_across: np.ndarray  # each sample's position across its pad line (mm), contacts' order
     sigma_along: np.ndarray  # and along it (mm): from the fit's slope d', U-shaped over the roll
-    noise_factor: np.ndarray  # (3n, 2n) F: the samples' (x…, y…, φ…) errors = F · (joint errors / σ)
+    noise_factor: np.ndarray  # (3n, 2n [+ 2]) F: the samples' (x…, y…, φ…) errors = F · (unit normal draws)
+    line_sigma: np.ndarray  # each pad line's deviation about the fit (mm), contacts' order
+    sigma_phi: np.ndarray  # each sample's tangent angle deviation (rad), contacts' order
 
 
-def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None) -> EnvelopeFit:
+#: the lowest degree of d(ψ) the order rule gives a roll: κ_s = −ρ'/ρ³ at the contact
+#: needs ρ(ψ) = −(d + d'') to vary, and degree 2 holds it constant
+MIN_DEGREE = 3
+#: degrees of freedom the order rule leaves the pad lines' χ² about the fit (the smoothness
+#: test, tactile_jaw.pipeline.off_curve_reason): a polynomial with fewer left follows a kink
+DEGREE_DOF = 3
+
+
+def degrees(n: int) -> range:
+    """The degrees of d(ψ) the order rule weighs for n readings: ``MIN_DEGREE`` to
+    n − 1 − ``DEGREE_DOF`` (just kinematics.default_degree when fewer readings leave no choice)."""
+    lo = min(MIN_DEGREE, kin.default_degree(n))
+    return range(lo, max(lo, n - 1 - DEGREE_DOF) + 1)
+
+
+def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None,
+                 noise: JointNoise | None = None) -> EnvelopeFit:
     """:class:`EnvelopeFit` of a touch of ``finger`` (hand_driver.config.FingerConfig) from its
     joint angles ``q`` (n, 2) and their pad lines ``lines`` (n ≥ 3 readings with distinct ψ);
-    ``degree`` of d(ψ) as kinematics.touch_from_pad_lines."""
+    deviations from ``noise`` (default: what the finger's joints declare, :func:`joint_noise`).
+    The ``degree`` of d(ψ): given, else the order rule (:func:`choose_degree`)."""
     q = np.asarray(q, dtype=float)
-    base = kin.touch_from_pad_lines(lines.psi, lines.d, degree=degree)
+    noise = joint_noise(finger) if noise is None else noise
+    first = kin.touch_from_pad_lines(lines.psi, lines.d, degree=degree)
+    weighed = degrees(q.shape[0]) if degree is None else range(first.degree, first.degree + 1)
+    fits = {}
+
+    def fit_of(k):
+        if k not in fits:
+            fits[k] = _propagate(finger, q, first.origin, k, noise)
+        return fits[k]
+
+    base, factor = choose_degree(fit_of, weighed)
+    lowest = fit_of(weighed.start)[1]  # the corner test's ρ: the most precise one
+    n = q.shape[0]
+    m = n // 2
+    normal = np.stack([np.cos(base.psi), np.sin(base.psi)], axis=-1)
+    fx, fy, fpsi = factor[3 : 3 + n], factor[3 + n : 3 + 2 * n], factor[3 + 2 * n :]
+    across = normal[:, :1] * fx + normal[:, 1:] * fy
+    along = -normal[:, 1:] * fx + normal[:, :1] * fy
+    cov = factor[:2] @ factor[:2].T
+    rho = float(fits[weighed.start][0].rho[m])
+    sigma = _line_sigma(finger, q, base, noise.quantization)
+    return EnvelopeFit(base, 1.0 / float(base.rho[m]), float(-base.rho_psi[m] / base.rho[m] ** 3), cov, rho,
+                       float(np.sqrt(np.sum(lowest[2] ** 2))), float(np.sum((base.residual / sigma) ** 2)),
+                       n - base.degree - 1, np.sqrt(np.sum(across**2, axis=1)), np.sqrt(np.sum(along**2, axis=1)),
+                       factor[3:], sigma, np.sqrt(np.sum(fpsi**2, axis=1)))
+
+
+#: a richer degree of d(ψ) is taken when its contacts differ from the present degree's by
+#: more than that difference's own noise allows at this level (χ² of the difference). Small:
+#: a degree taken on noise alone costs much (over an 18° roll of 9 readings at 4,096 ticks
+#: per turn a quartic's radius of curvature is uncertain by ±12 mm where the cubic's is by
+#: ±4: the corner test then refuses good rolls); what the test leaves undetected is stated
+#: as noise (:func:`_with_truncation`)
+ORDER_ALPHA = 1e-2
+
+
+#: the truncation a richer degree shows at this level, not at ``ORDER_ALPHA``, is stated as
+#: noise (:func:`_with_truncation`): too small to pay for a degree, too likely to leave out
+TRUNCATION_ALPHA = 0.05
+
+
+def choose_degree(fit_of, weighed: range):
+    """The order rule: from the lowest degree ``weighed``, step up to a richer one (one or two
+    degrees up: d(ψ)'s truncation may be even or odd) while it changes the contacts
+    significantly (:func:`truncation`: the χ² of the difference above its limit at
+    ``ORDER_ALPHA``); the chosen degree's noise factor also holds the truncation estimated
+    against the next degree. ``fit_of(k)`` is :func:`_propagate` at degree k; returns the
+    chosen (contacts, factor)."""
+    k = weighed.start
+    while True:
+        richer = range(k + 1, min(k + 2, weighed.stop - 1) + 1)
+        steps = [j for j in richer if _significant(*truncation(fit_of(k), fit_of(j)))]
+        if not steps:
+            return _with_truncation(fit_of(k), fit_of(k + 1)) if richer else fit_of(k)
+        k = steps[0]
+
+
+def _significant(chi2: float, rank: int) -> bool:
+    return rank > 0 and chi2 > stats.chi2.isf(ORDER_ALPHA, rank)
+
+
+def truncation(fit, richer) -> tuple[float, int]:
+    """How significantly a ``richer`` degree's contacts differ from ``fit``'s: the χ² of the
+    difference of the samples' x, y by its own covariance (the difference of the two noise
+    factors: both fits see the same readings), and its rank. Each fit is (contacts,
+    factor) of :func:`_propagate`."""
+    diff, dfac = _difference(fit, richer)
+    u, sv, vt = np.linalg.svd(dfac, full_matrices=False)
+    keep = sv > 1e-9 * max(float(sv[0]), 1e-300)
+    z = (u[:, keep].T @ diff) / sv[keep]
+    return float(z @ z), int(np.count_nonzero(keep))
+
+
+def _difference(fit, richer) -> tuple[np.ndarray, np.ndarray]:
+    """The samples' x…, y… of ``fit`` less ``richer``'s, and the factor of that difference's noise."""
+    (c, f), (c_hi, f_hi) = fit, richer
+    n = c.x.size
+    width = min(f.shape[1], f_hi.shape[1])
+    rows = slice(3, 3 + 2 * n)
+    return np.concatenate([c.x - c_hi.x, c.y - c_hi.y]), f[rows, :width] - f_hi[rows, :width]
+
+
+def _with_truncation(fit, richer):
+    """``fit`` with its truncation as one more column of its noise factor: every output's
+    difference to the ``richer`` degree's, scaled by the share of the difference's χ² above
+    its expectation under noise alone (none when it is within: :func:`truncation`)."""
+    (c, f), (c_hi, _) = fit, richer
+    chi2, rank = truncation(fit, richer)
+    if rank == 0 or chi2 <= stats.chi2.isf(TRUNCATION_ALPHA, rank):
+        return fit
+    n, m = c.x.size, c.x.size // 2
+    diff = np.concatenate([[1.0 / c.rho[m] - 1.0 / c_hi.rho[m],
+                            c_hi.rho_psi[m] / c_hi.rho[m] ** 3 - c.rho_psi[m] / c.rho[m] ** 3,
+                            c.rho[m] - c_hi.rho[m]], c.x - c_hi.x, c.y - c_hi.y, np.zeros(n)])
+    return c, np.hstack([f, diff[:, None] * math.sqrt(1.0 - rank / chi2)])
+
+
+def _propagate(finger, q, origin, degree: int, noise: JointNoise) -> tuple[kin.TouchEnvelope, np.ndarray]:
+    """The envelope of degree ``degree`` about ``origin`` and its noise factor F: rows κ, κ_s,
+    ρ at the middle sample, then x…, y…, ψ… of the samples (contacts' order); columns unit
+    draws: each reading's joints quantized (σ tick/√12, independent), then each joint's
+    offset over the touch (``noise.offset_rad``, where declared). The Jacobian by central
+    differences in every joint angle of every reading, the origin held."""
+    lines = kin.finger_pad_line(finger, q)
+    base = kin.touch_from_pad_lines(lines.psi, lines.d, origin=origin, degree=degree)
     n = q.shape[0]
     m = n // 2
 
     def outputs(qq):
         line = kin.finger_pad_line(finger, qq)
-        c = kin.touch_from_pad_lines(line.psi, line.d, origin=base.origin, degree=base.degree)
+        c = kin.touch_from_pad_lines(line.psi, line.d, origin=origin, degree=degree)
         rho = c.rho[m]
         return np.concatenate(([1.0 / rho, -c.rho_psi[m] / rho**3, rho], c.x, c.y, c.psi))
 
@@ -74,24 +224,19 @@ def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None) -> En
         dq[j] = STEP_RAD
         dq = dq.reshape(q.shape)
         jac[:, j] = (outputs(q + dq) - outputs(q - dq)) / (2.0 * STEP_RAD)
-    normal = np.stack([np.cos(base.psi), np.sin(base.psi)], axis=-1)
-    jx, jy = jac[3 : 3 + n], jac[3 + n : 3 + 2 * n]
-    across = normal[:, :1] * jx + normal[:, 1:] * jy
-    along = -normal[:, 1:] * jx + normal[:, :1] * jy
-    qv = np.tile(quantization_var(finger), q.shape[0])  # per column of jac: reading-major, joint-minor
-    cov = (jac[:3] * qv) @ jac[:3].T
-    rho = float(base.rho[m])
-    return EnvelopeFit(base, 1.0 / rho, float(-base.rho_psi[m] / rho**3), cov[:2, :2], rho,
-                       float(np.sqrt(cov[2, 2])), _line_chi2(finger, q, base), n - base.degree - 1,
-                       np.sqrt(np.sum(across**2 * qv, axis=1)),
-                       np.sqrt(np.sum(along**2 * qv, axis=1)),
-                       np.sqrt(qv) * jac[3:])
+    factor = jac * np.tile(noise.quantization, n)
+    offsets = np.asarray(noise.offset_rad, dtype=float)
+    if np.any(offsets > 0.0):
+        shared = jac.reshape(jac.shape[0], n, 2).sum(axis=1) * offsets
+        factor = np.hstack([factor, shared[:, offsets > 0.0]])
+    return base, factor
 
 
-def _line_chi2(finger, q, base: kin.TouchEnvelope) -> float:
-    """χ² of the pad lines about the fit: each line's residual d_i − d(ψ_i) by its own
-    deviation, the fit held: ∂r_i/∂q = ∂d_i/∂q − d'(ψ_i)·∂ψ_i/∂q, d'(ψ_i) the contact's
-    coordinate along the line (each line depends on its own reading's two joints)."""
+def _line_sigma(finger, q, base: kin.TouchEnvelope, sq: np.ndarray) -> np.ndarray:
+    """Each pad line's deviation about the fit (mm, contacts' order): its residual
+    d_i − d(ψ_i) with the fit held moves as ∂r_i/∂q = ∂d_i/∂q − d'(ψ_i)·∂ψ_i/∂q, d'(ψ_i)
+    the contact's coordinate along the line (each line depends on its own reading's two
+    joints, each quantized with σ ``sq``)."""
     qs = q[base.order]
     grads = []
     for k in range(qs.shape[1]):
@@ -101,6 +246,5 @@ def _line_chi2(finger, q, base: kin.TouchEnvelope) -> float:
         dpsi = np.asarray(wrap_angle(plus.psi - minus.psi), dtype=float) / (2.0 * STEP_RAD)
         dd = (np.asarray(plus.d) - np.asarray(minus.d)) / (2.0 * STEP_RAD)
         slope = -np.sin(base.psi) * base.x + np.cos(base.psi) * base.y  # d'(ψ) = p·n⊥
-        grads.append(dd - slope * dpsi)
-    var = np.sum(quantization_var(finger)[:, None] * np.square(grads), axis=0)
-    return float(np.sum(base.residual**2 / var))
+        grads.append((dd - slope * dpsi) * sq[k])
+    return np.sqrt(np.sum(np.square(grads), axis=0))

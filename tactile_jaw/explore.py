@@ -33,6 +33,7 @@ from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel, too_few_clea
 from tactile_jaw.plan import APPROACH_MARGIN_MM, ObjectModel, choose_psi, predicted_tangent, retreat_offset
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
+from tactile_jaw.separation import jaw_ticks_per_rev
 from tactile_jaw.settings import ExploreSettings
 
 #: a finger whose last this many touches fell on corners or closing segments stops touching:
@@ -57,10 +58,13 @@ def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings:
 
 
 def _memo(recognize_touches: RecognizeTouches) -> RecognizeTouches:
-    """``recognize_touches`` remembering its answers by the touches' identities."""
+    """``recognize_touches`` remembering its answers by the touches' identities (calls with
+    options, such as tactile_jaw.separation's, pass through)."""
     seen: dict[tuple[int, ...], Any] = {}
 
-    def run(touches):
+    def run(touches, **options):
+        if options:
+            return recognize_touches(touches, **options)
         key = tuple(id(t) for t in touches)
         if key not in seen:
             seen[key] = recognize_touches(touches)
@@ -119,6 +123,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
     reach = JawReach(cfg, settings)
+    ticks = jaw_ticks_per_rev(cfg)
     aim: Aim | None = None  # where the next touch goes while the answer is not decisive (tactile_jaw.choose)
     undecided = None  # the latest answer that was not decisive: (recognition, why, its touches)
 
@@ -187,7 +192,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                     empty_at.append(aimed.point)  # the object is not where the answered curve goes on
         usable = cleared()
         if len(usable) >= settings.min_touches:
-            recognition, why = decide(recognize_touches, usable, settings)
+            recognition, why = decide(recognize_touches, usable, settings, ticks)
             out.recognition = recognition
             out.answers.append(recognition.cls)
             say(f"after {len(usable)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
@@ -222,7 +227,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     if out.used:
         usable = cleared()
         try:  # the answer on every usable touch, a refusal unless decisive
-            out.recognition = final_answer(recognize_touches, usable, settings, out.stopped)
+            out.recognition = final_answer(recognize_touches, usable, settings, out.stopped, ticks)
             out.answers.append(out.recognition.cls)
         except InputError as exc:
             emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})

@@ -11,6 +11,7 @@ felt touches from its readings (replay, benchmarks).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import Any, Callable, Sequence
 
@@ -24,7 +25,7 @@ from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
 from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, SamplesTouch, check_touch_count, parse_noise
 from tactile_common.errors import InputError
-from tactile_jaw.envelope import EnvelopeFit, fit_envelope
+from tactile_jaw.envelope import MIN_DEGREE, EnvelopeFit, fit_envelope
 from tactile_jaw.flat import FLAT_NOISE, Face, feel_flat, recognized_touches
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
 
@@ -94,7 +95,7 @@ class FeltTouch:
                 for p0, p1 in zip(self.lines.proximal, self.lines.distal)]
 
 
-def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) -> FeltTouch:
+def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, trim: bool = True) -> FeltTouch:
     """The touch's pad lines (one forward-kinematics pass over its readings), their
     envelope (and, for rolling touches, its :class:`EnvelopeFit`), and why it cannot be used, or None: at least ``MIN_SAMPLES_PER_TOUCH``
     samples (all ``samples`` planned ones, or those taken before the roll ran out of reach
@@ -104,7 +105,9 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
     ``EDGE_MARGIN_MM`` from its ends (a pad end resting on the object is not a tangent
     contact); and, with ``curve_checks`` (rolling touches; not probes, whose short rolls
     cannot measure a radius of curvature), that it rolled on the curved part
-    (:func:`off_curve_reason`). A flat press is felt by tactile_jaw.flat.feel_flat."""
+    (:func:`off_curve_reason`); a roll that ran off it at an end is used on its longest
+    stretch that passes (``trim``, :func:`smooth_stretch`). A flat press is felt by
+    tactile_jaw.flat.feel_flat."""
     if isinstance(touch, FlatResult):
         lines, problem, contact, face = feel_flat(config, touch)
         return FeltTouch(touch, lines, None, None, problem, contact, face=face)
@@ -136,8 +139,12 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         return out(f"{finger}: {exc}")
     u = _pad_u(lines, c)
     if curve_checks:
-        off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)))
+        off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)), lines)
         if off_curve is not None:
+            if trim and rough(fit) and off_curve == rough(fit):
+                shorter = smooth_stretch(config, touch, samples)
+                if shorter is not None:
+                    return shorter
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
                        corner=pivot_point(lines) if on_corner(fit) else None)
     if fit is not None and np.any(np.diff(c.s) <= 0.0):
@@ -147,17 +154,54 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True) ->
         # so its samples (and their deviations) come from the smoother fit of constant ρ
         # (degree 2); κ, κ_s stay the cubic's
         smooth = fit_envelope(f, q, lines, degree=SMOOTH_DEGREE)
+        if rough(smooth) is not None:  # fine encoders: a constant ρ does not explain the lines
+            return out(f"{finger}: arc length not increasing, and {rough(smooth)}", c, u, fit, off_curve=True)
         fit = replace(fit, contacts=smooth.contacts, sigma_across=smooth.sigma_across,
                       sigma_along=smooth.sigma_along, noise_factor=smooth.noise_factor)
         c = fit.contacts
         u = _pad_u(lines, c)
     if np.any(np.diff(c.s) <= 0.0):
         return out(f"{finger}: arc length not increasing: the pad rolled on an edge or corner", c, u, fit)
+    loads = kin.contact_load_signs(f, q[c.order], np.stack([c.x, c.y], axis=-1))
+    turned = [k for k in range(loads.shape[1]) if np.ptp(loads[:, k]) > 0 and f.joints[k].backlash_deg > 0.0]
+    if turned:
+        return out(f"{finger}: the load on joint {f.joints[turned[0]].id} reversed during the touch (its backlash "
+                   f"would not stay one offset)", c, u, fit)
     length = f.pad.length_mm
     if np.any(u < EDGE_MARGIN_MM) or np.any(u > length - EDGE_MARGIN_MM):
         return out(f"{finger}: contact {float(np.min(u)):.1f}..{float(np.max(u)):.1f} mm along the pad, "
                    f"not inside {EDGE_MARGIN_MM:g}..{length - EDGE_MARGIN_MM:g} mm (a pad end touched)", c, u, fit)
     return out(None, c, u, fit)
+
+
+def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None:
+    """A rolling touch that failed the smoothness test, felt again on its longest run of
+    consecutive samples (in ψ order) that passes every check once the fewest samples are
+    dropped from its ends, and one more beside each cut (the roll left the curved part
+    somewhere within that step: a first line past the end differs from the arc's
+    continuation by ρδ²/2, a few µm, which a polynomial follows and then places that contact
+    0.1–0.3 mm off along the pad); it must keep ``MIN_SAMPLES_PER_TOUCH``. None if no run
+    does. With fine encoders a roll that ran onto the object's end corner shows it (at
+    1,000,000 ticks per turn a pivot and an arc of radius 20 mm differ by 0.01 mm over 2°,
+    50 times the lines' noise) and its curved part is kept."""
+    order = np.argsort([s.psi for s in touch.samples], kind="stable")
+    n = order.size
+    for drop in range(1, n - MIN_SAMPLES_PER_TOUCH + 1):
+        for head in range(drop + 1):
+            tail = drop - head
+            lo, hi = head + (head > 0), n - tail - (tail > 0)
+            if hi - lo < MIN_SAMPLES_PER_TOUCH:
+                continue
+            if feel(config, _subset(touch, order[head : n - tail]), n - drop, trim=False).problem is not None:
+                continue
+            again = feel(config, _subset(touch, order[lo:hi]), hi - lo, trim=False)
+            return again if again.problem is None else None
+    return None
+
+
+def _subset(touch: TouchResult, taken) -> TouchResult:
+    """The touch with only the samples ``taken`` (indices), in the order taken."""
+    return replace(touch, samples=[touch.samples[i] for i in sorted(int(k) for k in taken)])
 
 
 def _pad_u(lines: kin.PadLine, contacts: kin.TouchEnvelope) -> np.ndarray:
@@ -237,21 +281,55 @@ def _longest_run(mask: np.ndarray) -> np.ndarray:
     return best
 
 
-def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float) -> str | None:
+def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float, lines: kin.PadLine | None = None) -> str | None:
     """Why a touch fell off the object's curved part, or None: on a corner (the radius of
     curvature at the contact is below ``CORNER_RADIUS_MM`` or ``CORNER_SIGMAS`` of its
-    deviation: the contact stayed put while the pad turned) or across a corner or closing
-    segment (the pad lines are no smooth curve's tangents: their χ² about the envelope fit
-    above its limit at ``SMOOTH_ALPHA``: a straight segment bridged between two corners
-    makes d(ψ) kink)."""
+    deviation: the contact stayed put while the pad turned), across a closing segment (the
+    order rule needed more than a cubic and the pad ``lines`` pass through two points, a
+    segment's end corners, within their noise: :func:`pivots_chi2`) or across a corner or
+    closing segment (the pad lines are no smooth curve's tangents: their χ² about the
+    envelope fit above its limit at ``SMOOTH_ALPHA``: a straight segment bridged between two
+    corners makes d(ψ) kink)."""
     m = len(contacts.x) // 2
     if on_corner(fit):
         return (f"corner: the contact stayed near ({contacts.x[m]:.1f}, {contacts.y[m]:.1f}) mm while the pad "
                 f"turned {np.degrees(turn_rad):.0f} deg (radius of curvature {fit.rho:.2f} ± {fit.sigma_rho:.2f} mm)")
+    n = len(contacts.x)
+    if lines is not None and contacts.degree > MIN_DEGREE and n >= 6:
+        chi2, split = pivots_chi2(lines, contacts, fit.line_sigma)
+        # two points (4 numbers and a split) against the polynomial (degree + 1): Akaike's criterion
+        if chi2 <= chi2_limit(SMOOTH_ALPHA, n - 4) and chi2 + 2 * 5 < fit.chi2 + 2 * (contacts.degree + 1):
+            return (f"off the curved part: the pad lines pass through two points within their noise (chi2 {chi2:.3g} "
+                    f"on {n - 4} dof, {split} and {n - split} lines): the roll crossed a straight closing segment")
+    return rough(fit)
+
+
+def rough(fit: EnvelopeFit) -> str | None:
+    """Why a touch's pad lines are no smooth curve's tangents, or None: their χ² about the
+    envelope fit above its limit at ``SMOOTH_ALPHA`` (a roll across a corner or a closing
+    segment, or, with fine encoders, one that ran onto the end corner: :func:`smooth_stretch`)."""
     if fit.dof > 0 and fit.chi2 > chi2_limit(SMOOTH_ALPHA, fit.dof):
         return (f"off the curved part: the pad lines are no smooth curve's tangents (chi2 {fit.chi2:.3g} on "
                 f"{fit.dof} dof): the roll crossed a corner or a straight closing segment")
     return None
+
+
+def pivots_chi2(lines: kin.PadLine, contacts, sigma: np.ndarray) -> tuple[float, int]:
+    """How well two points explain a touch's pad lines (ψ order): the least χ², over the
+    splits into a first run of ≥ 2 lines through one point and the rest through another (a
+    pad rolled across a straight segment rests on one end corner, then on the other), of the
+    lines' distances from their point, each by its deviation ``sigma`` (mm, ψ order); and
+    the first run's length."""
+    normal, d = np.asarray(lines.normal)[contacts.order], np.asarray(lines.d)[contacts.order]
+    best, split = math.inf, 0
+    for k in range(2, normal.shape[0] - 1):
+        chi2 = 0.0
+        for part in (slice(0, k), slice(k, None)):
+            point = kin.nearest_point(normal[part] / sigma[part, None], d[part] / sigma[part])
+            chi2 += float(np.sum(((normal[part] @ point - d[part]) / sigma[part]) ** 2))
+        if chi2 < best:
+            best, split = chi2, k
+    return best, split
 
 
 def workspace_reach(config) -> Reach:
@@ -289,17 +367,20 @@ def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noi
     log's; default: each call's :func:`stated_noise` of its touches) and the settings'
     recognizer options. Each call extends one validated request with the touches' samples
     (already checked by :func:`feel`): nothing is parsed again per decision. A call's
-    ``reach`` replaces ``reach`` for that call (where its ``next_touch`` may point)."""
+    ``reach`` replaces ``reach`` for that call (where its ``next_touch`` may point); its
+    ``classes`` (a subset of the scene's) fits only those (tactile_jaw.separation)."""
     source = "exploration"
     loaded = load_scene(scene) if scene is not None else None
     fixed = parse_noise(dict(noise), f"{source}.noise") if noise is not None else None
     base = Request((), loaded, loaded.classes if loaded is not None else ALL_CLASSES, fixed, {}, source)
     options = RecognizeOptions(noise=fixed, reach=reach, **settings.recognize)
 
-    def run(touches: Sequence[FeltTouch], reach: Reach | None = None) -> Recognition:
-        check_touch_count(len(touches), base.classes, source)
+    def run(touches: Sequence[FeltTouch], reach: Reach | None = None,
+            classes: Sequence[str] | None = None) -> Recognition:
+        request = base if classes is None else replace(base, classes=tuple(c for c in base.classes if c in classes))
+        check_touch_count(len(touches), request.classes, source)
         stated = stated_noise(touches) if fixed is None or _flat_only(touches) else fixed
-        return recognize(replace(base, touches=tuple(t.samples for t in touches), noise=stated),
+        return recognize(replace(request, touches=tuple(t.samples for t in touches), noise=stated),
                          replace(options, noise=stated, reach=options.reach if reach is None else reach))
 
     return run

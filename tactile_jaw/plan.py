@@ -190,6 +190,32 @@ def open_pose(config) -> np.ndarray:
     return np.concatenate(out)
 
 
+#: how far (mm) from the workspace a refusal still names the object's nearest point
+_NEAREST_SEARCH_MM = 10_000.0
+
+
+def check_in_workspace(obj, config, source: str) -> None:
+    """Refuse (one line, before any motion) a scene object none of whose boundary lies in
+    the jaw's workspace disk (config ``workspace``): the probes would sweep that disk and
+    feel nothing. The line says where the workspace is and where the object's nearest point
+    is; the error names ``object.pose`` (tactile_common.yamlfile adds its line)."""
+    from hand_driver.sim.boundary import Boundary
+
+    (cx, cy), r = config.workspace.center_mm, config.workspace.radius_mm
+    boundary = Boundary(obj)
+    if len(boundary.points((cx, cy), r)):
+        return
+    near = boundary.points((cx, cy), _NEAREST_SEARCH_MM)
+    where = "more than 10 m away"
+    if len(near):
+        d = np.hypot(near[:, 0] - cx, near[:, 1] - cy)
+        k = int(np.argmin(d))
+        where = f"nearest at ({near[k, 0]:.1f}, {near[k, 1]:.1f}) mm, {d[k] - r:.1f} mm outside it"
+    raise InputError(f"{source}: object.pose: the object is outside the jaw's workspace, the disk of radius {r:g} mm "
+                     f"about ({cx:g}, {cy:g}) mm in the hand frame (config workspace) ({where}); place it so that its "
+                     f"boundary crosses that disk")
+
+
 def probe_psis(finger, model: ObjectModel) -> list[float]:
     """The probe orientations of a finger: its pad's normal at zero joint angles ±
     ``PROBE_OFFSETS_DEG`` whose workspace-edge line is reachable, nearest that normal first."""

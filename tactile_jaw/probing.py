@@ -6,7 +6,8 @@ same bus cycles, each probe a short rolling touch (``PROBE_SAMPLES`` over
 samples lie on the pad's face (tactile_jaw.plan.probe_face_contact) adds its pad lines to
 the object model; a finger stops probing once its face contacts span ``PROBE_ENOUGH_DEG``.
 A finger with a single face contact probes once more ``PROBE_REFINE_DEG`` either side of
-it. docs/exploration.md.
+it. A finger without any face contact after ``PROBE_IDLE_AFTER`` probes stops once another
+finger has felt enough. docs/exploration.md.
 """
 
 from __future__ import annotations
@@ -28,6 +29,12 @@ from tactile_jaw.plan import (
     probe_psis,
 )
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
+
+#: a finger that found no face contact in this many probes stops probing once another
+#: finger's face contacts span ``PROBE_ENOUGH_DEG``: its pad met only corners, pad ends or
+#: nothing near its own normals (the parabola example's right finger: its flat bottom's
+#: corners, 7 probes, 4 rounds after the left finger had enough: 12 s of robot time)
+PROBE_IDLE_AFTER = 2
 
 
 def _probe_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, touch_index: int, emit,
@@ -51,6 +58,7 @@ def probe_boundary(jaw: Jaw, model: ObjectModel, out: Exploration, emit, say) ->
     index = 0
     queues = {f.name: probe_psis(f, model) for f in cfg.fingers}
     faces: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
+    probed = {f.name: 0 for f in cfg.fingers}
     refined = False
     while True:
         if not any(queues.values()):
@@ -77,7 +85,14 @@ def probe_boundary(jaw: Jaw, model: ObjectModel, out: Exploration, emit, say) ->
                 faces[name].append(probe.psi_center)
                 if np.ptp(faces[name]) >= math.radians(PROBE_ENOUGH_DEG) - 1e-9:
                     queues[name] = []  # enough felt to plan this finger's touches
+            probed[name] += 1
             say(f"probe {len(out.probes)}: {name} at psi {math.degrees(probe.psi_center):.1f} deg: "
                 + (f"pad face {u:.1f} mm from its proximal end" if u is not None else
                    probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
+        done = [n for n in faces if faces[n] and np.ptp(faces[n]) >= math.radians(PROBE_ENOUGH_DEG) - 1e-9]
+        for name in queues:
+            if done and name not in done and not faces[name] and probed[name] >= PROBE_IDLE_AFTER and queues[name]:
+                queues[name] = []
+                say(f"{name}: no face contact in {probed[name]} probes while {done[0]} felt enough: its side "
+                    f"offers the pads no curved part near them; the touches plan from what the other finger felt")
     return index

@@ -55,8 +55,10 @@ def test_relative_links_resolve(doc):
 
 
 def test_nothing_points_outside_the_repository():
-    """Users who clone the repository have no shared/ directory and no contract file."""
-    files = [*DOCS, *(p for pkg in (*PACKAGES, "tests") for p in (ROOT / pkg).rglob("*.py"))]
+    """Users who clone the repository have no shared/ directory and no contract file
+    (docs, code, and the comments of the shipped configs and scenes)."""
+    files = [*DOCS, *(p for pkg in (*PACKAGES, "tests") for p in (ROOT / pkg).rglob("*.py")),
+             *(ROOT / "config").rglob("*.yaml")]
     pattern = re.compile("CONTRACTS" + r"(\.md| §)|shared" + "/reference")
     offenders = [p.relative_to(ROOT).as_posix() for p in files if pattern.search(p.read_text())]
     assert offenders == [], "write the format into docs/ (formats.md) and point there instead"

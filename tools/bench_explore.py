@@ -13,7 +13,15 @@ each isotropic position deviation POS (φ as the jaw's ``phi_sigma``), and print
 tail probability (χ²/dof), to calibrate the stated noise (docs/exploration.md). With
 ``--follow``, every refused object whose refusal names a move (the log's ``stopped_early`` or
 ``budget_spent`` event, tactile_jaw.choose.move_advice) is moved so (:func:`moved_object`) and explored once
-more, as a person following the advice would. Run: ``python -m tools.bench_explore [--n 12] [--seed 1]``.
+more, as a person following the advice would. ``--config C`` builds the emulated jaw from C
+and explores with it (config/jaw-p.yaml: the P-series jaw); ``--anywhere`` draws each finite
+object anywhere in the workspace where its curved part faces a finger
+(tools.random_objects.random_object) instead of near its example's place. The last table
+says what the jaw can tell, per class: right / refused / wrong, median error, median robot
+time, each refusal's kind (tactile_jaw.decide.refusal_kind: out of reach, needs finer
+angles, needs another move) and the median robot time per phase. Run: ``python -m
+tools.bench_explore [--n 12] [--seed 1]``, ``python -m tools.bench_explore --finite 10
+--anywhere --config config/jaw-p.yaml --seed 29``.
 """
 
 from __future__ import annotations
@@ -35,6 +43,12 @@ import yaml
 from tactile_common.errors import InputError
 
 CLASSES = ["line", "circle", "ellipse", "parabola", "hyperbola", "cubical_parabola", "semicubical_parabola"]
+DEFAULT_CONFIG = "config/jaw.yaml"
+#: the robot time's phases as the run log's result splits it (tactile_jaw.rounds): probes and
+#: rolling touches or flat presses, each including its transits (the next column), and the
+#: final retreat
+PHASES = ("probes", "probe_transits", "touches", "touch_transits", "retreat")
+PHASE_HEADS = ("probes", "of which transits", "touches and presses", "of which transits", "retreat")
 #: how a finite object of each class scales by s: factors of its parameters and of its
 #: canonical extent (the curve's points all scale by s; closure points scale by s)
 SCALING = {"line": ({}, 1.0), "circle": ({"r": 1.0}, None), "ellipse": ({"a": 1.0, "b": 1.0}, None),
@@ -74,19 +88,26 @@ def finite_object(rng, example: dict) -> dict:
     return obj
 
 
-def run_scene(path: Path, log: Path, profile: str) -> dict:
+def run_scene(path: Path, log: Path, profile: str, config: str = DEFAULT_CONFIG) -> dict:
+    from tools.cli import EXIT_RECOGNIZED, EXIT_REFUSED
+
     t0 = time.monotonic()
     out = subprocess.run([sys.executable, "-m", "tools.cli", "demo", "--scene", str(path), "--json", "--log", str(log),
-                          "--profile", profile], capture_output=True, text=True)
+                          "--profile", profile, "--config", config], capture_output=True, text=True)
     wall = time.monotonic() - t0
     result = {"rc": out.returncode, "wall_s": wall, "stderr": out.stderr.strip().splitlines()[-1:] or [""]}
-    if out.returncode == 0:
+    if out.returncode in (EXIT_RECOGNIZED, EXIT_REFUSED):  # a refusal prints its answer too
         result["recognition"] = json.loads(out.stdout)
     if log.exists():
         from hand_driver.log import read_log
+        from tactile_jaw.choose import last_stop
 
-        res = read_log(str(log)).result or {}
-        result.update(robot_s=res.get("robot_time_s"), used=res.get("touches_used"), tried=res.get("touches_tried"))
+        contents = read_log(str(log))
+        res = contents.result or {}
+        result.update(robot_s=res.get("robot_time_s"), used=res.get("touches_used"), tried=res.get("touches_tried"),
+                      time_s=res.get("time_s") or {})
+        stop = last_stop(contents.events)
+        result["move"] = stop.get("move") if stop is not None else None
     return result
 
 
@@ -225,6 +246,11 @@ def main(argv: list[str] | None = None) -> int:
                          "run of every class with the same seed)")
     ap.add_argument("--follow", action="store_true",
                     help="re-run every refused object moved as its refusal advises, once")
+    ap.add_argument("--config", default=DEFAULT_CONFIG,
+                    help=f"the jaw config the emulated jaw is built from and explores with (default {DEFAULT_CONFIG})")
+    ap.add_argument("--anywhere", action="store_true",
+                    help="with --finite: each object anywhere in the workspace where its curved part faces a finger "
+                         "(tools.random_objects), not near its example's place")
     args = ap.parse_args(argv)
     from hand_driver.config import load_config
     from hand_driver.sim.physics import ContactWorld
@@ -234,12 +260,18 @@ def main(argv: list[str] | None = None) -> int:
     rng = np.random.default_rng(args.seed)
     work = Path(args.keep or tempfile.mkdtemp(prefix="bench_explore_"))
     work.mkdir(parents=True, exist_ok=True)
-    config = load_config("config/jaw.yaml")
+    config = load_config(args.config)
     q_open = open_pose(config)
     scenes = []
-    draws = ([lambda c=c: finite_object(rng, yaml.safe_load(Path(f"config/scenes/{c}.yaml").read_text())["object"])
-              for c in CLASSES for _ in range(args.finite)] if args.finite else
-             [lambda: random_object(rng)] * args.n)
+    if args.finite and args.anywhere:
+        from tools.random_objects import random_object as anywhere_object
+
+        draws = [lambda c=c: anywhere_object(c, rng, config)[0] for c in CLASSES for _ in range(args.finite)]
+    elif args.finite:
+        draws = [lambda c=c: finite_object(rng, yaml.safe_load(Path(f"config/scenes/{c}.yaml").read_text())["object"])
+                 for c in CLASSES for _ in range(args.finite)]
+    else:
+        draws = [lambda: random_object(rng)] * args.n
     for draw in draws:
         while True:
             obj = draw()
@@ -256,7 +288,8 @@ def main(argv: list[str] | None = None) -> int:
     numbers = [k for k, (_, obj) in enumerate(scenes) if args.classes is None or obj["class"] in args.classes]
     scenes = [scenes[k] for k in numbers]
     with ThreadPoolExecutor(args.jobs) as pool:
-        results = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), args.profile), scenes))
+        results = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), args.profile, args.config),
+                                scenes))
     chi2_columns = [] if args.chi2 is None else ["stated"] + [f"pos {p:g}" for p in args.chi2]
     print("| # | object | answer | right | parameter error | touches used/tried | robot time | wall time |"
           + "".join(f" p(χ²) {p} |" for p in chi2_columns))
@@ -279,14 +312,15 @@ def main(argv: list[str] | None = None) -> int:
         print(row, flush=True)
     print(f"right class on {right} of {len(scenes)} scenes; scenes and logs in {work}")
     print_class_summary(scenes, results)
+    print_tell_table(scenes, results, args.config)
     if args.kappa:
         print_kappa_table([(path.with_suffix(".log"), obj) for path, obj in scenes])
     if args.follow:
-        follow_advice(scenes, results, args.profile, args.jobs)
+        follow_advice(scenes, results, args.profile, args.jobs, args.config)
     return 0
 
 
-def follow_advice(scenes, results, profile: str, jobs: int) -> None:
+def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAULT_CONFIG) -> None:
     """Every refused scene whose refusal names a move, moved so and explored once more;
     per class: refusals, those naming a move, and the second runs' right / refused / wrong."""
     again = []
@@ -300,7 +334,7 @@ def follow_advice(scenes, results, profile: str, jobs: int) -> None:
             moved.write_text(yaml.safe_dump(mapping))
             again.append((moved, obj, move))
     with ThreadPoolExecutor(jobs) as pool:
-        second = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), profile), again))
+        second = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), profile, config), again))
     print("\n| object moved as advised | move | answer | right | parameter error | robot time |")
     print("|---|---|---|---|---|---|")
     for (path, obj, move), res in zip(again, second):
@@ -343,6 +377,35 @@ def print_class_summary(scenes, results) -> None:
               + (f"{100 * float(np.median(errs)):.2f} % |" if errs else "— |")
               + (f" {np.median(robot):.1f} s ({max(robot):.1f} s) |" if robot else " — |")
               + f" {np.median(used):g}/{np.median(tried):g} |", flush=True)
+
+
+def print_tell_table(scenes, results, config: str) -> None:
+    """What the jaw ``config`` can tell, per class: right / refused / wrong, the median worst
+    relative parameter error of the right answers, the median robot time, each refusal's
+    kind (tactile_jaw.decide.refusal_kind: out of reach, needs finer angles, needs another
+    move) and the median robot time per phase (``PHASES``)."""
+    from tactile_jaw.decide import REFUSAL_KINDS, refusal_kind
+
+    print(f"\nWhat the jaw {config} can tell (robot time per phase: medians, s)")
+    print("| class | objects | right / refused / wrong | median error | robot time median | "
+          + " | ".join(f"refused: {k}" for k in REFUSAL_KINDS) + " | " + " | ".join(PHASE_HEADS) + " |")
+    print("|---" * (5 + len(REFUSAL_KINDS) + len(PHASES)) + "|")
+    for cls in CLASSES:
+        rows = [(obj, res) for (_, obj), res in zip(scenes, results) if obj["class"] == cls]
+        if not rows:
+            continue
+        said = [verdict(obj, res.get("recognition")) for obj, res in rows]
+        errs = [max((abs(res["recognition"]["params"][k] - v) / abs(v) for k, v in obj["params"].items()), default=0.0)
+                for (obj, res), v in zip(rows, said) if v == "yes"]
+        kinds = [refusal_kind((res.get("recognition") or {}).get("reason") or res["stderr"][0], res.get("move"))
+                 for (obj, res), v in zip(rows, said) if v == "refused"]
+        robot = [res["robot_s"] for _, res in rows if res.get("robot_s") is not None]
+        phases = [float(np.median([(res.get("time_s") or {}).get(p, 0.0) for _, res in rows])) for p in PHASES]
+        print(f"| {cls} | {len(rows)} | {said.count('yes')} / {said.count('refused')} / {said.count('**WRONG**')} | "
+              + (f"{100 * float(np.median(errs)):.2f} % | " if errs else "— | ")
+              + (f"{np.median(robot):.1f} s | " if robot else "— | ")
+              + " | ".join(str(kinds.count(k)) for k in REFUSAL_KINDS) + " | "
+              + " | ".join(f"{p:.1f}" for p in phases) + " |", flush=True)
 
 
 def print_kappa_table(runs: list[tuple[Path, dict]]) -> None:

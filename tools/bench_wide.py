@@ -2,9 +2,18 @@
 with an oracle for every wrong answer, suggested against random extra touches, and the
 honesty of the stated σ's (not a test).
 
-    python -m tools.bench_wide [--trials 40] [--seed 1] [--jobs 2] [--out FILE.md] [--records FILE.json]
+    python -m tools.bench_wide [--set wide|hand] [--trials 40] [--seed 1] [--jobs 2] [--out FILE.md] [--records FILE.json]
     python -m tools.bench_wide --coverage-only [--first 40] [--trials 80]   (σ coverage alone)
     tactile bench --wide-trials N        (writes OUT/bench_wide.md beside the other results)
+
+``--set wide`` (the default; issue 21's distributions, ``WIDE_REGIONS``): every region of
+the earlier set and far stretches (a semicubical's branch far out, a hyperbola's arm far
+out), a long thin ellipse's sharp end (a touch's tangent turns through about a radian),
+small shapes of fixed size (a circle of r = 3.3 mm, a cubical region of 4 mm); region
+sizes L log-uniform over 1–1,500 mm; a quarter of each region's trials touch one of their
+three places twice (fresh noise); and every trial's touches once more noise-free (noise
+model zero): ``noise-free exact`` is the class right with relative error ≤ 1e-6.
+``--set hand`` is the earlier distribution (L 30–120 mm), kept to reproduce its figures.
 
 Each trial draws a shape of one class and a region of it (``REGIONS``: one branch of a
 semicubical near or far from its cusp or both branches, a hyperbola near its vertex or out
@@ -57,6 +66,7 @@ from tools.bench import _pool, rel_error
 
 CLASSES = tuple(CURVES)
 SPEC_PHI, SPEC_POS_FRAC, SPACING, SAMPLES = 1.5e-3, 1e-3, 0.02, 9
+EXACT_REL = 1e-6  # noise-free samples: the answer's largest acceptable relative error
 #: per class: region name → (canonical shape at unit scale, contact range of t, branch sign)
 REGIONS = {
     "line": {"segment": ({}, (-0.5, 0.5))},
@@ -74,37 +84,89 @@ REGIONS = {
 }
 
 
+#: the widened distributions of issue 21 (``--set wide``, the default): regions spanning
+#: 1–1,500 mm (L log-uniform), far stretches (a semicubical's branch at t 3–15 of its unit
+#: shape, a hyperbola's arm at t 3–6), a long thin ellipse's sharp end (b/a 0.10–0.15: a
+#: touch's tangent turns through about a radian), small shapes of fixed size (a circle of
+#: r = 3.3 mm, a cubical region of 4 mm); a quarter of each region's trials touch one of the
+#: three places twice (a repeated touch, fresh noise). Per region: (unit shape, contact
+#: range of t, options): ``r_mm`` a circle's fixed radius, ``L_mm`` a fixed region size.
+WIDE_REGIONS = {
+    "line": {"segment": ({}, (-0.5, 0.5), {})},
+    "circle": {"short arc": ({"r": 0.5}, "short", {}), "all round": ({"r": 0.5}, (-np.pi, np.pi), {}),
+               "small (r 3.3 mm)": ({"r": 0.5}, "short", {"r_mm": 3.3})},
+    "ellipse": {"short stretch": ({"a": 0.5, "b": None}, "short", {}),
+                "long stretch": ({"a": 0.5, "b": None}, (-np.pi, np.pi), {}),
+                "thin, sharp end": ({"a": 0.5, "b": "thin"}, "sharp end", {})},
+    "parabola": {"one side": ({"a": 1.0}, (0.3, 2.5), {}), "across vertex": ({"a": 1.0}, (-1.5, 1.5), {}),
+                 "far out": ({"a": 1.0}, (2.0, 5.0), {})},
+    "hyperbola": {"near vertex": ({"a": 1.0, "b": None}, (-1.0, 1.0), {}),
+                  "out on an arm": ({"a": 1.0, "b": None}, (1.2, 3.0), {}),
+                  "both arms far": ({"a": 1.0, "b": None}, (-2.8, 2.8), {}),
+                  "far on an arm": ({"a": 1.0, "b": None}, (3.0, 6.0), {})},
+    "cubical_parabola": {"one side of inflection": ({"a": None, "c": None}, (0.15, 1.2), {}),
+                         "across inflection": ({"a": None, "c": None}, (-1.0, 1.0), {}),
+                         "small (4 mm)": ({"a": None, "c": None}, (-1.0, 1.0), {"L_mm": 4.0})},
+    "semicubical_parabola": {"one branch near cusp": ({"a": 1.0, "b": None}, (0.0, 0.6), {}),
+                             "one branch far": ({"a": 1.0, "b": None}, (0.8, 2.5), {}),
+                             "both branches": ({"a": 1.0, "b": None}, "both", {}),
+                             "far out on a branch": ({"a": 1.0, "b": None}, (3.0, 15.0), {})},
+}
+WIDE_L_MM = (1.0, 1500.0)
+SETS = ("wide", "hand")
+
+
 def _rng(seed: int, *keys: int) -> np.random.Generator:
     return np.random.default_rng([seed, *keys])
 
 
-def draw_case(cls: str, i: int, seed: int):
-    """(region name, shape, contact ts (3), rng for noise) of trial i of a class."""
-    rs = _rng(seed, CLASSES.index(cls), i, 77)
-    names = list(REGIONS[cls])
-    region = names[i % len(names)]
-    params, span = REGIONS[cls][region]
+def _draw_params(cls: str, params: dict, rs) -> dict:
     params = dict(params)
     for k, v in params.items():
-        if v is None:
+        if v == "thin":
+            params[k] = 0.5 * rs.uniform(0.10, 0.15)
+        elif v is None:
             params[k] = {"b": {"ellipse": 0.5 * rs.uniform(0.35, 0.9), "hyperbola": rs.uniform(0.4, 2.0),
                                "semicubical_parabola": float(rs.choice([-1, 1]) * rs.uniform(0.1, 1.5))}.get(cls),
                          "a": float(rs.choice([-1, 1]) * rs.uniform(0.25, 0.75)),
                          "c": float(rs.choice([-1, 1]) * rs.uniform(0.3, 1.0))}[k]
+    return params
+
+
+def draw_case(cls: str, i: int, seed: int, dist: str = "hand"):
+    """(region name, shape, contact ts (3, or 4 with a repeated touch), (lo, hi, branch sign,
+    both branches, cusp clearance), rng for noise) of trial i of a class; ``dist``: "hand"
+    (``REGIONS``, L 30–120 mm) or "wide" (``WIDE_REGIONS``, L 1–1,500 mm)."""
+    rs = _rng(seed, CLASSES.index(cls), i, 77 if dist == "hand" else 21)
+    table = REGIONS if dist == "hand" else WIDE_REGIONS
+    names = list(table[cls])
+    region = names[i % len(names)]
+    params, span, *opt = table[cls][region]
+    opt = opt[0] if opt else {}
+    params = _draw_params(cls, params, rs)
     if span == "short":
         t0 = rs.uniform(-np.pi, np.pi)
         span = (t0, t0 + rs.uniform(0.5, 1.2))
+    elif span == "sharp end":  # around the end of the major axis, where κ = a/b²
+        t0 = rs.uniform(-0.15, 0.15) + (np.pi if rs.uniform() < 0.5 else 0.0)
+        span = (t0 - 0.45, t0 + 0.45)
     both = span == "both"
     if both:
         span = (0.3, 2.0)
-    L = rs.uniform(30.0, 120.0)
+    if dist == "hand":
+        L = rs.uniform(30.0, 120.0)
+    else:
+        L = opt.get("L_mm") or float(np.exp(rs.uniform(*np.log(WIDE_L_MM))))
     curve = CURVES[cls](params)
     region_t = np.linspace(*span, 400)
     if both:
         region_t = np.concatenate((-region_t[::-1], region_t))
     k = L / synth.extent(curve, region_t)
+    if "r_mm" in opt:
+        k = opt["r_mm"] / params["r"]
     params, span = synth._scaled(cls, params, span, k)
     curve = CURVES[cls](params)
+    L = synth.extent(curve, synth.region(cls, span) if both else np.linspace(*span, 400)) if "r_mm" in opt else L
     pose = Pose(rs.uniform(-np.pi, np.pi), 150.0 + rs.uniform(-30, 30), rs.uniform(-30, 30))
     shape = synth.Shape(cls, params, pose, L, span, curve)
     reach = synth.touch_reach(SAMPLES, SPACING * L)
@@ -121,6 +183,8 @@ def draw_case(cls: str, i: int, seed: int):
     clear = 0.0
     if cls == "semicubical_parabola":
         clear = synth._clear_of_cusp(curve, 1.02 * reach, max(abs(hi), 1e-9))
+    if dist == "wide" and (i // len(names)) % 4 == 3:  # one place touched twice
+        ts = np.sort(np.append(ts, ts[int(rs.integers(3))]))
     return region, shape, ts, (lo, hi, sign, both, clear), rs
 
 
@@ -139,9 +203,10 @@ def _recognize(touches, nm, reach=None):
     return out, time.process_time() - t0, req
 
 
-def _oracle(shape, ts, direction, rec, req, nm) -> str:
-    """'data-limited' or 'search miss' for a wrong answer (module docstring)."""
-    t_true = np.asarray(ts if direction > 0 else ts[::-1], float)
+def _oracle(shape, ts, direction, rec, req, nm, extra_ts=()) -> str:
+    """'data-limited' or 'search miss' for a wrong answer (module docstring); ``extra_ts``:
+    the true t's of touches appended after the first ones (the suggested ones)."""
+    t_true = np.concatenate((np.asarray(ts if direction > 0 else ts[::-1], float), np.asarray(extra_ts, float)))
     truth = refine_one(Candidate(shape.cls, dict(shape.params), shape.pose, t_true, 0.0, 0, 0), req.touches, nm)
     if rec.cls == "unclassified":
         return "search miss" if truth.consistent else "data-limited"
@@ -181,13 +246,26 @@ def _closest_t(shape, x, y, lo, hi, clear):
     return float(t[int(np.argmin(np.hypot(px - x, py - y)))])
 
 
+def _exact(shape, ts, direction) -> dict:
+    """The same touches noise-free (noise model zero): class and relative error."""
+    touches, _ = synth.sample_shape(shape, ts, SAMPLES, SPACING * shape.size, direction, None, None, with_s=False)
+    rec, dt, _ = _recognize(touches, NoiseModel(0.0, 0.0))
+    err = rel_error(shape.params, rec.params) if rec.cls == shape.cls else math.nan
+    return {"got0": rec.cls, "err0": err, "exact": bool(rec.cls == shape.cls and err <= EXACT_REL),
+            "why0": rec.reason if rec.cls != shape.cls else "", "ms0": 1e3 * dt}
+
+
 def run_trial(task) -> dict:
     cls, i, seed, *rest = task
-    region, shape, ts, (lo, hi, sign, both, clear), rs = draw_case(cls, i, seed)
+    coverage_only = bool(rest and rest[0])
+    dist = rest[1] if len(rest) > 1 else "hand"
+    region, shape, ts, (lo, hi, sign, both, clear), rs = draw_case(cls, i, seed, dist)
     direction = int(rs.choice([-1, 1]))
+    out = {"cls": cls, "region": region, "i": i, "L": float(shape.size), "repeated": bool(len(ts) > 3)}
+    if dist == "wide" and not coverage_only:
+        out.update(_exact(shape, ts, direction))
     touches, noise = _touches(shape, ts, rs, direction)
     nm = NoiseModel(noise.phi, noise.pos)
-    out = {"cls": cls, "region": region, "i": i}
     rec, dt, req = _recognize(touches, nm)
     out.update(rank3=_ranking(rec), got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
                nt_ms=rec.timing.get("next_touch_cpu_ms", math.nan))
@@ -195,7 +273,7 @@ def run_trial(task) -> dict:
         z = [(rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()
              if rec.uncertainty.get(k) and rec.uncertainty[k] > 0]
         out["z"] = z
-    if rest and rest[0]:  # coverage only
+    if coverage_only:
         return out
     if rec.cls != cls:
         out["oracle"] = _oracle(shape, ts, direction, rec, req, nm)
@@ -221,7 +299,9 @@ def run_trial(task) -> dict:
                                                 "miss_mm": float(math.hypot(float(qx) - nt["x"], float(qy) - nt["y"]))})
         tl.append(_extra_touch(shape, t, rs, direction))
         used += 1
-        cur, _, _ = _recognize(tl, nm)
+        cur, _, reqS = _recognize(tl, nm)
+    if cur.cls != cls and used:
+        out["oracleS"] = _oracle(shape, ts, direction, cur, reqS, nm, [s["t"] for s in out["suggested"]])
     out.update(rankS=_ranking(cur), t3=[float(v) for v in ts], span=[float(lo), float(hi)],
                params=dict(shape.params), gotS=cur.cls, errS=rel_error(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
     return out
@@ -242,8 +322,8 @@ def report(recs: list[dict]) -> str:
     lines += ["| class | trials | 3 touches: right % | median err % | search misses % | data-limited % | "
               "3+2 random: right % | median err % | 3+≤2 suggested: right % | median err % | suggested used | "
               "suggested aim miss mm (median / max) | σ coverage (1.96σ) % | RMS z | compute ms | "
-              "next_touch ms (mean / max) |",
-              "|---|" + "---|" * 15]
+              "next_touch ms (mean / max) | noise-free exact % |",
+              "|---|" + "---|" * 16]
     for name, rs in groups:
         if not rs:
             continue
@@ -260,9 +340,10 @@ def report(recs: list[dict]) -> str:
             f"{_pct([r['gotS'] == r['cls'] for r in rs])} | {_med([r['errS'] for r in rs])} | "
             f"{np.mean([r['used'] for r in rs]):.2f} | "
             f"{(f'{np.median(miss):.2g} / {np.max(miss):.2g}') if miss else '–'} | {cov} | {rms} | {np.mean([r['ms'] for r in rs]):.0f} | "
-            f"{(f'{nt.mean():.0f} / {nt.max():.0f}') if nt.size else '–'} |")
+            f"{(f'{nt.mean():.0f} / {nt.max():.0f}') if nt.size else '–'} | {_exact_pct(rs)} |")
     lines += ["", "Per region (3 touches / 3 + 2 random / 3 + ≤2 suggested, right class %):", "",
-              "| class | region | trials | 3 | 3+2 random | 3+≤2 suggested | search misses | wrong answers |", "|---|---|---|---|---|---|---|---|"]
+              "| class | region | trials | 3 | 3+2 random | 3+≤2 suggested | search misses (3 / suggested) | wrong answers (3) | noise-free exact % |",
+              "|---|---|---|---|---|---|---|---|---|"]
     by = defaultdict(list)
     for r in recs:
         by[(r["cls"], r["region"])].append(r)
@@ -270,8 +351,23 @@ def report(recs: list[dict]) -> str:
         wrong = sorted({r["got3"] for r in rs if r["got3"] != c})
         lines.append(f"| {c} | {reg} | {len(rs)} | {_pct([r['got3'] == c for r in rs])} | "
                      f"{_pct([r['got5'] == c for r in rs])} | {_pct([r['gotS'] == c for r in rs])} | "
-                     f"{sum(r.get('oracle') == 'search miss' for r in rs)} | {', '.join(wrong) or '–'} |")
+                     f"{sum(r.get('oracle') == 'search miss' for r in rs)} / {sum(r.get('oracleS') == 'search miss' for r in rs)} | "
+                     f"{', '.join(wrong) or '–'} | {_exact_pct(rs)} |")
+    rep = [r for r in recs if r.get("repeated")]
+    if rep:
+        lines += ["", f"Trials with one place touched twice: {len(rep)}; right class 3 / 3+2 random / 3+≤2 suggested: "
+                  f"{_pct([r['got3'] == r['cls'] for r in rep])} / {_pct([r['got5'] == r['cls'] for r in rep])} / "
+                  f"{_pct([r['gotS'] == r['cls'] for r in rep])} %; noise-free exact {_exact_pct(rep)} %."]
+    inexact = [r for r in recs if "exact" in r and not r["exact"]]
+    if inexact:
+        lines += ["", "Noise-free answers not exact (class right and relative error ≤ 1e-6):", ""]
+        lines += [f"- {r['cls']} trial {r['i']} ({r['region']}, L {r['L']:.3g} mm): {r['got0']}"
+                  + (f", error {r['err0']:.2g}" if r["got0"] == r["cls"] else f" ({r['why0']})") for r in inexact]
     return "\n".join(lines)
+
+
+def _exact_pct(rs) -> str:
+    return _pct([r["exact"] for r in rs if "exact" in r])
 
 
 def _wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
@@ -299,11 +395,12 @@ def coverage_report(recs: list[dict]) -> str:
 
 
 def run_wide(classes, trials: int, seed: int, jobs: int, progress, first: int = 0,
-             coverage_only: bool = False) -> list[dict]:
+             coverage_only: bool = False, dist: str = "wide") -> list[dict]:
     """Every trial's record (``trials`` per class from trial ``first``), in ``jobs``
-    processes; ``coverage_only``: the 3-touch recognition alone."""
+    processes; ``coverage_only``: the 3-touch recognition alone; ``dist``: the trials'
+    distribution (``SETS``)."""
 
-    tasks = [(c, i, seed, coverage_only) for c in classes for i in range(first, first + trials)]
+    tasks = [(c, i, seed, coverage_only, dist) for c in classes for i in range(first, first + trials)]
     recs = []
     t0 = time.perf_counter()
     pool = _pool(jobs) if jobs > 1 else None
@@ -334,6 +431,9 @@ def main(argv=None) -> int:
     ap.add_argument("--coverage-only", action="store_true",
                     help="only the 3-touch recognitions: sigma coverage per class with its 95 %% interval")
     ap.add_argument("--first", type=int, default=0, help="index of the first trial of each class")
+    ap.add_argument("--set", choices=SETS, default="wide",
+                    help="wide: the widened distributions (L 1-1500 mm, far stretches, thin ellipses' sharp ends, "
+                         "small shapes, repeated touches; noise-free exactness); hand: the earlier regions, L 30-120 mm")
     args = ap.parse_args(argv)
     if args.trials < 1 or args.first < 0:
         raise SystemExit("bench_wide: --trials must be >= 1 and --first >= 0")
@@ -343,13 +443,14 @@ def main(argv=None) -> int:
         sys.stderr.write(f"\r[bench_wide] {msg}   " + ("\n" if final else ""))
         sys.stderr.flush()
 
-    recs = run_wide(args.classes, args.trials, args.seed, args.jobs, progress, args.first, args.coverage_only)
+    recs = run_wide(args.classes, args.trials, args.seed, args.jobs, progress, args.first, args.coverage_only, args.set)
     if args.coverage_only:
         text = (f"Generated by `python -m tools.bench_wide --coverage-only --first {args.first} --trials {args.trials} "
-                f"--seed {args.seed}` ({len(recs)} trials, {time.perf_counter() - t0:.0f} s wall).\n\n"
+                f"--seed {args.seed} --set {args.set}` ({len(recs)} trials, {time.perf_counter() - t0:.0f} s wall).\n\n"
                 + coverage_report(recs))
     else:
-        text = markdown(recs, f"python -m tools.bench_wide --trials {args.trials} --seed {args.seed}",
+        text = markdown(recs, f"python -m tools.bench_wide --set {args.set} --trials {args.trials} --seed {args.seed}"
+                              + (f" --first {args.first}" if args.first else ""),
                         time.perf_counter() - t0, args.jobs)
     print(text)
     if args.out:

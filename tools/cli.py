@@ -4,9 +4,11 @@ Each subcommand module exposes ``HELP`` (one line), ``add_arguments(parser)`` an
 ``run(args) -> int``. Modules are imported only when their command runs, so
 ``tactile recognize`` never pays for matplotlib or the serial stack.
 
-Exit status: 0 success, 2 bad input (one line on stderr, no traceback),
-1 a fault at run time (bus timeout, unplugged adapter: one line on stderr),
-130 interrupted.
+Exit status, the same in every command (README, Commands): 0 recognized (or done), 1 a bus
+or hardware fault (bus timeout, unplugged adapter: one line on stderr), 2 bad input (one
+line on stderr, no traceback), 3 explored but refused (``--json`` still prints the answer,
+class ``unclassified`` with its reason and advice; ``tactile recognize`` answers every valid
+request with 0, ``unclassified`` included), 130 interrupted.
 """
 
 from __future__ import annotations
@@ -16,6 +18,12 @@ import importlib
 import sys
 
 from tactile_common.errors import DeviceFault, InputError
+
+EXIT_RECOGNIZED = 0
+EXIT_FAULT = 1
+EXIT_BAD_INPUT = 2
+EXIT_REFUSED = 3
+EXIT_INTERRUPTED = 130
 
 COMMANDS = {
     "demo": "tools.cmd_demo",
@@ -33,8 +41,8 @@ class _Parser(argparse.ArgumentParser):
     """argparse that reports usage errors as one line and exit status 2."""
 
     def error(self, message: str) -> None:  # noqa: D401 - argparse hook
-        sys.stderr.write(f"tactile {self.prog.split()[-1]}: {message}\n")
-        raise SystemExit(2)
+        sys.stderr.write(f"{self.prog}: {message}\n")  # "tactile" or "tactile demo"
+        raise SystemExit(EXIT_BAD_INPUT)
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
@@ -58,21 +66,24 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(f"tactile: unknown command {argv[0]!r}; choose from {', '.join(COMMANDS)}\n")
         return 2
     parser = build_parser(command)
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # argparse reports these from the top parser: name the subcommand they were given to
+        named = _Parser(prog=f"tactile {command}") if command is not None else parser
+        named.error(f"unrecognized arguments: {' '.join(extra)}")
     if not getattr(args, "_run", None):
         parser.print_help()
-        return 2
+        return EXIT_BAD_INPUT
     try:
-        return int(args._run(args) or 0)
+        return int(args._run(args) or EXIT_RECOGNIZED)
     except InputError as exc:
         sys.stderr.write(f"tactile {args.command}: {exc}\n")
-        return 2
+        return EXIT_BAD_INPUT
     except DeviceFault as exc:
         sys.stderr.write(f"tactile {args.command}: {exc}\n")
-        return 1
+        return EXIT_FAULT
     except KeyboardInterrupt:
         sys.stderr.write(f"tactile {args.command}: interrupted\n")
-        return 130
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

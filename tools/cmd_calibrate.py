@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 from tactile_common.errors import InputError
+from tools.cmd_explore import add_time_scale_argument
 
 HELP = "fit the jaw's zero ticks, link lengths and pad offsets from touches on a reference disk; write a new config"
 
@@ -39,7 +40,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--max-se-mm", type=float, default=0.05, help="refuse if a length's standard error exceeds this")
     parser.add_argument("--max-se-backlash-deg", type=float, default=0.01,
                         help="with --backlash: refuse if a band's standard error exceeds this (deg)")
-    parser.add_argument("--time-scale", type=float, default=1.0, help="robot seconds per wall second (emulators)")
+    add_time_scale_argument(parser)
     parser.add_argument("--force", action="store_true", help="overwrite --out if it exists")
     parser.add_argument("--json", action="store_true", help="print the result as JSON")
 
@@ -90,11 +91,13 @@ def touch_placements(cfg, disk, places, ports, *, faces: int, corners: int, cloc
 
 
 def run(args) -> int:
-    from hand_driver.calibration_fit import backlash_matters, fit
+    from hand_driver.calibration_fit import CalibrationRefused, backlash_matters, fit
+    from tools.cli import EXIT_REFUSED
     from hand_driver.config import dump_config, load_config
     from hand_driver.cycle import WallClock
     from recognizer.scene import load_scene
     from tactile_common.files import check_output
+    from tools.cmd_explore import bus_time_scale
 
     src = Path(args.config)
     out = check_output(args.out, force=args.force, reads=[src, args.reference], flag="--out")
@@ -120,14 +123,22 @@ def run(args) -> int:
             f"and press Enter")
         sys.stdin.readline()
 
+    scales = {port: bus_time_scale(cfg, port, say, args.time_scale) for port in dict.fromkeys(args.port)}
     readings, _ = touch_placements(cfg, scene.object, places, args.port, faces=args.faces, corners=args.corners,
-                                   clock_for=lambda k: WallClock(args.time_scale), say=say,
+                                   clock_for=lambda k: WallClock(scales[args.port[k % len(args.port)]]), say=say,
                                    wait_for_user=wait_for_user)
     backlash = args.backlash == "on" or (args.backlash == "auto" and backlash_matters(cfg))
-    result = fit(cfg, scene.object, readings, tolerances, backlash=backlash)
+    try:
+        result = fit(cfg, scene.object, readings, tolerances, backlash=backlash)
+    except CalibrationRefused as exc:  # touched, but the touches do not determine a parameter
+        if args.json:
+            print(json.dumps({"refused": True, "reason": str(exc)}))
+        sys.stderr.write(f"tactile calibrate: refused: {exc}\n")
+        return EXIT_REFUSED
     dump_config(result.config, out, header=f"calibrated by tactile calibrate from {src} "
                                            f"({result.n_readings} touches, residual RMS "
-                                           f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm)")
+                                           f"{result.rms_before_mm:.3f} -> {result.rms_after_mm:.4f} mm)",
+                source=src)
     if args.json:
         print(json.dumps(result.to_json(), indent=2))
     else:

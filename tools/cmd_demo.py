@@ -20,7 +20,7 @@ from tools.cmd_explore import (
     default_path,
     finish,
     progress_printer,
-    read_yaml_mapping,
+    read_yaml_mapping_located,
     run_session,
 )
 
@@ -40,7 +40,11 @@ def truth_lines(recognition: dict, obj) -> list[str]:
     """The true object and the relative parameter error, when the classes agree."""
     params = " ".join(f"{k}={v:.3f}" for k, v in obj.params.items())
     p = obj.pose
-    lines = [f"true:       {obj.cls} {params} | pose theta={p.theta:.4f} rad x={p.x:.2f} mm y={p.y:.2f} mm"]
+    head = f"{obj.cls} {params}" if params else obj.cls
+    lines = [f"true:       {head} | pose theta={p.theta:.4f} rad x={p.x:.2f} mm y={p.y:.2f} mm"]
+    if recognition["class"] == "unclassified":
+        lines.append(f"error:      no answer to compare: refused (the truth is {obj.cls})")
+        return lines
     if recognition["class"] != obj.cls:
         lines.append(f"error:      wrong class ({recognition['class']} for {obj.cls})")
         return lines
@@ -85,16 +89,18 @@ def run(args) -> int:
     from hand_driver.sim.server import EmulatedBus
     from tactile_common.errors import InputError
     from recognizer.scene import load_scene
-    from tactile_jaw.plan import open_pose
+    from tactile_jaw.plan import check_in_workspace, open_pose
 
     scene_path = default_path(args.scene)
     config_path = args.config or default_path("config/jaw.yaml")
     check_outputs(args, args.log, [config_path, args.truth_config, scene_path])
-    scene_mapping = read_yaml_mapping(scene_path, "scene")
-    scene = load_scene(scene_mapping, source=scene_path)
-    if scene.object is None:
-        raise InputError(f"{scene_path}: the scene has no object for the emulator to show (key 'object')")
+    scene_mapping, lines = read_yaml_mapping_located(scene_path, "scene")
     config = load_config(config_path)
+    with lines.errors(scene_path):
+        scene = load_scene(scene_mapping, source=scene_path)
+        if scene.object is None:
+            raise InputError(f"{scene_path}: object: missing: the scene has no object for the emulator to show")
+        check_in_workspace(scene.object, config, scene_path)
     truth = load_config(args.truth_config) if args.truth_config else None
     say = progress_printer()
     sys.setswitchinterval(5e-4)  # the emulator thread answers sooner while the SDK polls
@@ -107,6 +113,6 @@ def run(args) -> int:
                              f"disk's edge, config 'workspace'): place it clear of them")
         session = run_session(port=sim.port, config=config, scene_mapping=scene_mapping, profile=args.profile,
                               log_path=args.log, force=args.force, clock_factory=lambda: LockstepClock(sim),
-                              bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say)
-    extra = truth_lines(session.recognition, scene.object) if session.recognition else []
+                              bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say, mcap_path=args.mcap)
+    extra = truth_lines(session.recognition or {"class": "unclassified"}, scene.object)
     return finish(session, args, config=config, truth=scene.object, extra_lines=extra)

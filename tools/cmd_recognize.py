@@ -11,6 +11,9 @@ from tools.recognize_worker import DEFAULT_TIMEOUT_S
 
 #: bytes of one request (a stream line or a file): 64 touches of 500 samples fit in ~2 MB
 MAX_LINE_BYTES = 2 * 2 ** 20
+#: after an over-long line the stream looks this far for its end; a line longer still never
+#: ends as far as the service can tell (``cat /dev/zero``): the stream stops, exit 2
+MAX_SKIP_BYTES = 8 * MAX_LINE_BYTES
 
 HELP = "recognizes the curve from touches (a JSON file, or - for stdin); --stream serves one request per line"
 
@@ -52,9 +55,15 @@ def _answer(obj, args, base_dir, source, worker):
     return worker.recognize(request, _options(args, request), args.timeout)
 
 
-def _lines(src, limit: int):
+class _Endless(Exception):
+    """A line with no end within MAX_SKIP_BYTES: the stream cannot find its next request."""
+
+
+def _lines(src, limit: int, skip: int = MAX_SKIP_BYTES):
     """(line number, bytes or None when the line is over ``limit`` bytes) of a binary
-    stream; an over-long line is skipped without being held in memory."""
+    stream. An over-long line is answered as soon as ``limit`` bytes are read (None), then
+    skipped without being held in memory, up to ``skip`` bytes more; past that
+    :class:`_Endless` ends the stream (bounded CPU and memory whatever comes in)."""
     n = 0
     while True:
         line = src.readline(limit + 1)
@@ -62,9 +71,14 @@ def _lines(src, limit: int):
             return
         n += 1
         if len(line) > limit and not line.endswith(b"\n"):
-            while line and not line.endswith(b"\n"):
-                line = src.readline(1 << 16)
             yield n, None
+            skipped = 0
+            while line and not line.endswith(b"\n"):
+                if skipped > skip:
+                    raise _Endless(f"line {n}: no end of line within {limit + skipped} bytes; the stream cannot "
+                                   f"find its next request: stopped")
+                line = src.readline(1 << 16)
+                skipped += len(line)
         else:
             yield n, line
 
@@ -74,7 +88,16 @@ def _serve(src, args, base, worker) -> None:
     from tactile_common.errors import InputError
     from tactile_common.inputs import decode_utf8, loads_json
 
-    for n, raw in _lines(src, MAX_LINE_BYTES):
+    lines = _lines(src, MAX_LINE_BYTES)
+    while True:
+        try:
+            n, raw = next(lines)
+        except StopIteration:
+            return
+        except _Endless as exc:
+            sys.stdout.write(json.dumps({"error": str(exc)}) + "\n")
+            sys.stdout.flush()
+            raise InputError(str(exc)) from None
         where = f"line {n}"
         try:
             if raw is None:

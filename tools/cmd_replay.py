@@ -2,7 +2,10 @@
 
 The touches are rebuilt from the log's joint readings and touch boundaries with the
 jaw config and settings of the log's header (tactile_jaw.pipeline.logged_touches), then
-recognized exactly as during the run.
+recognized exactly as during the run. The log is verified first (hand_driver.log.read_log:
+record numbers, hash chain, cross-checks): damage is "line N: ..." (exit 2); a log cut by a
+crash replays up to its last whole record and says it was cut; a version 1 log says it
+cannot be verified. ``--verify`` only checks.
 """
 
 from __future__ import annotations
@@ -12,7 +15,8 @@ import sys
 
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_write, check_output
-from tools.cmd_explore import describe
+from tools.cli import EXIT_RECOGNIZED, EXIT_REFUSED
+from tools.cmd_explore import answer_lines, refusal
 
 HELP = "recognizes from a recorded run log (tactile explore/demo --log), no hardware"
 
@@ -22,24 +26,60 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print the recognition as JSON only (docs/formats.md)")
     parser.add_argument("--touches", metavar="FILE",
                         help="also write the rebuilt touches as a touches request (docs/formats.md; for tactile recognize)")
-    parser.add_argument("--force", action="store_true", help="overwrite an existing --touches file (never the log)")
+    parser.add_argument("--mcap", metavar="OUT",
+                        help="also write the run as a ROS 2 bag (MCAP, CDR messages: docs/formats.md#ros-2-bag)")
+    parser.add_argument("--force", action="store_true",
+                        help="overwrite an existing --touches or --mcap file (never the log)")
+    parser.add_argument("--verify", action="store_true",
+                        help="only check the log (record numbers, hash chain, cross-checks) and say whether it is "
+                             "whole, cut or cannot be verified; no recognition")
 
 
 def run(args) -> int:
+    from hand_driver.log import read_log
+    from tools.ros_bag import require_ros
+
+    if args.touches:
+        check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
+    if args.mcap:
+        require_ros()
+        check_output(args.mcap, force=args.force, reads=[args.log, args.touches], flag="--mcap")
+    contents = read_log(args.log)
+    if args.verify:
+        sys.stdout.write(f"{args.log}: {contents.integrity()}\n")
+        return 0
+    caveat = contents.truncated or not contents.verified
+    try:
+        answer, lines = _replay(args, contents)
+    except InputError as exc:
+        if caveat:  # one line still: what went wrong, and that the log was cut or is unverified
+            raise InputError(f"{exc}; {contents.integrity()}") from None
+        raise
+    if args.json:
+        sys.stdout.write(json.dumps(answer, allow_nan=False) + "\n")
+        if caveat:
+            sys.stderr.write(f"tactile replay: {args.log}: {contents.integrity()}\n")
+    else:
+        sys.stdout.write("\n".join(lines) + "\n")
+    return EXIT_REFUSED if answer["class"] == "unclassified" else EXIT_RECOGNIZED
+
+
+def _replay(args, contents) -> tuple[dict, list[str]]:
+    """Recognize from the log's contents (read and verified): the answer (a refusal with its
+    advice when no class is answered) and the lines for people; writes ``--touches`` and
+    ``--mcap``."""
     # here, not at the top: tactile --help imports every command module (tools.cli), and these
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
-    from hand_driver.log import read_log
     from tactile_jaw.choose import JawReach, last_stop
     from tactile_jaw.decide import final_answer
     from tactile_jaw.flat import is_flat
     from tactile_jaw.flat import recognized_touches
     from tactile_jaw.pipeline import clear_of_corners, logged_felt, make_recognizer, stated_noise, too_few_clear, \
         workspace_reach
+    from tactile_jaw.separation import jaw_ticks_per_rev
     from tactile_jaw.settings import ExploreSettings
+    from tools.ros_bag import write_bag
 
-    if args.touches:
-        check_output(args.touches, force=args.force, reads=[args.log], flag="--touches")
-    contents = read_log(args.log)
     header = contents.header
     config = contents.jaw_config()
     try:
@@ -58,26 +98,31 @@ def run(args) -> int:
                              else stated_noise(touches).to_json() if touches else None),
                    "options": {**settings.recognize, "reach": workspace_reach(config).to_json()}}
         atomic_write(args.touches, json.dumps(request), flag="--touches")
-    if not touches:
-        raise InputError(f"{args.log}: no usable touch in the log ({len(contents.touches)} touches logged)")
-    recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
-                                        reach=JawReach(config, settings))
     stop = last_stop(contents.events)
-    stopped = stop.get("message") if stop is not None else None
-    try:
-        recognition = final_answer(recognize_touches, touches, settings, stopped).to_json()
-    except InputError as exc:
-        if len(touches) >= len(usable):
-            raise
-        recognition = too_few_clear(touches, len(usable), exc).to_json()  # as the exploration answered
-    if args.json:
-        sys.stdout.write(json.dumps(recognition, allow_nan=False) + "\n")
-        return 0
+    recognition, too_few = None, None
+    if not touches:
+        too_few = f"no usable touch in the log ({len(contents.touches)} touches logged): too few to recognize"
+    else:
+        recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
+                                            reach=JawReach(config, settings))
+        try:
+            recognition = final_answer(recognize_touches, touches, settings,
+                                       stop.get("message") if stop is not None else None,
+                                       jaw_ticks_per_rev(config)).to_json()
+        except InputError as exc:  # fewer usable touches than any class needs: the exploration refused
+            recognition = too_few_clear(touches, len(usable), exc).to_json() if len(touches) < len(usable) else None
+            too_few = str(exc)
+    answer = recognition
+    if recognition is None or recognition["class"] == "unclassified":
+        answer = refusal(recognition, too_few, stop, config)
+    if args.mcap:
+        write_bag(args.mcap, contents, answer)
     faults = [e for e in contents.events if e.get("kind") == "fault"]
-    lines = [f"recognized: {describe(recognition)}",
-             f"from {len(touches)} usable touches of {len(contents.touches)} in {len(contents.readings)} readings"
-             + (" (the log ends mid-line: the run was cut)" if contents.truncated else "")]
+    lines = [*answer_lines(answer),
+             f"from {len(touches)} usable touches of {len(contents.touches)} in {len(contents.readings)} readings",
+             f"log: {contents.integrity()}"]
     if faults:
         lines.append(f"the run ended with a fault: {faults[-1]['message']}")
-    sys.stdout.write("\n".join(lines) + "\n")
-    return 0
+    if args.mcap:
+        lines.append(f"mcap: {args.mcap}")
+    return answer, lines

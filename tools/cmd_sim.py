@@ -27,9 +27,16 @@ def run(args) -> int:
 
     if not args.time_scale > 0:
         raise InputError(f"--time-scale: {args.time_scale} must be > 0")
+    from tactile_jaw.plan import check_in_workspace
+    from tools.cmd_explore import read_yaml_mapping_located
+
     config = load_config(args.config)
     truth = load_config(args.truth_config) if args.truth_config else None
-    scene = load_scene(args.scene)
+    scene_mapping, lines = read_yaml_mapping_located(args.scene, "scene")
+    with lines.errors(args.scene):
+        scene = load_scene(scene_mapping, source=args.scene)
+        if scene.object is not None:
+            check_in_workspace(scene.object, config, args.scene)  # before the emulator serves a jaw
     done = threading.Event()
     old = {s: signal.signal(s, lambda *_: done.set()) for s in (signal.SIGINT, signal.SIGTERM)}
     try:

@@ -123,6 +123,7 @@ class EmulatedServo:
         self.vel = 0.0  # trajectory velocity, ticks/s
         self.actual_vel = 0.0
         self.halted = False  # stopped by the Bus Watchdog until a new goal position
+        self.uptime_s = 0.0  # since power-up or reboot: Realtime Tick is its milliseconds mod 32768
         self._put("goal_position", int(round(position)))
         if "goal_current" in self.spec.fields:
             self._put("goal_current", self.spec.current_limit_default)
@@ -364,4 +365,5 @@ class EmulatedServo:
         in_pos = abs(self.get("goal_position") - self.pos) <= 1.0
         profiling = abs(self.get("goal_position") - self.traj) > 0.5
         self._put("moving_status", int(in_pos) | (int(profiling) << 1))
-        self._put("realtime_tick", (self.get("realtime_tick") + int(dt * 1000)) % 32768)
+        self.uptime_s += dt  # kept in seconds: a packet every 0.3 ms must not round each step to 0 ms
+        self._put("realtime_tick", int(self.uptime_s * 1000.0) % 32768)

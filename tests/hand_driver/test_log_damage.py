@@ -22,10 +22,10 @@ def _records():
         {"type": "header", "format": "tactile-jaw-log", "version": 1, "start_time": "t", "monotonic_origin": 0.0,
          "config": CONFIG, "scene": None, "versions": {}, "command": [], "settings": {}},
         {"type": "reading", "i": 0, "t": 0.1, "ticks": [2048] * N, "current_ma": [1.0] * N, "moving": [False] * N},
-        {"type": "touch_start", "touch": 0, "finger": FINGER, "psi": 0.5, "reading": 1},
+        {"type": "touch_start", "touch": 0, "finger": FINGER, "psi": 0.5, "reading": 0},
         {"type": "reading", "i": 1, "t": 0.2, "ticks": [2050] * N, "current_ma": None, "moving": None},
         {"type": "sample", "touch": 0, "finger": FINGER, "psi": 0.5, "reading": 1},
-        {"type": "touch_end", "touch": 0, "finger": FINGER, "reading": 2, "samples": 1, "outcome": "ok"},
+        {"type": "touch_end", "touch": 0, "finger": FINGER, "reading": 1, "samples": 1, "outcome": "ok"},
         {"type": "event", "kind": "note", "message": "m"},
     ]
 

@@ -10,7 +10,7 @@ from recognizer.scene import load_scene
 from recognizer.touches import parse_noise
 
 SCENES = Path(__file__).resolve().parents[2] / "config" / "scenes"
-PARABOLA = {"class": "parabola", "params": {"a": 8.0}, "pose": {"x": 85.0}}
+PARABOLA = {"class": "parabola", "params": {"a": 8.0}, "pose": {"theta": 0.0, "x": 85.0, "y": 0.0}}
 MINE = ["default", "conics", "cubics", "all", "calibration", "line", "circle", "ellipse", "parabola", "hyperbola",
         "cubical_parabola", "semicubical_parabola"]
 
@@ -68,9 +68,9 @@ def test_relative_path_uses_base_dir(tmp_path):
     # a closing segment cut through the curved part
     ({"object": {**PARABOLA, "extent": [-1.4, 1.4], "closure": [[5, 30], [5, -30]]}},
      r"object\.closure: the boundary crosses itself \(closing segment 2 meets the curve\)"),
-    ({"object": {"class": "line", "extent": [-10, 10], "closure": [[5, 0], [0, -5]]}}, "crosses itself"),
-    ({"object": {"class": "line", "extent": [-10, 10], "closure": [[0, 0]]}}, "encloses no area"),
-    ({"object": {"class": "line", "extent": [-10, 10], "closure": [[10, 5], [10, 5], [-10, 5]]}}, "zero length"),
+    ({"object": {"class": "line", "pose": {"theta": 0, "x": 0, "y": 0}, "extent": [-10, 10], "closure": [[5, 0], [0, -5]]}}, "crosses itself"),
+    ({"object": {"class": "line", "pose": {"theta": 0, "x": 0, "y": 0}, "extent": [-10, 10], "closure": [[0, 0]]}}, "encloses no area"),
+    ({"object": {"class": "line", "pose": {"theta": 0, "x": 0, "y": 0}, "extent": [-10, 10], "closure": [[10, 5], [10, 5], [-10, 5]]}}, "zero length"),
     ({"object": {**PARABOLA, "extent": [-1.4, 1.4], "side": "left"}}, r"object\.side: the closed boundary puts the solid on the right"),
 ])
 def test_bad_scenes_one_line(raw, msg):
@@ -103,8 +103,8 @@ def test_finite_objects():
     chord = load_scene({"object": {**PARABOLA, "extent": [-1.4, 1.4]}}).object
     assert chord.finite and chord.extent == (-1.4, 1.4) and chord.closure is None and chord.side == "right"
     assert np.allclose(chord.corners(), [[15.68, 22.4], [15.68, -22.4]])
-    box = load_scene({"object": {"class": "line", "extent": [-10, 10], "closure": [[10, 5], [-10, 5]],
-                                 "pose": {"x": 100.0, "y": 1.0}}}).object
+    box = load_scene({"object": {"class": "line", "pose": {"theta": 0, "x": 0, "y": 0}, "extent": [-10, 10], "closure": [[10, 5], [-10, 5]],
+                                 "pose": {"theta": 0.0, "x": 100.0, "y": 1.0}}}).object
     assert box.side == "left"  # the solid above the line: on the left of increasing t
     x, y = box.outline(samples=3)
     assert np.allclose(np.stack([x, y], axis=-1), [(90, 1), (100, 1), (110, 1), (110, 6), (90, 6), (90, 1)])

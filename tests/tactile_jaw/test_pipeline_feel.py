@@ -71,16 +71,17 @@ def test_ellipse_curvature_against_closed_form(centre_deg):
 def test_covariance_matches_quantization_scatter(path):
     """The stated covariance is the scatter of κ, κ_s when every joint angle is off by a
     uniform error of up to half a tick of its model (Monte Carlo, 400 draws; X-series, and
-    the P-series jaw whose two joints differ in resolution)."""
+    the P-series jaw whose two joints differ in resolution), at the cubic (the order rule
+    gives these rolls a cubic but for about 1 draw in 400)."""
     a, b = 28.0, 17.0
     psis = math.radians(-75.0) + np.linspace(-1, 1, 9) * math.radians(9.0)
     q, _, _ = ellipse_tangent_angles(a, b, psis)
     left = load_config(path).finger("left")
-    cov = fit_envelope(left, q, kin.finger_pad_line(left, q)).cov
+    cov = fit_envelope(left, q, kin.finger_pad_line(left, q), degree=3).cov
     rng = np.random.default_rng(3)
     tick = rad_per_tick(kin.resolutions(left.joints))
     draws_q = [q + rng.uniform(-0.5, 0.5, q.shape) * tick for _ in range(400)]
-    fits = [fit_envelope(left, qq, kin.finger_pad_line(left, qq)) for qq in draws_q]
+    fits = [fit_envelope(left, qq, kin.finger_pad_line(left, qq), degree=3) for qq in draws_q]
     draws = np.array([(f.kappa, f.kappa_s) for f in fits])
     ratio = draws.std(axis=0) / np.sqrt(np.diag(cov))
     assert np.all((ratio > 0.85) & (ratio < 1.15)), ratio
@@ -209,10 +210,14 @@ def test_stated_noise_is_the_scatter_of_quantized_rolls():
     assert 0.7 < np.mean((along / s_along) ** 2) < 1.4
     ends, middle = s_along.reshape(40, 9)[:, [0, 8]], s_along.reshape(40, 9)[:, 4]
     assert np.all(ends.min(axis=1) > 2.5 * middle)
-    stated = stated_noise(felt)
+    # the touches whose noise is the quantization alone (on 2 of the 40 the order rule also
+    # states a truncation, envelope._with_truncation: their along-pad deviations are wider)
+    plain = [k for k, f in enumerate(felt) if f.fit.noise_factor.shape[1] == 18]
+    assert len(plain) >= 36
+    stated = stated_noise([felt[k] for k in plain])
     assert stated.phi == pytest.approx(phi_sigma(LEFT.joints))
-    assert 0.8 < stated.pos / np.sqrt(np.mean(across**2)) < 1.25
-    assert 0.8 < stated.pos_along / np.sqrt(np.mean(along**2)) < 1.25
+    assert 0.8 < stated.pos / np.sqrt(np.mean(np.concatenate([errors[k][0] for k in plain]) ** 2)) < 1.25
+    assert 0.8 < stated.pos_along / np.sqrt(np.mean(np.concatenate([errors[k][1] for k in plain]) ** 2)) < 1.25
 
 
 def _ellipse_touch(finger: str, a: float, b: float, pose, psi_c: float) -> FeltTouch:
@@ -226,6 +231,10 @@ def _ellipse_touch(finger: str, a: float, b: float, pose, psi_c: float) -> FeltT
         q.append(kin.ik_tangent(f, np.array(pose.apply(a * math.cos(t), b * math.sin(t)), dtype=float), float(psi)))
     ticks = np.rint(kin.angles_to_ticks(f.joints, np.array(q)))
     return feel(CONFIG, touch_from_angles(kin.ticks_to_angles(f.joints, ticks), finger), 9)
+
+
+def _rank(factor) -> int:
+    return int(np.linalg.matrix_rank(factor, tol=1e-6 * np.linalg.norm(factor, 2)))
 
 
 def test_true_class_chi2_is_calibrated():
@@ -252,7 +261,7 @@ def test_true_class_chi2_is_calibrated():
         if len(felt) < 3:
             continue
         top = recognize_ellipse(felt).ranking[0]
-        assert top.dof == sum(f.contacts.degree + 1 for f in felt) - 5
+        assert top.dof == sum(_rank(f.samples.noise_factor) - f.contacts.x.size for f in felt) - 5
         assert top.p_value > 1e-3, (a, b, top.chi2, top.dof)
         ratios.append(top.chi2 / top.dof)
     assert 0.45 < np.mean(ratios) < 1.3, ratios

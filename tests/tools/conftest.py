@@ -26,16 +26,30 @@ def tactile_in_process():
     return _tactile_in_process
 
 
-def _demo_answer(scene: dict, path, log=None) -> dict:
+def _demo_answer(scene: dict, path, log=None, config: str | None = None) -> dict:
     path.write_text(yaml.safe_dump(scene))
     rc, out, err = _tactile_in_process(["demo", "--scene", str(path), "--json"]
-                                       + (["--log", str(log)] if log is not None else []))
-    assert "Traceback" not in err and rc == 0, err
-    return json.loads(out)
+                                       + (["--log", str(log)] if log is not None else [])
+                                       + (["--config", config] if config is not None else []))
+    answer = json.loads(out)
+    assert "Traceback" not in err and rc == (3 if answer["class"] == "unclassified" else 0), err
+    return answer
 
 
 @pytest.fixture(scope="session")
 def demo_answer():
-    """``demo_answer(scene mapping, scene path, log path or None)`` → the JSON answer of
-    ``tactile demo`` on that scene, written to the path (exit 0, no traceback asserted)."""
+    """``demo_answer(scene mapping, scene path, log path or None, config=None)`` → the JSON
+    answer of ``tactile demo`` on that scene (with that jaw config), written to the path
+    (exit 0, or 3 for a refusal, and no traceback asserted)."""
     return _demo_answer
+
+
+@pytest.fixture(scope="session")
+def default_demo(tmp_path_factory):
+    """``tactile demo`` on the default scene as the README shows it (text output), with
+    ``--log`` and ``--mcap``: one run shared by the docs' and the bag's tests."""
+    d = tmp_path_factory.mktemp("default_demo")
+    log, bag = d / "demo.jsonl", d / "demo.mcap"
+    rc, out, err = _tactile_in_process(["demo", "--log", str(log), "--mcap", str(bag)])
+    assert rc == 0 and "Traceback" not in err, err
+    return {"out": out, "err": err, "log": log, "mcap": bag, "dir": d}

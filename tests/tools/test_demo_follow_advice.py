@@ -11,6 +11,7 @@ import math
 from hand_driver.log import read_log
 from tools.bench_explore import moved_object
 
+P_JAW = "config/jaw-p.yaml"
 PARABOLA = {"name": "parabola61", "classes": ["line", "circle", "ellipse", "parabola", "hyperbola",
                                               "cubical_parabola", "semicubical_parabola"],
             "object": {"class": "parabola", "params": {"a": 8.839390478834567}, "extent": [-1.5, 1.5],
@@ -18,12 +19,14 @@ PARABOLA = {"name": "parabola61", "classes": ["line", "circle", "ellipse", "para
 
 
 def test_a_refusal_for_want_of_reach_names_a_move_that_makes_the_object_recognizable(tmp_path, demo_answer):
+    # on the P-series jaw: the X-series jaw cannot tell a parabola from a semicubical whose
+    # cusp lies at the touched stretch's edge (tactile_jaw.decide.inseparable) wherever it is
     scene, log = tmp_path / "parabola61.yaml", tmp_path / "parabola61.jsonl"
-    answer = demo_answer(PARABOLA, scene, log)
+    answer = demo_answer(PARABOLA, scene, log, config=P_JAW)
     assert answer["class"] == "unclassified" and "no pad can roll beyond the vertex" in answer["reason"]
     assert "move the object" in answer["reason"] and "a pad can roll there" in answer["reason"]
     move = next(e for e in read_log(log).events if e.get("kind") == "stopped_early")["move"]
     assert 0.0 < math.hypot(move["dx"], move["dy"]) <= 22.0
-    answer = demo_answer({**PARABOLA, "object": moved_object(PARABOLA["object"], move)}, scene)
+    answer = demo_answer({**PARABOLA, "object": moved_object(PARABOLA["object"], move)}, scene, config=P_JAW)
     assert answer["class"] == "parabola", answer.get("reason")
     assert abs(answer["params"]["a"] / PARABOLA["object"]["params"]["a"] - 1.0) < 0.02
