@@ -59,7 +59,8 @@ def run_demo(scene: str, workdir: Path) -> Run:
     if proc.returncode not in (0, 3):
         raise SystemExit(f"tactile demo --scene {scene}: exit {proc.returncode}: {proc.stderr.strip()[-500:]}")
     log_lines = log.read_text().splitlines()
-    result = json.loads(log_lines[-1])
+    # the result record: the last but for the log's documented tail (a fault event, end)
+    result = next(rec for rec in map(json.loads, reversed(log_lines)) if rec["type"] == "result")
     lines = [ln for ln in proc.stdout.splitlines() if not ln.startswith("log: ")]
     return Run(scene, proc.returncode, lines, result, log_lines)
 
@@ -122,22 +123,25 @@ def examples_table(runs: dict[str, Run]) -> str:
 
 def log_excerpt(run: Run) -> str:
     """The default run's log: the header (config, scene, versions and command shortened to
-    "…"), its first record of every other kind, and the result (answer shortened)."""
+    "…"), its first record of every other kind, the result (answer shortened) and the tail
+    after it (the ``end`` record); every hash but the last shortened to "…"."""
     records = [json.loads(ln) for ln in run.log_lines]
+    last = max(i for i, rec in enumerate(records) if rec["type"] == "result")
     header = {**records[0], **{k: "…" for k in ("config", "scene", "versions", "command")}}
     picked, seen = [header], set()
-    for rec in records[1:-1]:
+    for rec in records[1:last]:
         kind = (rec["type"], rec.get("kind"))
         if kind not in seen:
             seen.add(kind)
             if rec.get("kind") == "touch_used":
                 rec = {**rec, "samples": "…"}
             picked.append(rec)
-    result = dict(records[-1])
+    result = dict(records[last])
     rec = result.get("recognition")
     if rec:
         result["recognition"] = {k: rec[k] for k in ("class", "params", "pose")} | {"…": "…"}
-    picked.append(result)
+    picked += [result, *records[last + 1:]]
+    picked = [{**r, "h": "…"} if "h" in r else r for r in picked[:-1]] + picked[-1:]
     return "```json\n" + "\n".join(json.dumps(r, separators=(",", ":"), ensure_ascii=False) for r in picked) + "\n```"
 
 
