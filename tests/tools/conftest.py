@@ -5,6 +5,10 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import signal
+import subprocess
+import sys
+import time
 
 import pytest
 import yaml
@@ -53,3 +57,25 @@ def default_demo(tmp_path_factory):
     rc, out, err = _tactile_in_process(["demo", "--log", str(log), "--mcap", str(bag)])
     assert rc == 0 and "Traceback" not in err, err
     return {"out": out, "err": err, "log": log, "mcap": bag, "dir": d}
+
+
+def _killed_demo(log, *extra: str, readings: int = 60, timeout_s: float = 60.0) -> None:
+    """``tactile demo --log LOG EXTRA...`` in its own process, SIGKILLed once the log holds
+    ``readings`` readings (or after ``timeout_s``): what a crash of the host leaves."""
+    proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "demo", "--log", str(log), *extra],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + timeout_s
+        while time.monotonic() < deadline:
+            if log.exists() and log.read_text().count('"type":"reading"') >= readings:
+                break
+            time.sleep(0.05)
+        proc.send_signal(signal.SIGKILL)
+    finally:
+        proc.wait()
+
+
+@pytest.fixture(scope="session")
+def killed_demo():
+    """``killed_demo(log, *extra_args, readings=60, timeout_s=60)``: a demo killed mid-run."""
+    return _killed_demo

@@ -3,9 +3,6 @@
 from __future__ import annotations
 
 import json
-import signal
-import subprocess
-import sys
 import time
 
 import pytest
@@ -101,19 +98,9 @@ def test_replay_of_a_bad_log_is_one_line_exit_2(tmp_path, tactile_in_process):
     assert rc == 2 and err.count("\n") == 1 and "header" in err
 
 
-def test_killed_demo_leaves_a_valid_log(tmp_path, tactile_in_process):
+def test_killed_demo_leaves_a_valid_log(tmp_path, tactile_in_process, killed_demo):
     log = tmp_path / "killed.jsonl"
-    proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "demo", "--log", str(log)],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        deadline = time.monotonic() + 30
-        while time.monotonic() < deadline:
-            if log.exists() and log.read_text().count('"type":"reading"') >= 60:
-                break
-            time.sleep(0.05)
-        proc.send_signal(signal.SIGKILL)
-    finally:
-        proc.wait()
+    killed_demo(log, timeout_s=30)
     contents = read_log(log)  # a cut last line is tolerated, nothing else is wrong
     assert len(contents.readings) >= 60
     assert [r["i"] for r in contents.readings] == list(range(len(contents.readings)))

@@ -9,10 +9,6 @@ from __future__ import annotations
 import datetime
 import json
 import math
-import signal
-import subprocess
-import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -274,7 +270,7 @@ def test_a_refusal_exits_3_with_its_advice_and_its_bag_has_no_pose(run, tactile_
     assert rc == 3 and out.startswith("refused:    ") and "\nadvice:     " in out
 
 
-def test_a_killed_demo_leaves_its_readings_in_the_bag(tmp_path):
+def test_a_killed_demo_leaves_its_readings_in_the_bag(tmp_path, killed_demo):
     """Written as the run goes: after SIGKILL, the bag's chunks hold every reading logged
     before the last (read record by record; the unfinished file has no summary)."""
     from mcap.exceptions import McapError
@@ -282,17 +278,7 @@ def test_a_killed_demo_leaves_its_readings_in_the_bag(tmp_path):
     from mcap.stream_reader import StreamReader
 
     log, bag = tmp_path / "killed.jsonl", tmp_path / "killed.mcap"
-    proc = subprocess.Popen([sys.executable, "-m", "tools.cli", "demo", "--log", str(log), "--mcap", str(bag)],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        deadline = time.monotonic() + 60
-        while time.monotonic() < deadline:
-            if log.exists() and log.read_text().count('"type":"reading"') >= 60:
-                break
-            time.sleep(0.05)
-        proc.send_signal(signal.SIGKILL)
-    finally:
-        proc.wait()
+    killed_demo(log, "--mcap", str(bag))
     readings = len(read_log(log).readings)
     topics, joint_states = {}, 0
     with open(bag, "rb") as fh:
