@@ -87,8 +87,9 @@ def test_a_link_to_a_special_file_is_judged_by_its_target(tmp_path):
     lambda p, log: ["demo", "--log", str(p), "--force"],
 ])
 def test_commands_refuse_special_outputs_before_any_work(tmp_path, tactile_in_process, make, what, argv):
-    """``replay L --touches /dev/full --force`` and ``demo --plot /dev/full --force`` renamed
-    a regular file over the device; ``demo --log /dev/full --force`` ended in a traceback."""
+    """Issue 22: ``--touches`` (replay) and ``--plot`` (demo) with ``--force``, aimed at the
+    full-disk device, renamed a regular file over it; ``--log`` there ended in a traceback.
+    Here each output is a FIFO, socket or device node this test makes in its own directory."""
     p = make(tmp_path)
     log = tmp_path / "some.jsonl"
     log.write_text("{}\n")
