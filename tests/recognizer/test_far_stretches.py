@@ -12,11 +12,10 @@ from recognizer.touches import NoiseModel
 from tools import bench_wide as B
 
 
-@pytest.mark.parametrize("i", [3, 11])
-def test_far_arm_hyperbola_noise_free_is_exact(i):
-    """Seed 1 hyperbola trials 3 and 11 (far on an arm, t 3.2–5.3, regions 7.6 and 21 mm):
-    the largest κ, 1.9e-4 ± 1.6e-4, flipped the direction; answered unclassified."""
-    region, shape, ts, _, rs = B.draw_case("hyperbola", i, 1, "wide")
+def _assert_far_arm_exact(i, seed):
+    """The wide set's hyperbola trial ``i`` of ``seed``, far on an arm, sampled noise-free:
+    answered hyperbola with every parameter within 1e-6."""
+    region, shape, ts, _, rs = B.draw_case("hyperbola", i, seed, "wide")
     direction = int(rs.choice([-1, 1]))
     touches, _ = synth.sample_shape(shape, ts, B.SAMPLES, B.SPACING * shape.size, direction, None, None, with_s=False)
     rec, _, _ = B._recognize(touches, NoiseModel(0.0, 0.0))
@@ -24,6 +23,13 @@ def test_far_arm_hyperbola_noise_free_is_exact(i):
     assert rec.cls == "hyperbola", rec.reason
     for k, v in shape.params.items():
         assert rec.params[k] == pytest.approx(v, rel=1e-6)
+
+
+@pytest.mark.parametrize("i", [3, 11])
+def test_far_arm_hyperbola_noise_free_is_exact(i):
+    """Seed 1 hyperbola trials 3 and 11 (far on an arm, t 3.2–5.3, regions 7.6 and 21 mm):
+    the largest κ, 1.9e-4 ± 1.6e-4, flipped the direction; answered unclassified."""
+    _assert_far_arm_exact(i, 1)
 
 
 def _with_suggested(cls, i, seed, suggested_t):
@@ -79,11 +85,4 @@ def test_far_arm_hyperbola_refined_from_its_exact_start():
     """Seed 9 hyperbola trial 3 (far on an arm, t 3.6–5.4, 183 mm), noise-free: the
     invariants' start was exact, its contact fit 16 % off (the estimated κ, κ_s weigh
     more than their truncation error allows) and refined to χ² 6e13: unclassified."""
-    region, shape, ts, _, rs = B.draw_case("hyperbola", 3, 9, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, _ = synth.sample_shape(shape, ts, B.SAMPLES, B.SPACING * shape.size, direction, None, None, with_s=False)
-    rec, _, _ = B._recognize(touches, NoiseModel(0.0, 0.0))
-    assert region == "far on an arm"
-    assert rec.cls == "hyperbola", rec.reason
-    for k, v in shape.params.items():
-        assert rec.params[k] == pytest.approx(v, rel=1e-6)
+    _assert_far_arm_exact(3, 9)
