@@ -53,13 +53,19 @@ SIGMA_FLOOR_PHI = 1e-9
 SIGMA_FLOOR_POS = 1e-9
 """mm: σ_pos used when the noise model says 0."""
 MAX_NFEV = 40
-MAX_NFEV_EXACT, TOL_EXACT, EXACT_GO_ON, EXACT_DONE = 400, 1e-15, 1e4, 1e-6
+MAX_NFEV_EXACT, TOL_EXACT, EXACT_GO_ON, EXACT_DONE = 400, 1e-15, 1e4, 1e-10
 """exact data (every stated deviation zero: the σ floors) are fitted on to rounding when,
-after MAX_NFEV evaluations, χ² per residual is between EXACT_DONE (there: a right class
-ends near 1e-15) and EXACT_GO_ON (a right class on the way; a wrong one is ~1e6 and
-more): a short stretch of boundary or touches far out on an arm (ill-conditioned fits)
-get there only after hundreds of steps. (The lower end was 1: a semicubical touched far
-out on a nearly straight branch stopped at χ² 3.6 over 81 residuals, its a 9e-5 off.)"""
+after MAX_NFEV evaluations, χ² per residual is below EXACT_GO_ON (a right class on the
+way; a wrong one is ~1e6 and more): a short stretch of boundary or touches far out on an
+arm (ill-conditioned fits) get there only after hundreds of steps. EXACT_DONE: χ² per
+residual at rounding (a right class ends at 1e-13–1e-15). (The fit went on only above 1,
+then above 1e-6: a semicubical on a nearly straight stretch stopped at χ² 1.4e-5 over 81
+residuals with its a 1e-4 off; at 3.6, 9e-5 off.)"""
+VALLEY_NFEV, VALLEY_STEPS, VALLEY_BELOW = 40, 30, 1.0
+"""``_valley_search``: evaluations of each point's fit of the other unknowns, and points; it
+runs when exact data's fit stops (at ``MAX_NFEV_EXACT``, or making no progress) with χ² per
+residual between EXACT_DONE and VALLEY_BELOW (within the floors' noise: a right class on its
+valley, 2 % off at 0.004–0.05; the semicubical's wrong branches stall at 25–60 and more)."""
 FD_STEP = 1.5e-8
 """relative forward-difference step for the shape parameters' Jacobian columns (√ε)."""
 TOL = 1e-10
@@ -439,6 +445,65 @@ def _in_order(t: np.ndarray, data: _Data, direction: int) -> np.ndarray:
     return t
 
 
+def _valley_search(problem: _Problem, z: np.ndarray) -> tuple[np.ndarray, int]:
+    """Exact data whose fit still crawls at ``MAX_NFEV_EXACT``: the minimum along its valley,
+    as a 1-D search (Brent) over the shape unknown the valley moves most (the weakest
+    direction of the column-scaled Jacobian), every other unknown fitted at each point
+    (``VALLEY_NFEV`` evaluations from the best point yet, moved along the linearized
+    valley). A semicubical touched on a nearly straight stretch (|b| ≳ 20·|a·t|, its tangent
+    turning by 0.3–3 mrad) fits its exact samples within 1e-10 of a unit for a and b 2 %
+    off along a bending valley (the Jacobian's smallest scaled singular value ~1e-8 of its
+    largest) that Levenberg–Marquardt follows a few 1e-4 per hundred steps; at each fixed b
+    the rest is well conditioned (1e-6) and converges in ~15 evaluations, and the profile
+    χ² is a parabola in b, so the search ends in ~10 points. Returns (z, evaluations)."""
+    k = problem.k
+    jac = problem.jacobian(z)
+    norms = np.linalg.norm(jac, axis=0)
+    norms = np.where((norms > 0) & np.isfinite(norms), norms, 1.0)
+    try:
+        _, sv, vt = np.linalg.svd(jac / norms, full_matrices=False)
+    except np.linalg.LinAlgError:
+        return z, 0
+    i = int(np.argmax(np.abs(vt[-1, :k])))
+    cov = _pinv_cov(jac)
+    if not (cov[i, i] > 0 and np.isfinite(cov[i, i])):
+        return z, 0
+    lin = np.nan_to_num(cov[:, i] / cov[i, i], nan=0.0, posinf=0.0, neginf=0.0)
+    free = np.ones(z.size, bool)
+    free[i] = False
+    best = {"chi2": float(problem.residuals(z) @ problem.residuals(z)), "z": z.copy()}
+    used = [0]
+
+    def profile(v: float) -> float:
+        zf = best["z"] + lin * (v - best["z"][i])
+        zf[i] = v
+
+        def fun(x):
+            zf[free] = x
+            return problem.residuals(zf)
+
+        def jac_free(x):
+            zf[free] = x
+            return problem.jacobian(zf)[:, free]
+
+        res = least_squares(fun, jac_free, zf[free], problem.n_res, VALLEY_NFEV, TOL_EXACT)
+        used[0] += int(res.nfev)
+        zf[free] = res.x
+        chi2 = 2.0 * float(res.cost)
+        if chi2 < best["chi2"]:
+            best.update(chi2=chi2, z=zf.copy())
+        return chi2
+
+    h = math.sqrt(cov[i, i] * max(best["chi2"], 1e-30))
+    with np.errstate(all="ignore"):
+        try:
+            optimize.minimize_scalar(profile, bracket=(z[i], z[i] + h), method="brent",
+                                     options={"xtol": 1e-12, "maxiter": VALLEY_STEPS})
+        except (ValueError, RuntimeError, FloatingPointError):
+            pass
+    return best["z"], used[0]
+
+
 def _sigmas(noise: Any) -> tuple[float | None, float | None]:
     if noise is None:
         return None, None
@@ -597,10 +662,14 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
             res = least_squares(problem.residuals, problem.jacobian, z, problem.n_res, MAX_NFEV, TOL)
             nfev += int(res.nfev)
             z = res.x
-        if exact and EXACT_DONE * res.fun.size < 2.0 * res.cost < EXACT_GO_ON * res.fun.size:  # a right class, not yet there
+        if exact and 2.0 * res.cost < EXACT_GO_ON * res.fun.size:  # a right class, not yet there
             res = least_squares(problem.residuals, problem.jacobian, z, problem.n_res, MAX_NFEV_EXACT, TOL_EXACT)
             nfev += int(res.nfev)
             z = res.x
+            if problem.k and EXACT_DONE * res.fun.size < 2.0 * res.cost < VALLEY_BELOW * res.fun.size:
+                # stopped short of rounding within the floors' noise: along its valley
+                z, used = _valley_search(problem, z)
+                nfev += used
         if not known:
             sig_pos, sig_phi = _residual_sigmas(problem, z, scale)
     assert problem is not None and res is not None and z is not None
