@@ -193,9 +193,10 @@ def scaled_covariance(J: np.ndarray) -> np.ndarray:
     σ_a/a = 1e-23). No singular value is dropped: a direction numerically undetermined
     (below ``SINGULAR``, or a zero column) gets infinite variance in every unknown it
     involves, never zero."""
-    cn = np.sqrt(np.einsum("ij,ij->j", J, J))
+    with np.errstate(over="ignore"):  # a column beyond 1e154 (a diverged fit) is left unscaled
+        cn = np.sqrt(np.einsum("ij,ij->j", J, J))
     dead = ~(cn > 0)
-    cn[dead] = 1.0
+    cn[dead | ~np.isfinite(cn)] = 1.0
     _, s, Vt = svd(J / cn)
     m = J.shape[1]
     if s.size < m:  # fewer residuals than unknowns: the missing directions are undetermined

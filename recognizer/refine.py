@@ -45,6 +45,7 @@ import numpy as np
 from scipy import optimize, sparse, stats
 
 from recognizer.curves import CURVES, Pose, travel_direction
+from recognizer.localize import SINGULAR, scaled_covariance
 from recognizer.result import Candidate, shape_pose_vector
 from tactile_common.angles import wrap_angle
 
@@ -559,8 +560,11 @@ def _shape_pose_cov(problem: _Problem, cls: str, z: np.ndarray, cov_z: np.ndarra
         d = vec(zp) - v0
         d[-3] = wrap_angle(d[-3])
         T[:, i] = d / h
+    c = cov_z[:ng, :ng]
+    lost = ~np.isfinite(np.diag(c))  # undetermined unknowns: so is every output they move
     with np.errstate(over="ignore", invalid="ignore"):
-        return T @ cov_z[:ng, :ng] @ T.T
+        out = T @ np.where(np.isfinite(c), c, 0.0) @ T.T
+    return _lost(out, (T[:, lost] != 0).any(axis=1)) if lost.any() else out
 
 
 def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: float):
@@ -577,51 +581,71 @@ def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: floa
 
 
 def _pinv_cov(jac: np.ndarray) -> np.ndarray:
-    """(JᵀJ)⁺ of every unknown from the pseudo-inverse of J, its columns scaled to unit norm
-    (singular values below 1e-10 of the largest dropped)."""
-    with np.errstate(over="ignore"):  # a column beyond 1e154 (a diverged wrong class): inf, as below
-        norms = np.linalg.norm(jac, axis=0)
-    norms = np.where((norms > 0) & np.isfinite(norms), norms, 1.0)
-    pj = np.linalg.pinv(jac / norms, rcond=1e-10)
+    """(JᵀJ)⁻¹ of every unknown by the contact stage's rule (``localize.scaled_covariance``):
+    J's columns scaled to unit norm, no singular value dropped; a direction the data do not
+    determine (a scaled singular value below ``SINGULAR`` of the largest, or a zero column)
+    gives every unknown it moves infinite variance, never zero (the pseudo-inverse dropped
+    singular values below 1e-10 and gave such a direction none)."""
     with np.errstate(over="ignore", invalid="ignore"):
-        return (pj @ pj.T) / np.outer(norms, norms)
+        return scaled_covariance(jac)
+
+
+def _lost(cov: np.ndarray, lost: np.ndarray) -> np.ndarray:
+    """``cov`` with the unknowns ``lost`` (moved by an undetermined direction) undetermined:
+    their variances ∞, their covariances NaN (``localize.scaled_covariance``'s marking)."""
+    cov[lost, :] = np.nan
+    cov[:, lost] = np.nan
+    cov[lost, lost] = np.inf
+    return cov
 
 
 def _unknowns_cov(problem: _Problem, jac: np.ndarray) -> np.ndarray:
-    """(JᵀJ)⁺ of every unknown, by blocks: J's columns scaled to unit norm, the globals g
+    """(JᵀJ)⁻¹ of every unknown, by blocks: J's columns scaled to unit norm, the globals g
     (shape, pose) and the samples' t. Each t enters only its own sample's residuals (its
     touch's, when the touch is whitened by a noise factor), so D = J_tᵀJ_t is block
-    diagonal and the Schur complement S = A − B·D⁺·Bᵀ (A = J_gᵀJ_g, B = J_gᵀJ_t) gives
-    C_gg = S⁺, C_gt = −S⁺·B·D⁺, C_tt = D⁺ + D⁺·Bᵀ·S⁺·B·D⁺: O(m·n) operations (and the
-    n × n result) where the pseudo-inverse of the whole m × n Jacobian takes O(m·n²) (a
-    20-touch × 15-sample request: 300 t's). S⁺ comes from the SVD of the globals' columns
-    projected off the t's, (I − J_t·D⁺·J_tᵀ)·J_g (no cancellation); singular values below
-    1e-10 of the largest are dropped there and in D's blocks, as
-    ``np.linalg.pinv(J, rcond=1e-10)`` drops them."""
-    with np.errstate(over="ignore"):  # a column beyond 1e154 (a diverged wrong class): inf, as below
+    diagonal and the Schur complement S = A − B·D⁻¹·Bᵀ (A = J_gᵀJ_g, B = J_gᵀJ_t) gives
+    C_gg = S⁻¹, C_gt = −S⁻¹·B·D⁻¹, C_tt = D⁻¹ + D⁻¹·Bᵀ·S⁻¹·B·D⁻¹: O(m·n) operations (and the
+    n × n result) where the SVD of the whole m × n Jacobian takes O(m·n²) (a 20-touch ×
+    15-sample request: 300 t's). S⁻¹ comes from the SVD of the globals' columns projected
+    off the t's, (I − J_t·D⁻¹·J_tᵀ)·J_g (no cancellation). The rule of ``_pinv_cov``: no
+    singular value dropped; a direction below ``SINGULAR`` (of S, of a block of D, a zero
+    t column) makes every unknown it moves undetermined (``_lost``), never zero."""
+    with np.errstate(over="ignore"):  # a column beyond 1e154 (a diverged wrong class): left unscaled
         norms = np.linalg.norm(jac, axis=0)
     norms = np.where((norms > 0) & np.isfinite(norms), norms, 1.0)
     jn = jac / norms
     ng, nt = problem.n_glob, jac.shape[1] - problem.n_glob
     jg, jt = jn[:, :ng], jn[:, ng:]
     d_inv = np.zeros((nt, nt))
+    lost_t = np.zeros(nt, bool)
     single = np.ones(nt, bool)
     for block in problem.t_blocks():
         single[block] = False
-        d_inv[np.ix_(block, block)] = np.linalg.pinv(jt[:, block].T @ jt[:, block], rcond=1e-20, hermitian=True)
+        w, v = np.linalg.eigh(jt[:, block].T @ jt[:, block])
+        zero = ~(w > SINGULAR**2 * max(w[-1], 0.0)) if w.size and w[-1] > 0 else np.ones(w.size, bool)
+        d_inv[np.ix_(block, block)] = (v[:, ~zero] / w[~zero]) @ v[:, ~zero].T
+        lost_t[block] = (np.abs(v[:, zero]) > 1e-8).any(axis=1)
     j = np.flatnonzero(single)
     dd = np.einsum("ij,ij->j", jt[:, j], jt[:, j])
-    d_inv[j, j] = np.where(dd > 1e-20, 1.0 / np.where(dd > 0, dd, 1.0), 0.0)
+    gone = ~(dd > SINGULAR**2)  # unit-scaled columns: a t that no residual sees
+    d_inv[j, j] = np.where(gone, 0.0, 1.0 / np.where(gone, 1.0, dd))
+    lost_t[j[gone]] = True
     b = jg.T @ jt
     e = b @ d_inv
     # S = J_gᵀ(I − P_t)J_g from the projected columns themselves (no cancellation in A − B·D⁺·Bᵀ)
     _, sv, vt = np.linalg.svd(jg - jt @ e.T, full_matrices=False)
-    keep = sv > 1e-10 * sv[0] if sv.size and sv[0] > 0 else np.zeros(sv.size, bool)
-    s_inv = (vt[keep].T / sv[keep] ** 2) @ vt[keep]
+    if sv.size < ng:  # fewer residuals than globals: the missing directions are undetermined
+        sv = np.concatenate((sv, np.zeros(ng - sv.size)))
+        vt = np.vstack((vt, np.linalg.svd(np.eye(ng) - vt.T @ vt)[2][: ng - vt.shape[0]]))
+    zero = ~(sv > SINGULAR * sv[0]) if sv.size and sv[0] > 0 else np.ones(sv.size, bool)
+    s_inv = (vt[~zero].T / sv[~zero] ** 2) @ vt[~zero]
     se = s_inv @ e
     cov = np.block([[s_inv, -se], [-se.T, d_inv + e.T @ se]])
+    # an undetermined global direction v moves the t's by −eᵀv along with it
+    null_g = vt[zero]
+    lost = np.concatenate(((np.abs(null_g) > 1e-8).any(axis=0), lost_t | (np.abs(null_g @ e) > 1e-8).any(axis=0)))
     with np.errstate(over="ignore", invalid="ignore"):
-        return cov / np.outer(norms, norms)
+        return _lost(cov, lost) / np.outer(norms, norms)
 
 
 def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, alpha: float = 1e-3) -> RefinedCandidate:

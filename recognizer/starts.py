@@ -36,7 +36,7 @@ from recognizer.curves import CURVES
 from recognizer.solver import KERNELS
 from tactile_common.angles import wrap_angle
 
-__all__ = ["starts", "pose_from", "conic_start", "semicubical_scan", "hyperbola_scan", "ellipse_scan", "clear_of_cusp",
+__all__ = ["starts", "pose_from", "conic_start", "inflection_start", "semicubical_scan", "hyperbola_scan", "ellipse_scan", "clear_of_cusp",
            "cusp_clearance"]
 
 _PI = math.pi
@@ -577,11 +577,58 @@ def _cubic_starts(cls: str, d: Contacts, every_pair: bool) -> list[tuple[dict, l
             if not (math.isfinite(a) and math.isfinite(b)) or a <= 0:
                 continue
             out.append(({"a": a, "b": b}, [2 * (li - b) / (3 * a) for li in lam]))
+    if cls == "cubical_parabola" and d.n >= 2:
+        out += inflection_start(d)
     if cls == "semicubical_parabola" and every_pair and d.n >= 2:
         out += semicubical_scan(d)
     if cls == "semicubical_parabola" and d.reach > 0:
         out = [st for st in out if clear_of_cusp(st, d.reach)]
     return out
+
+
+#: rounds of the inflection start's linear solves (each at the arc lengths of the last)
+INFLECTION_ROUNDS = 3
+
+
+def inflection_start(d: Contacts) -> list[tuple[dict, list]]:
+    """A cubical start from the touches in their own frame, not leaning on the slope
+    equation: near its inflection a cubical of slope c runs along its tangent line with,
+    s the arc length from the inflection and A = a/(1 + c²)², κ = 6A·s and κ_s = 6A −
+    180·A²·c·s² (to the first order in c·A·s²). The touches' κ = p·(sᵢ − s₀) and
+    κ_s = p − r·(sᵢ − s₀)² (sᵢ along their mean tangent), whitened, fitted by least squares
+    (linear in p, q = −p·s₀, then r at that s₀) give A = p/6, the inflection s₀ and
+    c = r/(5p²); then a = A(1 + c²)² and tᵢ = (sᵢ − s₀)/√(1 + c²). On a steep stretch
+    (c ≥ 3e4) the slope equation's λ = tan ψ carries λ − c = 3at² below its rounding and its
+    starts land 1e14 and more away (a steep cubical got no fit: answered line naming no
+    cubical)."""
+    x, y, phi, k, ks = d.cols()
+    rows = d.rows()
+    ang = _circmean_s(phi)
+    ca, sa = math.cos(ang), math.sin(ang)
+    xm, ym = _mean(x), _mean(y)
+    u = np.array([(xi - xm) * ca + (yi - ym) * sa for xi, yi in zip(x, y)])
+    w = np.array([r[7:11] for r in rows])  # (W₀₀, W₀₁, W₁₀, W₁₁): inverse Cholesky factor of each (κ, κ_s) covariance
+    k, ks = np.array(k), np.array(ks)
+    # κ = p·u + q, κ_s = p − r·s² with s = u + q/p: linear in (p, q, r) at s fixed, s from the last solve
+    s, r = u, 0.0
+    with np.errstate(all="ignore"):
+        for _ in range(INFLECTION_ROUNDS):
+            m = np.concatenate((np.column_stack((w[:, 0] * u, w[:, 0], 0.0 * u)),
+                                np.column_stack((w[:, 2] * u + w[:, 3], w[:, 2], -w[:, 3] * s * s))))
+            rhs = np.concatenate((w[:, 0] * k, w[:, 2] * k + w[:, 3] * ks))
+            (p, q, r), *_ = np.linalg.lstsq(m, rhs, rcond=None)
+            if not (p != 0 and math.isfinite(p) and math.isfinite(q) and math.isfinite(r)):
+                return []
+            s = u + q / p
+        p = float(p)
+        if not 5.0 * p * p > 0:  # underflow
+            return []
+        c = float(r) / (5.0 * p * p)
+        g = 1.0 + c * c
+        a = p / 6.0 * g * g
+        if not (math.isfinite(a) and a != 0):
+            return []
+        return [({"a": a, "c": c}, [float(v) for v in s / math.sqrt(g)])]
 
 
 def clear_of_cusp(start: tuple[dict, list], reach: float) -> bool:

@@ -127,6 +127,23 @@ def test_a_line_answer_states_its_sigmas_and_the_classes_that_also_fit(case):
     assert cls in [a["class"] for a in out["also_fits"]] or any(a["gain"] >= 0 for a in out["also_fits"])
 
 
+@pytest.mark.parametrize("c", [3e4, 1e5, 1e6])
+def test_a_steep_cubical_is_named_when_a_line_is_answered(c):
+    # exact contacts of a cubical with slope c >= 3e4 (its touches' tangents within 1e-9 rad):
+    # the slope equation's starts landed 1e14 and more away, so the cubical had no fit and the
+    # line was answered naming only the circle (at 1e5 and 1e6 nothing); now the start from the
+    # touches' own frame (starts.inflection_start) fits it to chi2 < 1e-6
+    params = {"a": 0.5, "c": c}
+    rec = _answer("cubical_parabola", params, [-0.8, 0.1, 0.9])
+    fits = {r.cls: r for r in rec.ranking}
+    assert "cubical_parabola" in fits and fits["cubical_parabola"].consistent
+    assert fits["cubical_parabola"].chi2 < 1e-6
+    if rec.cls == "line":
+        assert "cubical_parabola" in [a["class"] for a in rec.to_json()["also_fits"]]
+    else:
+        assert rec.cls == "cubical_parabola"
+
+
 def test_a_line_of_a_line_has_no_rival_to_name():
     rng = np.random.default_rng(2)
     rec = _answer("line", {}, [-30.0, 4.0, 31.0], noise=(0.01, 1e-4, 1e-5, 1e-6), rng=rng)
@@ -199,3 +216,43 @@ def test_touches_a_denormal_apart_are_answered_without_a_crash():
            "options": {"reach": {"x": 0.0, "y": 0.0, "radius": 1e5}}}
     out = recognize(parse_request(req)).to_json()
     assert out["class"] in ("line", "unclassified")
+
+
+def test_refinement_covariance_never_drops_a_direction():
+    # refine's covariance dropped scaled singular values below 1e-10 (pinv rcond): a direction
+    # determined to 1e-12 got the min-norm variance ~0.25 instead of ~1e24, and one not
+    # determined at all a finite σ; now the rule of localize.scaled_covariance, dense and by blocks
+    from types import SimpleNamespace
+
+    from recognizer.refine import _pinv_cov, _unknowns_cov
+
+    J = np.array([[1.0, 1.0, 0.0], [1.0, 1.0 + 1e-12, 0.0], [0.0, 0.0, 2.0]])
+    J[:, :2] *= [1e-6, 1e6]  # columns far apart in scale: the rule scales them first
+    problem = SimpleNamespace(n_glob=2, t_blocks=lambda: [])
+    for cov in (_pinv_cov(J), _unknowns_cov(problem, J)):
+        assert np.all(np.isfinite(cov)) and cov[0, 0] * 1e-12 > 1e20 and cov[1, 1] * 1e12 > 1e20
+        assert np.isclose(cov[2, 2], 0.25)
+    J = np.array([[1.0, 2.0, 0.0], [2.0, 4.0, 0.0], [0.0, 0.0, 3.0], [1.0, 2.0, 1.0]])  # 0 and 1 move together
+    for cov in (_pinv_cov(J), _unknowns_cov(problem, J)):
+        assert np.isinf(cov[0, 0]) and np.isinf(cov[1, 1])
+    # a t (column 2) that no residual sees is undetermined, not exact
+    J = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1.0, 1.0, 0.0]])
+    for cov in (_pinv_cov(J), _unknowns_cov(problem, J)):
+        assert np.isinf(cov[2, 2]) and np.allclose(np.diag(cov)[:2], 2 / 3)
+
+
+def test_refined_sigmas_of_an_undetermined_fit_are_infinite():
+    # two touches of one sample each: 6 residuals for the ellipse's 7 unknowns; the
+    # pseudo-inverse stated finite σ's for a and b (the minimum-norm solution's)
+    from recognizer.refine import refine_one
+    from recognizer.result import Candidate
+    from recognizer.touches import NoiseModel, SamplesTouch
+
+    curve = CURVES["ellipse"]({"a": 3.0, "b": 2.0})
+    t = np.array([0.3, 1.1])
+    x, y = POSE.apply(*curve.point(t))
+    phi = curve.tangent_angle(t) + POSE.theta
+    touches = [SamplesTouch([phi[i]], [x[i]], [y[i]], None) for i in range(2)]
+    fit = refine_one(Candidate("ellipse", {"a": 3.1, "b": 1.9}, POSE, t, 0.0, 0, 0), touches, NoiseModel(1e-3, 1e-3))
+    assert math.isinf(fit.uncertainty["a"]) and math.isinf(fit.uncertainty["b"])
+    assert not np.any(np.diag(fit.cov_pose) == 0.0)
