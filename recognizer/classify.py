@@ -339,9 +339,10 @@ def _clear_of_cusp_fits(cands: list[Candidate], d: Contacts, request: Request,
 def _far_arm_fits(cands: list[Candidate], d: Contacts, request: Request,
                   options: RecognizeOptions) -> list[Candidate]:
     """Refined hyperbola fits from its asymptote starts (``starts.hyperbola_asymptote``),
-    in both directions of travel, when no hyperbola fit is consistent and the touches'
-    tangents agree with one direction within their noise (χ² at ``options.alpha``: far out
-    on an arm, or nearly straight). There every other start places the touches by tangents
+    in both directions of travel, when no hyperbola fit is consistent or none fits better
+    than a consistent limit of it (line, parabola) by ``NESTED_MARGIN`` (it sits at the
+    limit), and the touches' tangents agree with one direction within their noise (χ² at
+    ``options.alpha``: far out on an arm, or nearly straight). There every other start places the touches by tangents
     within their noise of the asymptote's, the contact fit of three nearly collinear points
     slides toward the limit a → 0 where the refinement cannot follow, and the κ's that
     orient the data (``Contacts.dominant_kappa``) are noise: the hyperbola bent the wrong
@@ -353,7 +354,9 @@ def _far_arm_fits(cands: list[Candidate], d: Contacts, request: Request,
     if not (options.refine and cls in request.classes and d.n >= MIN_TOUCHES[cls]):
         return []
     own = [c for c in cands if c.cls == cls]
-    if any(c.consistent for c in own):
+    best = min((c.chi2 for c in own if c.consistent), default=math.inf)
+    limits = min((c.chi2 for c in cands if c.consistent and cls in LIMIT_OF.get(c.cls, ())), default=math.inf)
+    if best < limits - NESTED_MARGIN:  # a consistent hyperbola that bends beyond its limits' fit
         return []
     with np.errstate(divide="ignore", invalid="ignore"):
         turn = (np.asarray(wrap_angle(d.phi - _circmean(d.phi)), float) / d.sig_phi) ** 2

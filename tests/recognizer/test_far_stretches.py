@@ -102,3 +102,15 @@ def test_far_arm_hyperbola_with_noise_found(i, chi2_truth):
     assert region == "far on an arm"
     assert rec.cls == "hyperbola", [(r.cls, r.chi2) for r in rec.ranking]
     assert rec.ranking[0].chi2 == pytest.approx(chi2_truth, abs=0.2)
+
+
+def test_far_arm_hyperbola_not_left_at_its_line_limit():
+    """Seed 9 hyperbola trial 11 (far on an arm, 690 mm, t 3.7–5.6): answered line (χ² 59.6)
+    with the hyperbola's own fits at the line limit (59.5), the truth refined from itself
+    at 42.4 (BIC 183.0 against the line's 187.1): a hyperbola that fits no better than its
+    limit also gets its asymptote starts."""
+    region, shape, ts, _, rs = B.draw_case("hyperbola", 11, 9, "wide")
+    touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
+    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert region == "far on an arm"
+    assert rec.cls == "hyperbola" and rec.ranking[0].chi2 == pytest.approx(42.4, abs=0.2)
