@@ -36,13 +36,14 @@ from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start, profi
 from recognizer.nested import NESTED_FROM, nested_candidates
 from recognizer.curves import CURVES, Pose
 from recognizer.refine import RefinedCandidate, refine_candidates
-from recognizer.starts import clear_of_cusp, cusp_clearance, pose_from, semicubical_scan
+from recognizer.starts import clear_of_cusp, cusp_clearance, hyperbola_asymptote, pose_from, semicubical_scan
 from recognizer.starts import starts as class_starts
 from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
 from recognizer.scale_free import Unit
 from recognizer.intervals import profile_uncertainty, rival_basins
 from recognizer.next_touch import next_touch
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request, SamplesTouch
+from tactile_common.angles import wrap_angle
 
 __all__ = ["recognize", "contacts_of", "options_for", "DEFAULT_SAMPLES_NOISE"]
 
@@ -335,6 +336,47 @@ def _clear_of_cusp_fits(cands: list[Candidate], d: Contacts, request: Request,
     return [f for f in fits if math.isfinite(f.chi2)]
 
 
+def _far_arm_fits(cands: list[Candidate], d: Contacts, request: Request,
+                  options: RecognizeOptions) -> list[Candidate]:
+    """Refined hyperbola fits from its asymptote starts (``starts.hyperbola_asymptote``),
+    in both directions of travel, when no hyperbola fit is consistent or none fits better
+    than a consistent limit of it (line, parabola) by ``NESTED_MARGIN`` (it sits at the
+    limit), and the touches' tangents agree with one direction within their noise (χ² at
+    ``options.alpha``: far out on an arm, or nearly straight). There every other start places the touches by tangents
+    within their noise of the asymptote's, the contact fit of three nearly collinear points
+    slides toward the limit a → 0 where the refinement cannot follow, and the κ's that
+    orient the data (``Contacts.dominant_kappa``) are noise: the hyperbola bent the wrong
+    way fits no better than a line (tools.bench_wide --set wide, hyperbolas far on an arm:
+    10 of 20 noisy trials of development seeds 1, 5, 9, 11 and 31 unclassified or another
+    class while the truth, refined from itself, passes; seed 1 trial 11 oriented wrong).
+    The samples tell both: the asymptote starts are refined directly."""
+    cls = "hyperbola"
+    if not (options.refine and cls in request.classes and d.n >= MIN_TOUCHES[cls]):
+        return []
+    own = [c for c in cands if c.cls == cls]
+    best = min((c.chi2 for c in own if c.consistent), default=math.inf)
+    limits = min((c.chi2 for c in cands if c.consistent and cls in LIMIT_OF.get(c.cls, ())), default=math.inf)
+    if best < limits - NESTED_MARGIN:  # a consistent hyperbola that bends beyond its limits' fit
+        return []
+    with np.errstate(divide="ignore", invalid="ignore"):
+        turn = (np.asarray(wrap_angle(d.phi - _circmean(d.phi)), float) / d.sig_phi) ** 2
+    if not float(np.sum(turn)) <= chi2_limit(options.alpha, d.n - 1):
+        return []
+    dof, n_obs = (own[0].dof, own[0].n_obs) if own else (cands[0].dof, cands[0].n_obs) if cands else (1, 1)
+    starts = []
+    for dd in (d, d.flipped()):
+        for params, t in hyperbola_asymptote(dd):
+            th, x, y, cost = pose_from(cls, params, t, dd)
+            if math.isfinite(cost):
+                starts.append(Candidate(cls, params, Pose(th, x, y), np.asarray(t, float), cost, dof, n_obs))
+    fits = refine_candidates(starts, request, options) if starts else []
+    return [f for f in fits if math.isfinite(f.chi2)]
+
+
+def _circmean(a: np.ndarray) -> float:
+    return math.atan2(float(np.sum(np.sin(a))), float(np.sum(np.cos(a))))
+
+
 def choose(consistent: list[Candidate]) -> Candidate:
     """The consistent candidate of lowest BIC, replaced by a simpler class it is a limit of
     (``CHOICE_LIMIT_OF``) while the richer one fails the likelihood-ratio test against it."""
@@ -454,6 +496,7 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
             if not any(c.consistent for c in cands):
                 cands += _best_starts_refined(d, request, options, cands)
         cands += _clear_of_cusp_fits(cands, d, request, options)
+        cands += _far_arm_fits(cands, d, request, options)
         cands += _nested_fits(cands, request, options)
         cands = _restarted(cands, request, options)
     fits, cands = cands, _best_per_class(cands)

@@ -51,6 +51,7 @@ import numpy as np
 from recognizer.contacts import Contacts
 from recognizer.curves import CURVES, Pose, travel_direction
 from recognizer.result import Candidate
+from recognizer.scale_free import PARAM_POWER
 from recognizer.touches import NoiseModel, Reach
 from tactile_common.angles import wrap_angle
 
@@ -62,6 +63,8 @@ SHRINK_MIN = 1.1
 """factor by which the largest relative parameter σ must be expected to shrink."""
 REL_SIGMA_ENOUGH = 1e-3
 """a largest relative parameter σ below this needs no further touch."""
+UNDETERMINED = 1e3
+"""an undetermined parameter's σ, in units of its own size (``_natural``)."""
 N_PLACES = 160
 N_DENSE = 400
 MIN_WEIGHT = 1e-3
@@ -78,15 +81,39 @@ def _posed(cls: str, vec: np.ndarray):
     return CURVES[cls]({n: float(v) for n, v in zip(names, vec[:k])}), Pose(*(float(v) for v in vec[k:k + 3]))
 
 
-def _cov(c: Candidate) -> np.ndarray:
-    """Joint covariance of (shape, θ, x, y): refine's, else the stated σ's (diagonal)."""
+def _natural(c: Candidate, scale: float) -> np.ndarray:
+    """Each of (shape, θ, x, y)'s own size: a shape parameter's magnitude, at least the
+    touches' spread to its power of length (``PARAM_POWER``: a parameter at 0, a → 0 of a
+    hyperbola, still has a size); a radian for θ; the spread for x and y."""
+    names = CURVES[c.cls].param_names
+    vals = [abs(float(c.params[n])) for n in names]
+    return np.array([max(v, scale ** PARAM_POWER[(c.cls, n)]) for n, v in zip(names, vals)] + [1.0, scale, scale])
+
+
+def _cov(c: Candidate, scale: float) -> np.ndarray:
+    """Joint covariance of (shape, θ, x, y): refine's, else the stated σ's (diagonal). A
+    direction the touches do not determine (an infinite or undefined variance: the stated
+    σ is null) is as uncertain as can be: σ = ``UNDETERMINED`` times its own size
+    (``_natural``), uncorrelated; never 0, which would make a place that determines it
+    look useless."""
     cov = getattr(c, "cov_pose", None)
     names = CURVES[c.cls].param_names
     if cov is None or cov.shape != (len(names) + 3,) * 2:
-        sig = [c.uncertainty.get(n, 0.0) or 0.0 for n in names] + \
-              [c.uncertainty.get(f"pose_{k}", 0.0) or 0.0 for k in ("theta", "x", "y")]
+        sig = [_sigma(c.uncertainty.get(n, 0.0)) for n in names] + \
+              [_sigma(c.uncertainty.get(f"pose_{k}", 0.0)) for k in ("theta", "x", "y")]
         cov = np.diag(np.square(sig))
+    cov = np.array(cov, float)
+    lost = ~np.isfinite(np.diag(cov)) | ~np.all(np.isfinite(cov), axis=1)
+    if lost.any():
+        cov[lost, :] = cov[:, lost] = 0.0
+        cov[lost, lost] = np.square(UNDETERMINED * _natural(c, scale)[lost])
     return np.where(np.isfinite(cov), cov, 0.0)
+
+
+def _sigma(v) -> float:
+    """A stated σ: None (JSON's null for an undetermined one) is infinite; absent is 0
+    (the class has no such σ, a circle's θ)."""
+    return math.inf if v is None else float(v)
 
 
 def _t_span(c: Candidate, widen: float = 1.0, n: int = N_PLACES) -> np.ndarray:
@@ -127,11 +154,14 @@ def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
     return np.abs(curve.arc_length(np.zeros_like(t), t)) >= 0.5 * roll
 
 
-def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, roll: float = 0.0):
+def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, scale: float, roll: float = 0.0):
     """(whitened mean (m, 4), whitened covariance (m, 4, 4), whitened G, touchable (m,)) of
     candidate c's measurement at every place (W whitens R): where c's closest point is too
-    near its cusp for a touch, c's prediction tells nothing (not touchable)."""
-    vec, C = c.vector(), _cov(c)
+    near its cusp for a touch, c's prediction tells nothing (not touchable). G's steps are
+    a millionth of each unknown's own size (``_natural``), not of its σ (an undetermined
+    one's is 1e3 sizes)."""
+    vec, C = c.vector(), _cov(c, scale)
+    size = _natural(c, scale)
     curve, pose = _posed(c.cls, vec)
     t = _closest(curve, pose, t_dense, px, py)
     mean = _measure(c.cls, vec, t, px, py, nx, ny, lead_phi)
@@ -139,7 +169,7 @@ def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, 
     for i in range(vec.size):
         if C[i, i] <= 0:
             continue
-        h = 1e-6 * max(abs(vec[i]), 1e-3 * math.sqrt(C[i, i]), 1e-12)
+        h = 1e-6 * max(abs(vec[i]), min(size[i], 1e-3 * math.sqrt(C[i, i])), 1e-12)
         vp = vec.copy()
         vp[i] += h
         cp, pp = _posed(c.cls, vp)
@@ -222,13 +252,13 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     t, px, py, phi = t[keep], px[keep], py[keep], phi[keep]
     nx, ny = -np.sin(phi), np.cos(phi)
     W = _whitener(noise, samples, roll_cov(d))
-    mean_lead, P_lead, G_lead, _ = _prediction(leader, _t_span(leader, 1.0, N_DENSE), px, py, nx, ny, phi, W)
+    mean_lead, P_lead, G_lead, _ = _prediction(leader, _t_span(leader, 1.0, N_DENSE), px, py, nx, ny, phi, W, d.scale)
     own = np.all(np.isfinite(mean_lead), axis=1)  # the leader's κ, κ_s defined there
     # parameters: entropy lost, and the shrink of the largest relative σ (whitened: R = I)
     eye = np.eye(4)[None]
     P_lead = np.where(np.isfinite(P_lead), P_lead, 0.0)
     ig_param = 0.5 * np.linalg.slogdet(eye + P_lead)[1]
-    C = _cov(leader)
+    C = _cov(leader, d.scale)
     k = len(CURVES[leader.cls].param_names)
     shrink = np.ones(t.size)
     rel_now = 0.0
@@ -245,7 +275,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     ig_class = np.zeros(t.size)
     best_sep = {}
     for c, wc in others:
-        mean_c, P_c, _, ok_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, roll)
+        mean_c, P_c, _, ok_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, d.scale, roll)
         delta = mean_c - mean_lead
         chi2 = np.einsum("ma,mab,mb->m", delta, _inv(eye + P_lead + P_c), delta)
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)

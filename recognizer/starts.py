@@ -36,7 +36,7 @@ from recognizer.curves import CURVES
 from recognizer.solver import KERNELS
 from tactile_common.angles import wrap_angle
 
-__all__ = ["starts", "pose_from", "conic_start", "inflection_start", "semicubical_scan", "hyperbola_scan", "ellipse_scan", "clear_of_cusp",
+__all__ = ["starts", "pose_from", "conic_start", "inflection_start", "semicubical_scan", "hyperbola_scan", "hyperbola_asymptote", "ellipse_scan", "clear_of_cusp",
            "cusp_clearance"]
 
 _PI = math.pi
@@ -425,6 +425,44 @@ def hyperbola_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
         cost = np.where(ok & np.isfinite(cost), cost + _curvature_chi2(W, rk, rks), np.inf)
     return [({"a": float(scale[i, j]), "b": float(e[i, 0, 0]) * float(scale[i, j])}, tt[i, j].tolist())
             for i, j in _separated_best(cost, n_best)]
+
+
+#: the asymptote start: the touched stretch at t FAR_T[0] … FAR_T[1] of a rectangular hyperbola
+FAR_T = (3.0, 4.5)
+
+
+def hyperbola_asymptote(d: Contacts) -> list[tuple[dict, list]]:
+    """Hyperbola starts far out on an arm, from the touches' positions along their tangent.
+
+    Far out on an arm (t ≳ 3) the tangent is within its noise of the asymptote's, so a
+    touch placed by its tangent angle (``hyperbola_scan``) is placed by noise, or nowhere
+    (e·cot ψ beyond 1), and the touches' κ, κ_s and the bends of their positions and
+    tangents are noise: they tell neither the centre's distance along the asymptote nor
+    which way the arm bends (tools.bench_wide --set wide seed 1, hyperbola trial 7: a
+    curve d = K/s across the asymptote fitted to them bends the wrong way at every
+    distance). The samples tell: the refinement over every sample reaches the truth's
+    basin from a band of starts two decades wide in a (seed 1, trial 3: a 0.002–0.2 for a
+    truth of 0.007, the touches at t 3.2–5.4). So the start puts the touched stretch at
+    t ``FAR_T`` of the rectangular hyperbola (a = b; along its asymptote
+    s = a e^{|t|}/√2 from the centre) whose asymptote runs along the touches' mean
+    tangent: its a from the stretch's length along it, each touch's t from its position
+    along it, on either side: moving away from the centre (t > 0, the centre behind the
+    touches) or toward it (t < 0, ahead)."""
+    if d.n < 2:
+        return []
+    x, y, phi = (np.asarray(c, float) for c in d.cols()[:3])
+    al = _circmean_s(phi.tolist())
+    sa = (x - x.mean()) * math.cos(al) + (y - y.mean()) * math.sin(al)
+    span = float(sa.max() - sa.min())
+    if not (span > 0 and np.all(np.isfinite(sa))):
+        return []
+    lo, hi = math.exp(FAR_T[0]), math.exp(FAR_T[1])
+    a = math.sqrt(2.0) * span / (hi - lo)
+    out = []
+    for sign, s in ((1.0, sa - sa.min()), (-1.0, sa.max() - sa)):  # |s| − a·e^{t_lo}/√2 from the near end
+        t = sign * np.log(math.sqrt(2.0) * s / a + lo)
+        out.append(({"a": a, "b": a}, t.tolist()))
+    return out
 
 
 def starts(cls: str, d: Contacts, every_pair: bool = False) -> list[tuple[dict, list]]:

@@ -93,3 +93,31 @@ def test_far_arm_hyperbola_refined_from_its_exact_start():
     invariants' start was exact, its contact fit 16 % off (the estimated κ, κ_s weigh
     more than their truncation error allows) and refined to χ² 6e13: unclassified."""
     _assert_far_arm_exact(3, 9)
+
+
+@pytest.mark.parametrize("i,chi2_truth", [(3, 44.6), (7, 37.7), (11, 77.9)])
+def test_far_arm_hyperbola_with_noise_found(i, chi2_truth):
+    """Seed 1 hyperbola trials 3, 7 and 11 (far on an arm, t 3.1–5.4, regions 1.7–21 mm),
+    three noisy touches: answered unclassified (the hyperbola's best fits at χ² 244, 1e6
+    and 7.5e5: every start placed the touches by tangents within their noise of the
+    asymptote's, and trial 11's κ's oriented the data the wrong way) while the truth,
+    refined from itself, fits at ``chi2_truth``. Its asymptote starts, refined in both
+    directions, find it."""
+    region, shape, ts, _, rs = B.draw_case("hyperbola", i, 1, "wide")
+    touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
+    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert region == "far on an arm"
+    assert rec.cls == "hyperbola", [(r.cls, r.chi2) for r in rec.ranking]
+    assert rec.ranking[0].chi2 == pytest.approx(chi2_truth, abs=0.2)
+
+
+def test_far_arm_hyperbola_not_left_at_its_line_limit():
+    """Seed 9 hyperbola trial 11 (far on an arm, 690 mm, t 3.7–5.6): answered line (χ² 59.6)
+    with the hyperbola's own fits at the line limit (59.5), the truth refined from itself
+    at 42.4 (BIC 183.0 against the line's 187.1): a hyperbola that fits no better than its
+    limit also gets its asymptote starts."""
+    region, shape, ts, _, rs = B.draw_case("hyperbola", 11, 9, "wide")
+    touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
+    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert region == "far on an arm"
+    assert rec.cls == "hyperbola" and rec.ranking[0].chi2 == pytest.approx(42.4, abs=0.2)

@@ -139,3 +139,32 @@ def test_a_one_branch_semicubical_suggestion_stays_inside_reach():
         assert nt is None or math.hypot(nt["x"] - x0, nt["y"] - y0) <= r, nt
         inside += nt is not None
     assert inside >= 1  # some place in one of the disks helps
+
+
+def _circle_contacts(r=50.0, ts=(0.3, 0.5, 0.7)):
+    """Exact contacts of a circle of radius r about the origin, with stated deviations."""
+    from recognizer.contacts import Contacts
+
+    t = np.asarray(ts, float)
+    cov = np.array([np.diag([1e-8, 1e-9])] * t.size)
+    return Contacts(r * np.cos(t), r * np.sin(t), t + math.pi / 2, np.full(t.size, 1 / r), np.zeros(t.size), cov,
+                    np.full(t.size, 0.01), np.full(t.size, 1e-3))
+
+
+@pytest.mark.parametrize("undetermined", [math.inf, None])
+def test_an_undetermined_parameter_is_maximally_uncertain_not_certain(undetermined):
+    """A leader whose radius the touches do not determine (σ_r infinite, or null as JSON
+    states it) is as uncertain as can be there: a touch that measures κ helps, and says it
+    shrinks that uncertainty. Before, an infinite σ counted as 0: the radius looked exact
+    and no touch helped (None)."""
+    from recognizer.next_touch import next_touch
+    from recognizer.result import Candidate
+
+    d = _circle_contacts()
+    lead = Candidate("circle", {"r": 50.0}, Pose(0.0, 0.0, 0.0), np.array([0.3, 0.5, 0.7]), 3.0, 10, 15, bic=10.0,
+                     uncertainty={"r": undetermined, "pose_x": 0.01, "pose_y": 0.01})
+    nt = next_touch([lead], lead, d, NoiseModel(1e-3, 0.01), 9)
+    assert nt is not None and "shrinks" in nt["why"] and math.isfinite(nt["gain"]) and nt["gain"] > 1.0
+    known = Candidate("circle", {"r": 50.0}, Pose(0.0, 0.0, 0.0), np.array([0.3, 0.5, 0.7]), 3.0, 10, 15, bic=10.0,
+                      uncertainty={"r": 1e-6, "pose_x": 0.01, "pose_y": 0.01})
+    assert next_touch([known], known, d, NoiseModel(1e-3, 0.01), 9) is None  # a radius known to 2e-8 needs no touch
