@@ -341,18 +341,18 @@ def workspace_reach(config) -> Reach:
 
 def curved_part(config, felt: Sequence[FeltTouch]) -> FeltTouch | None:
     """The first of the ``felt`` touches that rolled on a curved part of the boundary, or
-    None: a rolling touch :func:`feel` accepted (its pad lines a smooth curve's tangents,
-    its radius of curvature clear of a corner's, its contacts on the pad's face), or a flat
-    press whose scan (the pad turning toward a seat) feel accepts as such a roll. A finite
+    None: a flat press whose scan (the pad turning toward a seat, 20 lines over up to 60°)
+    :func:`feel` accepts as a roll (its pad lines a smooth curve's tangents, its radius of
+    curvature clear of a corner's, its contacts on the pad's face). Short rolling touches
+    beside a corner are not counted: at 4,096 ticks a pivot passed for radius 18.6 ± 4.2 mm
+    (tests/tools/test_demo_block_corner.py). A finite
     object of a curved class has straight segments only where it is closed, so once a curved
     part was felt the faces the pads pressed flat are closing segments, and one face's
     presses are no line (:func:`curve_refusal`; tactile_jaw.flat.recognized_touches). A
     block shows none: its corners are pivots (radius ≈ 0) and a pad end sliding on a face is
     no contact on the pad's face."""
     for t in felt:
-        if not isinstance(t.touch, FlatResult):
-            if t.problem is None and t.fit is not None:
-                return t
+        if not isinstance(t.touch, FlatResult):  # a usable roll beside a corner can be a pivot at 4,096 ticks
             continue
         scans = [s for s, role in zip(t.touch.samples, t.touch.roles) if role == "scan"]
         if len(scans) < MIN_SAMPLES_PER_TOUCH:
