@@ -226,9 +226,12 @@ class _Problem:
             idx = np.concatenate([rows, n + rows, 2 * n + rows])
             w = None
             if factor is not None:
-                u, sv, _ = np.linalg.svd(np.asarray(factor, float), full_matrices=False)
+                f = np.asarray(factor, float)
+                scale = np.sqrt(np.sum(f * f, axis=1))  # each row's own deviation
+                scale = np.where(scale > 0.0, scale, 1.0)
+                u, sv, _ = np.linalg.svd(f / scale[:, None], full_matrices=False)
                 keep = sv > FACTOR_RCOND * sv[0]
-                w = (u[:, keep] / sv[keep]).T
+                w = (u[:, keep] / sv[keep]).T / scale
             out.append((idx, w))
         return out
 

@@ -214,15 +214,17 @@ def curved_faces(usable: Sequence) -> list[tuple[int, float]]:
     return [(len(g), m) for g, m in zip(groups, means) if m > FACE_MISS_MM]
 
 
-def recognized_touches(usable: Sequence, fewest: int = 1) -> list:
+def recognized_touches(usable: Sequence, fewest: int = 1, curved: bool = False) -> list:
     """What the recognizer gets of the usable touches (module docstring): the rolling
-    touches if there is any; else the flat touches of the face felt most often (the first
+    touches if there is any; else, unless a touch rolled on a ``curved`` part of the boundary
+    (tactile_jaw.pipeline.curved_part: the faces are then closing segments), the flat
+    touches of the face felt most often (the first
     felt on a tie) among those whose presses stopped, on average, within ``FACE_MISS_MM``
     of their supports (:func:`curved_faces`: a gentle curve), if it was felt ``fewest``
     times or more (the profile's ``min_touches``: a face whose other presses failed the
     seat test, as on an arc of 1000 mm, is no line from two that passed)."""
     rolling = [t for t in usable if not is_flat(t)]
-    if rolling:
+    if rolling or curved:
         return rolling
     groups = [g for g in face_groups([t for t in usable if is_flat(t)])
               if float(np.mean([t.face.miss for t in g])) <= FACE_MISS_MM]

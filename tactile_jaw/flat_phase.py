@@ -13,8 +13,9 @@ from hand_driver.cycle import Jaw
 from hand_driver.flat_press import FLAT_STEP_DEG, flat_press
 from hand_driver.motion import TouchResult
 from tactile_jaw.decide import RecognizeTouches, decide
+from tactile_jaw.choose import Stop
 from tactile_jaw.flat import FACE_MISS_MM, curved_faces, recognized_touches
-from tactile_jaw.pipeline import FeltTouch, feel
+from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
 from tactile_jaw.settings import ExploreSettings
@@ -80,6 +81,22 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
                                   on_event=emit))
 
 
+def _curve_felt(cfg, out: Exploration, emit, say) -> bool:
+    """Did a touch so far roll on a curved part (tactile_jaw.pipeline.curved_part)? Then the
+    faces are closing segments: the exploration stops, refused (``out.recognition``), and
+    says what would help (``out.stopped``)."""
+    curve = curved_part(cfg, out.touches)
+    if curve is None:
+        return False
+    out.used, out.recognition = [], curve_refusal(curve)
+    c, m = curve.contacts, len(curve.contacts.x) // 2
+    out.stopped = Stop(f"move or turn the object so that its curved part, felt near ({c.x[m]:.1f}, {c.y[m]:.1f}) mm, "
+                       f"faces a pad clear of the object's corners")
+    emit(out.stopped.event("stopped_early"))
+    say(f"{out.recognition.reason}; {out.stopped}")
+    return True
+
+
 def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: Exploration,
                  recognize_touches: RecognizeTouches, emit, say, index: int) -> None:
     """Every finger presses its pad flat on the face before it, round after round, until
@@ -93,7 +110,7 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
     flat: list[FeltTouch] = []
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
     for _ in range(settings.min_touches + FLAT_SPARE):
-        if not active:
+        if not active or _curve_felt(cfg, out, emit, say):
             break
         spent: dict[str, float] = {}
         plans = {name: _flat_plan(jaw, name, model, faces[name], misses[name], index + k, emit, spent,
@@ -120,6 +137,8 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
                     felt.touch.outcome = "rejected"
                 emit({"type": "event", "kind": "touch_rejected", "message": felt.problem, "touch": felt.touch.touch})
                 say(f"flat press ({name}): not used: {felt.problem}")
+        if _curve_felt(cfg, out, emit, say):
+            break
         out.used = recognized_touches(flat, settings.min_touches)
         for n, miss in curved_faces(flat):
             say(f"{n} flat presses of one face stopped {miss:+.2f} mm short of their supports on average "

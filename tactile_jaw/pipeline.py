@@ -339,6 +339,42 @@ def workspace_reach(config) -> Reach:
     return Reach(float(x), float(y), float(radius))
 
 
+def curved_part(config, felt: Sequence[FeltTouch]) -> FeltTouch | None:
+    """The first of the ``felt`` touches that rolled on a curved part of the boundary, or
+    None: a flat press whose scan (the pad turning toward a seat, 20 lines over up to 60°)
+    :func:`feel` accepts as a roll (its pad lines a smooth curve's tangents, its radius of
+    curvature clear of a corner's, its contacts on the pad's face). Short rolling touches
+    beside a corner are not counted: at 4,096 ticks a pivot passed for radius 18.6 ± 4.2 mm
+    (tests/tools/test_demo_block_corner.py). A finite
+    object of a curved class has straight segments only where it is closed, so once a curved
+    part was felt the faces the pads pressed flat are closing segments, and one face's
+    presses are no line (:func:`curve_refusal`; tactile_jaw.flat.recognized_touches). A
+    block shows none: its corners are pivots (radius ≈ 0) and a pad end sliding on a face is
+    no contact on the pad's face."""
+    for t in felt:
+        if not isinstance(t.touch, FlatResult):  # a usable roll beside a corner can be a pivot at 4,096 ticks
+            continue
+        scans = [s for s, role in zip(t.touch.samples, t.touch.roles) if role == "scan"]
+        if len(scans) < MIN_SAMPLES_PER_TOUCH:
+            continue
+        roll = feel(config, TouchResult(t.finger, t.touch.touch, float(np.mean([s.psi for s in scans])), scans,
+                                        outcome="ok"), len(scans))
+        if roll.problem is None:
+            return roll
+    return None
+
+
+def curve_refusal(curve: FeltTouch) -> Recognition:
+    """The refusal of a line from flat presses after ``curve`` (:func:`curved_part`) rolled on
+    a curved part: the faces pressed are closing segments."""
+    c, m = curve.contacts, len(curve.contacts.x) // 2
+    return Recognition("unclassified", reason=(
+        f"{curve.finger}: touch {curve.touch.touch} rolled on a curved part of the boundary (radius of curvature "
+        f"{curve.fit.rho:.1f} ± {curve.fit.sigma_rho:.2g} mm near ({c.x[m]:.1f}, {c.y[m]:.1f}) mm) but no rolling "
+        f"touch on it was usable clear of the corners: the straight faces the pads pressed are the object's closing "
+        f"segments, not a line"))
+
+
 def stated_noise(touches: Sequence[FeltTouch]) -> NoiseModel:
     """The per-sample noise the jaw states for these usable touches, from what they show
     themselves (docs/exploration.md#the-stated-noise): σ_φ of the pad angle (two joints, each
@@ -393,7 +429,7 @@ def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouc
     tactile_jaw.flat.recognized_touches chooses."""
     usable, felt = logged_felt(config, contents, settings)
     return recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0],
-                              settings.min_touches)
+                              settings.min_touches, curved=curved_part(config, felt) is not None)
 
 
 def too_few_clear(usable: Sequence[FeltTouch], used: int, exc: Exception) -> Recognition:

@@ -74,8 +74,8 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     from tactile_jaw.decide import final_answer
     from tactile_jaw.flat import is_flat
     from tactile_jaw.flat import recognized_touches
-    from tactile_jaw.pipeline import clear_of_corners, logged_felt, make_recognizer, stated_noise, too_few_clear, \
-        workspace_reach
+    from tactile_jaw.pipeline import clear_of_corners, curve_refusal, curved_part, logged_felt, make_recognizer, \
+        stated_noise, too_few_clear, workspace_reach
     from tactile_jaw.separation import jaw_ticks_per_rev
     from tactile_jaw.settings import ExploreSettings
     from tools.ros_bag import write_bag
@@ -87,7 +87,9 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     except (KeyError, TypeError, ValueError):
         raise InputError(f"{args.log}: line 1: header settings lack touches/samples_per_touch/roll_span_deg") from None
     usable, felt = logged_felt(config, contents, settings)
-    touches = recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0])
+    curve = curved_part(config, felt)
+    touches = recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0],
+                                 curved=curve is not None)
     logged_noise = header["settings"].get("noise")
     fixed_noise = logged_noise if isinstance(logged_noise, dict) else None  # an older run's fixed noise
     if args.touches:
@@ -100,7 +102,9 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
         atomic_write(args.touches, json.dumps(request), flag="--touches")
     stop = last_stop(contents.events)
     recognition, too_few = None, None
-    if not touches:
+    if not touches and curve is not None:  # the exploration's flat phase stopped there (tactile_jaw.flat_phase)
+        recognition = curve_refusal(curve).to_json()
+    elif not touches:
         too_few = f"no usable touch in the log ({len(contents.touches)} touches logged): too few to recognize"
     else:
         recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,

@@ -28,7 +28,10 @@ from tactile_jaw.flat import (
 from tactile_jaw.pipeline import FeltTouch, make_recognizer
 from tactile_jaw.settings import ExploreSettings
 
+from hand_driver.config import load_config
+
 SCENE = read_yaml("config/scenes/line.yaml", "scene")  # all seven classes; the line y = 10, solid below
+CONFIG_P = load_config("config/jaw-p.yaml")
 
 
 def _flat(face: Face, finger: str = "left") -> FeltTouch:
@@ -97,3 +100,38 @@ def test_a_face_whose_presses_stop_short_on_average_is_a_gentle_curve():
     assert recognized_touches(arc) == []
     assert recognized_touches(arc + face, fewest=3) == face and recognized_touches(arc + face[:2], fewest=3) == []
     assert FACE_MISS_MM < SEAT_TOL_MM
+
+
+def _press_scan(contact, psis, outcome: str = "no_seat") -> FeltTouch:
+    """A flat press of the P-series jaw's left pad whose scan turned through ``psis`` (in that
+    order) on the tangent lines through ``contact(ψ)``, each joint read to its tick."""
+    from tactile_jaw.pipeline import feel
+    from tests.tactile_jaw.test_envelope_order import FINE, roll, touch
+
+    q = roll(contact, psis, FINE, np.random.default_rng(2))
+    press = touch(q)
+    flat = FlatResult("left", 8, float(psis[0]), press.samples, outcome=outcome, roles=["scan"] * len(psis))
+    return feel(CONFIG_P, flat, 9)
+
+
+def test_a_press_that_rolled_on_a_curved_part_makes_its_faces_closing_segments():
+    """A flat press whose pad turned 54° (zigzag, as hand_driver.flat_press scans) on the
+    hyperbola example's branch without seating rolled on a curved part: then no face's presses
+    are a line (the i20 seed-29 hyperbola 27 was answered line from its chord; now refused,
+    naming the radius felt). Turned about a block's corner instead, it felt no curve, and the
+    line stays."""
+    from recognizer.scene import load_scene
+    from tactile_jaw.pipeline import curve_refusal, curved_part
+    from tests.tactile_jaw.test_envelope_order import support_point
+
+    obj = load_scene("config/scenes/hyperbola.yaml").object
+    zigzag = math.radians(-90.0) + np.radians([0, 3, -3, 6, -6, 9, -9, 12, -12, 15, -15, 18, -18, 21, -21, 24, -24, 27])
+    branch = _press_scan(lambda p: support_point(obj, p), zigzag)
+    corner = _press_scan(lambda p: np.array([100.0, 2.0]), zigzag)
+    chord = [_flat(_face(-10.0, math.pi, x0=130.0, x1=90.0), "right") for _ in range(3)]
+    found = curved_part(CONFIG_P, [corner, branch, *chord])
+    assert found is not None and found.finger == "left"
+    assert 14.0 <= found.fit.rho <= 40.0  # the branch's radius of curvature there (14 mm at the vertex)
+    assert "closing segments, not a line" in curve_refusal(found).reason
+    assert recognized_touches(chord, curved=True) == [] and recognized_touches(chord) == chord
+    assert curved_part(CONFIG_P, [corner, *chord]) is None
