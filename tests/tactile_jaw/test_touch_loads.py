@@ -67,12 +67,16 @@ def read_through_gears(q_link):
     on its load's side s; zero_tick holds the working load w), every joint rounded to a tick."""
     s = np.sign(kin.moment_arms(LEFT, q_link, _contacts(q_link)))
     assert np.all(s == s[0]), "the true load must keep its direction over the roll"
-    q_enc = q_link + kin.load_offsets(LEFT, s)
+    return read_at(q_link + kin.load_offsets(LEFT, s)), s[0]
+
+
+def read_at(q_enc) -> TouchResult:
+    """The left finger's touch whose encoders read the joint angles ``q_enc``, each rounded to a tick."""
     ticks = np.rint(kin.angles_to_ticks(LEFT.joints, q_enc))
     samples = [Sample(reading=i, psi=float(kin.finger_pad_line(LEFT, qi).psi), ticks=ti,
                       line=kin.finger_pad_line(LEFT, qi), current_ma=None, robot_time=0.0)
                for i, (qi, ti) in enumerate(zip(kin.ticks_to_angles(LEFT.joints, ticks), ticks))]
-    return TouchResult("left", 0, float(np.mean([x.psi for x in samples])), samples, outcome="ok"), s[0]
+    return TouchResult("left", 0, float(np.mean([x.psi for x in samples])), samples, outcome="ok")
 
 
 _CENTRE = {}
@@ -138,11 +142,8 @@ def test_a_load_near_a_joints_line_of_action_states_its_half_band():
     q, centre = crossing
     line = kin.finger_pad_line(LEFT, q)
     assert touch_loads(LEFT, q, line).reversed == 0
-    ticks = np.rint(kin.angles_to_ticks(LEFT.joints, q))
-    samples = [Sample(reading=i, psi=float(kin.finger_pad_line(LEFT, qi).psi), ticks=ti,
-                      line=kin.finger_pad_line(LEFT, qi), current_ma=None, robot_time=0.0)
-               for i, (qi, ti) in enumerate(zip(kin.ticks_to_angles(LEFT.joints, ticks), ticks))]
-    felt = feel(CONFIG, TouchResult("left", 0, 0.0, samples, outcome="ok"), len(samples))
+    touch = read_at(q)
+    felt = feel(CONFIG, touch, len(touch.samples))
     assert felt.problem is not None and "reversed" in felt.problem
     # without backlash declared, every joint is known and never offset
     plain = NOMINAL.finger("left")
