@@ -243,9 +243,10 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
                                              gap=loc_gap, travel=loc_travel) for name, items in by_finger.items()})
     faces_found = [rd for rd in readings if rd.kind == "face"]
     if len(faces_found) < 3:
-        raise CalibrationRefused(f"placement {placement}: found the reference with only {len(faces_found)} "
-                                 f"touches ({'; '.join(sorted(set(skipped))) or 'none skipped'}); place the disk "
-                                 f"of radius {r:g} mm near ({guess[0]:g}, {guess[1]:g})")
+        raise CalibrationRefused(f"placement {placement + 1}: found the reference with only {len(faces_found)} "
+                                 f"touches ({'; '.join(sorted(set(skipped))) or 'none skipped'}): no disk of radius "
+                                 f"{r:g} mm near ({guess[0]:g}, {guess[1]:g}) mm; place it there (an emulated bus: "
+                                 f"tactile sim --scene <the reference> --place {guess[0]:g},{guess[1]:g})")
     model = ContactModel(cfg, reference, [dataclasses.replace(rd, placement=0) for rd in faces_found])
     center = model.pose_start(pack_params(cfg))[:2]
     # 2. the full plan around the located disk

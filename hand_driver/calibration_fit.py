@@ -463,7 +463,8 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     poses = tuple({"x": float(w[2 * i]), "y": float(w[2 * i + 1])} if model.cls == "circle"
                   else {"normal_angle": float(w[2 * i]), "offset_mm": float(w[2 * i + 1])}
                   for i in model.placements)
-    return CalibrationResult(config=_with_zero_sigmas(apply_params(cfg, res.x[:nv], bands), estimates),
+    spread = _placement_spread(cfg, reference, used, bands, v0, res.x, backlash)
+    return CalibrationResult(config=_with_zero_sigmas(apply_params(cfg, res.x[:nv], bands), estimates, spread),
                              estimates=estimates, reference_poses=poses,
                              rms_before_mm=float(np.sqrt(np.mean(before.fun**2))),
                              rms_after_mm=float(np.sqrt(np.mean(r**2))), max_after_mm=float(np.max(np.abs(r))),
@@ -473,12 +474,50 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
                                          if counts))
 
 
-def _with_zero_sigmas(cfg: JawConfig, estimates) -> JawConfig:
-    """The calibrated config with each joint's ``zero_sigma_deg``, its zero tick's standard
-    error in degrees: what the exploration states as each joint's offset over a touch
-    (tactile_jaw.envelope.joint_noise: the zero error and a backlash measured under the same
-    load as the touches, docs/exploration.md#the-stated-noise)."""
-    se = {e.name: e.se for e in estimates if e.kind == "zero_tick"}
+def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0, x, backlash: bool) -> np.ndarray | None:
+    """The jackknife standard error of every parameter over the reference's placements: the
+    fit repeated leaving out each placement in turn (from the full fit's values, each
+    reading's load as judged there), √((k − 1)/k · Σ (v_i − v̄)²). It holds what differs
+    from placement to placement (where the disk really sat, the pad-end contacts' geometry,
+    the emulator's or the jaw's contact physics) that the quantization model's standard
+    errors leave out: on the P-series jaw calibrated against config/jaw-p-truth.yaml the zero
+    ticks came out 2–4 of those off. None with fewer than 3 placements, or when a left-out
+    fit is not determined (rank deficient) or fails."""
+    placements = sorted({r.placement for r in used})
+    if len(placements) < 3:
+        return None
+    nv = len(v0)
+    fits = []
+    for drop in placements:
+        kept = [p for p in placements if p != drop]
+        renum = {p: i for i, p in enumerate(kept)}
+        sub = [dataclasses.replace(r, placement=renum[r.placement]) for r in used if r.placement != drop]
+        try:
+            model = ContactModel(cfg, reference, sub, bands)
+        except InputError:
+            return None
+        w = np.concatenate([x[nv + 2 * p: nv + 2 * p + 2] for p in kept])
+        if backlash:
+            model.set_loads(v0, w)
+        sig = np.maximum(model.reading_sigmas(v0, w), 1e-4)
+        res = least_squares(lambda y: model.residuals(y[:nv], y[nv:]) / sig, np.concatenate([x[:nv], w]), method="lm",
+                            x_scale="jac", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
+        sv = np.linalg.svd(res.jac, compute_uv=False)
+        if not res.success or sv[-1] <= 1e-9 * sv[0]:
+            return None
+        fits.append(res.x[:nv])
+    fits = np.array(fits)
+    k = len(fits)
+    return np.sqrt((k - 1) / k * np.sum((fits - fits.mean(axis=0)) ** 2, axis=0))
+
+
+def _with_zero_sigmas(cfg: JawConfig, estimates, spread: np.ndarray | None = None) -> JawConfig:
+    """The calibrated config with each joint's ``zero_sigma_deg``, in degrees: its zero tick's
+    standard error, or the spread of the zero over the placements (:func:`_placement_spread`)
+    where that is larger: what the exploration states as each joint's offset over a touch
+    (tactile_jaw.envelope.joint_noise, docs/exploration.md#the-stated-noise)."""
+    se = {e.name: e.se if spread is None else max(e.se, float(spread[i]))
+          for i, e in enumerate(estimates) if e.kind == "zero_tick"}
     fingers = []
     for f in cfg.fingers:
         joints = tuple(dataclasses.replace(j, zero_sigma_deg=float(se[f"{f.name}.joint{j.id}.zero_tick"])

@@ -519,9 +519,14 @@ def _rewritten(cfg: JawConfig, source: Path) -> str | None:
 
 def _set_changed(doc, old, new) -> None:
     """Set in ``doc`` (the source's round-trip tree) every leaf where ``new`` differs from
-    ``old`` (the source's own values, defaults included), recursing through mappings and lists."""
+    ``old`` (the source's own values, defaults included), recursing through mappings and lists;
+    a key ``new`` adds (a calibration's ``backlash_deg``, ``zero_sigma_deg``) is appended, a
+    key it drops (an optional value now zero) removed."""
+    if isinstance(new, dict):
+        for key in [k for k in old if k not in new and k in doc]:
+            del doc[key]
     for key in (new.keys() if isinstance(new, dict) else range(len(new))):
-        was, now = old[key], new[key]
+        was, now = (old.get(key) if isinstance(old, dict) else old[key]), new[key]
         if isinstance(now, (dict, list)) and isinstance(doc.get(key) if isinstance(doc, dict) else doc[key],
                                                         (dict, list)):
             _set_changed(doc[key], was, now)

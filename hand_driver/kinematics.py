@@ -183,41 +183,30 @@ def finger_pad_line_from_ticks(cfg: JawConfig, finger: str, ticks) -> PadLine:
     return finger_pad_line(f, ticks_to_angles(f.joints, ticks))
 
 
-def contact_load_signs(finger: FingerConfig, q, points) -> np.ndarray:
-    """The direction of each joint's load while the pad presses on ``points`` (n, 2), for
-    joint angles ``q`` (n, 2): the sign of the moment (p − J_j) × n of a force along the pad's
-    normal n at p about joint j (the object pushes back along −n). For the distal joint it is
-    the pad's side, the same wherever the contact lies on the pad; for the base joint it is
-    the side times sign(L1·cos q2 + u), u the contact's distance from the distal joint along
-    the link, so it stays the same unless the finger folds past |q2| ≈ 90°. A gear's backlash
-    is then one offset over all of a finger's contacts (docs/exploration.md#the-stated-noise)."""
-    q = np.asarray(q, dtype=float)
-    pts = np.asarray(points, dtype=float)
-    line = finger_pad_line(finger, q)
-    base = np.array([finger.base.x, finger.base.y])
-    out = []
-    for joint in (np.broadcast_to(base, pts.shape), line.joint2):
-        r = pts - joint
-        out.append(np.sign(r[..., 0] * line.normal[..., 1] - r[..., 1] * line.normal[..., 0]))
-    return np.stack(out, axis=-1)
-
-
 # ----------------------------------------------------------------------------- inverse
 
 
-def moment_arms(finger: FingerConfig, q, point, direction) -> np.ndarray:
+def moment_arms(finger: FingerConfig, q, point, direction=None) -> np.ndarray:
     """Moment arm (mm) about each joint of a unit force the finger applies at ``point`` along
     the unit vector ``direction``: ((p − J_j) × direction)_z, counter-clockwise positive, so
     joint j carries the torque arm_j·F (N·mm) and its gear's teeth bear on the side
-    sign(arm_j) (hand_driver.sim.errors; the calibration's load direction). For a pad
-    pressing an object, ``direction`` is the pad's outward normal."""
+    sign(arm_j): **the one load direction** of the emulator's backlash (hand_driver.sim.errors),
+    the calibration's readings and the exploration's touches (tactile_jaw.pipeline). For a pad
+    pressing an object ``direction`` is the pad's outward normal (the default, None); a pad
+    end pressing it pushes along the object's normal. Vectorized: ``q`` (..., 2), ``point``
+    and ``direction`` (..., 2) → (..., 2). Along the pad's normal at u mm along the distal
+    link from its joint the distal arm is side·u and the proximal one side·(L1·cos q2 + u):
+    :func:`working_loads`."""
     q = np.asarray(q, dtype=float)
-    a1 = finger.base.angle + q[0]
-    j1 = np.array([finger.base.x, finger.base.y])
-    j2 = j1 + finger.joints[0].link_mm * unit(a1)
     p = np.asarray(point, dtype=float)
+    if direction is None:
+        direction = finger_pad_line(finger, q).normal
     u = np.asarray(direction, dtype=float)
-    return np.array([float((p[0] - j[0]) * u[1] - (p[1] - j[1]) * u[0]) for j in (j1, j2)])
+    a1 = finger.base.angle + q[..., 0]
+    j1 = np.array([finger.base.x, finger.base.y])
+    j2 = j1 + finger.joints[0].link_mm * np.stack([np.cos(a1), np.sin(a1)], axis=-1)
+    return np.stack([(p[..., 0] - j[..., 0]) * u[..., 1] - (p[..., 1] - j[..., 1]) * u[..., 0] for j in (j1, j2)],
+                    axis=-1)
 
 
 def ik_line_solutions(finger: FingerConfig, psi: float, d: float) -> list[np.ndarray]:

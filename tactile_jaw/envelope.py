@@ -50,17 +50,22 @@ class JointNoise:
         return np.asarray(self.tick_rad, dtype=float) / math.sqrt(12.0)
 
 
-def joint_noise(finger) -> JointNoise:
-    """The noise a finger's joints declare (hand_driver.config): each joint's tick (its
-    model's resolution) and its offset over a touch, σ = √(z² + (b/2)²): z its zero's standard
-    error after calibration (``zero_sigma_deg``; the touches load each joint one way, so the
-    part of a backlash the calibration's face touches saw is in the calibrated zero:
-    kinematics.contact_load_signs), b its declared ``backlash_deg`` (which side of the dead
-    band the gear rests on is not known: the calibration's pad-end touches may load a joint
-    the other way; measured, docs/exploration.md#the-stated-noise)."""
+def joint_noise(finger, load_known=None) -> JointNoise:
+    """The noise a finger's joints declare (hand_driver.config) over one touch: each joint's
+    tick (its model's resolution) and its offset over the touch. ``zero_tick`` is the
+    encoder's reading at the link's zero under the joint's working load (the calibration
+    measures it so), and a touch whose load on a joint is known and keeps one direction
+    reads that joint's link angle with its backlash taken out (tactile_jaw.pipeline.feel:
+    kinematics.load_offsets of the sign of kinematics.moment_arms), so its offset is only
+    the zero's standard error z (``zero_sigma_deg``, written by ``tactile calibrate``). A
+    joint whose load over the touch is not known to stay one way (``load_known`` False for
+    it; None: known on every joint) may rest anywhere in its dead band: σ = √(z² + (b/2)²),
+    b its declared ``backlash_deg``. docs/exploration.md#the-stated-noise."""
     ticks = rad_per_tick(kin.resolutions(finger.joints))
+    known = [True] * len(finger.joints) if load_known is None else [bool(k) for k in load_known]
     return JointNoise(tuple(float(t) for t in ticks),
-                      tuple(math.radians(math.hypot(j.zero_sigma_deg, j.backlash_deg / 2.0)) for j in finger.joints))
+                      tuple(math.radians(j.zero_sigma_deg if k else math.hypot(j.zero_sigma_deg, j.backlash_deg / 2.0))
+                            for j, k in zip(finger.joints, known)))
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
 from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, SamplesTouch, check_touch_count, parse_noise
 from tactile_common.errors import InputError
-from tactile_jaw.envelope import MIN_DEGREE, EnvelopeFit, fit_envelope
+from tactile_jaw.envelope import MIN_DEGREE, EnvelopeFit, fit_envelope, joint_noise
 from tactile_jaw.flat import FLAT_NOISE, Face, feel_flat, recognized_touches
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
 
@@ -59,6 +59,11 @@ CORNER_CLEARANCE_MM = 2.0
 #: cubical's hump of radius ≈ 10 mm (ρ 6.5 ± 3.6 mm: a point of the curve, whose clearance
 #: would drop the good touches around it)
 CLEARANCE_SIGMAS = 1.0
+#: a joint whose moment arm (kinematics.moment_arms) under a touch's press stays at least this
+#: far (mm) from 0 one way has a known load: its gear rests on that side of its dead band.
+#: Nearer its line of action the press's torque on it (arm × a few N, below 0.01 N·m) is of
+#: the order of a gear's friction, and where the gear rests in its band is not known
+LOAD_KNOWN_ARM_MM = 2.0
 
 
 @dataclass(frozen=True)
@@ -130,8 +135,17 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     q = kin.ticks_to_angles(f.joints, np.array([s.ticks for s in touch.samples], dtype=float))
     fit = None
     try:
+        loads = touch_loads(f, q, lines)
+        if loads.reversed is not None:
+            c = kin.touch_from_pad_lines(lines.psi, lines.d)
+            return out(f"{finger}: the load on joint {f.joints[loads.reversed].id} reversed during the touch (its "
+                       f"backlash would not stay one offset)", c, _pad_u(lines, c))
+        if np.any(loads.offsets):
+            q = q - loads.offsets
+            lines = kin.finger_pad_line(f, q)
+        noise = joint_noise(f, loads.known)
         if curve_checks:
-            fit = fit_envelope(f, q, lines)
+            fit = fit_envelope(f, q, lines, noise=noise)
             c = fit.contacts
         else:
             c = kin.touch_from_pad_lines(lines.psi, lines.d)
@@ -153,7 +167,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
         # boundary of ρ ≈ 20 mm. The roll passed the corner test (ρ > 2 σ_ρ at the contact),
         # so its samples (and their deviations) come from the smoother fit of constant ρ
         # (degree 2); κ, κ_s stay the cubic's
-        smooth = fit_envelope(f, q, lines, degree=SMOOTH_DEGREE)
+        smooth = fit_envelope(f, q, lines, degree=SMOOTH_DEGREE, noise=noise)
         if rough(smooth) is not None:  # fine encoders: a constant ρ does not explain the lines
             return out(f"{finger}: arc length not increasing, and {rough(smooth)}", c, u, fit, off_curve=True)
         fit = replace(fit, contacts=smooth.contacts, sigma_across=smooth.sigma_across,
@@ -162,16 +176,48 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
         u = _pad_u(lines, c)
     if np.any(np.diff(c.s) <= 0.0):
         return out(f"{finger}: arc length not increasing: the pad rolled on an edge or corner", c, u, fit)
-    loads = kin.contact_load_signs(f, q[c.order], np.stack([c.x, c.y], axis=-1))
-    turned = [k for k in range(loads.shape[1]) if np.ptp(loads[:, k]) > 0 and f.joints[k].backlash_deg > 0.0]
-    if turned:
-        return out(f"{finger}: the load on joint {f.joints[turned[0]].id} reversed during the touch (its backlash "
-                   f"would not stay one offset)", c, u, fit)
     length = f.pad.length_mm
     if np.any(u < EDGE_MARGIN_MM) or np.any(u > length - EDGE_MARGIN_MM):
         return out(f"{finger}: contact {float(np.min(u)):.1f}..{float(np.max(u)):.1f} mm along the pad, "
                    f"not inside {EDGE_MARGIN_MM:g}..{length - EDGE_MARGIN_MM:g} mm (a pad end touched)", c, u, fit)
     return out(None, c, u, fit)
+
+
+@dataclass(frozen=True)
+class TouchLoads:
+    """What backlash does to one touch's readings (:func:`touch_loads`)."""
+
+    known: tuple[bool, ...]  # per joint: its load keeps one known direction over the touch
+    offsets: np.ndarray  # (n, joints) rad to subtract from the joint angles: the backlash taken out
+    reversed: int | None = None  # a joint with backlash whose load reversed during the touch
+
+
+def touch_loads(finger, q, lines: kin.PadLine) -> TouchLoads:
+    """Each joint's load over a touch of ``finger`` (joint angles ``q`` (n, 2), pad lines
+    ``lines``): the sign of kinematics.moment_arms of the pad's press (along its normal) at
+    each reading's contact (the touch's envelope). A joint that declares backlash and whose
+    moment arm stays at least ``LOAD_KNOWN_ARM_MM`` one way over the touch has a known load:
+    its link angles are the encoder's less kinematics.load_offsets (0 under its working
+    load); one whose arm keeps its sign but comes nearer its line of action is not known to
+    rest on either side of its dead band (tactile_jaw.envelope.joint_noise states its half
+    band); one whose arm changes sign reversed (its gear crossed the band within the touch:
+    the touch is refused). A joint without declared backlash is known and never offset."""
+    q = np.asarray(q, dtype=float)
+    bands = np.array([j.backlash_deg > 0.0 for j in finger.joints])
+    zero = np.zeros_like(q)
+    if not np.any(bands):
+        return TouchLoads(tuple(True for _ in finger.joints), zero)
+    c = kin.touch_from_pad_lines(lines.psi, lines.d)
+    points = np.empty((c.order.size, 2))
+    points[c.order] = np.stack([c.x, c.y], axis=-1)  # each reading's contact, in the order taken
+    arms = kin.moment_arms(finger, q, points)
+    pos, neg = np.all(arms >= LOAD_KNOWN_ARM_MM, axis=0), np.all(arms <= -LOAD_KNOWN_ARM_MM, axis=0)
+    turned = bands & np.any(arms > 0.0, axis=0) & np.any(arms < 0.0, axis=0)
+    known = ~bands | pos | neg
+    sign = np.where(pos, 1.0, np.where(neg, -1.0, 0.0))
+    offsets = np.broadcast_to(np.where(bands, kin.load_offsets(finger, sign), 0.0), q.shape).copy()
+    return TouchLoads(tuple(bool(k) for k in known), offsets,
+                      int(np.flatnonzero(turned)[0]) if np.any(turned) else None)
 
 
 def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None:

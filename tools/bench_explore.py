@@ -16,12 +16,21 @@ tail probability (χ²/dof), to calibrate the stated noise (docs/exploration.md)
 more, as a person following the advice would. ``--config C`` builds the emulated jaw from C
 and explores with it (config/jaw-p.yaml: the P-series jaw); ``--anywhere`` draws each finite
 object anywhere in the workspace where its curved part faces a finger
-(tools.random_objects.random_object) instead of near its example's place. The last table
+(tools.random_objects.random_object) instead of near its example's place. ``--truth-config T``
+builds the emulated jaw from T (the jaw as it really is: its zero errors and backlash) while the
+exploration uses ``--config``; with ``--calibrate`` the exploration's config is instead the one
+``tactile calibrate`` fits once per run against T through the emulated bus (tools.bench_calibration.
+calibrate: the default plan at the four suggested placements, each disk off it by up to ±3 mm; its
+draws come from their own generator, so the objects are those of a run without it): the lab's
+workflow, calibrate then explore. The σ table then says how well the answers' stated σ's cover the
+truth: per class, the share of shape parameters of the right answers with |z| ≤ 1.96 and ≤ 3
+(z = error / stated σ) and the largest |z|. The last table
 says what the jaw can tell, per class: right / refused / wrong, median error, median robot
 time, each refusal's kind (tactile_jaw.decide.refusal_kind: out of reach, needs finer
 angles, needs another move) and the median robot time per phase. Run: ``python -m
 tools.bench_explore [--n 12] [--seed 1]``, ``python -m tools.bench_explore --finite 10
---anywhere --config config/jaw-p.yaml --seed 29``.
+--anywhere --config config/jaw-p.yaml --seed 29``, ``python -m tools.bench_explore --finite 4
+--anywhere --config config/jaw-p.yaml --truth-config config/jaw-p-truth.yaml --calibrate --seed 11``.
 """
 
 from __future__ import annotations
@@ -88,12 +97,15 @@ def finite_object(rng, example: dict) -> dict:
     return obj
 
 
-def run_scene(path: Path, log: Path, profile: str, config: str = DEFAULT_CONFIG) -> dict:
+def run_scene(path: Path, log: Path, profile: str, config: str = DEFAULT_CONFIG, truth: str | None = None) -> dict:
+    """``tactile demo`` of one scene with ``config`` (on the emulated jaw ``truth``, default
+    ``config``): its answer, exit status and what its log says."""
     from tools.cli import EXIT_RECOGNIZED, EXIT_REFUSED
 
     t0 = time.monotonic()
     out = subprocess.run([sys.executable, "-m", "tools.cli", "demo", "--scene", str(path), "--json", "--log", str(log),
-                          "--profile", profile, "--config", config], capture_output=True, text=True)
+                          "--profile", profile, "--config", config]
+                         + (["--truth-config", truth] if truth else []), capture_output=True, text=True)
     wall = time.monotonic() - t0
     result = {"rc": out.returncode, "wall_s": wall, "stderr": out.stderr.strip().splitlines()[-1:] or [""]}
     if out.returncode in (EXIT_RECOGNIZED, EXIT_REFUSED):  # a refusal prints its answer too
@@ -248,10 +260,17 @@ def main(argv: list[str] | None = None) -> int:
                     help="re-run every refused object moved as its refusal advises, once")
     ap.add_argument("--config", default=DEFAULT_CONFIG,
                     help=f"the jaw config the emulated jaw is built from and explores with (default {DEFAULT_CONFIG})")
+    ap.add_argument("--truth-config", default=None,
+                    help="the jaw the emulator really is (its declared errors simulated), default --config")
+    ap.add_argument("--calibrate", action="store_true",
+                    help="with --truth-config: calibrate --config against it once (tactile calibrate's touches "
+                         "through the emulated bus) and explore with the calibrated config")
     ap.add_argument("--anywhere", action="store_true",
                     help="with --finite: each object anywhere in the workspace where its curved part faces a finger "
                          "(tools.random_objects), not near its example's place")
     args = ap.parse_args(argv)
+    if args.calibrate and not args.truth_config:
+        ap.error("--calibrate needs --truth-config (the jaw to calibrate against)")
     from hand_driver.config import load_config
     from hand_driver.sim.physics import ContactWorld
     from recognizer.scene import load_scene
@@ -287,9 +306,12 @@ def main(argv: list[str] | None = None) -> int:
         scenes.append((path, obj))
     numbers = [k for k, (_, obj) in enumerate(scenes) if args.classes is None or obj["class"] in args.classes]
     scenes = [scenes[k] for k in numbers]
+    explore_config = args.config
+    if args.calibrate:
+        explore_config = str(calibrated_config(args.config, args.truth_config, args.seed, work))
     with ThreadPoolExecutor(args.jobs) as pool:
-        results = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), args.profile, args.config),
-                                scenes))
+        results = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), args.profile, explore_config,
+                                                    args.truth_config), scenes))
     chi2_columns = [] if args.chi2 is None else ["stated"] + [f"pos {p:g}" for p in args.chi2]
     print("| # | object | answer | right | parameter error | touches used/tried | robot time | wall time |"
           + "".join(f" p(χ²) {p} |" for p in chi2_columns))
@@ -304,7 +326,9 @@ def main(argv: list[str] | None = None) -> int:
         said = verdict(obj, rec)
         right += said == "yes"
         robot = f"{res['robot_s']:.1f} s" if res.get("robot_s") is not None else "—"
-        row = (f"| {numbers[k]} | {desc} | {answer} | {said} | {param_error(obj, rec) if rec else '—'} | "
+        z = z_scores(obj, rec)
+        zs = f" (z {' '.join(f'{v:+.1f}' for v in z)})" if z and args.truth_config else ""
+        row = (f"| {numbers[k]} | {desc} | {answer} | {said} | {param_error(obj, rec) if rec else '—'}{zs} | "
                f"{res.get('used')}/{res.get('tried')} | {robot} | {res['wall_s']:.1f} s |")
         if args.chi2 is not None:
             ps = true_chi2(path.with_suffix(".log"), obj, args.chi2)
@@ -312,15 +336,81 @@ def main(argv: list[str] | None = None) -> int:
         print(row, flush=True)
     print(f"right class on {right} of {len(scenes)} scenes; scenes and logs in {work}")
     print_class_summary(scenes, results)
-    print_tell_table(scenes, results, args.config)
+    print_tell_table(scenes, results, explore_config)
+    if args.truth_config:
+        print_sigma_table(scenes, results)
     if args.kappa:
         print_kappa_table([(path.with_suffix(".log"), obj) for path, obj in scenes])
     if args.follow:
-        follow_advice(scenes, results, args.profile, args.jobs, args.config)
+        follow_advice(scenes, results, args.profile, args.jobs, explore_config, args.truth_config)
     return 0
 
 
-def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAULT_CONFIG) -> None:
+def calibrated_config(config: str, truth: str, seed: int, work: Path) -> Path:
+    """``config`` calibrated once against the jaw ``truth`` through the emulated bus
+    (tools.bench_calibration.calibrate, the command's default plan and its ``--backlash
+    auto``; the placements' offsets drawn from a generator of their own, seeded by ``seed``),
+    written beside the scenes; prints what the calibration found against the truth."""
+    from hand_driver.calibration_fit import pack_params
+    from hand_driver.config import dump_config, load_config
+    from tools.bench_calibration import calibrate
+
+    nominal, real = load_config(config), load_config(truth)
+    t0 = time.monotonic()
+    result = calibrate(nominal, real, np.random.default_rng([seed, 1]), faces=10, corners=6)
+    path = work / "calibrated.yaml"
+    dump_config(result.config, path, source=config,
+                header=f"calibrated by bench_explore against {truth} (seed {seed})")
+    bands = tuple(k for k, (*_, fitted) in enumerate(result.loads) if fitted)
+    err = pack_params(result.config, bands) - pack_params(real, bands)
+    worst = {kind: max((abs(d) / e.se if e.se > 0 else math.inf for e, d in zip(result.estimates, err)
+                        if e.kind == kind), default=0.0) for kind in ("zero_tick", "link_mm", "offset_mm", "backlash_deg")}
+    print(f"calibrated {config} against {truth}: {result.n_readings} touches, {result.n_dropped} left out, "
+          f"{time.monotonic() - t0:.0f} s; errors against the truth, worst in standard errors: "
+          + ", ".join(f"{k} {v:.1f}" for k, v in worst.items())
+          + "; zero ticks off by " + ", ".join(f"{d:+.2f}" for e, d in zip(result.estimates, err)
+                                               if e.kind == "zero_tick") + f"; wrote {path}", flush=True)
+    return path
+
+
+def z_scores(obj: dict, rec: dict | None) -> list[float]:
+    """Each shape parameter's error over its stated σ, for a right answer (none otherwise; a
+    σ of 0 or unknown gives ±inf or is left out)."""
+    if rec is None or rec["class"] != obj["class"]:
+        return []
+    sigma = rec.get("uncertainty") or {}
+    out = []
+    for k, v in obj["params"].items():
+        s = sigma.get(k)
+        if s is None:
+            continue
+        err = rec["params"][k] - v
+        out.append(err / s if s > 0 else math.copysign(math.inf, err))
+    return out
+
+
+def print_sigma_table(scenes, results) -> None:
+    """Per class: how well the right answers' stated σ's cover the truth (shape parameters)."""
+    print("\nσ coverage of the right answers' shape parameters (z = error / stated σ)")
+    print("| class | parameters | |z| ≤ 1.96 | |z| ≤ 3 | largest |z| |")
+    print("|---|---|---|---|---|")
+    every = []
+    for cls in CLASSES:
+        z = [v for (_, obj), res in zip(scenes, results) if obj["class"] == cls
+             for v in z_scores(obj, res.get("recognition"))]
+        every += z
+        if z:
+            a = np.abs(z)
+            print(f"| {cls} | {a.size} | {100 * np.mean(a <= 1.96):.0f} % | {100 * np.mean(a <= 3.0):.0f} % | "
+                  f"{a.max():.1f} |", flush=True)
+    if every:
+        a = np.abs(every)
+        print(f"| all | {a.size} | {100 * np.mean(a <= 1.96):.0f} % | {100 * np.mean(a <= 3.0):.0f} % | "
+              f"{a.max():.1f} |", flush=True)
+
+
+def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAULT_CONFIG,
+                  truth: str | None = None) -> None:
     """Every refused scene whose refusal names a move, moved so and explored once more;
     per class: refusals, those naming a move, and the second runs' right / refused / wrong."""
     again = []
@@ -334,7 +424,7 @@ def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAUL
             moved.write_text(yaml.safe_dump(mapping))
             again.append((moved, obj, move))
     with ThreadPoolExecutor(jobs) as pool:
-        second = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), profile, config), again))
+        second = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), profile, config, truth), again))
     print("\n| object moved as advised | move | answer | right | parameter error | robot time |")
     print("|---|---|---|---|---|---|")
     for (path, obj, move), res in zip(again, second):

@@ -147,7 +147,7 @@ def run(args) -> int:
               f"{result.rms_before_mm:.3f} mm, after {result.rms_after_mm:.4f} mm (max {result.max_after_mm:.4f} mm)")
         for name, neg, pos, band in result.loads:
             print(f"{name}: loaded negatively by {neg}, positively by {pos} touches: " + (
-                "backlash fitted, zero_tick is the band's centre" if band else
+                "backlash fitted, zero_tick is the reading at the link's zero under the working load" if band else
                 f"loaded one way only: zero_tick is the offset under a {'negative' if neg else 'positive'} load"))
         print(f"{'parameter':32s} {'before':>10s} {'after':>10s} {'± se':>8s}")
         for e in result.estimates:

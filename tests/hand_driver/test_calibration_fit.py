@@ -133,3 +133,38 @@ def test_backlash_is_modelled_by_default_where_the_band_spans_many_ticks():
     # DYNAMIXEL-P: 0.1° = 279 PH54 ticks, 169 PH42 ticks; XM430: 0.25° is under 3 of its ticks
     assert cal.backlash_matters(load_config("config/jaw-p.yaml"))
     assert not cal.backlash_matters(load_config("config/jaw.yaml"))
+
+
+def test_zero_sigma_holds_the_spread_over_placements():
+    """``zero_sigma_deg`` (what the exploration states as a joint's offset over a touch) is the
+    larger of a zero tick's standard error and its jackknife spread over the placements
+    (calibration_fit._placement_spread): the spread is computed (4 placements), of the order
+    of the standard error on quantized readings, and raising it is what the config holds.
+    A placement whose disk sat elsewhere than its readings say (one placement's readings
+    synthesized 0.05 mm off the radius: a systematic no quantization model covers) makes the
+    spread, not the standard error, cover the zero ticks' error."""
+    truth, rng = perturbed(3)
+    readings = readings_for(truth, rng)
+    result = cal.fit(CFG, DISK, readings)
+    se = {e.name: e.se for e in result.estimates}
+    sigma = {f"{f.name}.joint{j.id}.zero_tick": j.zero_sigma_deg * j.ticks_per_rev / 360.0
+             for f in result.config.fingers for j in f.joints}
+    for name, s in sigma.items():
+        assert s >= se[name] - 1e-12 and s < 6.0 * se[name], (name, s, se[name])
+    assert any(s > se[name] * 1.0001 for name, s in sigma.items())  # the spread was used somewhere
+    skewed = [r for r in readings if r.placement != 2]
+    disk = dataclasses.replace(DISK, params={"r": 20.05}, pose=Pose(0.0, 65.0, 30.0))
+    skewed += cp.synthesize(truth, disk, list(plan_at(65.0, 30.0)), placement=2)
+    off = cal.fit(CFG, DISK, skewed, tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})
+    err = cal.pack_params(off.config) - cal.pack_params(truth)
+    zeros = [(e, d) for e, d in zip(off.estimates, err) if e.kind == "zero_tick"]
+    stated = {f"{f.name}.joint{j.id}.zero_tick": j.zero_sigma_deg * j.ticks_per_rev / 360.0
+              for f in off.config.fingers for j in f.joints}
+    assert max(abs(d) / e.se for e, d in zeros) > 3.0  # the standard errors miss the systematic
+    assert all(abs(d) <= 3.0 * stated[e.name] for e, d in zeros), [(e.name, d, stated[e.name]) for e, d in zeros]
+    two = cal.fit(CFG, DISK, [r for r in readings if r.placement < 2],
+                  tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})
+    for f in two.config.fingers:
+        for j in f.joints:  # two placements: no spread, the standard error alone
+            e = next(e for e in two.estimates if e.name == f"{f.name}.joint{j.id}.zero_tick")
+            assert j.zero_sigma_deg == pytest.approx(e.se * 360.0 / j.ticks_per_rev)

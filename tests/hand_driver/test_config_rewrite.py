@@ -36,3 +36,24 @@ def test_unreadable_source_still_writes_the_config(tmp_path):
     out = tmp_path / "calibrated.yaml"
     dump_config(cfg, out, source=tmp_path / "gone.yaml")
     assert load_config(out) == cfg
+
+
+def test_keys_the_calibration_adds_or_drops(tmp_path):
+    """A P-series calibration adds ``backlash_deg`` and ``zero_sigma_deg`` to joints whose
+    source has none (``tactile calibrate`` crashed here with a KeyError) and may drop one
+    the source had; the output reads back equal and keeps the source's comments."""
+    src = "config/jaw-p.yaml"
+    cfg = load_config(src)
+    f0, f1 = cfg.fingers
+    j0 = replace(f0.joints[0], zero_tick=335.25, backlash_deg=0.1003, zero_sigma_deg=0.0004)
+    cfg = replace(cfg, fingers=(replace(f0, joints=(j0, f0.joints[1])), f1))
+    out = tmp_path / "calibrated.yaml"
+    dump_config(cfg, out, source=src)
+    assert load_config(out) == cfg
+    text = out.read_text()
+    assert "backlash_deg: 0.1003" in text and "zero_sigma_deg: 0.0004" in text
+    assert all(line in text for line in open(src).read().splitlines() if line.startswith("#"))
+    back = replace(cfg, fingers=(replace(f0, joints=(replace(j0, backlash_deg=0.0), f0.joints[1])), f1))
+    out2 = tmp_path / "dropped.yaml"
+    dump_config(back, out2, source=out)
+    assert load_config(out2) == back and "backlash_deg" not in out2.read_text()

@@ -151,8 +151,8 @@ def test_a_closing_segment_and_a_corner_are_refused_at_fine_resolution():
 
 def test_a_contact_loads_each_joint_one_way():
     """The load of a pad pressed anywhere on its face keeps its direction on both joints over
-    every roll the fingers make on the example ellipse (kinematics.contact_load_signs), so a
-    gear's backlash is one offset over a finger's contacts."""
+    every roll the fingers make on the example ellipse (the sign of kinematics.moment_arms
+    along the pad's normal), so a gear's backlash is one offset over a finger's contacts."""
     obj = load_scene("config/scenes/ellipse.yaml").object
     a, b = obj.params["a"], obj.params["b"]
     for name, centre in (("left", -90.0), ("right", 90.0)):
@@ -166,7 +166,7 @@ def test_a_contact_loads_each_joint_one_way():
                 q = kin.ik_tangent(finger, p, float(psi))
             except kin.Unreachable:
                 continue
-            signs.append(kin.contact_load_signs(finger, q[None], p[None])[0])
+            signs.append(np.sign(kin.moment_arms(finger, q[None], p[None]))[0])
         signs = np.array(signs)
         assert len(signs) >= 15 and np.all(signs == signs[0]), signs
         assert signs[0][1] == -finger.pad.side_sign or signs[0][1] == finger.pad.side_sign
