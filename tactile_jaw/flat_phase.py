@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
-from hand_driver.flat_press import FLAT_STEP_DEG, flat_press
+from hand_driver.flat_press import FACE_MIN_FRACTION, FLAT_STEP_DEG, face_normal, flat_press, seat_split
 from hand_driver.motion import TouchResult
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.flat import FACE_MISS_MM, curved_faces, recognized_touches
@@ -47,16 +49,43 @@ def _felt_stop(out: Exploration, finger: str, psi: float) -> tuple[float, float]
     return float(s.psi), float(s.line.d)
 
 
+def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> tuple[float, np.ndarray, np.ndarray] | None:
+    """(ψ, P, Q) of the seat the pad lines of ``finger``'s probes and rolling touches so far
+    already show, or None: sorted by ψ (about ``psi``, the pad's nominal normal) they are
+    support lines of what the pad reaches, and where three pass through one support and
+    three through another at least FACE_MIN_FRACTION of the pad apart
+    (hand_driver.flat_press.seat_split: a roll across a closing segment, or rolls that
+    pivoted about both corners of one face), the pad lies flat at the normal of the two.
+    The press starts there as a later press starts at its face: the walk to the seat from
+    the pad's nominal normal (up to 60°, 3° a step) is left out."""
+    samples = [s for t in (*out.probes, *out.touches) if t.touch.finger == finger for s in t.touch.samples]
+    samples.sort(key=lambda s: math.remainder(float(s.line.psi) - psi, 2 * math.pi))
+    lines = [s.line for s in samples]
+    found = seat_split(lines, length_mm) if len(lines) >= 6 else None
+    if found is None or np.linalg.norm(found[2] - found[1]) < FACE_MIN_FRACTION * length_mm:
+        return None
+    _, p, q = found
+    normal = face_normal(p, q, lines[0].normal)
+    return math.atan2(normal[1], normal[0]), p, q
+
+
 def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, touch_index: int, emit,
-               spent: dict[str, float], felt: tuple[float, float] | None = None):
+               spent: dict[str, float], felt: tuple[float, float] | None = None, seated: set[str] | None = None,
+               seat: tuple[float, np.ndarray, np.ndarray] | None = None):
     """One flat press of ``finger``: the first at the pad's nominal normal (after a transit)
     from the workspace edge, or — ``felt``, an earlier stop (ψ, d) near that normal — at that
     ψ from FLAT_RESTART_MM outside that stop (1.4 s less of guarded approach on the line
-    example); a later one close to the ``face`` it seated on (module constants); after
-    ``misses`` presses that did not seat, from the edge, half a step further on each.
-    Returns the FlatResult (or a TouchResult if the transit could not go on)."""
+    example) — or ``seat``, one the rolls already show (:func:`_felt_seat`), as a later press
+    starts at its face; a later one close to the ``face`` it seated on (module constants); after
+    ``misses`` presses that did not seat, from the edge, half a step further on each. While
+    it seeks its seat it gives up once another finger's press of the same round is added to
+    ``seated`` (pressed at its seat): one face's touches make the answer. Returns the
+    FlatResult (or a TouchResult if the transit could not go on)."""
     step = math.radians(FLAT_STEP_DEG)
     f = jaw.config.finger(finger)
+    if face is None and seat is not None and misses == 0:  # a seat the rolls showed (_felt_seat): as a later press
+        start = seat[0] - FLAT_RESTART_STEPS * step
+        felt = (start, min(float(kin.unit(start) @ seat[1]), float(kin.unit(start) @ seat[2])))  # where it stops there
     if face is None:
         start = felt[0] if felt is not None and misses == 0 else nominal_psi(f) + 0.5 * misses * step
         problem = yield from transit_or_problem(jaw, finger, model, start, spent)
@@ -76,8 +105,17 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
         n = kin.unit(start)
         d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
         travel = 2.0 * FLAT_RESTART_MM
-    return (yield from flat_press(jaw, finger, touch_index, start, 1, d_start, travel, toward=model.workspace_center,
-                                  on_event=emit))
+    seated = set() if seated is None else seated
+
+    def give_up() -> str | None:
+        others = sorted(seated - {finger})
+        return f"the {others[0]} pad seated on a face" if others else None
+
+    result = yield from flat_press(jaw, finger, touch_index, start, 1, d_start, travel,
+                                   toward=model.workspace_center, on_event=emit, give_up=give_up)
+    if result.outcome == "ok":
+        seated.add(finger)
+    return result
 
 
 def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: Exploration,
@@ -93,11 +131,15 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
     flat: list[FeltTouch] = []
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
     for _ in range(settings.min_touches + FLAT_SPARE):
+        if any(faces.values()):  # one face's touches make the answer: a finger without one stops
+            active = [name for name in active if faces[name] is not None]
         if not active:
             break
         spent: dict[str, float] = {}
+        seated: set[str] = set()
         plans = {name: _flat_plan(jaw, name, model, faces[name], misses[name], index + k, emit, spent,
-                                  _felt_stop(out, name, nominal_psi(cfg.finger(name))))
+                                  _felt_stop(out, name, nominal_psi(cfg.finger(name))), seated,
+                                  _felt_seat(out, name, cfg.finger(name).pad.length_mm, nominal_psi(cfg.finger(name))))
                  for k, name in enumerate(active)}
         index += len(plans)
         out.rounds += 1
@@ -113,7 +155,10 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
                 say(f"flat press ({name}): seated on a face at psi {math.degrees(felt.face.psi):.2f} deg over "
                     f"{felt.face.length:.1f} mm")
             else:
-                misses[name] += 1
+                # a press that turned its whole range without seating is not retried (one whose
+                # seat missed the tolerance is: the encoders' rounding); one stopped for
+                # another finger's seat is, should that seat not be a face
+                misses[name] += FLAT_TRIES if felt.touch.outcome == "no_seat" else int(felt.touch.outcome != "stopped")
                 if misses[name] >= FLAT_TRIES:
                     active.remove(name)
                 if felt.touch.outcome == "ok":
