@@ -24,10 +24,10 @@ from tactile_jaw.settings import ExploreSettings
 #: a finger's first flat press starts at its pad's nominal normal (the press turns toward
 #: the seat from there, hand_driver.flat_press); a later one FLAT_RESTART_STEPS turn steps
 #: before the face's normal it found, from FLAT_RESTART_MM outside it; at most
-#: settings.min_touches + FLAT_SPARE rounds; a finger stops after FLAT_TRIES presses that
-#: did not seat (one miss can be the encoders' rounding: a seated press of the line
-#: example moved 3 mm stopped 0.22 mm off, over the 0.2 mm tolerance; the retry starts
-#: half a step further on, other stops, other roundings).
+#: settings.min_touches + FLAT_SPARE rounds; a finger stops after FLAT_TRIES presses whose
+#: seat missed the tolerance (one miss can be the encoders' rounding: a seated press of the
+#: line example moved 3 mm stopped 0.22 mm off, over the 0.2 mm tolerance; the retry starts
+#: half a step further on, other stops, other roundings), or after one that found no seat.
 #: The rolling touches give way to flat presses once FLAT_AFTER_TOUCHES of them were
 #: tried and none was usable (every one on a corner, a pad end or across a face: the line
 #: example turned −5° spent 8 rolling touches, 54 s of robot time, before)
@@ -36,6 +36,12 @@ FLAT_RESTART_MM = 3.0
 FLAT_SPARE = 2
 FLAT_TRIES = 2
 FLAT_AFTER_TOUCHES = 4
+#: a flat press that has not found its seat after this much robot time (s) gives up: on
+#: the random blocks of bench_explore --finite 8 --anywhere --seed 11 (both jaws) every
+#: press that seated found its seat within 7.9 s (2.5–3.2 s from a known seat), and those
+#: that did not took 9–44 s each (one turned 70°, its approaches up to 1.5 s apart), a
+#: round lasting as long as its slowest press
+FLAT_MAX_S = 12.0
 
 
 def _felt_stop(out: Exploration, finger: str, psi: float) -> tuple[float, float] | None:
@@ -79,7 +85,8 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     starts at its face; a later one close to the ``face`` it seated on (module constants); after
     ``misses`` presses that did not seat, from the edge, half a step further on each. While
     it seeks its seat it gives up once another finger's press of the same round is added to
-    ``seated`` (pressed at its seat): one face's touches make the answer. Returns the
+    ``seated`` (pressed at its seat): one face's touches make the answer, or after
+    ``FLAT_MAX_S`` of robot time without a seat. Returns the
     FlatResult (or a TouchResult if the transit could not go on)."""
     step = math.radians(FLAT_STEP_DEG)
     f = jaw.config.finger(finger)
@@ -106,10 +113,15 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
         d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
         travel = 2.0 * FLAT_RESTART_MM
     seated = set() if seated is None else seated
+    t0 = jaw.robot_time()
 
     def give_up() -> str | None:
         others = sorted(seated - {finger})
-        return f"the {others[0]} pad seated on a face" if others else None
+        if others:
+            return f"the {others[0]} pad seated on a face"
+        if jaw.robot_time() - t0 > FLAT_MAX_S:
+            return f"no seat found within {FLAT_MAX_S:g} s"
+        return None
 
     result = yield from flat_press(jaw, finger, touch_index, start, 1, d_start, travel,
                                    toward=model.workspace_center, on_event=emit, give_up=give_up)
@@ -155,10 +167,13 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
                 say(f"flat press ({name}): seated on a face at psi {math.degrees(felt.face.psi):.2f} deg over "
                     f"{felt.face.length:.1f} mm")
             else:
-                # a press that turned its whole range without seating is not retried (one whose
-                # seat missed the tolerance is: the encoders' rounding); one stopped for
-                # another finger's seat is, should that seat not be a face
-                misses[name] += FLAT_TRIES if felt.touch.outcome == "no_seat" else int(felt.touch.outcome != "stopped")
+                # only a press whose seat missed the tolerance is retried (the encoders'
+                # rounding), and one stopped for another finger's seat, should that seat not
+                # be a face; one that found no seat (turned its range, ran out of time, met
+                # nothing) is not
+                outcome = felt.touch.outcome
+                for_other = outcome == "stopped" and bool(seated - {name})
+                misses[name] += 1 if outcome in ("ok", "rejected") else 0 if for_other else FLAT_TRIES
                 if misses[name] >= FLAT_TRIES:
                     active.remove(name)
                 if felt.touch.outcome == "ok":
