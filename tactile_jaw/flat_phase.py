@@ -77,12 +77,14 @@ def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> t
 
 def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, touch_index: int, emit,
                spent: dict[str, float], felt: tuple[float, float] | None = None, seated: set[str] | None = None,
-               seat: tuple[float, np.ndarray, np.ndarray] | None = None):
+               seat: tuple[float, np.ndarray, np.ndarray] | None = None, side: int = 1):
     """One flat press of ``finger``: the first at the pad's nominal normal (after a transit)
     from the workspace edge, or — ``felt``, an earlier stop (ψ, d) near that normal — at that
     ψ from FLAT_RESTART_MM outside that stop (1.4 s less of guarded approach on the line
     example) — or ``seat``, one the rolls already show (:func:`_felt_seat`), as a later press
-    starts at its face; a later one close to the ``face`` it seated on (module constants); after
+    starts at its face; a later one close to the ``face`` it seated on (module constants),
+    on the ``side`` of it (+1: below its normal, turning up; −1: above) the finger's first
+    seated press came from (the other side may lie beyond a joint limit); after
     ``misses`` presses that did not seat, from the edge, half a step further on each. While
     it seeks its seat it gives up once another finger's press of the same round is added to
     ``seated`` (pressed at its seat): one face's touches make the answer, or after
@@ -108,7 +110,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
             travel = felt[1] + FLAT_RESTART_MM - d_start
     else:
         spent[finger] = 0.0
-        start = face.psi - (FLAT_RESTART_STEPS + 0.5 * misses) * step
+        start = face.psi - side * (FLAT_RESTART_STEPS + 0.5 * misses) * step
         n = kin.unit(start)
         d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
         travel = 2.0 * FLAT_RESTART_MM
@@ -123,7 +125,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
             return f"no seat found within {FLAT_MAX_S:g} s"
         return None
 
-    result = yield from flat_press(jaw, finger, touch_index, start, 1, d_start, travel,
+    result = yield from flat_press(jaw, finger, touch_index, start, side if face is not None else 1, d_start, travel,
                                    toward=model.workspace_center, on_event=emit, give_up=give_up)
     if result.outcome == "ok":
         seated.add(finger)
@@ -139,6 +141,7 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
     cfg = jaw.config
     faces = {f.name: None for f in cfg.fingers}
     misses = {f.name: 0 for f in cfg.fingers}
+    sides = {f.name: 1 for f in cfg.fingers}  # the side of its face a finger's first seated press came from
     active = [f.name for f in cfg.fingers]
     flat: list[FeltTouch] = []
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
@@ -151,7 +154,8 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
         seated: set[str] = set()
         plans = {name: _flat_plan(jaw, name, model, faces[name], misses[name], index + k, emit, spent,
                                   _felt_stop(out, name, nominal_psi(cfg.finger(name))), seated,
-                                  _felt_seat(out, name, cfg.finger(name).pad.length_mm, nominal_psi(cfg.finger(name))))
+                                  _felt_seat(out, name, cfg.finger(name).pad.length_mm, nominal_psi(cfg.finger(name))),
+                                  sides[name])
                  for k, name in enumerate(active)}
         index += len(plans)
         out.rounds += 1
@@ -160,6 +164,8 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
             felt = feel(cfg, results[name], settings.samples_per_touch)
             out.touches.append(felt)
             if felt.problem is None:
+                if faces[name] is None:
+                    sides[name] = 1 if math.remainder(felt.face.psi - felt.touch.psi_center, 2 * math.pi) >= 0 else -1
                 faces[name] = felt.face
                 flat.append(felt)
                 emit({"type": "event", "kind": "touch_used", "message": f"{name}: flat press {felt.touch.touch} seated",
@@ -167,13 +173,14 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
                 say(f"flat press ({name}): seated on a face at psi {math.degrees(felt.face.psi):.2f} deg over "
                     f"{felt.face.length:.1f} mm")
             else:
-                # only a press whose seat missed the tolerance is retried (the encoders'
-                # rounding), and one stopped for another finger's seat, should that seat not
-                # be a face; one that found no seat (turned its range, ran out of time, met
-                # nothing) is not
+                # retried: a press whose seat missed the tolerance (the encoders' rounding), a
+                # later press on a face found (half a step further on), one stopped for another
+                # finger's seat (should that seat not be a face); not: a first press that
+                # found no seat (turned its range, ran out of time, met nothing)
                 outcome = felt.touch.outcome
                 for_other = outcome == "stopped" and bool(seated - {name})
-                misses[name] += 1 if outcome in ("ok", "rejected") else 0 if for_other else FLAT_TRIES
+                retry = outcome in ("ok", "rejected") or faces[name] is not None
+                misses[name] += 0 if for_other else 1 if retry else FLAT_TRIES
                 if misses[name] >= FLAT_TRIES:
                     active.remove(name)
                 if felt.touch.outcome == "ok":
