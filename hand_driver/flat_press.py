@@ -16,7 +16,9 @@ lies flat at ψ_f. The press finds that kink from any start the finger can turn 
    the side the seat lies beyond, and once it lies between the ends, on the side with
    fewer lines through its support. A pivot over the middle of the pad (a corner with
    faces either side) may lower the wrong face first: at ``FLAT_MAX_TURN_DEG`` or the
-   joint limits that way, the range grows the other way.
+   joint limits that way, the range grows the other way. Where a whole step would pass
+   a joint limit, the range grows by part of one (``FILL_PARTS``), and when it cannot grow
+   at all its outermost gap is halved: a seat close to the limit still gets its three lines.
 3. Once ≥ 3 lines pass through P and ≥ 3 through Q at least ``FACE_MIN_FRACTION`` of the
    pad apart (:func:`seat_split`), the pad is pressed at the normal of PQ (and at
    ``SEAT_PRESSES_DEG`` of it); whether those presses are seated is judged when the
@@ -72,6 +74,12 @@ SPLIT_APART = 2.0
 #: (radius 500 and 1000 mm turned 15° passed the seat test, 0.10 mm, with every line of
 #: the run)
 SUPPORT_LINES = 3
+#: where a whole step would turn the joints past their limits (or FLAT_MAX_TURN_DEG), the
+#: press turns by these fractions of a step instead: a seat near a joint limit leaves room
+#: for fewer than the three whole steps its second support needs (bench_explore --finite 8
+#: --anywhere --seed 11, block 1 turned 31.6°: its left pad seats at 31.6° from the nominal
+#: normal and its joints stop at 36°, two lines through the second support; refused before)
+FILL_PARTS = (1.0, 0.5, 0.25)
 #: the seated presses, at the seat's orientation ψ_f plus these (deg): re-pressing at a
 #: slightly different goal reads the same seat through different encoder roundings
 SEAT_PRESSES_DEG = (0.0, -0.1, 0.1)
@@ -179,9 +187,9 @@ def lowering_turn(line: kin.PadLine, about: np.ndarray | None, length_mm: float,
     return 1 if s * float(np.array([-t[1], t[0]]) @ line.normal) > 0 else -1
 
 
-def next_step(ks: list[int], lines: list[kin.PadLine], length_mm: float, first_turn: int,
-              allowed: Callable[[int], bool], toward: np.ndarray | None = None,
-              tol_mm: float = SEAT_TOL_MM) -> int | None:
+def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first_turn: int,
+              allowed: Callable[[float], bool], toward: np.ndarray | None = None,
+              tol_mm: float = SEAT_TOL_MM) -> float | None:
     """The step index of the press's next approach (module docstring, step 2), given the
     steps ``ks`` taken (increasing) and their pad lines; ``allowed(k)`` says whether step k
     may be tried. None when neither end can grow."""
@@ -204,21 +212,30 @@ def next_step(ks: list[int], lines: list[kin.PadLine], length_mm: float, first_t
             if (through_lo if order[0] > 0 else through_hi) >= SUPPORT_LINES:
                 order = order[:1]  # the other side has its lines: growing it leads away from the seat
     for direction in order:
-        k = ks[-1] + 1 if direction > 0 else ks[0] - 1
-        if allowed(k):
-            return k
+        for part in FILL_PARTS:  # a whole step; short of a block, part of one (module docstring, step 2)
+            k = ks[-1] + part if direction > 0 else ks[0] - part
+            if allowed(k):
+                return k
+    for direction in order:  # neither end can grow: halve the outermost gap on that side
+        if len(ks) >= 2:
+            k = 0.5 * (ks[-1] + ks[-2]) if direction > 0 else 0.5 * (ks[0] + ks[1])
+            if abs(ks[-1] - ks[-2] if direction > 0 else ks[1] - ks[0]) >= 2 * FILL_PARTS[-1] and allowed(k):
+                return k
     return None
 
 
 def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: int, d_start: float,
-               travel_mm: float, toward=None, on_event: Callable[[dict], None] | None = None) -> Motion:
+               travel_mm: float, toward=None, on_event: Callable[[dict], None] | None = None,
+               give_up: Callable[[], str | None] | None = None) -> Motion:
     """Seat the pad flat on the face of the object before it and press it there (module
     docstring): a guarded approach at ``psi_start`` from ``d_start`` (at most
     ``travel_mm``), the pad turned in FLAT_STEP_DEG steps toward the seat (the first one by
     ``first_turn``, ±1; about a corner under the pad's middle, the part toward the point
     ``toward`` lowered: :func:`lowering_turn`), backed off and re-approached as in a
     rolling touch, until two supports are found, then the seated presses. Outcome ``no_seat`` when the pad turned
-    FLAT_MAX_TURN_DEG either way (or to its joint limits) without seating."""
+    FLAT_MAX_TURN_DEG either way (or to its joint limits) without seating; ``stopped`` when
+    ``give_up()`` (asked before each turn while no seat is found) returns a reason, such as
+    another pad having seated in the same cycles."""
     m = jaw.config.motion
     emit = on_event or (lambda rec: None)
     length = jaw.config.finger(finger).pad.length_mm
@@ -245,11 +262,12 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
         yield from move_line(jaw, finger, psi_start, d_start)
         if not take((yield from guarded_approach(jaw, finger, psi_start, d_start, travel_mm)), psi_start, "scan"):
             return result
-        steps: list[int] = [0]  # each sample's turn from psi_start, in steps
-        blocked: set[int] = set()  # directions the joints cannot turn further
+        steps: list[float] = [0.0]  # each sample's turn from psi_start, in steps
+        blocked: dict[int, float] = {}  # per direction, the least turn (steps) the joints could not make
 
-        def allowed(k: int) -> bool:
-            return abs(k) <= most and (1 if k > 0 else -1) not in blocked
+        def allowed(k: float) -> bool:
+            side = 1 if k > 0 else -1
+            return abs(k) <= most and abs(k) < abs(blocked.get(side, math.inf)) and k not in steps
 
         while True:
             order = np.argsort(steps)
@@ -257,6 +275,10 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
             found = seat_split(lines, length)
             if found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * length:
                 break
+            why = None if give_up is None else give_up()
+            if why is not None:
+                result.outcome, result.message = "stopped", f"{finger}: flat press stopped: {why}"
+                return result
             k = next_step(sorted(steps), lines, length, first_turn, allowed, toward)
             if k is None:
                 result.outcome = "no_seat"
@@ -267,7 +289,8 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
             try:
                 approach = yield from _press(jaw, finger, psi)
             except kin.Unreachable:
-                blocked.add(1 if k > 0 else -1)
+                side = 1 if k > 0 else -1
+                blocked[side] = min(abs(k), abs(blocked.get(side, math.inf))) * side
                 continue
             if not take(approach, psi, "scan"):
                 return result

@@ -8,9 +8,11 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
-from hand_driver.flat_press import FLAT_STEP_DEG, flat_press
+from hand_driver.flat_press import FACE_MIN_FRACTION, FLAT_STEP_DEG, face_normal, flat_press, seat_split
 from hand_driver.motion import TouchResult
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.choose import Stop
@@ -23,10 +25,10 @@ from tactile_jaw.settings import ExploreSettings
 #: a finger's first flat press starts at its pad's nominal normal (the press turns toward
 #: the seat from there, hand_driver.flat_press); a later one FLAT_RESTART_STEPS turn steps
 #: before the face's normal it found, from FLAT_RESTART_MM outside it; at most
-#: settings.min_touches + FLAT_SPARE rounds; a finger stops after FLAT_TRIES presses that
-#: did not seat (one miss can be the encoders' rounding: a seated press of the line
-#: example moved 3 mm stopped 0.22 mm off, over the 0.2 mm tolerance; the retry starts
-#: half a step further on, other stops, other roundings).
+#: settings.min_touches + FLAT_SPARE rounds; a finger stops after FLAT_TRIES presses whose
+#: seat missed the tolerance (one miss can be the encoders' rounding: a seated press of the
+#: line example moved 3 mm stopped 0.22 mm off, over the 0.2 mm tolerance; the retry starts
+#: half a step further on, other stops, other roundings), or after one that found no seat.
 #: The rolling touches give way to flat presses once FLAT_AFTER_TOUCHES of them were
 #: tried and none was usable (every one on a corner, a pad end or across a face: the line
 #: example turned −5° spent 8 rolling touches, 54 s of robot time, before)
@@ -35,6 +37,12 @@ FLAT_RESTART_MM = 3.0
 FLAT_SPARE = 2
 FLAT_TRIES = 2
 FLAT_AFTER_TOUCHES = 4
+#: a flat press that has not found its seat after this much robot time (s) gives up: on
+#: the random blocks of bench_explore --finite 8 --anywhere --seed 11 (both jaws) every
+#: press that seated found its seat within 7.9 s (2.5–3.2 s from a known seat), and those
+#: that did not took 9–44 s each (one turned 70°, its approaches up to 1.5 s apart), a
+#: round lasting as long as its slowest press
+FLAT_MAX_S = 12.0
 
 
 def _felt_stop(out: Exploration, finger: str, psi: float) -> tuple[float, float] | None:
@@ -48,16 +56,46 @@ def _felt_stop(out: Exploration, finger: str, psi: float) -> tuple[float, float]
     return float(s.psi), float(s.line.d)
 
 
+def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> tuple[float, np.ndarray, np.ndarray] | None:
+    """(ψ, P, Q) of the seat the pad lines of ``finger``'s probes and rolling touches so far
+    already show, or None: sorted by ψ (about ``psi``, the pad's nominal normal) they are
+    support lines of what the pad reaches, and where three pass through one support and
+    three through another at least FACE_MIN_FRACTION of the pad apart
+    (hand_driver.flat_press.seat_split: a roll across a closing segment, or rolls that
+    pivoted about both corners of one face), the pad lies flat at the normal of the two.
+    The press starts there as a later press starts at its face: the walk to the seat from
+    the pad's nominal normal (up to 60°, 3° a step) is left out."""
+    samples = [s for t in (*out.probes, *out.touches) if t.touch.finger == finger for s in t.touch.samples]
+    samples.sort(key=lambda s: math.remainder(float(s.line.psi) - psi, 2 * math.pi))
+    lines = [s.line for s in samples]
+    found = seat_split(lines, length_mm) if len(lines) >= 6 else None
+    if found is None or np.linalg.norm(found[2] - found[1]) < FACE_MIN_FRACTION * length_mm:
+        return None
+    _, p, q = found
+    normal = face_normal(p, q, lines[0].normal)
+    return math.atan2(normal[1], normal[0]), p, q
+
+
 def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, touch_index: int, emit,
-               spent: dict[str, float], felt: tuple[float, float] | None = None):
+               spent: dict[str, float], felt: tuple[float, float] | None = None, seated: set[str] | None = None,
+               seat: tuple[float, np.ndarray, np.ndarray] | None = None, side: int = 1):
     """One flat press of ``finger``: the first at the pad's nominal normal (after a transit)
     from the workspace edge, or — ``felt``, an earlier stop (ψ, d) near that normal — at that
     ψ from FLAT_RESTART_MM outside that stop (1.4 s less of guarded approach on the line
-    example); a later one close to the ``face`` it seated on (module constants); after
-    ``misses`` presses that did not seat, from the edge, half a step further on each.
-    Returns the FlatResult (or a TouchResult if the transit could not go on)."""
+    example) — or ``seat``, one the rolls already show (:func:`_felt_seat`), as a later press
+    starts at its face; a later one close to the ``face`` it seated on (module constants),
+    on the ``side`` of it (+1: below its normal, turning up; −1: above) the finger's first
+    seated press came from (the other side may lie beyond a joint limit); after
+    ``misses`` presses that did not seat, from the edge, half a step further on each. While
+    it seeks its seat it gives up once another finger's press of the same round is added to
+    ``seated`` (pressed at its seat): one face's touches make the answer, or after
+    ``FLAT_MAX_S`` of robot time without a seat. Returns the
+    FlatResult (or a TouchResult if the transit could not go on)."""
     step = math.radians(FLAT_STEP_DEG)
     f = jaw.config.finger(finger)
+    if face is None and seat is not None and misses == 0:  # a seat the rolls showed (_felt_seat): as a later press
+        start = seat[0] - FLAT_RESTART_STEPS * step
+        felt = (start, min(float(kin.unit(start) @ seat[1]), float(kin.unit(start) @ seat[2])))  # where it stops there
     if face is None:
         start = felt[0] if felt is not None and misses == 0 else nominal_psi(f) + 0.5 * misses * step
         problem = yield from transit_or_problem(jaw, finger, model, start, spent)
@@ -73,12 +111,26 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
             travel = felt[1] + FLAT_RESTART_MM - d_start
     else:
         spent[finger] = 0.0
-        start = face.psi - (FLAT_RESTART_STEPS + 0.5 * misses) * step
+        start = face.psi - side * (FLAT_RESTART_STEPS + 0.5 * misses) * step
         n = kin.unit(start)
         d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
         travel = 2.0 * FLAT_RESTART_MM
-    return (yield from flat_press(jaw, finger, touch_index, start, 1, d_start, travel, toward=model.workspace_center,
-                                  on_event=emit))
+    seated = set() if seated is None else seated
+    t0 = jaw.robot_time()
+
+    def give_up() -> str | None:
+        others = sorted(seated - {finger})
+        if others:
+            return f"the {others[0]} pad seated on a face"
+        if jaw.robot_time() - t0 > FLAT_MAX_S:
+            return f"no seat found within {FLAT_MAX_S:g} s"
+        return None
+
+    result = yield from flat_press(jaw, finger, touch_index, start, side if face is not None else 1, d_start, travel,
+                                   toward=model.workspace_center, on_event=emit, give_up=give_up)
+    if result.outcome == "ok":
+        seated.add(finger)
+    return result
 
 
 def _curve_felt(cfg, out: Exploration, emit, say) -> bool:
@@ -106,15 +158,21 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
     cfg = jaw.config
     faces = {f.name: None for f in cfg.fingers}
     misses = {f.name: 0 for f in cfg.fingers}
+    sides = {f.name: 1 for f in cfg.fingers}  # the side of its face a finger's first seated press came from
     active = [f.name for f in cfg.fingers]
     flat: list[FeltTouch] = []
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
     for _ in range(settings.min_touches + FLAT_SPARE):
+        if any(faces.values()):  # one face's touches make the answer: a finger without one stops
+            active = [name for name in active if faces[name] is not None]
         if not active or _curve_felt(cfg, out, emit, say):
             break
         spent: dict[str, float] = {}
+        seated: set[str] = set()
         plans = {name: _flat_plan(jaw, name, model, faces[name], misses[name], index + k, emit, spent,
-                                  _felt_stop(out, name, nominal_psi(cfg.finger(name))))
+                                  _felt_stop(out, name, nominal_psi(cfg.finger(name))), seated,
+                                  _felt_seat(out, name, cfg.finger(name).pad.length_mm, nominal_psi(cfg.finger(name))),
+                                  sides[name])
                  for k, name in enumerate(active)}
         index += len(plans)
         out.rounds += 1
@@ -123,6 +181,8 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
             felt = feel(cfg, results[name], settings.samples_per_touch)
             out.touches.append(felt)
             if felt.problem is None:
+                if faces[name] is None:
+                    sides[name] = 1 if math.remainder(felt.face.psi - felt.touch.psi_center, 2 * math.pi) >= 0 else -1
                 faces[name] = felt.face
                 flat.append(felt)
                 emit({"type": "event", "kind": "touch_used", "message": f"{name}: flat press {felt.touch.touch} seated",
@@ -130,7 +190,14 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
                 say(f"flat press ({name}): seated on a face at psi {math.degrees(felt.face.psi):.2f} deg over "
                     f"{felt.face.length:.1f} mm")
             else:
-                misses[name] += 1
+                # retried: a press whose seat missed the tolerance (the encoders' rounding), a
+                # later press on a face found (half a step further on), one stopped for another
+                # finger's seat (should that seat not be a face); not: a first press that
+                # found no seat (turned its range, ran out of time, met nothing)
+                outcome = felt.touch.outcome
+                for_other = outcome == "stopped" and bool(seated - {name})
+                retry = outcome in ("ok", "rejected") or faces[name] is not None
+                misses[name] += 0 if for_other else 1 if retry else FLAT_TRIES
                 if misses[name] >= FLAT_TRIES:
                     active.remove(name)
                 if felt.touch.outcome == "ok":

@@ -166,6 +166,32 @@ def _stop(world: ContactWorld, finger, psi: float) -> kin.PadLine | None:
     return kin.finger_pad_line(finger, kin.ik_line(finger, psi, lo))
 
 
+def _walk(world: ContactWorld, finger, psi0: float):
+    """The press's decisions (next_step, seat_split) on exact stops from ψ0, as flat_press
+    takes them: a turn the joints cannot make blocks that side from there on (part steps
+    short of it stay allowed). Returns (seat_split's answer or None, the lines by step)."""
+    step = math.radians(FLAT_STEP_DEG)
+    most = round(FLAT_MAX_TURN_DEG / FLAT_STEP_DEG)
+    lines = {0.0: _stop(world, finger, psi0)}
+    blocked: dict[int, float] = {}
+    for _ in range(4 * most):
+        ks = sorted(lines)
+        found = seat_split([lines[k] for k in ks], finger.pad.length_mm)
+        if found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * finger.pad.length_mm:
+            return found, lines
+        k = next_step(ks, [lines[k] for k in ks], finger.pad.length_mm, 1,
+                      lambda k: abs(k) <= most and abs(k) < blocked.get(int(np.sign(k)), math.inf) and k not in lines,
+                      toward=np.array(CONFIG.workspace.center_mm))
+        if k is None:
+            return None, lines
+        line = _stop(world, finger, psi0 + k * step)
+        if line is None:
+            blocked[int(np.sign(k))] = min(abs(k), blocked.get(int(np.sign(k)), math.inf))
+        else:
+            lines[k] = line
+    return None, lines
+
+
 @pytest.mark.parametrize("turn_deg", [-25.0, -12.0, 0.0, 7.0, 25.0])
 def test_the_press_walks_to_the_seat_on_exact_stops(turn_deg):
     """The press's decisions (next_step, seat_split) on the exact first contacts of the left
@@ -180,23 +206,7 @@ def test_the_press_walks_to_the_seat_on_exact_stops(turn_deg):
     step = math.radians(FLAT_STEP_DEG)
     psi0 = -math.pi / 2
     truth = psi0 + math.radians(turn_deg)
-    most = round(FLAT_MAX_TURN_DEG / FLAT_STEP_DEG)
-    lines = {0: _stop(world, finger, psi0)}
-    blocked = set()
-    found = None
-    for _ in range(2 * most):
-        ks = sorted(lines)
-        found = seat_split([lines[k] for k in ks], finger.pad.length_mm)
-        if found is not None:
-            break
-        k = next_step(ks, [lines[k] for k in ks], finger.pad.length_mm, 1,
-                      lambda k: abs(k) <= most and np.sign(k) not in blocked,
-                      toward=np.array(CONFIG.workspace.center_mm))
-        line = _stop(world, finger, psi0 + k * step)
-        if line is None:
-            blocked.add(np.sign(k))
-        else:
-            lines[k] = line
+    found, lines = _walk(world, finger, psi0)
     assert found is not None
     ks = sorted(lines)
     # it walked toward the seat: no line more than 3 steps past it on the far side
@@ -208,6 +218,28 @@ def test_the_press_walks_to_the_seat_on_exact_stops(turn_deg):
     for s in (p, q):
         assert float(top @ (s - np.array([105.0, 10.0]))) == pytest.approx(0.0, abs=SEAT_TOL_MM)
     assert np.linalg.norm(q - p) >= FACE_MIN_FRACTION * finger.pad.length_mm
+
+
+def test_a_seat_near_the_joint_limit_gets_its_lines_from_part_steps():
+    """Block 1 of ``bench_explore --finite 8 --anywhere --seed 11``: 32.5 mm across, turned
+    31.6°. The left pad seats at ψ = −58.4°; its joints stop short of −53.25°, so whole
+    steps from −90° leave only two lines through the second support (−57°, −54°) and the
+    press was refused. Part steps and the halved outermost gap give the third: the face
+    within 5 mrad, both supports its corners."""
+    theta, half = 0.5521785183644461, 16.230031381541355
+    block = load_scene({"name": "block near the limit", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": theta, "x": 105.2942787094161, "y": 6.841637377345908},
+        "extent": [-half, half], "closure": [[half, -0.8 * half], [-half, -0.8 * half]]}}).object
+    finger = CONFIG.finger("left")
+    found, lines = _walk(ContactWorld(CONFIG, block), finger, -math.pi / 2)
+    assert any(k != round(k) for k in lines)  # it took part steps
+    assert found is not None
+    _, p, q = found
+    n = face_normal(p, q, lines[max(lines)].normal)
+    assert math.atan2(n[1], n[0]) == pytest.approx(theta - math.pi / 2, abs=5e-3)
+    corners = [np.array(block.pose.apply(t, 0.0)) for t in (-half, half)]
+    for s in (p, q):
+        assert min(np.linalg.norm(s - c) for c in corners) < SEAT_TOL_MM
 
 
 @pytest.mark.parametrize("u", [0.0, 10.0, 30.0, 52.0])
@@ -244,3 +276,39 @@ def test_flat_press_seats_on_a_face_turned_25_degrees():
     top = np.array([-math.sin(math.radians(25.0)), math.cos(math.radians(25.0))])
     assert float(top @ (felt.face.middle - np.array([105.0, 10.0]))) == pytest.approx(0.0, abs=0.2)
     assert robot_s < 10.0
+
+
+def test_a_press_gives_up_when_told_before_turning():
+    """``give_up`` is asked before each turn while no seat is found: a reason ends the press
+    ``stopped`` after its first approach (another pad seated in the same round)."""
+    psi0 = -math.pi / 2 - math.radians(10.0)
+    with emulated_jaw(scene=LINE) as (sim, jaw):
+        run_together(jaw, {"left": move_line(jaw, "left", psi0, _edge(psi0))})
+        result = run_together(jaw, {"left": flat_press(jaw, "left", 0, psi0, 1, _edge(psi0), 45.0,
+                                                       give_up=lambda: "the right pad seated on a face")})["left"]
+    assert result.outcome == "stopped" and result.roles == ["scan"]
+    assert "the right pad seated" in result.message
+    assert feel(CONFIG, result, 9).problem is not None
+
+
+def test_the_rolls_lines_give_the_seat_to_start_from():
+    """tactile_jaw.flat_phase._felt_seat: exact stops of the left pad where rolls 9° either
+    side of a face turned 12° would take them (lines through its two corners) give the
+    face's normal within 5 mrad; lines through one corner only give none."""
+    from types import SimpleNamespace
+
+    from tactile_jaw.flat_phase import _felt_seat
+
+    finger = CONFIG.finger("left")
+    world = ContactWorld(CONFIG, _block_turned(12.0).object)
+    truth = -math.pi / 2 + math.radians(12.0)
+
+    def rolls(*centres):
+        touches = [SimpleNamespace(touch=SimpleNamespace(finger="left", samples=[
+            SimpleNamespace(line=_stop(world, finger, c + math.radians(a))) for a in np.linspace(-9, 9, 9)]))
+            for c in centres]
+        return SimpleNamespace(probes=[], touches=touches)
+
+    seat = _felt_seat(rolls(truth), "left", finger.pad.length_mm, -math.pi / 2)
+    assert seat is not None and seat[0] == pytest.approx(truth, abs=5e-3)
+    assert _felt_seat(rolls(truth - math.radians(20.0)), "left", finger.pad.length_mm, -math.pi / 2) is None
