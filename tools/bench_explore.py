@@ -13,7 +13,8 @@ each isotropic position deviation POS (φ as the jaw's ``phi_sigma``), and print
 tail probability (χ²/dof), to calibrate the stated noise (docs/exploration.md). With
 ``--follow``, every refused object whose refusal names a move (the log's ``stopped_early`` or
 ``budget_spent`` event, tactile_jaw.choose.move_advice) is moved so (:func:`moved_object`) and explored once
-more, as a person following the advice would. ``--config C`` builds the emulated jaw from C
+more, as a person following the advice would, and the last table counts those answered right
+then in a column of their own (right after the advised move). ``--config C`` builds the emulated jaw from C
 and explores with it (config/jaw-p.yaml: the P-series jaw); ``--anywhere`` draws each finite
 object anywhere in the workspace where its curved part faces a finger
 (tools.random_objects.random_object) instead of near its example's place. ``--truth-config T``
@@ -336,13 +337,13 @@ def main(argv: list[str] | None = None) -> int:
         print(row, flush=True)
     print(f"right class on {right} of {len(scenes)} scenes; scenes and logs in {work}")
     print_class_summary(scenes, results)
-    print_tell_table(scenes, results, explore_config)
+    followed = (follow_advice(scenes, results, args.profile, args.jobs, explore_config, args.truth_config)
+                if args.follow else None)
+    print_tell_table(scenes, results, explore_config, followed)
     if args.truth_config:
         print_sigma_table(scenes, results)
     if args.kappa:
         print_kappa_table([(path.with_suffix(".log"), obj) for path, obj in scenes])
-    if args.follow:
-        follow_advice(scenes, results, args.profile, args.jobs, explore_config, args.truth_config)
     return 0
 
 
@@ -410,11 +411,14 @@ def print_sigma_table(scenes, results) -> None:
 
 
 def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAULT_CONFIG,
-                  truth: str | None = None) -> None:
+                  truth: str | None = None) -> list[str | None]:
     """Every refused scene whose refusal names a move, moved so and explored once more;
-    per class: refusals, those naming a move, and the second runs' right / refused / wrong."""
-    again = []
-    for (path, obj), res in zip(scenes, results):
+    per class: refusals, those naming a move, and the second runs' right / refused / wrong.
+    Returns, per scene, the second run's verdict (:func:`verdict`; 'refused' also when the
+    moved object could not be explored, such as one the move put across the opened jaw), or
+    None where no move was named."""
+    again, index = [], []
+    for k, ((path, obj), res) in enumerate(zip(scenes, results)):
         rec = res.get("recognition")
         move = logged_move(path.with_suffix(".log")) if rec is not None and rec["class"] == "unclassified" else None
         if move is not None:
@@ -423,6 +427,7 @@ def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAUL
             mapping["object"] = moved_object(mapping["object"], move)
             moved.write_text(yaml.safe_dump(mapping))
             again.append((moved, obj, move))
+            index.append(k)
     with ThreadPoolExecutor(jobs) as pool:
         second = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), profile, config, truth), again))
     print("\n| object moved as advised | move | answer | right | parameter error | robot time |")
@@ -443,6 +448,10 @@ def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAUL
         if refused:
             print(f"| {cls} | {refused} | {len(said)} | {said.count('yes')} | {said.count('refused')} | "
                   f"{said.count('**WRONG**')} |", flush=True)
+    out: list[str | None] = [None] * len(scenes)
+    for k, (_, obj, _), res in zip(index, again, second):
+        out[k] = verdict(obj, res.get("recognition"))
+    return out
 
 
 def print_class_summary(scenes, results) -> None:
@@ -469,29 +478,41 @@ def print_class_summary(scenes, results) -> None:
               + f" {np.median(used):g}/{np.median(tried):g} |", flush=True)
 
 
-def print_tell_table(scenes, results, config: str) -> None:
+def print_tell_table(scenes, results, config: str, followed: list[str | None] | None = None) -> None:
     """What the jaw ``config`` can tell, per class: right / refused / wrong, the median worst
     relative parameter error of the right answers, the median robot time, each refusal's
     kind (tactile_jaw.decide.refusal_kind: out of reach, needs finer angles, needs another
-    move) and the median robot time per phase (``PHASES``)."""
+    move) and the median robot time per phase (``PHASES``). With ``followed`` (the second
+    runs' verdicts, :func:`follow_advice`), right / right after the advised move / refused /
+    wrong, each object counted once: a refusal whose advised move was answered right counts
+    in the second column, a wrong answer after the move as wrong; the error and time
+    columns are the first runs'."""
     from tactile_jaw.decide import REFUSAL_KINDS, refusal_kind
 
+    head = "right / refused / wrong" if followed is None else "right / right after the advised move / refused / wrong"
     print(f"\nWhat the jaw {config} can tell (robot time per phase: medians, s)")
-    print("| class | objects | right / refused / wrong | median error | robot time median | "
+    print(f"| class | objects | {head} | median error | robot time median | "
           + " | ".join(f"refused: {k}" for k in REFUSAL_KINDS) + " | " + " | ".join(PHASE_HEADS) + " |")
     print("|---" * (5 + len(REFUSAL_KINDS) + len(PHASES)) + "|")
     for cls in CLASSES:
-        rows = [(obj, res) for (_, obj), res in zip(scenes, results) if obj["class"] == cls]
+        picked = [k for k, (_, obj) in enumerate(scenes) if obj["class"] == cls]
+        rows = [(scenes[k][1], results[k]) for k in picked]
         if not rows:
             continue
         said = [verdict(obj, res.get("recognition")) for obj, res in rows]
+        counts = f"{said.count('yes')} / {said.count('refused')} / {said.count('**WRONG**')}"
+        if followed is not None:
+            second = [followed[k] if v == "refused" else None for k, v in zip(picked, said)]
+            after, wrong_after = second.count("yes"), second.count("**WRONG**")
+            counts = (f"{said.count('yes')} / {after} / {said.count('refused') - after - wrong_after} / "
+                      f"{said.count('**WRONG**') + wrong_after}")
         errs = [max((abs(res["recognition"]["params"][k] - v) / abs(v) for k, v in obj["params"].items()), default=0.0)
                 for (obj, res), v in zip(rows, said) if v == "yes"]
         kinds = [refusal_kind((res.get("recognition") or {}).get("reason") or res["stderr"][0], res.get("move"))
                  for (obj, res), v in zip(rows, said) if v == "refused"]
         robot = [res["robot_s"] for _, res in rows if res.get("robot_s") is not None]
         phases = [float(np.median([(res.get("time_s") or {}).get(p, 0.0) for _, res in rows])) for p in PHASES]
-        print(f"| {cls} | {len(rows)} | {said.count('yes')} / {said.count('refused')} / {said.count('**WRONG**')} | "
+        print(f"| {cls} | {len(rows)} | {counts} | "
               + (f"{100 * float(np.median(errs)):.2f} % | " if errs else "— | ")
               + (f"{np.median(robot):.1f} s | " if robot else "— | ")
               + " | ".join(str(kinds.count(k)) for k in REFUSAL_KINDS) + " | "
