@@ -115,9 +115,14 @@ def test_far_arm_hyperbola_not_left_at_its_line_limit():
     """Seed 9 hyperbola trial 11 (far on an arm, 690 mm, t 3.7–5.6): answered line (χ² 59.6)
     with the hyperbola's own fits at the line limit (59.5), the truth refined from itself
     at 42.4 (BIC 183.0 against the line's 187.1): a hyperbola that fits no better than its
-    limit also gets its asymptote starts."""
+    limit also gets its asymptote starts. These noisy touches are data-limited: since the
+    cubical's start near its inflection (starts.inflection_start) a cubical fits them better
+    still (χ² 39.3, BIC 179.9) and is the answer; what this checks is that the hyperbola's
+    search reaches the truth's fit and the answer is no longer the line."""
     region, shape, ts, _, rs = B.draw_case("hyperbola", 11, 9, "wide")
     touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
     rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
     assert region == "far on an arm"
-    assert rec.cls == "hyperbola" and rec.ranking[0].chi2 == pytest.approx(42.4, abs=0.2)
+    hyperbola = next(r for r in rec.ranking if r.cls == "hyperbola")
+    assert hyperbola.consistent and hyperbola.chi2 == pytest.approx(42.4, abs=0.2)
+    assert rec.cls != "line" and hyperbola.bic < next(r.bic for r in rec.ranking if r.cls == "line")
