@@ -35,8 +35,9 @@ def test_finite_parabola_on_the_x_series_jaw_is_never_a_wrong_class(tactile_in_p
     inseparable: on main 7f1d504 the expected gap is 12.7, on the recognizer before it 0.3):
     the parabola within 2 %, or a refusal naming a finer jaw, never another class."""
     rc, out, err = tactile_in_process(["demo", "--scene", "config/scenes/parabola.yaml", "--json"])
-    assert "Traceback" not in err and rc == 0
+    assert "Traceback" not in err and rc in (0, 3)
     answer = json.loads(out)
+    assert (rc == 0) == (answer["class"] != "unclassified")
     if answer["class"] == "parabola":
         assert abs(answer["params"]["a"] / 8.0 - 1.0) < 0.02
     else:
