@@ -16,9 +16,9 @@ import pytest
 
 from hand_driver import kinematics as kin
 from hand_driver.config import load_config
-from hand_driver.motion import Sample, TouchResult
 from tactile_jaw.envelope import joint_noise
 from tactile_jaw.pipeline import LOAD_KNOWN_ARM_MM, feel, touch_loads
+from tests.tactile_jaw.test_envelope_order import touch as read_at  # the same jaw's geometry and ticks: a touch read at joint angles
 
 BAND_DEG = 0.1
 ZERO_SIGMA_DEG = 0.0004
@@ -69,14 +69,6 @@ def read_through_gears(q_link):
     assert np.all(s == s[0]), "the true load must keep its direction over the roll"
     return read_at(q_link + kin.load_offsets(LEFT, s)), s[0]
 
-
-def read_at(q_enc) -> TouchResult:
-    """The left finger's touch whose encoders read the joint angles ``q_enc``, each rounded to a tick."""
-    ticks = np.rint(kin.angles_to_ticks(LEFT.joints, q_enc))
-    samples = [Sample(reading=i, psi=float(kin.finger_pad_line(LEFT, qi).psi), ticks=ti,
-                      line=kin.finger_pad_line(LEFT, qi), current_ma=None, robot_time=0.0)
-               for i, (qi, ti) in enumerate(zip(kin.ticks_to_angles(LEFT.joints, ticks), ticks))]
-    return TouchResult("left", 0, float(np.mean([x.psi for x in samples])), samples, outcome="ok")
 
 
 _CENTRE = {}
