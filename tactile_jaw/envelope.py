@@ -23,11 +23,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
+from scipy import linalg, stats
 
 from hand_driver import kinematics as kin
 from hand_driver.units import rad_per_tick
 from tactile_common.angles import wrap_angle
+from tactile_common.errors import InputError
 
 #: central-difference step (rad) of the joint-angle Jacobians
 STEP_RAD = 1e-7
@@ -116,7 +117,10 @@ def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None,
 
     def fit_of(k):
         if k not in fits:
-            fits[k] = _propagate(finger, q, first.origin, k, noise)
+            contacts, factor = fits[k] = _propagate(finger, q, first.origin, k, noise)
+            if not (np.all(np.isfinite(factor)) and np.all(np.isfinite(contacts.x)) and np.all(np.isfinite(contacts.y))):
+                raise InputError(f"these {q.shape[0]} readings determine no envelope of degree {k} "
+                                 f"(their pad lines are degenerate)")
         return fits[k]
 
     base, factor = choose_degree(fit_of, weighed)
@@ -176,7 +180,12 @@ def truncation(fit, richer) -> tuple[float, int]:
     factors: both fits see the same readings), and its rank. Each fit is (contacts,
     factor) of :func:`_propagate`."""
     diff, dfac = _difference(fit, richer)
-    u, sv, vt = np.linalg.svd(dfac, full_matrices=False)
+    try:
+        u, sv, vt = np.linalg.svd(dfac, full_matrices=False)
+    except np.linalg.LinAlgError:  # LAPACK's divide and conquer (gesdd) can fail to converge on
+        # a finite, nearly rank-deficient difference (a flat press's scan, P-series seed-61 block 3);
+        # the QR iteration (gesvd) is slower and does not
+        u, sv, vt = linalg.svd(dfac, full_matrices=False, lapack_driver="gesvd")
     keep = sv > 1e-9 * max(float(sv[0]), 1e-300)
     z = (u[:, keep].T @ diff) / sv[keep]
     return float(z @ z), int(np.count_nonzero(keep))

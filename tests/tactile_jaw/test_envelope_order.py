@@ -5,6 +5,7 @@ objects (closed-form tangent points), every joint rounded to a tick at several r
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -170,3 +171,21 @@ def test_a_contact_loads_each_joint_one_way():
         signs = np.array(signs)
         assert len(signs) >= 15 and np.all(signs == signs[0]), signs
         assert signs[0][1] == -finger.pad.side_sign or signs[0][1] == finger.pad.side_sign
+
+
+def test_truncation_survives_an_svd_that_divide_and_conquer_cannot_finish(monkeypatch):
+    """A flat press's scan on a random P-series block (bench_explore --finite 10 --seed 61, block 3)
+    gave a finite 34 × 34 difference factor on which NumPy's gesdd raised "SVD did not converge"
+    (a traceback out of `tactile demo`); truncation falls back to gesvd and gives its χ², rank."""
+    from scipy import linalg
+
+    from tactile_jaw import envelope
+
+    dfac = np.load(Path(__file__).parent / "data" / "scan_difference_gesdd.npy")
+    diff = np.linspace(-1.0, 1.0, dfac.shape[0]) * 1e-3
+    monkeypatch.setattr(envelope, "_difference", lambda fit, richer: (diff, dfac))
+    chi2, rank = envelope.truncation(None, None)
+    u, sv, _ = linalg.svd(dfac, full_matrices=False, lapack_driver="gesvd")
+    keep = sv > 1e-9 * sv[0]
+    z = (u[:, keep].T @ diff) / sv[keep]
+    assert rank == np.count_nonzero(keep) and chi2 == pytest.approx(float(z @ z), rel=1e-6)
