@@ -212,6 +212,18 @@ def _judge_log(rc: int, out: str, err: str, base: tuple[dict, bytes], touches: P
     return "unverified, said" if unverified else "silent change"
 
 
+def _count(outcomes: Counter, by_kind: dict, outcome: str, kind: str, keep: Path, raw: bytes, progress,
+           said: str) -> None:
+    """Counts one damaged file's ``outcome`` overall and under its damage ``kind``; a file that
+    showed a fault of ours (a silent change, a crash, a refusal without its line) is kept at
+    ``keep`` and ``said`` with its path."""
+    outcomes[outcome] += 1
+    by_kind[kind][outcome] += 1
+    if outcome in ("silent change", "crash", "refused without a line"):
+        keep.write_bytes(raw)
+        progress(f"{said} [{keep}]")
+
+
 def bench_logs(n: int, rng: random.Random, work: Path, progress) -> tuple[Counter, dict, Counter]:
     from hand_driver.log import read_log
 
@@ -234,13 +246,9 @@ def bench_logs(n: int, rng: random.Random, work: Path, progress) -> tuple[Counte
         touches.unlink(missing_ok=True)
         rc, out, err = _tactile(["replay", str(damaged), "--json", "--touches", str(touches), "--force"])
         outcome = _judge_log(rc, out, err, base, touches)
-        outcomes[outcome] += 1
-        by_kind[kind][outcome] += 1
         versions[(version, outcome)] += 1
-        if outcome in ("silent change", "crash", "refused without a line"):
-            keep = work / f"kept-{i}.jsonl"
-            keep.write_bytes(raw)
-            progress(f"log {i}: {outcome} ({kind}, version {version}): {err.strip()[:200]} [{keep}]")
+        _count(outcomes, by_kind, outcome, kind, work / f"kept-{i}.jsonl", raw, progress,
+               f"log {i}: {outcome} ({kind}, version {version}): {err.strip()[:200]}")
         if (i + 1) % 100 == 0:
             progress(f"{i + 1}/{n} logs, {time.perf_counter() - t0:.0f} s")
     return outcomes, by_kind, versions
@@ -388,13 +396,9 @@ def bench_yaml(n: int, rng: random.Random, work: Path, progress) -> tuple[Counte
             outcome = "same" if got == base else "valid edit" if msg else "silent change"
             if msg:
                 edits[msg] += 1
-        outcomes[outcome] += 1
-        by_kind[kind][outcome] += 1
         by_file[(what, outcome)] += 1
-        if outcome in ("silent change", "crash", "refused without a line"):
-            keep = work / f"kept-{i}.yaml"
-            keep.write_bytes(text)
-            progress(f"yaml {i}: {outcome} ({kind}, {what}): {(msg or '')[:200]} [{keep}]")
+        _count(outcomes, by_kind, outcome, kind, work / f"kept-{i}.yaml", text, progress,
+               f"yaml {i}: {outcome} ({kind}, {what}): {(msg or '')[:200]}")
     return outcomes, by_kind, by_file, edits
 
 
