@@ -45,6 +45,9 @@ from hand_driver.cycle import Jaw, Motion
 #: the turn about the last contact estimate opens a gap of only ~R·Δψ²/2 (< 0.1 mm for
 #: R = 50 mm, Δψ = 2°), so 1 mm clears it with margin and keeps re-approaches short
 ROLL_CLEARANCE_MM = 1.0
+#: ... and keeps at least this far (mm) from the last contact whichever joint arrives first
+#: (:func:`uncoordinated_overshoot`)
+CORNER_CLEARANCE_MM = 0.5
 #: a contact this close (mm) to either end of the pad is a pad end resting on the
 #: object, not a tangent contact of the pad's face
 EDGE_MARGIN_MM = 1.0
@@ -248,6 +251,7 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
             psi = float(angles[k + 1])
             unsure = 0.5 * length if u is None else 0.0
             clearance = ROLL_CLEARANCE_MM + unsure * abs(psi - result.samples[-1].psi)
+            clearance += uncoordinated_overshoot(jaw, finger, psi, float(kin.unit(psi) @ pivot) - clearance, pivot)
             planned = float(kin.unit(psi) @ pivot) - clearance
             d_from = yield from turn_to(jaw, finger, psi, planned)
             reach = 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + (planned - d_from)
@@ -259,6 +263,36 @@ def rolling_touch(jaw: Jaw, finger: str, touch: int, psi_center: float, span_rad
     emit({"type": "touch_end", "touch": touch, "finger": finger, "reading": jaw.log_index(),
           "samples": len(result.samples), "outcome": result.outcome})
     return result
+
+
+def uncoordinated_overshoot(jaw: Jaw, finger: str, psi: float, d: float, pivot: np.ndarray) -> float:
+    """How much farther (mm) than the line (ψ, d) the pad must back off so that it keeps
+    ``CORNER_CLEARANCE_MM`` from the object's last contact ``pivot`` on the way there. Each
+    servo runs its own trapezoidal profile, every joint with the same acceleration and speed
+    limits, so on a short move they turn alike until the one with the shorter way arrives:
+    between two samples of a roll on the P-series jaw the base joint's −0.9° ended before the
+    distal joint's +3.1° and pressed the pad into the object; the move stalled, backed off
+    ``backoff_mm`` and turned again (30 of 38 turns of one finger, 0.46 s a sample instead
+    of 0.20 s). The pad is checked where each joint arrives; 0 when none comes nearer the
+    contact than that."""
+    f = jaw.config.finger(finger)
+    q0 = jaw.finger_q(jaw.last_state, finger)
+    extra = 0.0
+    for _ in range(3):  # the goal moves out with the clearance; the kinks' reach settles in a step or two
+        try:
+            q1 = jaw.solve(finger, psi, d - extra, q0)
+        except kin.Unreachable:
+            return extra
+        dq = q1 - q0
+        worst = -math.inf
+        for s in np.sort(np.abs(dq))[:-1]:  # where each joint but the last arrives
+            line = kin.finger_pad_line(f, q0 + np.sign(dq) * np.minimum(np.abs(dq), s))
+            worst = max(worst, float(line.d) - float(line.normal @ pivot))
+        need = worst + CORNER_CLEARANCE_MM  # that pad line's clearance short of CORNER_CLEARANCE_MM
+        if need <= 1e-3:
+            return extra
+        extra += need
+    return extra
 
 
 def contact_on_pad(samples: list[Sample]) -> tuple[np.ndarray, float | None]:
