@@ -515,8 +515,8 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
     chosen = choose(consistent)
     also = also_fits(chosen, consistent)
     if not options.refine and chosen.cls in EVERY_START:  # (refined: its fits come from every start)
-        chosen, valleys = _every_valley(chosen, d, options.alpha)
-        fits = fits + valleys
+        first, (chosen, valleys) = chosen, _every_valley(chosen, d, options.alpha)
+        fits, cands = fits + valleys, [chosen if c is first else c for c in cands]  # next_touch's leader is in cands
         ranked = sorted((Ranked(c.cls, c.consistent, c.chi2, c.dof, c.bic, c.p_value) if r.cls == c.cls else r
                          for r, c in ((r, chosen) for r in ranked)), key=lambda r: (not r.consistent, r.bic))
     # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys

@@ -50,3 +50,25 @@ def test_contact_answer_sits_in_the_lowest_valley_of_its_class():
     row = next(r for r in rec.ranking if r.cls == "cubical_parabola")
     assert rec.cls == "cubical_parabola" and row.chi2 == pytest.approx(lowest, rel=1e-6), (row.chi2, lowest)
     assert rec.ranking[0].cls == "cubical_parabola"
+
+
+def test_fast_profile_answer_in_a_lower_valley_still_suggests_a_touch():
+    # fast profile (no refinement), bench_wide seed 21 cubical trial 4 (across its inflection):
+    # the lower valley's fit replaces the chosen one, and next_touch finds it among the candidates
+    from recognizer.profiles import PROFILES
+    from recognizer.touches import NoiseModel, SamplesTouch
+    from tools import bench_wide as bw
+
+    _, shape, ts, _, rs = bw.draw_case("cubical_parabola", 4, 21, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    nm = NoiseModel(noise.phi, noise.pos)
+    req = Request(tuple(SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, CLASSES, nm)
+    opts = RecognizeOptions(noise=nm, **PROFILES["fast"].options())
+    rec = recognize(req, opts)
+    assert rec.cls == "cubical_parabola" and rec.next_touch is not None
+    unit = Unit.of(req)
+    d = contacts_of(unit.request(req), unit.options(opts), unit.noise(nm))
+    lowest = min(f.chi2 for f in fit_class_every_start("cubical_parabola", d))
+    row = next(r for r in rec.ranking if r.cls == "cubical_parabola")
+    assert row.chi2 == pytest.approx(lowest, rel=1e-9)
