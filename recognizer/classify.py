@@ -513,12 +513,13 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
                            {}, reason, ranked, timing, nxt, untested=untested)
     chosen = choose(consistent)
-    also = also_fits(chosen, consistent)
     if not options.refine and chosen.cls in EVERY_START:  # (refined: its fits come from every start)
         first, (chosen, valleys) = chosen, _every_valley(chosen, d, options.alpha)
         fits, cands = fits + valleys, [chosen if c is first else c for c in cands]  # next_touch's leader is in cands
+        c = chosen
         ranked = sorted((Ranked(c.cls, c.consistent, c.chi2, c.dof, c.bic, c.p_value) if r.cls == c.cls else r
-                         for r, c in ((r, chosen) for r in ranked)), key=lambda r: (not r.consistent, r.bic))
+                         for r in ranked), key=lambda r: (not r.consistent, r.bic))
+    also = also_fits(chosen, consistent)
     # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys
     walked = profile_uncertainty(chosen) if isinstance(chosen, RefinedCandidate) else \
         profile_uncertainty(profiled(chosen, d), rel_check=CONTACT_REL_SIGMA_CHECK)
