@@ -513,6 +513,12 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
                            {}, reason, ranked, timing, nxt, untested=untested)
     chosen = choose(consistent)
+    if not options.refine and chosen.cls in EVERY_START:  # (refined: its fits come from every start)
+        first, (chosen, valleys) = chosen, _every_valley(chosen, d, options.alpha)
+        fits, cands = fits + valleys, [chosen if c is first else c for c in cands]  # next_touch's leader is in cands
+        c = chosen
+        ranked = sorted((Ranked(c.cls, c.consistent, c.chi2, c.dof, c.bic, c.p_value) if r.cls == c.cls else r
+                         for r in ranked), key=lambda r: (not r.consistent, r.bic))
     also = also_fits(chosen, consistent)
     # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys
     walked = profile_uncertainty(chosen) if isinstance(chosen, RefinedCandidate) else \
@@ -524,6 +530,22 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, dh, pairs),
                        dict(best.uncertainty), None, ranked, timing, nxt, untested=untested, also_fits=also)
+
+
+def _every_valley(chosen: Candidate, d: Contacts, alpha: float) -> tuple[Candidate, list[Candidate]]:
+    """The contact stage's answer of a class with several valleys (``EVERY_START``), fitted
+    from every start of its class (``fit_class_every_start``): (the fit of lowest χ² —
+    the chosen fit or a lower valley its two best-placed starts missed —, every fit). The
+    class is the one already chosen; its other valleys within ``CHI2_95`` widen the σ's
+    (intervals.rival_basins). Noisy contacts far on one side of a cubical: the two best
+    placed starts ended at χ² 13.7 where another start reaches 9.4; a semicubical across
+    both branches: |b| ≈ 7–15 answered 14–20 σ from the truth whose valley lies Δχ²
+    1.4–2.4 higher (tools.bench_sigma seed 1, development)."""
+    limit = chi2_limit(alpha, max(5 * d.n - (N_SHAPE[chosen.cls] + d.n), 1))  # as in _recognize
+    valleys = [_candidate(f, alpha) for f in
+               fit_class_every_start(chosen.cls, d, give_up=1e4 * limit, sigma_below=limit)]
+    lower = [v for v in valleys if v.consistent and v.chi2 < chosen.chi2 and v.uncertainty]
+    return (min(lower, key=lambda v: v.chi2) if lower else chosen), valleys
 
 
 def _roll(request: Request) -> float:
