@@ -68,7 +68,8 @@ MOVE_MARGIN_MM = 2.0
 class Aim:
     """A touch aimed at the boundary point (x, y) mm whose tangent there is ``phi`` (rad, in
     the touches' direction of travel), by ``finger``; ``why`` for people; ``kind`` 'vertex'
-    (:func:`vertex_aim`) or 'suggested' (the recognizer's ``next_touch``)."""
+    (:func:`vertex_aim`), 'suggested' (the recognizer's ``next_touch``) or 'curve' (where the
+    finger's last, unusable roll felt the curved part: tactile_jaw.pipeline.curve_hint)."""
 
     x: float
     y: float

@@ -12,7 +12,9 @@ runs on all of them; exploration stops as soon as its answer is decisive
 reach can help (tactile_jaw.choose). While it is not decisive, the next touch of the finger
 that can reach it goes where tactile_jaw.choose.next_aim points (beyond a parabola's vertex
 on its short side, else the recognizer's ``next_touch`` within the jaw's reach; the other
-finger's where the planner picks). When no rolling touch is usable clear of the corners,
+finger's where the planner picks, or, after a roll it could not use that still felt the
+curved part before running off it (tactile_jaw.pipeline.curve_hint), back at that stretch:
+such a roll does not count toward retiring the finger). When no rolling touch is usable clear of the corners,
 the pads press flat on the faces instead (tactile_jaw.flat_phase). Once it ends, the answer
 on the usable touches is the class if decisive, else ``unclassified`` with the reason.
 docs/exploration.md.
@@ -131,6 +133,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         return None if recognize_anywhere is None else (lambda: recognize_anywhere(touches).next_touch)
 
     aimed_at: list[tuple[float, float]] = []
+    hints: dict[str, Aim] = {}  # per finger: where its last unusable roll still felt the curved part
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
@@ -150,6 +153,12 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 say(f"{f.name}: next touch at ({aim.x:.1f}, {aim.y:.1f}) mm, pad normal "
                     f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, "
                     f"{aim.why}")
+            elif f.name in hints:
+                hint = hints.pop(f.name)
+                psi, point = hint.psi, hint.point
+                aimed_at.append(point)
+                say(f"{f.name}: next touch at ({hint.x:.1f}, {hint.y:.1f}) mm, pad normal "
+                    f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, {hint.why}")
             else:
                 psi = choose_psi(f, model, settings, used[f.name])
             if psi is None:
@@ -169,7 +178,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             felt = feel(cfg, results[name], settings.samples_per_touch)
             touch, problem = felt.touch, felt.problem
             out.touches.append(felt)
-            off_curve[name] = off_curve[name] + 1 if felt.off_curve else 0
+            off_curve[name] = off_curve[name] + 1 if felt.off_curve and felt.curve_at is None else 0
+            if felt.curve_at is not None and reach.finger(*felt.curve_at, [cfg.finger(name)]) is not None:
+                hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
+                                                        "off it", kind="curve")
             if off_curve[name] == OFF_CURVE_RETIRE:
                 message = (f"{name}: its last {OFF_CURVE_RETIRE} touches fell on corners or closing segments: "
                            f"no more touches with this finger")

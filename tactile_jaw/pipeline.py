@@ -80,6 +80,8 @@ class FeltTouch:
     off_curve: bool = False  # it fell on a corner or across a closing segment (off_curve_reason)
     face: Face | None = None  # a flat press's face (tactile_jaw.flat)
     corner: tuple[float, float] | None = None  # the point it pivoted about, when it fell on a corner
+    #: an unusable roll's stretch on the curved part (:func:`curve_hint`): (x, y, φ) of its middle
+    curve_at: tuple[float, float, float] | None = None
 
     @property
     def finger(self) -> str:
@@ -111,7 +113,8 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     contact); and, with ``curve_checks`` (rolling touches; not probes, whose short rolls
     cannot measure a radius of curvature), that it rolled on the curved part
     (:func:`off_curve_reason`); a roll that ran off it at an end is used on its longest
-    stretch that passes (``trim``, :func:`smooth_stretch`). A flat press is felt by
+    stretch that passes (``trim``, :func:`smooth_stretch`), else its shorter stretch on the
+    curve is noted (``curve_at``, :func:`curve_hint`). A flat press is felt by
     tactile_jaw.flat.feel_flat."""
     if isinstance(touch, FlatResult):
         lines, problem, contact, face = feel_flat(config, touch)
@@ -119,12 +122,13 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     finger = touch.finger
     lines = kin.PadLine.stack([s.line for s in touch.samples]) if touch.samples else None
 
-    def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False, corner=None):
+    def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False, corner=None, curve_at=None):
         samples_touch = None
         if problem is None and fit is not None:
             samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
                                          curvature=(fit.kappa, fit.kappa_s, fit.cov), noise_factor=fit.noise_factor)
-        return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve, corner=corner)
+        return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve, corner=corner,
+                         curve_at=curve_at)
 
     cut_short = touch.outcome in CUT_SHORT
     if touch.outcome != "ok" and not cut_short:
@@ -155,12 +159,14 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     if curve_checks:
         off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)), lines)
         if off_curve is not None:
+            hint = None
             if trim and rough(fit) and off_curve == rough(fit):
                 shorter = smooth_stretch(config, touch, samples)
                 if shorter is not None:
                     return shorter
+                hint = curve_hint(config, touch)
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
-                       corner=pivot_point(lines) if on_corner(fit) else None)
+                       corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint)
     if fit is not None and np.any(np.diff(c.s) <= 0.0):
         # the cubic's ρ(ψ) = −(d + d'') is linear in ψ and its slope is mostly noise over a
         # short roll (σ_ρ ≈ 4 mm over 18°): at the roll's ends it can dip below 0 on a
@@ -232,17 +238,51 @@ def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None
     50 times the lines' noise) and its curved part is kept."""
     order = np.argsort([s.psi for s in touch.samples], kind="stable")
     n = order.size
-    for drop in range(1, n - MIN_SAMPLES_PER_TOUCH + 1):
+    for head, tail, _ in _passing_runs(config, touch, MIN_SAMPLES_PER_TOUCH, margin=1):
+        lo, hi = head + (head > 0), n - tail - (tail > 0)
+        again = feel(config, _subset(touch, order[lo:hi]), hi - lo, trim=False)
+        return again if again.problem is None else None
+    return None
+
+
+#: the fewest readings whose envelope the smoothness test can still judge: the order rule's
+#: lowest degree (``MIN_DEGREE``, its MIN_DEGREE + 1 coefficients) and one degree of freedom
+#: left for the pad lines' χ² about it (tactile_jaw.envelope)
+CURVE_HINT_SAMPLES = MIN_DEGREE + 2
+
+
+def curve_hint(config, touch: TouchResult) -> tuple[float, float, float] | None:
+    """Where a roll that failed the smoothness test and could not be trimmed to a usable
+    touch (:func:`smooth_stretch`) still rolled on the curved part: the middle contact (x, y)
+    mm and tangent φ (rad) of its longest run of at least ``CURVE_HINT_SAMPLES`` consecutive
+    samples (ψ order) that passes every check, or None. A roll whose ρ grows many times
+    within it (toward a cubical's inflection: 17 to 620 mm over 17° on the P-series jaw)
+    and then pivots on the object's end corner keeps 6 smooth samples of 9, one too few for
+    a touch (tools.bench_explore --finite 6 --anywhere --seed 17 --config
+    config/jaw-p.yaml, cubical 30); the exploration aims its finger's next roll there
+    (tactile_jaw.explore) instead of counting the roll as off the curved part."""
+    for _, _, felt in _passing_runs(config, touch, CURVE_HINT_SAMPLES):
+        c = felt.samples
+        m = len(c.phi) // 2
+        return float(c.x[m]), float(c.y[m]), float(c.phi[m])
+    return None
+
+
+def _passing_runs(config, touch: TouchResult, least: int, margin: int = 0):
+    """(samples dropped at the start, at the end, the run felt) of every run of consecutive
+    samples (ψ order) that passes every check of :func:`feel` untrimmed, the fewest dropped
+    first; each keeps at least ``least`` samples, also with ``margin`` more dropped beside
+    each cut."""
+    order = np.argsort([s.psi for s in touch.samples], kind="stable")
+    n = order.size
+    for drop in range(1, n - least + 1):
         for head in range(drop + 1):
             tail = drop - head
-            lo, hi = head + (head > 0), n - tail - (tail > 0)
-            if hi - lo < MIN_SAMPLES_PER_TOUCH:
+            if n - tail - margin * (tail > 0) - (head + margin * (head > 0)) < least:
                 continue
-            if feel(config, _subset(touch, order[head : n - tail]), n - drop, trim=False).problem is not None:
-                continue
-            again = feel(config, _subset(touch, order[lo:hi]), hi - lo, trim=False)
-            return again if again.problem is None else None
-    return None
+            felt = feel(config, _subset(touch, order[head : n - tail]), n - drop, trim=False)
+            if felt.problem is None:
+                yield head, tail, felt
 
 
 def _subset(touch: TouchResult, taken) -> TouchResult:

@@ -219,6 +219,8 @@ def kappa_comparison(log: Path, obj: dict) -> dict:
     noise = stated_noise(felt)
     rows = []
     for t in felt:
+        if getattr(t.samples, "curvature", None) is None:  # a flat press's contact: no roll, no κ to compare
+            continue
         k_env, ks_env, cov = t.samples.curvature
         g = estimate_local(t.samples, method=settings.recognize.get("estimator", "auto"), noise=noise)
         m = len(t.samples.phi) // 2
@@ -230,7 +232,8 @@ def kappa_comparison(log: Path, obj: dict) -> dict:
     out = {"rows": rows}
     if len(felt) >= 2:
         recognize = make_recognizer(header["scene"], settings)
-        without = [replace(t, samples=replace(t.samples, curvature=None)) for t in felt]
+        without = [replace(t, samples=replace(t.samples, curvature=None)) if getattr(t.samples, "curvature", None)
+                   is not None else t for t in felt]
         try:
             out["envelope"] = final_answer(recognize, felt, settings)
             out["samples"] = final_answer(recognize, without, settings)

@@ -29,3 +29,24 @@ def test_without_follow_the_table_keeps_three_counts(capsys):
     print_tell_table([(Path("c.yaml"), obj)], [_run("unclassified", "no pad can roll")], "jaw.yaml")
     out = capsys.readouterr().out
     assert "right / refused / wrong |" in out and "| 0 / 1 / 0 |" in out
+
+
+def test_kappa_comparison_leaves_a_flat_press_out(monkeypatch):
+    """``--kappa`` on a run answered from flat presses: a press's touch is a ContactTouch,
+    without the envelope's curvature; it is left out of the κ table (it raised
+    AttributeError and ended the bench: P-series jaw, seed 17, cubical 30)."""
+    from types import SimpleNamespace
+
+    import hand_driver.log
+    import tactile_jaw.pipeline
+    from recognizer.touches import ContactTouch
+    from tools.bench_explore import kappa_comparison
+
+    settings = {"touches": 8, "samples_per_touch": 9, "roll_span_deg": 18.0, "min_touches": 3}
+    header = {"settings": settings, "scene": None}
+    monkeypatch.setattr(hand_driver.log, "read_log",
+                        lambda path: SimpleNamespace(header=header, jaw_config=lambda: None))
+    press = SimpleNamespace(samples=ContactTouch(100.0, 0.0, 1.0, 0.0, 0.0))
+    monkeypatch.setattr(tactile_jaw.pipeline, "logged_touches", lambda config, contents, settings: [press])
+    monkeypatch.setattr(tactile_jaw.pipeline, "stated_noise", lambda touches: None)
+    assert kappa_comparison(Path("unused.log"), {"class": "line", "params": {}}) == {"rows": []}

@@ -1,0 +1,58 @@
+"""A roll that felt the curved part and then ran onto the object's end corner, too short to
+trim to a usable touch: where it felt the curve (tactile_jaw.pipeline.curve_hint), so the
+exploration aims the finger's next roll there instead of retiring it."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from hand_driver import kinematics as kin
+from hand_driver.config import load_config
+from hand_driver.motion import Sample, TouchResult
+from recognizer.curves import CURVES, Pose
+from tactile_jaw.pipeline import CURVE_HINT_SAMPLES, feel
+from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH
+
+DATA = Path(__file__).parent / "data" / "p_cubical_roll_to_corner.json"
+TRUTH = ("cubical_parabola", {"a": 0.0009383107856381567, "c": -0.5}, Pose(0.3100936184668761, 112.69721198297934,
+                                                                            12.34287536994391))
+
+
+def _logged_roll():
+    raw = json.loads(DATA.read_text())
+    config = load_config("config/jaw-p.yaml")
+    ticks = np.array(raw["ticks"], dtype=float)
+    lines = kin.finger_pad_line_from_ticks(config, raw["finger"], ticks)
+    samples = [Sample(reading=k, psi=psi, ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0)
+               for k, psi in enumerate(raw["psi"])]
+    return config, TouchResult(raw["finger"], 4, raw["psi_center"], samples, outcome="ok")
+
+
+def test_roll_onto_the_end_corner_notes_where_it_felt_the_curve():
+    """P-series jaw, random cubical 30 of bench_explore --finite 6 --anywhere --seed 17
+    (development seed): its left pad's first roll went from ρ 17 mm toward the inflection
+    (ρ 620 mm) and onto the end corner; 6 of its 9 samples pass every check, one fewer than
+    a touch needs. Its fingers then fell on corners, were retired, and flat presses on the
+    closing segment answered line. The roll now says where it felt the curve: a point of
+    the cubical within 0.05 mm, with its tangent within 0.01 rad."""
+    config, touch = _logged_roll()
+    felt = feel(config, touch, len(touch.samples))
+    assert felt.problem is not None and felt.off_curve
+    assert CURVE_HINT_SAMPLES < MIN_SAMPLES_PER_TOUCH
+    x, y, phi = felt.curve_at
+    cls, params, pose = TRUTH
+    curve = CURVES[cls](params)
+    t = np.linspace(-22.2, 1.85, 200001)
+    px, py = pose.apply(*curve.point(t))
+    k = int(np.argmin(np.hypot(px - x, py - y)))
+    assert np.hypot(px[k] - x, py[k] - y) < 0.05
+    tangent = float(curve.tangent_angle(t[k])) + pose.theta
+    assert abs(np.remainder(phi - tangent + np.pi / 2, np.pi) - np.pi / 2) < 0.01
+
+
+def test_a_usable_roll_has_no_hint():
+    config, touch = _logged_roll()
+    rest = TouchResult(touch.finger, touch.touch, touch.psi_center, touch.samples[3:], outcome="ok")
+    felt = feel(config, rest, len(rest.samples))
+    assert felt.problem is None and felt.curve_at is None
