@@ -45,7 +45,7 @@ from recognizer.next_touch import next_touch
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request, SamplesTouch
 from tactile_common.angles import wrap_angle
 
-__all__ = ["recognize", "contacts_of", "options_for", "DEFAULT_SAMPLES_NOISE"]
+__all__ = ["recognize", "contacts_of", "options_for", "close_rivals", "DEFAULT_SAMPLES_NOISE", "RIVAL_BIC"]
 
 #: φ and position deviations assumed for samples-touches when neither the request nor
 #: the scene gives a noise model (the jaw's encoder and pad-line resolution)
@@ -72,6 +72,14 @@ MIN_PLACES = {**MIN_TOUCHES, "line": 1}
 CONTACT_REL_SIGMA_CHECK = 1e-3
 #: level of the likelihood-ratio test a class must pass against a simpler class it contains
 MODEL_ALPHA = 1e-3
+#: two consistent classes neither of which is a limit of the other (``LIMIT_OF``) whose BICs
+#: lie less than this apart are not told apart: the answer is a refusal naming both
+#: (:func:`close_rivals`). ΔBIC ≈ −2 ln(Bayes factor): below 6 the better class's posterior
+#: odds are under e³ ≈ 20:1 (equal priors: under 95 %), short of Kass & Raftery's "strong"
+#: evidence. Nested classes are decided by the likelihood-ratio test (``MODEL_ALPHA``)
+#: instead: the richer one always fits at least as well. Measured: tools.bench_wide seed 9
+#: (development), hyperbola trial 11 far on an arm, answered cubical parabola at ΔBIC 3.1
+RIVAL_BIC = 6.0
 _MEAS = ("x", "y", "phi", "kappa", "kappa_s")
 
 
@@ -407,6 +415,26 @@ def also_fits(chosen: Candidate, consistent: list[Candidate]) -> list[dict]:
     return out
 
 
+def close_rivals(chosen: Candidate, consistent: list[Candidate]) -> list[Candidate]:
+    """The consistent classes, neither a limit of the answer nor the answer a limit of them
+    (``LIMIT_OF``), whose BIC is less than ``RIVAL_BIC`` above the answer's (or below it:
+    the answer may be a simpler nested class than the lowest BIC), lowest BIC first: the
+    touches do not tell them from the answer."""
+    def nested(a: str, b: str) -> bool:
+        return a in LIMIT_OF.get(b, ()) or b in LIMIT_OF.get(a, ())
+    return sorted((c for c in consistent if c.cls != chosen.cls and not nested(c.cls, chosen.cls)
+                   and c.bic - chosen.bic < RIVAL_BIC), key=lambda c: c.bic)
+
+
+def _rivals_reason(chosen: Candidate, rivals: list[Candidate]) -> str:
+    """Why a close-rival refusal: both classes (every rival), their χ² and BIC, and what settles it."""
+    both = [chosen] + rivals
+    fits = " and ".join(f"{c.cls} (chi2 {c.chi2:.3g}, BIC {c.bic:.4g})" for c in both)
+    gap = max(abs(c.bic - chosen.bic) for c in rivals)
+    return (f"close rivals: {fits} both fit, BIC {gap:.2g} apart (less than {RIVAL_BIC:g}: odds below 20:1): "
+            f"the touches cannot tell them apart; a touch where they differ (next_touch) can")
+
+
 def _too_few_places(cls: str, places: list[list[int]], n: int) -> str:
     """Why ``cls`` is not tested: fewer places than it needs (touches at one place count once)."""
     if n < MIN_TOUCHES[cls]:
@@ -513,6 +541,13 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
                            {}, reason, ranked, timing, nxt, untested=untested)
     chosen = choose(consistent)
+    rivals = close_rivals(chosen, consistent) if options.close_rivals else []
+    if rivals:
+        nxt = _suggest(request, options, cands, chosen, d, timing, default_noise)
+        timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
+        named = [{"class": c.cls, "chi2": c.chi2, "bic": c.bic} for c in [chosen] + rivals]
+        return Recognition("unclassified", {}, None, [], {}, {}, _rivals_reason(chosen, rivals), ranked, timing, nxt,
+                           untested=untested, also_fits=named)
     also = also_fits(chosen, consistent)
     # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys
     walked = profile_uncertainty(chosen) if isinstance(chosen, RefinedCandidate) else \

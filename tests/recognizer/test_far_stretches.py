@@ -117,12 +117,18 @@ def test_far_arm_hyperbola_not_left_at_its_line_limit():
     at 42.4 (BIC 183.0 against the line's 187.1): a hyperbola that fits no better than its
     limit also gets its asymptote starts. These noisy touches are data-limited: since the
     cubical's start near its inflection (starts.inflection_start) a cubical fits them better
-    still (χ² 39.3, BIC 179.9) and is the answer; what this checks is that the hyperbola's
-    search reaches the truth's fit and the answer is no longer the line."""
+    still (χ² 39.3, BIC 179.9), 3.1 below the hyperbola, and was answered: a confident wrong
+    class. Neither class is a limit of the other and their BICs lie within
+    classify.RIVAL_BIC: the answer is a refusal naming both, with a next touch."""
     region, shape, ts, _, rs = B.draw_case("hyperbola", 11, 9, "wide")
     touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
     rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
     assert region == "far on an arm"
     hyperbola = next(r for r in rec.ranking if r.cls == "hyperbola")
     assert hyperbola.consistent and hyperbola.chi2 == pytest.approx(42.4, abs=0.2)
-    assert rec.cls != "line" and hyperbola.bic < next(r.bic for r in rec.ranking if r.cls == "line")
+    assert hyperbola.bic < next(r.bic for r in rec.ranking if r.cls == "line")
+    assert rec.cls == "unclassified", rec.cls
+    named = [a["class"] for a in rec.also_fits]
+    assert named == ["cubical_parabola", "hyperbola"], rec.also_fits
+    assert "cubical_parabola" in rec.reason and "hyperbola" in rec.reason and "close rivals" in rec.reason
+    assert rec.next_touch is not None
