@@ -311,6 +311,32 @@ CLEAR_SCAN_STARTS = 3
 CLEAR_SCAN_BAND = 20.0
 
 
+def _circle_from_ellipse(cands: list[Candidate], request: Request, options: RecognizeOptions) -> list[Candidate]:
+    """A refined circle fit started at the best consistent ellipse (r = √(ab), its centre and
+    t's) when that ellipse's own a − b is within the likelihood-ratio test's limit of 0
+    (``MODEL_ALPHA``, from its σ_a, σ_b) yet every circle fit lies beyond that limit of the
+    ellipse's χ², or there is none: the circle is the ellipse with a = b, so its fit can only
+    lose by that much from its own starts' basin, not from the data (X-series seed 61 circle
+    18: no circle start, the answer an ellipse b/a 0.997, a − b 0.4 σ from 0)."""
+    if not (options.refine and "circle" in request.classes):
+        return []
+    ell = [c for c in cands if c.cls == "ellipse" and c.consistent]
+    if not ell:
+        return []
+    e = min(ell, key=lambda c: c.chi2)
+    limit = chi2_limit(MODEL_ALPHA, N_SHAPE["ellipse"] - N_SHAPE["circle"])
+    circle = min((c.chi2 for c in cands if c.cls == "circle"), default=math.inf)
+    if circle <= e.chi2 + limit:
+        return []
+    a, b = float(e.params["a"]), float(e.params["b"])
+    sa, sb = e.uncertainty.get("a"), e.uncertainty.get("b")
+    var = (sa or 0.0) ** 2 + (sb or 0.0) ** 2 if sa is not None and sb is not None else math.inf
+    if not (math.isfinite(var) and (a - b) ** 2 <= limit * var):
+        return []
+    start = Candidate("circle", {"r": math.sqrt(a * b)}, e.pose, np.asarray(e.t, float), e.chi2, e.dof, e.n_obs)
+    return [f for f in refine_candidates([start], request, options) if math.isfinite(f.chi2)]
+
+
 def _clear_of_cusp_fits(cands: list[Candidate], d: Contacts, request: Request,
                         options: RecognizeOptions) -> list[Candidate]:
     """Refined semicubical fits from its scan's best starts clear of the cusp
@@ -526,6 +552,7 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
         cands += _clear_of_cusp_fits(cands, d, request, options)
         cands += _far_arm_fits(cands, d, request, options)
         cands += _nested_fits(cands, request, options)
+        cands += _circle_from_ellipse(cands, request, options)
         cands = _restarted(cands, request, options)
     fits, cands = cands, _best_per_class(cands)
     consistent = [c for c in cands if c.consistent]

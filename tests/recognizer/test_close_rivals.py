@@ -64,3 +64,17 @@ def test_x_jaw_circle_is_answered_circle():
     assert rec.cls == "circle", [(r.cls, r.chi2) for r in rec.ranking]
     assert rec.params["r"] == pytest.approx(22.317, abs=3 * rec.uncertainty["r"])
     assert [a["class"] for a in rec.also_fits] == ["ellipse"]
+
+
+def test_circle_started_from_a_round_ellipse(monkeypatch):
+    """The same touches with no circle start at all (as before the weighted κ): the best
+    ellipse's a − b lies within the likelihood-ratio test's limit of 0 by its own σ's, so
+    the circle is started from it (r = √(ab)) and is the answer."""
+    import recognizer.localize as localize
+
+    own = localize.starts
+    monkeypatch.setattr(localize, "starts", lambda cls, d, every_pair=False: [] if cls == "circle" else own(cls, d, every_pair))
+    req = parse_request(json.loads((DATA / "x_circle_61_18.json").read_text()))
+    rec = recognize(req, options_for(req))
+    assert rec.cls == "circle", [(r.cls, r.chi2) for r in rec.ranking]
+    assert rec.params["r"] == pytest.approx(22.317, abs=3 * rec.uncertainty["r"])
