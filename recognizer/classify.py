@@ -78,7 +78,13 @@ MODEL_ALPHA = 1e-3
 #: odds are under e³ ≈ 20:1 (equal priors: under 95 %), short of Kass & Raftery's "strong"
 #: evidence. Nested classes are decided by the likelihood-ratio test (``MODEL_ALPHA``)
 #: instead: the richer one always fits at least as well. Measured: tools.bench_wide seed 9
-#: (development), hyperbola trial 11 far on an arm, answered cubical parabola at ΔBIC 3.1
+#: (development), hyperbola trial 11 far on an arm, answered cubical parabola at ΔBIC 3.1.
+#: Measured on the rankings of 584 bench_wide trials (seeds 1, 5, 9, 11, 31, development):
+#: of the 3-touch answers with a rival below 6, 47 of 104 were wrong (below 2: 34 of 63),
+#: above it 47 of 480; with ≤ 2 suggested touches 2 of 10 below 6, 1 of 576 above. Refusing
+#: below 6 (``RecognizeOptions.close_rivals = "refuse"``) would cost 1-3 right semicubicals
+#: per seed with suggested touches (far out on a branch, an ellipse as close: a coin
+#: flip), so by default the answer names the rival and says it could not tell
 RIVAL_BIC = 6.0
 _MEAS = ("x", "y", "phi", "kappa", "kappa_s")
 
@@ -453,12 +459,19 @@ def close_rivals(chosen: Candidate, consistent: list[Candidate]) -> list[Candida
 
 
 def _rivals_reason(chosen: Candidate, rivals: list[Candidate]) -> str:
-    """Why a close-rival refusal: both classes (every rival), their χ² and BIC, and what settles it."""
+    """The close rivals in words: every class, its χ² and BIC, and what settles it."""
     both = [chosen] + rivals
     fits = " and ".join(f"{c.cls} (chi2 {c.chi2:.3g}, BIC {c.bic:.4g})" for c in both)
     gap = max(abs(c.bic - chosen.bic) for c in rivals)
-    return (f"close rivals: {fits} both fit, BIC {gap:.2g} apart (less than {RIVAL_BIC:g}: odds below 20:1): "
+    return (f"close rivals: {fits} fit, BIC {gap:.2g} apart (less than {RIVAL_BIC:g}: odds below 20:1): "
             f"the touches cannot tell them apart; a touch where they differ (next_touch) can")
+
+
+def _rival_entries(chosen: Candidate, rivals: list[Candidate]) -> list[dict]:
+    """``also_fits`` entries of close rivals: as the nested classes', with ``rival_bic``, the
+    rival's BIC above the answer's (negative: below it, the answer a simpler nested class)."""
+    return [{"class": c.cls, "chi2": c.chi2, "gain": chosen.chi2 - c.chi2, "needed": None,
+             "rival_bic": c.bic - chosen.bic} for c in rivals]
 
 
 def _too_few_places(cls: str, places: list[list[int]], n: int) -> str:
@@ -568,14 +581,15 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
         return Recognition("unclassified", {}, None, [], {k: pairs[k] for k in ("pairs", "I_c1", "I_c2")},
                            {}, reason, ranked, timing, nxt, untested=untested)
     chosen = choose(consistent)
-    rivals = close_rivals(chosen, consistent) if options.close_rivals else []
-    if rivals:
+    rivals = close_rivals(chosen, consistent)
+    if rivals and options.close_rivals == "refuse":
         nxt = _suggest(request, options, cands, chosen, d, timing, default_noise)
         timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
-        named = [{"class": c.cls, "chi2": c.chi2, "bic": c.bic} for c in [chosen] + rivals]
         return Recognition("unclassified", {}, None, [], {}, {}, _rivals_reason(chosen, rivals), ranked, timing, nxt,
-                           untested=untested, also_fits=named)
-    also = also_fits(chosen, consistent)
+                           untested=untested, also_fits=[{"class": chosen.cls, "chi2": chosen.chi2, "gain": 0.0,
+                                                          "needed": None, "rival_bic": 0.0}]
+                           + _rival_entries(chosen, rivals))
+    also = also_fits(chosen, consistent) + _rival_entries(chosen, rivals)
     # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys
     walked = profile_uncertainty(chosen) if isinstance(chosen, RefinedCandidate) else \
         profile_uncertainty(profiled(chosen, d), rel_check=CONTACT_REL_SIGMA_CHECK)
@@ -584,8 +598,9 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
     pairs = _pair_invariants(dh) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
     nxt = _suggest(request, options, cands, chosen, d, timing, default_noise)
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
+    said = _rivals_reason(chosen, rivals) if rivals else None
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, dh, pairs),
-                       dict(best.uncertainty), None, ranked, timing, nxt, untested=untested, also_fits=also)
+                       dict(best.uncertainty), said, ranked, timing, nxt, untested=untested, also_fits=also)
 
 
 def _roll(request: Request) -> float:

@@ -455,7 +455,7 @@ def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noi
     loaded = load_scene(scene) if scene is not None else None
     fixed = parse_noise(dict(noise), f"{source}.noise") if noise is not None else None
     base = Request((), loaded, loaded.classes if loaded is not None else ALL_CLASSES, fixed, {}, source)
-    options = RecognizeOptions(noise=fixed, reach=reach, close_rivals=False, **settings.recognize)
+    options = RecognizeOptions(noise=fixed, reach=reach, **settings.recognize)
 
     def run(touches: Sequence[FeltTouch], reach: Reach | None = None,
             classes: Sequence[str] | None = None) -> Recognition:
