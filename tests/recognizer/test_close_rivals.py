@@ -78,3 +78,22 @@ def test_circle_started_from_a_round_ellipse(monkeypatch):
     rec = recognize(req, options_for(req))
     assert rec.cls == "circle", [(r.cls, r.chi2) for r in rec.ranking]
     assert rec.params["r"] == pytest.approx(22.317, abs=3 * rec.uncertainty["r"])
+
+
+def test_line_against_every_curved_class_at_a_shared_level():
+    """tools.bench_wide seed 67 (development), line trial 9 (a segment) after two suggested
+    touches: the ranking below (χ², dof, BIC). The cubical's χ² is 18.1 below the line's, over
+    the single likelihood-ratio test's 16.3 for 3 parameters, so it was answered cubical; the
+    line is tested against five consistent curved classes at once, whose shared level
+    1e-3 / 5 needs 19.7: the line is the answer, the cubical in also_fits."""
+    from recognizer.classify import also_fits, choose, lr_limit
+
+    rows = [("cubical_parabola", 91.727, 85, 336.990), ("line", 109.783, 88, 340.331),
+            ("semicubical_parabola", 106.595, 85, 351.859), ("ellipse", 107.038, 85, 352.301),
+            ("hyperbola", 107.768, 85, 353.031), ("parabola", 119.555, 86, 359.913)]
+    cons = [Candidate(c, {}, Pose(0.0, 0.0, 0.0), np.zeros(1), x, dof, 0, loglik=-0.5 * x, bic=b) for c, x, dof, b in rows]
+    chosen = choose(cons)
+    assert chosen.cls == "line"
+    assert lr_limit("line", "cubical_parabola", cons) == pytest.approx(19.66, abs=0.01)
+    cubical = next(a for a in also_fits(chosen, cons) if a["class"] == "cubical_parabola")
+    assert cubical["gain"] == pytest.approx(18.06, abs=0.01) and cubical["needed"] > cubical["gain"]
