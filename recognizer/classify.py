@@ -79,7 +79,8 @@ MODEL_ALPHA = 1e-3
 #: evidence. Nested classes are decided by the likelihood-ratio test (``MODEL_ALPHA``)
 #: instead: the richer one always fits at least as well. Measured: tools.bench_wide seed 9
 #: (development), hyperbola trial 11 far on an arm, answered cubical parabola at ΔBIC 3.1.
-#: Measured on the rankings of 584 bench_wide trials (seeds 1, 5, 9, 11, 31, development):
+#: Measured on the recorded rankings of 584 bench_wide answers (development seeds 1, 9, 11, 31 and 5 twice,
+#: last session's code):
 #: of the 3-touch answers with a rival below 6, 47 of 104 were wrong (below 2: 34 of 63),
 #: above it 47 of 480; with ≤ 2 suggested touches 2 of 10 below 6, 1 of 576 above. Refusing
 #: below 6 (``RecognizeOptions.close_rivals = "refuse"``) would cost 1-3 right semicubicals
