@@ -20,7 +20,10 @@ class RecognizeOptions:
     false-rejection rate of each χ² consistency test, ``noise`` the measurement noise
     (None: exact contacts; a default for samples-touches, docs/recognition.md), ``profile`` a name
     of recognizer.profiles.PROFILES or None, ``reach`` the hand-frame disk the robot can
-    touch (``next_touch`` stays inside it) or None."""
+    touch (``next_touch`` stays inside it) or None, ``close_rivals`` what to do when a class
+    that is not nested with the answer fits within recognizer.classify.RIVAL_BIC:
+    ``name`` answers the best class and says it could not tell (the rival in ``also_fits``,
+    the ``reason``), ``refuse`` answers ``unclassified`` naming both."""
 
     estimator: str = "auto"
     refine: bool = False
@@ -28,6 +31,7 @@ class RecognizeOptions:
     noise: NoiseModel | None = None
     profile: str | None = None
     reach: Reach | None = None
+    close_rivals: str = "name"
 
 
 @dataclass

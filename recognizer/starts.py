@@ -477,7 +477,14 @@ def starts(cls: str, d: Contacts, every_pair: bool = False) -> list[tuple[dict, 
         mx, my = _mean(x), _mean(y)
         return [({}, [(xi - mx) * c + (yi - my) * s for xi, yi in zip(x, y)])]
     if cls == "circle":
-        mk = _mean(k)
+        # the constant κ's maximum-likelihood value: each κ weighed by its inverse variance
+        # (plain mean with zero covariance): the plain mean let one badly measured κ decide
+        # (a jaw touch rolled across a pad's end, κ −31 ± 159 beside three of 2.3–2.7 ± 0.3–0.4
+        # /unit: mean negative, no circle start, no circle fit, and an ellipse b/a 0.997 was
+        # the answer: tools.bench_explore --finite 10 --anywhere --seed 61, X-series circle 18)
+        var = d.cov[:, 0, 0]
+        mk = float(np.sum(d.kappa / var) / np.sum(1.0 / var)) if np.all(var > 0) and np.all(np.isfinite(var)) \
+            else _mean(k)
         if not mk > 0:
             return []
         r = 1.0 / mk

@@ -55,7 +55,7 @@ import numpy as np
 
 from recognizer import synth
 from recognizer.class_limits import LIMIT_OF
-from recognizer.classify import MODEL_ALPHA, chi2_limit, recognize
+from recognizer.classify import MODEL_ALPHA, RIVAL_BIC, chi2_limit, recognize
 from recognizer.curves import CURVES, Pose
 from recognizer.localize import N_SHAPE
 from recognizer.profiles import PROFILES
@@ -225,6 +225,12 @@ def _ranking(rec) -> list:
     return [[r.cls, bool(r.consistent), float(r.chi2), int(r.dof), float(r.bic)] for r in rec.ranking]
 
 
+def _rival(rec) -> bool:
+    """Whether a class answer said it could not tell (a close rival named:
+    recognizer.classify.close_rivals)."""
+    return rec.cls != "unclassified" and any("rival_bic" in a for a in rec.also_fits)
+
+
 def _extra_touch(shape, t, rs, direction):
     touches, _ = _touches(shape, [t], rs, direction)
     return touches[0]
@@ -267,7 +273,7 @@ def run_trial(task) -> dict:
     touches, noise = _touches(shape, ts, rs, direction)
     nm = NoiseModel(noise.phi, noise.pos)
     rec, dt, req = _recognize(touches, nm)
-    out.update(rank3=_ranking(rec), got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
+    out.update(rival3=_rival(rec), rank3=_ranking(rec), got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
                nt_ms=rec.timing.get("next_touch_cpu_ms", math.nan))
     if rec.cls == cls:
         z = [(rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()
@@ -302,7 +308,7 @@ def run_trial(task) -> dict:
         cur, _, reqS = _recognize(tl, nm)
     if cur.cls != cls and used:
         out["oracleS"] = _oracle(shape, ts, direction, cur, reqS, nm, [s["t"] for s in out["suggested"]])
-    out.update(rankS=_ranking(cur), t3=[float(v) for v in ts], span=[float(lo), float(hi)],
+    out.update(rivalS=_rival(cur), rankS=_ranking(cur), t3=[float(v) for v in ts], span=[float(lo), float(hi)],
                params=dict(shape.params), gotS=cur.cls, errS=rel_error(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
     return out
 
@@ -353,6 +359,12 @@ def report(recs: list[dict]) -> str:
                      f"{_pct([r['got5'] == c for r in rs])} | {_pct([r['gotS'] == c for r in rs])} | "
                      f"{sum(r.get('oracle') == 'search miss' for r in rs)} / {sum(r.get('oracleS') == 'search miss' for r in rs)} | "
                      f"{', '.join(wrong) or '–'} | {_exact_pct(rs)} |")
+    for k, what in (("3", "3 touches"), ("S", "3 + ≤2 suggested")):
+        said = [r for r in recs if r.get("rival" + k)]
+        lines += ["", f"Answers that said they could not tell a close rival (ΔBIC < {RIVAL_BIC:g}), {what}: "
+                  f"{len(said)} of {len(recs)}, {sum(r['got' + k] == r['cls'] for r in said)} of them right; "
+                  f"wrong answers that did not say so: "
+                  f"{sum(r['got' + k] not in (r['cls'], 'unclassified') for r in recs if not r.get('rival' + k))}."]
     rep = [r for r in recs if r.get("repeated")]
     if rep:
         lines += ["", f"Trials with one place touched twice: {len(rep)}; right class 3 / 3+2 random / 3+≤2 suggested: "

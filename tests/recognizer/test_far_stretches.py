@@ -117,12 +117,25 @@ def test_far_arm_hyperbola_not_left_at_its_line_limit():
     at 42.4 (BIC 183.0 against the line's 187.1): a hyperbola that fits no better than its
     limit also gets its asymptote starts. These noisy touches are data-limited: since the
     cubical's start near its inflection (starts.inflection_start) a cubical fits them better
-    still (χ² 39.3, BIC 179.9) and is the answer; what this checks is that the hyperbola's
-    search reaches the truth's fit and the answer is no longer the line."""
+    still (χ² 39.3, BIC 179.9), 3.1 below the hyperbola, and was answered without a word: a
+    confident wrong class. Neither class is a limit of the other and their BICs lie within
+    classify.RIVAL_BIC: the answer says it could not tell, naming the hyperbola in
+    also_fits and in its reason, with a next touch; asked to, it refuses naming both."""
     region, shape, ts, _, rs = B.draw_case("hyperbola", 11, 9, "wide")
     touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
     rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
     assert region == "far on an arm"
     hyperbola = next(r for r in rec.ranking if r.cls == "hyperbola")
     assert hyperbola.consistent and hyperbola.chi2 == pytest.approx(42.4, abs=0.2)
-    assert rec.cls != "line" and hyperbola.bic < next(r.bic for r in rec.ranking if r.cls == "line")
+    assert hyperbola.bic < next(r.bic for r in rec.ranking if r.cls == "line")
+    rival = next(a for a in rec.also_fits if a["class"] == "hyperbola")
+    assert rival["rival_bic"] == pytest.approx(3.1, abs=0.3), rec.also_fits
+    assert "hyperbola" in rec.reason and "close rivals" in rec.reason and rec.next_touch is not None
+    from dataclasses import replace
+    req = B.Request(tuple(B.SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, B.CLASSES,
+                    NoiseModel(noise.phi, noise.pos), {})
+    opts = B.RecognizeOptions(noise=NoiseModel(noise.phi, noise.pos), **B.PROFILES["balanced"].options())
+    refused = B.recognize(req, replace(opts, close_rivals="refuse"))
+    assert refused.cls == "unclassified" and refused.next_touch is not None
+    assert {a["class"] for a in refused.also_fits} == {"cubical_parabola", "hyperbola"}, refused.also_fits
+    assert "cubical_parabola" in refused.reason and "hyperbola" in refused.reason
