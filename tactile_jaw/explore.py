@@ -142,7 +142,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
             break
-        plans, spent, aimed = {}, {}, None
+        plans, spent, aimed, pressing = {}, {}, None, None
         budget = settings.touches - _spent(out)
         active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]
         for f in active:
@@ -154,12 +154,15 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                     f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, "
                     f"{aim.why}")
             else:
-                if not out.used and not pressed and len(cfg.fingers) <= len(out.touches) < FLAT_AFTER_TOUCHES:
+                others_roll = bool(plans) or any(choose_psi(g, model, settings, used[g.name]) is not None
+                                                 for g in active[active.index(f) + 1:])
+                if (not out.used and not pressed and pressing is None and others_roll  # another finger rolls meanwhile
+                        and len(cfg.fingers) <= len(out.touches) < FLAT_AFTER_TOUCHES):
                     plan = early_press(jaw, f.name, model, out, index + len(plans), emit, spent)
                     if plan is not None:  # its rolls show a seat: it presses while the other rolls again
                         say(f"{f.name}: no touch usable so far and its pad lines show a face: pressing the pad flat "
                             f"on it while the other finger rolls again")
-                        plans[f.name] = plan
+                        plans[f.name], pressing = plan, f.name
                         continue
                 psi = choose_psi(f, model, settings, used[f.name])
             if psi is None:
