@@ -157,7 +157,7 @@ def seat_split(lines: list[kin.PadLine], length_mm: float,
             first, last = lines[k + gap], lines[k - 1]
             apart = min(abs(float(last.normal @ q - last.d)), abs(float(first.normal @ p - first.d)))
             worst = max(rp, rq)
-            toward_seat = (lowering_turn(last, p, length_mm), lowering_turn(first, q, length_mm)) == (1, -1)
+            toward_seat = (lowering_turn(last, p, length_mm, q), lowering_turn(first, q, length_mm, p)) == (1, -1)
             if SPLIT_APART * tol_mm < apart and toward_seat and (best is None or worst < best[0]):
                 groups = [-1] * len(lines)
                 groups[k - np_:k] = [0] * np_

@@ -30,7 +30,8 @@ from hand_driver.motion import TouchResult, roll_angles, rolling_touch
 from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
-from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, flat_presses
+from hand_driver.flat_press import FlatResult
+from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
 from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel, too_few_clear
 from tactile_jaw.plan import APPROACH_MARGIN_MM, ObjectModel, choose_psi, predicted_tangent, retreat_offset
 from tactile_jaw.probing import probe_boundary
@@ -100,7 +101,7 @@ def _spent(out: Exploration) -> int:
     """Touches that count against the budget: all but those that fell on a corner or across
     a closing segment of a finite object (a finger retires after OFF_CURVE_RETIRE in a row,
     so these stay few); the touches on the curved part are what the budget is for."""
-    return sum(not t.off_curve for t in out.touches)
+    return sum(not t.off_curve and not isinstance(t.touch, FlatResult) for t in out.touches)
 
 
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTouches,
@@ -137,12 +138,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
+    pressed: list[FeltTouch] = []  # flat presses made during the rolls (tactile_jaw.flat_phase.early_press)
     while _spent(out) < settings.touches:
         if not cleared() and len(out.touches) >= FLAT_AFTER_TOUCHES:
-            say(f"none of {len(out.touches)} rolling touches was usable clear of the corners: no curved part "
+            rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
+            say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
             break
-        plans, spent, aimed = {}, {}, None
+        plans, spent, aimed, pressing = {}, {}, None, None
         budget = settings.touches - _spent(out)
         active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]
         for f in active:
@@ -160,6 +163,16 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 say(f"{f.name}: next touch at ({hint.x:.1f}, {hint.y:.1f}) mm, pad normal "
                     f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, {hint.why}")
             else:
+                others_roll = bool(plans) or any(choose_psi(g, model, settings, used[g.name]) is not None
+                                                 for g in active[active.index(f) + 1:])
+                if (not out.used and not pressed and pressing is None and others_roll  # another finger rolls meanwhile
+                        and len(cfg.fingers) <= len(out.touches) < FLAT_AFTER_TOUCHES):
+                    plan = early_press(jaw, f.name, model, out, index + len(plans), emit, spent)
+                    if plan is not None:  # its rolls show a seat: it presses while the other rolls again
+                        say(f"{f.name}: no touch usable so far and its pad lines show a face: pressing the pad flat "
+                            f"on it while the other finger rolls again")
+                        plans[f.name], pressing = plan, f.name
+                        continue
                 psi = choose_psi(f, model, settings, used[f.name])
             if psi is None:
                 message = (f"{f.name}: no untouched pad orientation left for which the felt lines predict a "
@@ -178,6 +191,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             felt = feel(cfg, results[name], settings.samples_per_touch)
             touch, problem = felt.touch, felt.problem
             out.touches.append(felt)
+            if isinstance(touch, FlatResult):  # a press (early_press): counted by the flat phase, or not at all
+                pressed.append(felt)
+                off_curve[name] += 1  # a face: the finger's side offers a closing segment, no curved part
+                continue
             off_curve[name] = off_curve[name] + 1 if felt.off_curve and felt.curve_at is None else 0
             if felt.curve_at is not None and reach.finger(*felt.curve_at, [cfg.finger(name)]) is not None:
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
@@ -226,7 +243,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         emit(out.stopped.event("budget_spent"))
         say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
-        flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index)
+        flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index, pressed)
     here = {f.name: float(jaw.pad_line(jaw.last_state, f.name).psi) for f in cfg.fingers}
     t_retreat = jaw.robot_time()
     run_together(jaw, {name: transit_or_problem(jaw, name, model, psi) for name, psi in here.items()})  # to the edge

@@ -7,6 +7,8 @@ flat touches (tactile_jaw.flat) is decisive.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -149,72 +151,116 @@ def _curve_felt(cfg, out: Exploration, emit, say) -> bool:
     return True
 
 
+def early_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, touch_index: int, emit,
+                spent: dict[str, float]):
+    """The flat press ``finger`` makes instead of its second rolling touch, or None: after a
+    first round of rolls of which none was usable, a finger whose probe and roll lines
+    already show a seat (:func:`_felt_seat`: its roll crossed a face, or pivoted about both
+    its corners) presses there, in the same round as the other finger's second roll
+    (tactile_jaw.explore). The other finger's roll still looks for a curved part (the
+    guard the second round of rolls is for), and this press's scan is one too
+    (tactile_jaw.pipeline.curved_part); should a roll find a curved part, the press is
+    not recognized (tactile_jaw.flat.recognized_touches). It gives up only after
+    ``FLAT_MAX_S`` without a seat."""
+    f = jaw.config.finger(finger)
+    seat = _felt_seat(out, finger, f.pad.length_mm, nominal_psi(f))
+    if seat is None:
+        return None
+    return _flat_plan(jaw, finger, model, None, 0, touch_index, emit, spent, None, set(), seat)
+
+
+@dataclass
+class _Faces:
+    """Each finger's flat-press state: the face it seated on, its presses that missed, the
+    side of its face its first seated press came from, the seated presses so far."""
+
+    faces: dict[str, Any]
+    misses: dict[str, int]
+    sides: dict[str, int]
+    active: list[str]
+    flat: list[FeltTouch] = field(default_factory=list)
+
+    def book(self, name: str, felt: FeltTouch, seated: set[str], emit, say) -> None:
+        """Count ``name``'s press ``felt`` (``seated``: the fingers whose press of the same
+        round seated), log it and say it."""
+        if felt.problem is None:
+            if self.faces[name] is None:
+                self.sides[name] = 1 if math.remainder(felt.face.psi - felt.touch.psi_center, 2 * math.pi) >= 0 else -1
+            self.faces[name] = felt.face
+            self.flat.append(felt)
+            emit({"type": "event", "kind": "touch_used", "message": f"{name}: flat press {felt.touch.touch} seated",
+                  "touch": felt.touch.touch, "samples": felt.to_json()})
+            say(f"flat press ({name}): seated on a face at psi {math.degrees(felt.face.psi):.2f} deg over "
+                f"{felt.face.length:.1f} mm")
+            return
+        # retried: a press whose seat missed the tolerance (the encoders' rounding), a
+        # later press on a face found (half a step further on), one stopped for another
+        # finger's seat (should that seat not be a face); not: a first press that
+        # found no seat (turned its range, ran out of time, met nothing)
+        outcome = felt.touch.outcome
+        for_other = outcome == "stopped" and bool(seated - {name})
+        retry = outcome in ("ok", "rejected") or self.faces[name] is not None
+        self.misses[name] += 0 if for_other else 1 if retry else FLAT_TRIES
+        if self.misses[name] >= FLAT_TRIES and name in self.active:
+            self.active.remove(name)
+        if felt.touch.outcome == "ok":
+            felt.touch.outcome = "rejected"
+        emit({"type": "event", "kind": "touch_rejected", "message": felt.problem, "touch": felt.touch.touch})
+        say(f"flat press ({name}): not used: {felt.problem}")
+
+
 def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: Exploration,
-                 recognize_touches: RecognizeTouches, emit, say, index: int) -> None:
+                 recognize_touches: RecognizeTouches, emit, say, index: int,
+                 pressed: Sequence[FeltTouch] = ()) -> None:
     """Every finger presses its pad flat on the face before it, round after round, until
     the recognizer's answer on one face's flat touches (tactile_jaw.flat.recognized_touches)
-    is decisive; a finger stops after FLAT_TRIES presses that did not seat. ``out.used``
-    ends as those touches."""
+    is decisive; a finger stops after FLAT_TRIES presses that did not seat. ``pressed``:
+    the presses made during the rolls (:func:`early_press`, already in ``out.touches``),
+    counted first. ``out.used`` ends as those touches."""
     cfg = jaw.config
-    faces = {f.name: None for f in cfg.fingers}
-    misses = {f.name: 0 for f in cfg.fingers}
-    sides = {f.name: 1 for f in cfg.fingers}  # the side of its face a finger's first seated press came from
-    active = [f.name for f in cfg.fingers]
-    flat: list[FeltTouch] = []
+    names = [f.name for f in cfg.fingers]
+    state = _Faces(dict.fromkeys(names), dict.fromkeys(names, 0), dict.fromkeys(names, 1), list(names))
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
-    for _ in range(settings.min_touches + FLAT_SPARE):
-        if any(faces.values()):  # one face's touches make the answer: a finger without one stops
-            active = [name for name in active if faces[name] is not None]
-        if not active or _curve_felt(cfg, out, emit, say):
+    for felt in pressed:
+        state.book(felt.finger, felt, set(), emit, say)
+    for _ in range(settings.min_touches + FLAT_SPARE - (1 if pressed else 0)):
+        if any(state.faces.values()):  # one face's touches make the answer: a finger without one stops
+            state.active = [name for name in state.active if state.faces[name] is not None]
+        if not state.active or _curve_felt(cfg, out, emit, say):
             break
         spent: dict[str, float] = {}
         seated: set[str] = set()
-        plans = {name: _flat_plan(jaw, name, model, faces[name], misses[name], index + k, emit, spent,
+        plans = {name: _flat_plan(jaw, name, model, state.faces[name], state.misses[name], index + k, emit, spent,
                                   _felt_stop(out, name, nominal_psi(cfg.finger(name))), seated,
                                   _felt_seat(out, name, cfg.finger(name).pad.length_mm, nominal_psi(cfg.finger(name))),
-                                  sides[name])
-                 for k, name in enumerate(active)}
+                                  state.sides[name])
+                 for k, name in enumerate(state.active)}
         index += len(plans)
         out.rounds += 1
         results = timed_round(jaw, plans, spent, out.time_s, "touches", "touch_transits")
         for name in plans:
             felt = feel(cfg, results[name], settings.samples_per_touch)
             out.touches.append(felt)
-            if felt.problem is None:
-                if faces[name] is None:
-                    sides[name] = 1 if math.remainder(felt.face.psi - felt.touch.psi_center, 2 * math.pi) >= 0 else -1
-                faces[name] = felt.face
-                flat.append(felt)
-                emit({"type": "event", "kind": "touch_used", "message": f"{name}: flat press {felt.touch.touch} seated",
-                      "touch": felt.touch.touch, "samples": felt.to_json()})
-                say(f"flat press ({name}): seated on a face at psi {math.degrees(felt.face.psi):.2f} deg over "
-                    f"{felt.face.length:.1f} mm")
-            else:
-                # retried: a press whose seat missed the tolerance (the encoders' rounding), a
-                # later press on a face found (half a step further on), one stopped for another
-                # finger's seat (should that seat not be a face); not: a first press that
-                # found no seat (turned its range, ran out of time, met nothing)
-                outcome = felt.touch.outcome
-                for_other = outcome == "stopped" and bool(seated - {name})
-                retry = outcome in ("ok", "rejected") or faces[name] is not None
-                misses[name] += 0 if for_other else 1 if retry else FLAT_TRIES
-                if misses[name] >= FLAT_TRIES:
-                    active.remove(name)
-                if felt.touch.outcome == "ok":
-                    felt.touch.outcome = "rejected"
-                emit({"type": "event", "kind": "touch_rejected", "message": felt.problem, "touch": felt.touch.touch})
-                say(f"flat press ({name}): not used: {felt.problem}")
+            state.book(name, felt, seated, emit, say)
         if _curve_felt(cfg, out, emit, say):
             break
-        out.used = recognized_touches(flat, settings.min_touches)
-        for n, miss in curved_faces(flat):
-            say(f"{n} flat presses of one face stopped {miss:+.2f} mm short of their supports on average "
-                f"(at most {FACE_MISS_MM:g}): a gentle curve, not a face; not recognized as a line")
-        if len(out.used) >= settings.min_touches:
-            recognition, why = decide(recognize_touches, out.used, settings)
-            out.recognition = recognition
-            out.answers.append(recognition.cls)
-            say(f"after {len(out.used)} flat touches of one face: {recognition.cls}"
-                + ("" if why is None else f", not decisive: {why}"))
-            if why is None:
-                break
+        if _decided(out, state.flat, settings, recognize_touches, say):
+            break
+
+
+def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings, recognize_touches: RecognizeTouches,
+             say) -> bool:
+    """Recognize one face's flat touches so far (tactile_jaw.flat.recognized_touches) into
+    ``out``; True once the answer is decisive."""
+    out.used = recognized_touches(flat, settings.min_touches)
+    for n, miss in curved_faces(flat):
+        say(f"{n} flat presses of one face stopped {miss:+.2f} mm short of their supports on average "
+            f"(at most {FACE_MISS_MM:g}): a gentle curve, not a face; not recognized as a line")
+    if len(out.used) < settings.min_touches:
+        return False
+    recognition, why = decide(recognize_touches, out.used, settings)
+    out.recognition = recognition
+    out.answers.append(recognition.cls)
+    say(f"after {len(out.used)} flat touches of one face: {recognition.cls}"
+        + ("" if why is None else f", not decisive: {why}"))
+    return why is None

@@ -42,6 +42,15 @@ SMOOTH_ALPHA = 1e-3
 #: degree of d(ψ) whose envelope (constant radius of curvature over the roll) gives a
 #: rolling touch's arc length when the default cubic's is not increasing
 SMOOTH_DEGREE = 2
+#: a rolling touch whose pad end points (the pad's proximal or distal end at each reading) lie
+#: on one straight line within their noise (χ² at SMOOTH_ALPHA) is a pad end sliding along a
+#: straight face, not a roll (:func:`pad_end_slid`), when its pad lines' deviations are at
+#: most this (mm): a roll bends the ends' paths too, but little — exact 18° rolls of the
+#: P-series left pad on circles of radius 10–100 mm bent the straighter end's path by
+#: 0.018–0.28 mm (≥ 60 of its deviations, 0.0002–0.0003 mm), the X-series pad's on a circle of
+#: 20 mm by 0.04 mm, within its deviations (0.054 mm): with coarse encoders the test cannot
+#: tell and is not made
+SLIDE_MAX_SIGMA_MM = 0.002
 #: outcomes of a touch cut short whose samples so far may still be used
 CUT_SHORT = ("unreachable", "no_contact", "blocked")
 #: a usable touch's samples whose envelope contact lies within this distance (mm) of a corner
@@ -167,6 +176,10 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
                 hint = curve_hint(config, touch)
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
                        corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint)
+    if curve_checks:
+        slid = pad_end_slid(lines, fit)
+        if slid is not None:
+            return out(f"{finger}: {slid}", c, u, fit, off_curve=True)
     if fit is not None and np.any(np.diff(c.s) <= 0.0):
         # the cubic's ρ(ψ) = −(d + d'') is linear in ψ and its slope is mostly noise over a
         # short roll (σ_ρ ≈ 4 mm over 18°): at the roll's ends it can dip below 0 on a
@@ -388,6 +401,31 @@ def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float, lines: kin.Pad
             return (f"off the curved part: the pad lines pass through two points within their noise (chi2 {chi2:.3g} "
                     f"on {n - 4} dof, {split} and {n - split} lines): the roll crossed a straight closing segment")
     return rough(fit)
+
+
+def pad_end_slid(lines: kin.PadLine, fit: EnvelopeFit) -> str | None:
+    """Why a rolling touch is a pad end sliding along a straight face, or None: one pad end's
+    points over the readings lie on a straight line within the pad lines' deviations (χ² of
+    their distances from the line fitted to them within its limit at ``SMOOTH_ALPHA``), the
+    deviations at most ``SLIDE_MAX_SIGMA_MM``. The pad lines of such a slide have a smooth
+    envelope a few mm inside the pad (random block 2 of ``bench_explore --finite 10
+    --anywhere --classes line --config config/jaw-p.yaml --seed 11``: ρ 13.5 ± 0.014 and
+    20.3 ± 0.014 mm, the proximal end on one line within 0.2 µm), which was taken for two
+    touches of a curve: no class fit them, and no flat press followed."""
+    sigma = np.asarray(fit.line_sigma, dtype=float)
+    n = sigma.size
+    if n < 4 or not np.all(np.isfinite(sigma)) or np.any(sigma <= 0.0) or np.max(sigma) > SLIDE_MAX_SIGMA_MM:
+        return None
+    order = np.asarray(fit.contacts.order)
+    for name in ("proximal", "distal"):
+        points = np.asarray(getattr(lines, name), dtype=float)[order]
+        centre = points.mean(axis=0)
+        across = np.linalg.svd(points - centre)[2][1]
+        chi2 = float(np.sum(((points - centre) @ across / sigma) ** 2))
+        if chi2 <= chi2_limit(SMOOTH_ALPHA, n - 2):
+            return (f"off the curved part: the pad's {name} end slid along a straight face (its points within "
+                    f"their noise of one line, chi2 {chi2:.3g} on {n - 2} dof), a pad end, not the pad's face, touched")
+    return None
 
 
 def rough(fit: EnvelopeFit) -> str | None:

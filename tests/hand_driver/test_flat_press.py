@@ -312,3 +312,28 @@ def test_the_rolls_lines_give_the_seat_to_start_from():
     seat = _felt_seat(rolls(truth), "left", finger.pad.length_mm, -math.pi / 2)
     assert seat is not None and seat[0] == pytest.approx(truth, abs=5e-3)
     assert _felt_seat(rolls(truth - math.radians(20.0)), "left", finger.pad.length_mm, -math.pi / 2) is None
+
+
+def test_a_seat_on_a_corner_under_the_pads_middle_lowers_the_shorter_part():
+    """Block 8 of ``bench_explore --finite 10 --anywhere --classes line --config
+    config/jaw-p.yaml --seed 11`` (development): seated, the left pad's distal end rests on
+    the top face beyond its corner, which lies 29 mm along the 52 mm pad, so the part of the
+    pad that lies flat is the shorter one (23 mm, 0.44 of the pad). seat_split asked each
+    support to lower the longer part toward the seat and found no split: the press turned
+    60° each way and timed out (refused). Each support lowers the part toward the other:
+    the face within 5 mrad, one support its corner."""
+    half, theta = 15.72840942397457, 0.11828163319091622
+    block = load_scene({"name": "block 8", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": theta, "x": 134.39265106966283, "y": 14.04942485026054},
+        "extent": [-half, half], "closure": [[half, -0.8 * half], [-half, -0.8 * half]]}}).object
+    finger = CONFIG.finger("left")
+    found, lines = _walk(ContactWorld(CONFIG, block), finger, -math.pi / 2)
+    assert found is not None
+    _, p, q = found
+    n = face_normal(p, q, lines[max(lines)].normal)
+    assert math.atan2(n[1], n[0]) == pytest.approx(theta - math.pi / 2, abs=5e-3)
+    corner = np.array(block.pose.apply(-half, 0.0))
+    assert min(np.linalg.norm(s - corner) for s in (p, q)) < SEAT_TOL_MM
+    psi = math.atan2(n[1], n[0])
+    seated = kin.finger_pad_line(finger, kin.ik_line(finger, psi, float(n @ corner)))
+    assert 0.35 * finger.pad.length_mm < float(seated.pad_coordinate(corner)) < 0.65 * finger.pad.length_mm

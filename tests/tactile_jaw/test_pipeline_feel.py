@@ -342,3 +342,56 @@ def test_no_corner_changes_nothing():
     contact, _ = _arc_then_corner(math.radians(200.0))
     felt = feel(CONFIG, quantized_touch(contact, psis), 9)
     assert clear_of_corners(CONFIG, [felt], [felt], 9) == ([felt], [])
+
+
+P_CONFIG = load_config("config/jaw-p.yaml")
+
+
+def _p_touch(q) -> TouchResult:
+    """The left pad of the P-series jaw at joint angles ``q`` (n, 2), rounded to whole ticks."""
+    f = P_CONFIG.finger("left")
+    samples = []
+    for i, qi in enumerate(q):
+        ticks = np.rint(kin.angles_to_ticks(f.joints, qi))
+        line = kin.finger_pad_line_from_ticks(P_CONFIG, "left", ticks)
+        samples.append(Sample(reading=i, psi=float(line.psi), ticks=ticks, line=line, current_ma=None, robot_time=0.0))
+    return TouchResult("left", 0, float(np.mean([s.psi for s in samples])), samples, outcome="ok")
+
+
+@pytest.mark.parametrize("turn_deg", [-3.0, 0.0, 3.0])
+def test_a_pad_end_sliding_along_a_face_is_no_roll(turn_deg):
+    """The left pad of the P-series jaw turned over 18° (ψ −91.5…−73.5°) with its proximal
+    end resting on a block's side face, outward normal at 41.6° (random block 2 of
+    ``bench_explore --finite 10 --anywhere --classes line --config config/jaw-p.yaml --seed
+    11``, whose two such rolls were used as a curve's touches: no class fit, refused), here
+    turned by ``turn_deg``, each pad line's d solved so that the end lies on the face: the
+    pad lines have a smooth envelope inside the pad, but the end's points lie on one line
+    within the ticks' rounding, where a roll would have bent its path by ~0.1 mm. Rolls on
+    circles of radius 20 mm, the same ticks, are kept."""
+    f = P_CONFIG.finger("left")
+    m = kin.unit(math.radians(41.64 + turn_deg))  # the face's outward normal
+    point = np.array([92.26, 40.82])
+    qs = []
+    for psi in math.radians(-82.5) + np.linspace(-0.5, 0.5, 9) * math.radians(18.0):
+        lo, hi = -80.0, 0.0  # the proximal end outside the face (m·x > m·point), then inside
+
+        def off(d):
+            return float(m @ (kin.finger_pad_line(f, kin.ik_line(f, psi, d)).proximal - point))
+
+        assert off(lo) > 0.0 > off(hi)
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if off(mid) > 0.0 else (lo, mid)
+        q = kin.ik_line(f, psi, lo)
+        assert float(m @ (kin.finger_pad_line(f, q).distal - point)) > 5.0  # the rest of the pad off the face
+        qs.append(q)
+    felt = feel(P_CONFIG, _p_touch(np.array(qs)), 9)
+    assert felt.problem is not None and "proximal end slid along a straight face" in felt.problem, felt.problem
+    assert felt.off_curve
+    for cx in (108.0, 112.0):
+        for centre_deg in (-110.0, -90.0, -70.0):
+            psis = math.radians(centre_deg) + np.linspace(-0.5, 0.5, 9) * math.radians(18.0)
+            q = [kin.ik_tangent(f, np.array([cx, 0.0]) - 20.0 * np.array([math.cos(p), math.sin(p)]), float(p))
+                 for p in psis]
+            circle = feel(P_CONFIG, _p_touch(np.array(q)), 9)
+            assert circle.problem is None or "slid" not in circle.problem, circle.problem

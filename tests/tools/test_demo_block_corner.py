@@ -3,7 +3,10 @@
 touches pivoted about, and is dropped by the corner clearance (6 of its 9 samples within
 2 mm). With no rolling touch left clear of the corners the pads press flat on the faces:
 the answer is the line of the face, not a refusal. (Before, the flat presses ran only when
-no rolling touch was usable at all, and this block was refused.)"""
+no rolling touch was usable at all, and this block was refused.) Since the left pad presses
+during the rolls (tactile_jaw.flat_phase.early_press: its probe lines show the seat, and the
+right pad's first two rolls found no usable touch), the right pad's roll beside the corner is
+no longer made: the left pad's press begins in the round of the right pad's third roll."""
 
 from __future__ import annotations
 
@@ -29,5 +32,8 @@ def test_a_block_whose_rolling_touch_sits_at_a_corner_is_pressed_flat(tmp_path, 
     assert abs(math.remainder(pose["theta"] - truth["theta"], 2 * math.pi)) < 5e-3
     offset = -math.sin(truth["theta"]) * (pose["x"] - truth["x"]) + math.cos(truth["theta"]) * (pose["y"] - truth["y"])
     assert abs(offset) < 0.3
-    events = read_log(log).events
-    assert any(e.get("kind") == "touch_trimmed" and "not used" in e["message"] for e in events)
+    contents = read_log(log)
+    first_press = next(t for t in contents.touches if t.kind == "flat")
+    assert first_press.finger == "left"
+    rolls_after = [t for t in contents.touches if t.kind != "flat" and t.touch > first_press.touch]
+    assert [t.finger for t in rolls_after] == ["right"]  # the right pad rolled again in that round

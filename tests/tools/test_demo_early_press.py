@@ -1,0 +1,42 @@
+"""`tactile demo` on a block of the P-series jaw (random block 0 of ``bench_explore --finite
+10 --anywhere --classes line --config config/jaw-p.yaml --seed 11``, development): the right
+pad's first roll crossed the top face (its lines pass through both corners), so in the
+second round it presses flat there (tactile_jaw.flat_phase.early_press) while the left pad
+rolls again; that press is the face's first flat touch. Before, both fingers rolled a
+second time and the presses began after (4 presses after 4 rolls, 46.8 s; now 43.5 s)."""
+
+from __future__ import annotations
+
+import json
+import math
+
+from hand_driver.log import read_log
+
+BLOCK = {"name": "rand0", "classes": ["line", "circle", "ellipse", "parabola", "hyperbola", "cubical_parabola",
+                                       "semicubical_parabola"],
+         "object": {"class": "line", "params": {},
+                    "pose": {"theta": -0.19535577075707344, "x": 121.411672999304, "y": -16.62320220455208},
+                    "extent": [-15.744180465992144, 15.744180465992144],
+                    "closure": [[15.744180465992144, -12.595344372793715],
+                                [-15.744180465992144, -12.595344372793715]]}}
+
+
+def test_a_finger_whose_roll_crossed_a_face_presses_it_in_the_second_round(tmp_path, demo_answer, tactile_in_process):
+    log = tmp_path / "rand0.jsonl"
+    answer = demo_answer(BLOCK, tmp_path / "rand0.yaml", log, "config/jaw-p.yaml")
+    assert answer["class"] == "line", answer.get("reason")
+    # closing segment 2 (the right side, turned): the face the right pad presses
+    lines = [json.loads(s) for s in log.read_text().splitlines()]
+    starts = [r for r in lines if r["type"] == "touch_start" and r.get("span") != 0.10471975511965978]  # not probes
+    first_flat = next(k for k, r in enumerate(starts) if r.get("kind") == "flat")
+    assert first_flat == 2 and starts[3].get("kind") is None  # the second round: a press and a roll
+    assert starts[first_flat]["finger"] == "right"
+    used = [e for e in read_log(log).events if e.get("kind") == "touch_used"]
+    assert used[0]["touch"] == starts[first_flat]["touch"] and len(used) == 4
+    # the answer's line is the face that press seated on (ψ 78.8°: the face's outward normal at −101.2°)
+    assert abs(math.remainder(answer["pose"]["theta"] - (math.radians(-101.19) - math.pi / 2), 2 * math.pi)) < 3e-3
+    result = next(r for r in lines if r["type"] == "result")
+    assert result["robot_time_s"] < 45.0
+    rc, out, err = tactile_in_process(["replay", str(log), "--json"])
+    assert rc == 0 and json.loads(out)["class"] == "line"
+    assert json.loads(out)["pose"] == answer["pose"]
