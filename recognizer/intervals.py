@@ -123,19 +123,25 @@ def profile_uncertainty(cand, rel_check: float = REL_SIGMA_CHECK):
         ends = [w[0] for w in walks]
         dragged = np.maximum(dragged, 0.5 * (walks[0][1] + walks[1][1]))
         if problem.names[i] in problem.pos_names:  # log parameter: back to the parameter
-            lo, hi = p * (math.exp(ends[0]) - 1.0), p * (math.exp(ends[1]) - 1.0)
+            with np.errstate(over="ignore"):  # a walk e^700 along a log parameter: undetermined
+                lo, hi = p * float(np.expm1(ends[0])), p * float(np.expm1(ends[1]))
         else:
             lo, hi = ends
         sd_new = 0.5 * (abs(lo) + abs(hi)) / 1.96
-        if math.isfinite(sd_new) and sd_new > sd:
+        if math.isinf(sd_new):
+            unc[name] = math.inf  # undetermined: stated ∞ (null), its covariance left as linearized
+        elif math.isfinite(sd_new) and sd_new > sd:
             scale[j] = sd_new / sd
             unc[name] = sd_new
     for j, name in enumerate(names):  # how far each parameter moved along the walks
         i = perm[j]
         p, sd = float(cand.params[name]), float(unc.get(name) or 0.0)
-        off = abs(p) * math.expm1(dragged[i]) if problem.names[i] in problem.pos_names else dragged[i]
+        with np.errstate(over="ignore"):
+            off = abs(p) * float(np.expm1(dragged[i])) if problem.names[i] in problem.pos_names else float(dragged[i])
         need = off / 1.96
-        if math.isfinite(need) and sd > 0 and need > sd:
+        if math.isinf(need):
+            unc[name] = math.inf
+        elif math.isfinite(need) and sd > 0 and need > sd:
             scale[j] *= need / sd
             unc[name] = need
     return _widened(cand, unc, scale)
