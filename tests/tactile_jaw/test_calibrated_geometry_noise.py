@@ -11,7 +11,6 @@ across its line (0.1–0.27 µm), and were stated nowhere."""
 
 from __future__ import annotations
 
-import math
 from dataclasses import replace
 from pathlib import Path
 
