@@ -512,15 +512,21 @@ def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0,
 
 
 def _with_zero_sigmas(cfg: JawConfig, estimates, spread: np.ndarray | None = None) -> JawConfig:
-    """The calibrated config with each joint's ``zero_sigma_deg``, in degrees: its zero tick's
-    standard error, or the spread of the zero over the placements (:func:`_placement_spread`)
-    where that is larger: what the exploration states as each joint's offset over a touch
-    (tactile_jaw.envelope.joint_noise, docs/exploration.md#the-stated-noise)."""
+    """The calibrated config with the uncertainty of what it fitted: each joint's
+    ``zero_sigma_deg`` (in degrees) and ``link_sigma_mm``, each pad's ``offset_sigma_mm``: the
+    parameter's standard error, or its spread over the placements (:func:`_placement_spread`)
+    where that is larger. What the exploration states as each touch's offsets
+    (tactile_jaw.envelope.joint_noise, docs/exploration.md#the-stated-noise): a pad offset or
+    link length off by 0.5 µm moves a P-series touch's contacts by 2–5 times their
+    quantization's deviation."""
     se = {e.name: e.se if spread is None else max(e.se, float(spread[i]))
-          for i, e in enumerate(estimates) if e.kind == "zero_tick"}
+          for i, e in enumerate(estimates) if e.kind in ("zero_tick", "link_mm", "offset_mm")}
     fingers = []
     for f in cfg.fingers:
         joints = tuple(dataclasses.replace(j, zero_sigma_deg=float(se[f"{f.name}.joint{j.id}.zero_tick"])
-                                           * 360.0 / j.spec.ticks_per_rev) for j in f.joints)
-        fingers.append(dataclasses.replace(f, joints=joints))
+                                           * 360.0 / j.spec.ticks_per_rev,
+                                           link_sigma_mm=float(se.get(f"{f.name}.joint{j.id}.link_mm", 0.0)))
+                       for j in f.joints)
+        pad = dataclasses.replace(f.pad, offset_sigma_mm=float(se.get(f"{f.name}.pad.offset_mm", 0.0)))
+        fingers.append(dataclasses.replace(f, joints=joints, pad=pad))
     return dataclasses.replace(cfg, fingers=tuple(fingers))

@@ -20,7 +20,7 @@ errors are correlated, rank degree + 1 + n). docs/exploration.md#the-stated-nois
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy import linalg, stats
@@ -32,6 +32,8 @@ from tactile_common.errors import InputError
 
 #: central-difference step (rad) of the joint-angle Jacobians
 STEP_RAD = 1e-7
+#: and (mm) of the derivatives in a link length or pad offset
+STEP_MM = 1e-4
 
 
 @dataclass(frozen=True)
@@ -44,6 +46,10 @@ class JointNoise:
 
     tick_rad: tuple[float, float]
     offset_rad: tuple[float, float] = (0.0, 0.0)
+    #: σ (mm) of the finger's link lengths and its pad's offset over the touch (what a
+    #: calibration leaves uncertain: ``link_sigma_mm``, ``pad.offset_sigma_mm``)
+    link_mm: tuple[float, float] = (0.0, 0.0)
+    pad_mm: float = 0.0
 
     @property
     def quantization(self) -> np.ndarray:
@@ -61,12 +67,15 @@ def joint_noise(finger, load_known=None) -> JointNoise:
     the zero's standard error z (``zero_sigma_deg``, written by ``tactile calibrate``). A
     joint whose load over the touch is not known to stay one way (``load_known`` False for
     it; None: known on every joint) may rest anywhere in its dead band: σ = √(z² + (b/2)²),
-    b its declared ``backlash_deg``. docs/exploration.md#the-stated-noise."""
+    b its declared ``backlash_deg``. The calibrated link lengths and pad offset are off by
+    their ``link_sigma_mm`` and ``pad.offset_sigma_mm`` the same way over a touch.
+    docs/exploration.md#the-stated-noise."""
     ticks = rad_per_tick(kin.resolutions(finger.joints))
     known = [True] * len(finger.joints) if load_known is None else [bool(k) for k in load_known]
     return JointNoise(tuple(float(t) for t in ticks),
                       tuple(math.radians(j.zero_sigma_deg if k else math.hypot(j.zero_sigma_deg, j.backlash_deg / 2.0))
-                            for j, k in zip(finger.joints, known)))
+                            for j, k in zip(finger.joints, known)),
+                      tuple(float(j.link_sigma_mm) for j in finger.joints), float(finger.pad.offset_sigma_mm))
 
 
 @dataclass(frozen=True)
@@ -261,8 +270,8 @@ def _propagate(finger, q, origin, degree: int, noise: JointNoise) -> tuple[kin.T
     n = q.shape[0]
     m = n // 2
 
-    def outputs(qq):
-        line = kin.finger_pad_line(finger, qq)
+    def outputs(qq, f=finger):
+        line = kin.finger_pad_line(f, qq)
         c = kin.touch_from_pad_lines(line.psi, line.d, origin=origin, degree=degree)
         rho = c.rho[m]
         return np.concatenate(([1.0 / rho, -c.rho_psi[m] / rho**3, rho], c.x, c.y, c.psi))
@@ -278,7 +287,20 @@ def _propagate(finger, q, origin, degree: int, noise: JointNoise) -> tuple[kin.T
     if np.any(offsets > 0.0):
         shared = jac.reshape(jac.shape[0], n, 2).sum(axis=1) * offsets
         factor = np.hstack([factor, shared[:, offsets > 0.0]])
+    geometry = [(sigma, lambda f, h, k=k: _with_link(f, k, h)) for k, sigma in enumerate(noise.link_mm)]
+    geometry.append((noise.pad_mm, lambda f, h: replace(f, pad=replace(f.pad, offset_mm=f.pad.offset_mm + h))))
+    for sigma, moved in geometry:
+        if sigma > 0.0:  # the same error over every reading: one column
+            column = (outputs(q, moved(finger, STEP_MM)) - outputs(q, moved(finger, -STEP_MM))) / (2.0 * STEP_MM)
+            factor = np.hstack([factor, sigma * column[:, None]])
     return base, factor
+
+
+def _with_link(finger, k: int, h: float):
+    """``finger`` with joint k's link ``h`` mm longer."""
+    joints = list(finger.joints)
+    joints[k] = replace(joints[k], link_mm=joints[k].link_mm + h)
+    return replace(finger, joints=tuple(joints))
 
 
 def _line_sigma(finger, q, base: kin.TouchEnvelope, sq: np.ndarray) -> np.ndarray:

@@ -142,7 +142,8 @@ def test_zero_sigma_holds_the_spread_over_placements():
     of the standard error on quantized readings, and raising it is what the config holds.
     A placement whose disk sat elsewhere than its readings say (one placement's readings
     synthesized 0.05 mm off the radius: a systematic no quantization model covers) makes the
-    spread, not the standard error, cover the zero ticks' error."""
+    spread, not the standard error, cover the zero ticks' error, and the same for the links'
+    ``link_sigma_mm`` and the pads' ``offset_sigma_mm``."""
     truth, rng = perturbed(3)
     readings = readings_for(truth, rng)
     result = cal.fit(CFG, DISK, readings)
@@ -162,9 +163,18 @@ def test_zero_sigma_holds_the_spread_over_placements():
               for f in off.config.fingers for j in f.joints}
     assert max(abs(d) / e.se for e, d in zeros) > 3.0  # the standard errors miss the systematic
     assert all(abs(d) <= 3.0 * stated[e.name] for e, d in zeros), [(e.name, d, stated[e.name]) for e, d in zeros]
+    # the links and pads the same way (what the exploration states for them: envelope.joint_noise)
+    geometry = {f"{f.name}.joint{j.id}.link_mm": j.link_sigma_mm for f in off.config.fingers for j in f.joints}
+    geometry.update({f"{f.name}.pad.offset_mm": f.pad.offset_sigma_mm for f in off.config.fingers})
+    fitted = [(e, d) for e, d in zip(off.estimates, err) if e.kind in ("link_mm", "offset_mm")]
+    assert max(abs(d) / e.se for e, d in fitted) > 3.0  # the standard errors miss here too (4.0 on the right pad)
+    assert all(geometry[e.name] >= e.se - 1e-15 for e, _ in fitted)
+    assert all(abs(d) <= 3.0 * geometry[e.name] for e, d in fitted), [(e.name, d, geometry[e.name]) for e, d in fitted]
     two = cal.fit(CFG, DISK, [r for r in readings if r.placement < 2],
                   tolerances={"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0})
     for f in two.config.fingers:
         for j in f.joints:  # two placements: no spread, the standard error alone
             e = next(e for e in two.estimates if e.name == f"{f.name}.joint{j.id}.zero_tick")
             assert j.zero_sigma_deg == pytest.approx(e.se * 360.0 / j.ticks_per_rev)
+            link = next(e for e in two.estimates if e.name == f"{f.name}.joint{j.id}.link_mm")
+            assert j.link_sigma_mm == pytest.approx(link.se)
