@@ -50,18 +50,31 @@ VERTEX_AIM_STEP_DEG = 2.5
 #: at: the answered curve goes on where the object does not (the far side of a circle fitted
 #: to a parabola's touches: the parabola example moved 3 mm sent the right pad there twice)
 EMPTY_AIM_MM = 10.0
-#: a stop for want of reach names the smallest move of the object after which a pad rolls where
-#: the touch would have to go (:func:`move_for`): a shift on a grid of MOVE_STEP_MM up to MOVE_MAX_MM (random
-#: parabolas 6 mm nearer the palm than the example reach only one side of their vertex)
-MOVE_STEP_MM = 1.0
+#: a stop for want of reach names the smallest move of the object (:func:`move_for`) after which
+#: a pad rolls through every place the deciding touches need (for a parabola felt on one side
+#: of its vertex, the whole vertex region: :func:`vertex_goal`) and the object's known boundary
+#: stays inside the workspace disk: shifts every MOVE_STEP_MM up to MOVE_MAX_MM and turns every
+#: MOVE_TURN_STEP_DEG up to MOVE_TURN_MAX_DEG, every combination, the smallest first (by how far
+#: the known boundary's farthest point travels)
+MOVE_STEP_MM = 2.0
 MOVE_MAX_MM = 20.0
-#: ... else the smallest turn about that place, every MOVE_TURN_STEP_DEG up to
-#: MOVE_TURN_MAX_DEG, else a turn and a shift on the coarser grid MOVE_COARSE (mm, deg)
-MOVE_TURN_STEP_DEG = 2.5
+MOVE_TURN_STEP_DEG = 5.0
 MOVE_TURN_MAX_DEG = 30.0
-MOVE_COARSE = (2.0, 5.0)
-#: a shift found is lengthened by this much (mm) when a pad still reaches the place then
+#: a move keeps every point of the object's known boundary (the felt stretch and the places the
+#: move is for) this far (mm) inside the workspace disk, or no farther out than it was: the
+#: opened jaw's pads and every transit lie on the disk's edge (tactile_jaw.plan.open_pose,
+#: tactile_jaw.rounds.transit), so a boundary inside it is clear of them (seed-11 random
+#: parabola 23 of session 10, moved as a reach-only search advised, lay across the opened jaw)
+MOVE_CLEAR_MM = 3.0
+#: the search asks the jaw's reach (:meth:`JawReach.finger`, ~1.6 ms) at most this many times (seed-13
+#: random parabola 18 on the P-series jaw: a turn of 30° and a (-14, -8) mm shift, found after
+#: more than 1,200 questions, 2.3 s more)
+MOVE_QUERIES = 6000
+#: a shift found is lengthened by this much (mm) when every place is still reached then
 MOVE_MARGIN_MM = 2.0
+#: the vertex region a move is for: roll centres at this many places evenly from one side's
+#: VERTEX_SIDE_DEG + a quarter roll to the other's (:func:`vertex_goal`)
+VERTEX_GOAL_PLACES = 5
 
 
 @dataclass(frozen=True)
@@ -217,8 +230,9 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
                               "the curved part (the object ends there): move or turn the object so that more of its "
                               "curved part faces a finger")
         if aim is None:
-            return None, _place_stop("no touch within the pads' reach can decide: no pad can roll beyond the vertex "
-                                     "on that side (near {where})", *vertex_place(recognition, touched), reach)
+            return None, _goal_stop("no touch within the pads' reach can decide: no pad can roll beyond the vertex "
+                                    f"on that side (near {_where(*vertex_place(recognition, touched))})",
+                                    vertex_goal(recognition, touched, reach), reach)
     suggested = recognition.next_touch
     if suggested is not None:
         f = reach.finger(suggested["x"], suggested["y"], suggested["phi"], fingers)
@@ -236,98 +250,189 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     if wanted is None:
         return None, Stop(f"no touch within the pads' reach is expected to {what}: move or turn the object so that "
                           f"more of its curved part faces a finger")
-    return None, _wanted_stop(f"no touch within the pads' reach is expected to {what}", wanted, reach)
+    return None, _wanted_stop(f"no touch within the pads' reach is expected to {what}", wanted, reach, touched)
 
 
 def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, budget: int,
                   anywhere: Callable[[], dict | None] | None = None) -> Stop:
     """What a person can do when the touch budget is spent and the answer is not decisive:
-    for a parabola felt on one side of its vertex, the move that lets a pad roll beyond it
-    (:func:`move_advice`); else where the recognizer's ``next_touch`` anywhere in the
+    when no class fits (``why.kind`` 'unclassified'), no move (the touches disagree with every
+    class wherever they were: seed-11 random parabolas 20 and 23 of session 11's bench were
+    advised the move to a ``next_touch`` of such an answer); for a parabola felt on one side of
+    its vertex, the move that lets a pad roll across the vertex region (:func:`vertex_goal`,
+    :func:`move_advice`); else where the recognizer's ``next_touch`` anywhere in the
     workspace would go, with the move that brings it within a pad's roll, or, when a pad
     already reaches it, a larger budget (the ``accurate`` profile)."""
     spent = f"the touch budget of {budget} is spent"
+    if why.kind == "unclassified":  # the touches disagree with every class: where they were is not what failed
+        return Stop(f"{spent} and no class of the scene fits the touches: no move of the object is known to help")
     if recognition.cls == "parabola" and touched is not None and min(vertex_sides(recognition, touched)) < VERTEX_SIDE_DEG:
         x, y, phi = vertex_place(recognition, touched)
         if reach.finger(x, y, phi) is None:
-            return _place_stop(f"{spent} and no pad can roll beyond the parabola's vertex on the side felt less than "
-                               f"{VERTEX_SIDE_DEG:g} deg (near {{where}})", x, y, phi, reach)
+            return _goal_stop(f"{spent} and no pad can roll beyond the parabola's vertex on the side felt less than "
+                              f"{VERTEX_SIDE_DEG:g} deg (near {_where(x, y, phi)})",
+                              vertex_goal(recognition, touched, reach), reach)
     wanted = anywhere() if anywhere is not None else None
     if wanted is None:
         return Stop(f"{spent}: a profile with more touches (--profile accurate) may decide")
     if reach.finger(float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])) is not None:
         return Stop(f"{spent}; the most telling touch would roll at ({float(wanted['x']):.0f}, {float(wanted['y']):.0f}) "
                     f"mm, within a pad's reach: a profile with more touches (--profile accurate) may decide")
-    return _wanted_stop(spent, wanted, reach)
+    return _wanted_stop(spent, wanted, reach, touched)
 
 
-def _wanted_stop(head: str, wanted: dict, reach: JawReach) -> Stop:
+@dataclass(frozen=True)
+class Goal:
+    """What a move of the object is for: a pad rolling through every place (x, y, φ) of
+    ``places`` (mm, rad: the boundary's tangent there, in the touches' direction of travel),
+    the boundary's known points ``keep`` (2 × n, mm) kept clear of the opened jaw
+    (``MOVE_CLEAR_MM``), turning about ``about``; ``where`` names it for people."""
+
+    places: tuple[tuple[float, float, float], ...]
+    keep: np.ndarray
+    about: tuple[float, float]
+    where: str
+
+
+def place_goal(x: float, y: float, phi: float, touched=None) -> Goal:
+    """The goal of one place (x, y) with tangent φ, turning about it; ``touched`` the felt
+    samples' positions (x, y), kept clear of the opened jaw."""
+    keep = np.array([[x], [y]]) if touched is None else np.hstack([np.array([[x], [y]]), _thinned(touched)])
+    return Goal(((x, y, phi),), keep, (x, y), "there")
+
+
+def vertex_goal(recognition: Recognition, touched, reach: JawReach) -> Goal:
+    """The goal of a parabola answer felt on one side of its vertex: a pad rolling across the
+    whole vertex region — roll centres at ``VERTEX_GOAL_PLACES`` places evenly from
+    VERTEX_SIDE_DEG + a quarter roll of tangent turn on one side to the same on the other
+    (each roll reaches a quarter roll past VERTEX_SIDE_DEG, as :func:`vertex_aim` aims), not
+    only the short side's place: a move that brings the short side within reach can take
+    the long side out of it —, turning about the vertex; kept clear of the opened jaw: the
+    felt samples and the answered parabola out to a roll beyond that region."""
+    half = 0.5 * math.degrees(reach.settings.roll_span_rad)
+    edge = VERTEX_SIDE_DEG + 0.5 * half
+    places = tuple(_parabola_place(recognition, math.tan(math.radians(c)))
+                   for c in np.linspace(-edge, edge, VERTEX_GOAL_PLACES))
+    t = np.tan(np.radians(np.linspace(-edge - half, edge + half, 9)))
+    curve = CURVES["parabola"]({"a": recognition.params["a"]})
+    arc = np.vstack([np.ravel(v) for v in recognition.pose.apply(*curve.point(t))])
+    keep = arc if touched is None else np.hstack([arc, _thinned(touched)])
+    vx, vy, _ = _parabola_place(recognition, 0.0)
+    return Goal(places, keep, (vx, vy), f"across its vertex, {edge:.0f} deg either side (the vertex near ({vx:.0f}, {vy:.0f}) mm)")
+
+
+def _thinned(touched, most: int = 24) -> np.ndarray:
+    """At most ``most`` of the felt samples' positions (2 × n), evenly by index."""
+    xy = np.vstack([np.ravel(np.asarray(v, float)) for v in touched])
+    return xy[:, np.unique(np.linspace(0, xy.shape[1] - 1, min(most, xy.shape[1])).astype(int))]
+
+
+def _wanted_stop(head: str, wanted: dict, reach: JawReach, touched=None) -> Stop:
     """``head``, then where the touch ``wanted`` (a ``next_touch``) would roll and the move of
-    the object that brings it within a pad's roll (:func:`_place_stop`)."""
-    return _place_stop(f"{head}; the most telling touch would roll at {{where}}",
-                       float(wanted["x"]), float(wanted["y"]), float(wanted["phi"]), reach)
+    the object that brings it within a pad's roll (:func:`_goal_stop`)."""
+    x, y, phi = float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])
+    return _goal_stop(f"{head}; the most telling touch would roll at {_where(x, y, phi)}",
+                      place_goal(x, y, phi, touched), reach)
 
 
-def _place_stop(message: str, x: float, y: float, phi: float, reach: JawReach) -> Stop:
-    """The stop ``message`` (its ``{where}`` the place, :func:`_where`), then the move of the
-    object that lets a pad roll through (x, y) with tangent φ (:func:`move_advice`)."""
-    advice, move = move_advice(reach, x, y, phi)
-    return Stop(f"{message.format(where=_where(x, y, phi))}: {advice}", move)
+def _goal_stop(message: str, goal: Goal, reach: JawReach) -> Stop:
+    """The stop ``message``, then the move of the object that reaches ``goal`` (:func:`move_advice`)."""
+    advice, move = move_advice(reach, goal)
+    return Stop(f"{message}: {advice}", move)
 
 
-def move_for(reach: JawReach, x: float, y: float, phi: float, fingers: Sequence | None = None
-             ) -> tuple[float, float, float] | None:
-    """The smallest move (dx mm, dy mm, turn rad) of the object after which a pad can roll
-    through its place now at (x, y) with tangent φ, or None: a shift alone (the place moves
-    with the object, its tangent does not turn; grid ``MOVE_STEP_MM`` up to ``MOVE_MAX_MM``),
-    else a turn about the place alone (every ``MOVE_TURN_STEP_DEG`` up to
-    ``MOVE_TURN_MAX_DEG``), else both (the coarser grid ``MOVE_COARSE``), the smallest first."""
-    def shifts(step: float) -> list[tuple[float, float]]:
-        k = int(MOVE_MAX_MM // step)
-        grid = np.arange(-k, k + 1) * step
-        dx, dy = (v.ravel() for v in np.meshgrid(grid, grid))
-        norm = np.hypot(dx, dy)
-        order = np.argsort(norm, kind="stable")
-        return [(float(dx[i]), float(dy[i])) for i in order if norm[i] <= MOVE_MAX_MM + 1e-9]
+def _moved(goal: Goal, turn: float, shift: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The places' (n × 2) and the kept points' (m × 2) positions after turning by ``turn``
+    about ``goal.about``, then shifting by ``shift`` (k × 2): arrays k × n × 2, k × m × 2."""
+    c, s = math.cos(turn), math.sin(turn)
+    rot = np.array([[c, -s], [s, c]])
+    about = np.asarray(goal.about, float)
+    places = np.array([(x, y) for x, y, _ in goal.places], float)
+    keep = np.asarray(goal.keep, float).T
+    turned = [(p - about) @ rot.T + about for p in (places, keep)]
+    return tuple(t[None, :, :] + shift[:, None, :] for t in turned)
 
-    def turns(step: float) -> list[float]:
-        k = int(MOVE_TURN_MAX_DEG // step)
-        return [math.radians(sign * i * step) for i in range(1, k + 1) for sign in (1, -1)]
 
-    moves = ([(dx, dy, 0.0) for dx, dy in shifts(MOVE_STEP_MM)]
-             + [(0.0, 0.0, a) for a in turns(MOVE_TURN_STEP_DEG)]
-             + [(dx, dy, a) for a in turns(MOVE_COARSE[1]) for dx, dy in shifts(MOVE_COARSE[0])[1:]])
-    for dx, dy, a in moves:
-        if reach.finger(x + dx, y + dy, phi + a, fingers) is not None:
-            return dx, dy, a
+def move_for(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tuple[float, float, float] | None:
+    """The smallest move (dx mm, dy mm, turn rad: the turn about ``goal.about`` first) of
+    the object after which a pad can roll through every place of ``goal`` (the place turns
+    and moves with the object) and every known point of its boundary stays ``MOVE_CLEAR_MM``
+    inside the workspace disk (or no farther out than it was): shifts every
+    ``MOVE_STEP_MM`` up to ``MOVE_MAX_MM``, turns every ``MOVE_TURN_STEP_DEG`` up to
+    ``MOVE_TURN_MAX_DEG``, smallest first by how far the farthest known point travels; None
+    when none does within ``MOVE_QUERIES`` questions to the reach."""
+    k = int(MOVE_MAX_MM // MOVE_STEP_MM)
+    grid = np.arange(-k, k + 1) * MOVE_STEP_MM
+    shift = np.stack([v.ravel() for v in np.meshgrid(grid, grid)], axis=-1)
+    shift = shift[np.hypot(shift[:, 0], shift[:, 1]) <= MOVE_MAX_MM + 1e-9]
+    m = int(MOVE_TURN_MAX_DEG // MOVE_TURN_STEP_DEG)
+    (cx, cy), radius = (reach.disk.x, reach.disk.y), reach.disk.radius
+    here = np.vstack([np.array([(x, y) for x, y, _ in goal.places]), np.asarray(goal.keep, float).T])
+    allowed = np.maximum(radius - MOVE_CLEAR_MM, np.hypot(here[:, 0] - cx, here[:, 1] - cy))
+    cands = []
+    for turn in np.radians(np.arange(-m, m + 1) * MOVE_TURN_STEP_DEG):
+        places, keep = _moved(goal, float(turn), shift)
+        every = np.concatenate([places, keep], axis=1)
+        clear = np.all(np.hypot(every[..., 0] - cx, every[..., 1] - cy) <= allowed[None, :] + 1e-9, axis=1)
+        travel = np.max(np.hypot(*(every - here[None]).transpose(2, 0, 1)), axis=1)
+        cands += [(float(travel[i]), abs(float(turn)), float(turn), i, places[i]) for i in np.flatnonzero(clear)]
+    cands.sort(key=lambda c: c[:2])
+    order = list(range(len(goal.places)))  # the place that failed last is asked first
+    asked = 0
+    for _, _, turn, i, places in cands:
+        for j in list(order):
+            asked += 1
+            if reach.finger(float(places[j, 0]), float(places[j, 1]), goal.places[j][2] + turn, fingers) is None:
+                order.remove(j)
+                order.insert(0, j)
+                break
+        else:
+            return float(shift[i, 0]), float(shift[i, 1]), turn
+        if asked >= MOVE_QUERIES:
+            return None
     return None
 
 
-def move_advice(reach: JawReach, x: float, y: float, phi: float, fingers: Sequence | None = None
-                ) -> tuple[str, dict | None]:
-    """What a person can do so that a pad rolls through the place (x, y) with tangent φ: the
-    move of :func:`move_for` in the hand frame's words (x away from the palm, y toward the
-    left finger, turns counterclockwise positive) and as :class:`Stop`'s ``move``, or a
-    general request (and None) when none is near."""
-    move = move_for(reach, x, y, phi, fingers)
+def _reaches(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float, fingers) -> bool:
+    """Does a pad roll through every place of ``goal`` after the move, its known points clear?"""
+    (cx, cy), radius = (reach.disk.x, reach.disk.y), reach.disk.radius
+    places, keep = _moved(goal, turn, np.array([[dx, dy]]))
+    here = np.asarray(goal.keep, float).T
+    allowed = np.maximum(radius - MOVE_CLEAR_MM, np.hypot(here[:, 0] - cx, here[:, 1] - cy))
+    if np.any(np.hypot(keep[0, :, 0] - cx, keep[0, :, 1] - cy) > allowed + 1e-9):
+        return False
+    return all(reach.finger(float(p[0]), float(p[1]), goal.places[j][2] + turn, fingers) is not None
+               for j, p in enumerate(places[0]))
+
+
+def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tuple[str, dict | None]:
+    """What a person can do so that a pad rolls through every place of ``goal``: the move of
+    :func:`move_for` in the hand frame's words (x away from the palm, y toward the left
+    finger, turns counterclockwise positive) and as :class:`Stop`'s ``move``, or a general
+    request (and None) when none is near."""
+    move = move_for(reach, goal, fingers)
     if move is None:
-        return (f"no pad reaches it with the object moved up to {MOVE_MAX_MM:g} mm or turned up to "
-                f"{MOVE_TURN_MAX_DEG:g} deg: place the object so that more of its curved part faces a finger"), None
+        return (f"no pad reaches {goal.where} with the object moved up to {MOVE_MAX_MM:g} mm and turned up to "
+                f"{MOVE_TURN_MAX_DEG:g} deg inside the workspace: place the object so that more of its curved part "
+                f"faces a finger"), None
     if move == (0.0, 0.0, 0.0):  # within reach, yet its finger gave up there (corners, closing segments)
         return "move or turn the object so that more of its curved part faces a finger", None
     dx, dy, a = move
     grow = (math.hypot(dx, dy) + MOVE_MARGIN_MM) / max(math.hypot(dx, dy), 1e-9)
-    if (dx or dy) and reach.finger(x + grow * dx, y + grow * dy, phi + a, fingers) is not None:
+    if (dx or dy) and _reaches(reach, goal, grow * dx, grow * dy, a, fingers):
         dx, dy = grow * dx, grow * dy  # clear of the reach's edge, which a fitted curve knows only so well
     parts = [f"{abs(v):.0f} mm {(pos if v > 0 else neg)}" for v, pos, neg in
              ((dx, "away from the palm (+x)", "toward the palm (-x)"),
               (dy, "toward the left finger (+y)", "toward the right finger (-y)")) if abs(v) >= 0.5]
-    moved = [f"move the object {' and '.join(parts)}"] if parts else []
+    ax, ay = goal.about
+    moved = []
     if a:
-        moved.append(f"turn {'it' if moved else 'the object'} {abs(math.degrees(a)):.0f} deg {'counterclockwise' if a > 0 else 'clockwise'} "
-                     f"(hand frame) about that place")
-    return (f"{', then '.join(moved)}, and a pad can roll there",
-            {"dx": round(dx, 3), "dy": round(dy, 3), "turn_deg": round(math.degrees(a), 3), "about": [x, y]})
+        moved.append(f"turn the object {abs(math.degrees(a)):.0f} deg {'counterclockwise' if a > 0 else 'clockwise'} "
+                     f"(hand frame) about ({ax:.0f}, {ay:.0f}) mm")
+    if parts:
+        moved.append(f"{'then move it' if moved else 'move the object'} {' and '.join(parts)}")
+    return (f"{', '.join(moved)}, and a pad can roll {goal.where}",
+            {"dx": round(dx, 3), "dy": round(dy, 3), "turn_deg": round(math.degrees(a), 3), "about": [ax, ay]})
 
 
 def _aimed_near(point, aimed_at, radius: float = AIM_AGAIN_MM) -> bool:

@@ -75,8 +75,11 @@ RecognizeTouches = Callable[..., Recognition]
 #: :func:`imprecision`), and what :func:`refusal_kind` looks for
 FINER = "a jaw with >="
 #: what a refusal asks of a person (:func:`refusal_kind`): move the object where a pad can
-#: reach the deciding place; a jaw with finer angles; another placement or exploration
-REFUSAL_KINDS = ("out of reach", "needs finer angles", "needs another move")
+#: reach the deciding place; a jaw with finer angles; another placement or exploration; or
+#: nothing it can do by moving the object: no class of the scene fits the touches
+REFUSAL_KINDS = ("out of reach", "needs finer angles", "needs another move", "no class fits")
+#: how the recognizer begins the reason of an answer no class fits (recognizer.classify)
+NO_CLASS_FITS = "no class of the scene fits"
 #: what keeps an answer from being decisive (:class:`Why`): no class fits; a richer class
 #: fits significantly better; a rival fits as well; the answer changed with the last touch
 #: (or was not yet checked with one fewer); a parabola felt on one side of its vertex only;
@@ -307,7 +310,11 @@ def refusal_kind(reason: str, move: dict | None = None) -> str:
     of a person (``REFUSAL_KINDS``): finer angles when it names a resolution that would
     settle it (:func:`finer_advice`, :func:`imprecision`); out of reach when it names a
     move of the object after which a pad rolls where the deciding touch goes, or no pad
-    can roll there (tactile_jaw.choose); else another move or placement of the object."""
+    can roll there (tactile_jaw.choose); no class fits when the recognizer found none
+    consistent (``NO_CLASS_FITS``: no move is advised then); else another move or placement
+    of the object."""
+    if reason.startswith(NO_CLASS_FITS):
+        return "no class fits"
     if FINER in reason:
         return "needs finer angles"
     if move is not None or "no pad can roll" in reason:

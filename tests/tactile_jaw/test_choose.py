@@ -10,9 +10,9 @@ import numpy as np
 from hand_driver.config import load_config
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Ranked, Recognition
-from tactile_jaw.choose import (MOVE_MAX_MM, MOVE_STEP_MM, JawReach, Stop, budget_advice, move_advice, move_for, next_aim,
-                                vertex_aim)
-from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
+from tactile_jaw.choose import (MOVE_CLEAR_MM, MOVE_MAX_MM, MOVE_TURN_MAX_DEG, JawReach, Stop, budget_advice, move_advice,
+                                move_for, next_aim, place_goal, vertex_aim, vertex_goal)
+from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, refusal_kind, vertex_sides
 from tactile_jaw.plan import ObjectModel, feasible
 from tactile_jaw.settings import ExploreSettings
 
@@ -96,45 +96,91 @@ def test_next_aim_follows_the_reason_and_stops_when_nothing_within_reach_helps()
     assert aim is None and "no pad can roll beyond the vertex" in stop and "move or turn the object" in stop
 
 
-def test_a_stop_for_want_of_reach_names_the_smallest_move_that_brings_the_place_within_a_pads_roll():
+def _moved(move, x, y):
+    """(x, y) turned by the move's turn about its ``about``, then shifted (tools.bench_explore.moved_object)."""
+    a = math.radians(move["turn_deg"])
+    ax, ay = move["about"]
+    c, s = math.cos(a), math.sin(a)
+    x, y = np.asarray(x, float) - ax, np.asarray(y, float) - ay
+    return ax + c * x - s * y + move["dx"], ay + s * x + c * y + move["dy"]
+
+
+def _vertex_region_reached(rec, move, edge_deg):
+    """Whether, the parabola answer ``rec`` moved so, a pad rolls centred at every tangent turn
+    within ±edge_deg of its vertex (every 2.5°: more places than the search asked)."""
+    curve = CURVES["parabola"](rec.params)
+    for c in np.arange(-edge_deg, edge_deg + 1e-9, 2.5):
+        t = np.array([math.tan(math.radians(c))])
+        x, y = _moved(move, *rec.pose.apply(*curve.point(t)))
+        phi = float(curve.tangent_angle(t)[0]) + rec.pose.theta - math.pi + math.radians(move["turn_deg"])
+        if REACH.finger(float(np.ravel(x)[0]), float(np.ravel(y)[0]), phi) is None:
+            return False
+    return True
+
+
+def test_a_stop_for_want_of_reach_names_a_move_after_which_a_pad_rolls_across_the_whole_vertex_region():
     # the parabola example 12 mm nearer the palm: 25° past its vertex on the palm side, where the
     # left pad would have to face down and toward +x, no pad rolls
     near = Recognition("parabola", PARABOLA.params, pose=Pose(-math.pi / 2, 93.0, 12.0), uncertainty={"a": 0.05},
                        ranking=PARABOLA.ranking)
     touched = near.pose.apply(*CURVES["parabola"](near.params).point(np.tan(np.radians(np.linspace(-12.0, 47.0, 40)))))
     assert vertex_aim(near, touched, REACH) is None
+    edge = VERTEX_SIDE_DEG + 0.25 * math.degrees(SETTINGS.roll_span_rad)
+    assert not _vertex_region_reached(near, {"dx": 0.0, "dy": 0.0, "turn_deg": 0.0, "about": [0.0, 0.0]}, edge)
     aim, stop = next_aim(near, _why("vertex"), touched, REACH, list(CONFIG.fingers), [])
     assert aim is None and isinstance(stop, Stop) and stop.move is not None
     move = stop.move
-    assert 0 < math.hypot(move["dx"], move["dy"]) <= MOVE_MAX_MM + 2.0 and move["turn_deg"] == 0.0
-    assert "away from the palm (+x)" in stop if move["dx"] > 0 else "toward the palm (-x)" in stop
-    x, y = move["about"]
-    t = -np.tan(np.radians(VERTEX_SIDE_DEG))  # the place: the short (−t) side, toward the palm
-    px, py = near.pose.apply(*CURVES["parabola"](near.params).point(np.array([t])))
-    assert math.hypot(x - px[0], y - py[0]) < 1e-9
-    phi = math.atan2(1.0, t) + near.pose.theta - math.pi  # the pad faces the solid: ψ = tangent − 90°
-    assert REACH.finger(x + move["dx"], y + move["dy"], phi) is not None  # moved so, a pad rolls there
-    # the shift move_for found is the smallest on its grid: nothing shorter brings it in
-    dx, dy, turn = move_for(REACH, x, y, phi)
-    assert turn == 0.0 and REACH.finger(x + dx, y + dy, phi) is not None
-    k = int(MOVE_MAX_MM // MOVE_STEP_MM)
-    grid = np.arange(-k, k + 1) * MOVE_STEP_MM
-    shorter = [(a, b) for a in grid for b in grid if math.hypot(a, b) < math.hypot(dx, dy) - 1e-9]
-    assert all(REACH.finger(x + a, y + b, phi) is None for a, b in shorter)
+    assert 0 < math.hypot(move["dx"], move["dy"]) <= MOVE_MAX_MM + 2.0 and abs(move["turn_deg"]) <= MOVE_TURN_MAX_DEG
+    assert "across its vertex" in stop and ("away from the palm (+x)" in stop if move["dx"] > 0 else "(-x)" in stop)
+    assert move["about"] == list(near.pose.apply(0.0, 0.0))  # turned about the vertex
+    # moved so, a pad rolls centred anywhere within the region both sides of the vertex, not only the short side
+    assert _vertex_region_reached(near, move, edge)
+    # and the felt stretch and the region stay inside the workspace disk, clear of the opened jaw
+    (cx, cy), radius = CONFIG.workspace.center_mm, CONFIG.workspace.radius_mm
+    x, y = _moved(move, *touched)
+    assert np.all(np.hypot(x - cx, y - cy) <= radius - MOVE_CLEAR_MM + 1e-9)
+
+
+def test_a_move_keeps_the_known_boundary_clear_of_the_opened_jaw():
+    # a place near the left pad's reach edge, the felt stretch 2 mm inside the workspace disk near the
+    # opened left pad (y = 43): the reach-only search moved the object there, across the pad; the goal's
+    # move keeps every known point inside the disk (or no farther out than it was)
+    (cx, cy), radius = CONFIG.workspace.center_mm, CONFIG.workspace.radius_mm
+    x, y, phi = 93.0, 12.0, math.atan2(1.0, -math.tan(math.radians(VERTEX_SIDE_DEG))) - math.pi / 2 - math.pi
+    felt = (np.array([110.0, 115.0, 120.0]), np.array([radius - 2.0, radius - 2.5, radius - 4.0]))
+    goal = place_goal(x, y, phi, felt)
+    dx, dy, turn = move_for(REACH, goal)
+    assert REACH.finger(x, y, phi) is None and REACH.finger(x + dx, y + dy, phi + turn) is not None
+    mx, my = _moved({"dx": dx, "dy": dy, "turn_deg": math.degrees(turn), "about": [x, y]}, *felt)
+    before = np.hypot(felt[0] - cx, felt[1] - cy)
+    assert np.all(np.hypot(mx - cx, my - cy) <= np.maximum(radius - MOVE_CLEAR_MM, before) + 1e-9)
 
 
 def test_move_advice_turns_the_object_when_no_shift_brings_the_tangent_within_reach():
     # a place at the example's vertex whose pad would have to face up and toward +x (ψ = 60°):
     # no shift helps, a turn about the place does, and the words say which way
     x, y, phi = 105.0, 12.0, math.radians(60.0) - math.pi / 2
-    assert move_for(REACH, x, y, phi) is not None
-    words, move = move_advice(REACH, x, y, phi)
+    goal = place_goal(x, y, phi)
+    assert move_for(REACH, goal) is not None
+    words, move = move_advice(REACH, goal)
     dx, dy, turn = move["dx"], move["dy"], math.radians(move["turn_deg"])
     assert turn != 0.0 and REACH.finger(x + dx, y + dy, phi + turn) is not None
     assert ("counterclockwise" if turn > 0 else "clockwise") in words
     # within reach already: nothing to move, the general request
-    assert move_advice(REACH, 105.0, 12.0, -math.pi) == (
+    assert move_advice(REACH, place_goal(105.0, 12.0, -math.pi)) == (
         "move or turn the object so that more of its curved part faces a finger", None)
+
+
+def test_no_move_is_advised_when_no_class_fits():
+    # the touches disagree with every class: where they were is not what failed, so the budget's
+    # advice names no move, even though the recognizer's next_touch anywhere lies out of reach
+    none = Recognition("unclassified", {}, reason="no class of the scene fits: closest class parabola: …",
+                       next_touch={"x": 93.0, "y": 12.0, "phi": -math.pi, "gain": 1.0, "why": "w"})
+    stop = budget_advice(none, _why("unclassified"), _touched(np.linspace(-47.0, 12.0, 40)), REACH, 8,
+                         anywhere=lambda: {"x": 93.0, "y": 12.0, "phi": -math.pi, "gain": 1.0, "why": "w"})
+    assert stop.move is None and "no class of the scene fits" in stop and "no move" in stop
+    assert refusal_kind(none.reason) == "no class fits"
+    assert refusal_kind("not decisive after 4 usable touches: …; move the object 4 mm", {"dx": 4.0}) == "out of reach"
 
 
 def test_a_stop_without_a_reachable_suggestion_says_where_the_touch_anywhere_would_go():
@@ -156,10 +202,8 @@ def test_when_the_budget_runs_out_undecided_the_reason_says_what_to_do():
     touched = near.pose.apply(*CURVES["parabola"](near.params).point(np.tan(np.radians(np.linspace(-12.0, 47.0, 40)))))
     stop = budget_advice(near, _why("rival"), touched, REACH, 8)
     assert stop.startswith("the touch budget of 8 is spent") and "beyond the parabola's vertex" in stop
-    x, y = stop.move["about"]
-    t = -np.tan(np.radians(VERTEX_SIDE_DEG))
-    phi = math.atan2(1.0, t) + near.pose.theta - math.pi
-    assert REACH.finger(x, y, phi) is None and REACH.finger(x + stop.move["dx"], y + stop.move["dy"], phi) is not None
+    edge = VERTEX_SIDE_DEG + 0.25 * math.degrees(SETTINGS.roll_span_rad)
+    assert "across its vertex" in stop and _vertex_region_reached(near, stop.move, edge)
     # felt on both sides: where the recognizer's touch anywhere would go; within a pad's reach,
     # more touches, else the move
     both = _touched(np.linspace(-40.0, 40.0, 40))

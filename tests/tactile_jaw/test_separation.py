@@ -134,4 +134,5 @@ def test_round_up_and_refusal_kinds():
     assert refusal_kind("…; move the object 4 mm away from the palm", {"dx": 4.0, "dy": 0.0}) == "out of reach"
     assert refusal_kind("no pad can roll beyond the vertex on that side") == "out of reach"
     assert refusal_kind("only 0 usable touches of 8 tried") == "needs another move"
-    assert set(REFUSAL_KINDS) == {"out of reach", "needs finer angles", "needs another move"}
+    assert set(REFUSAL_KINDS) == {"out of reach", "needs finer angles", "needs another move", "no class fits"}
+    assert refusal_kind("no class of the scene fits: closest class parabola: …") == "no class fits"
