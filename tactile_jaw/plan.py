@@ -24,6 +24,10 @@ from tactile_jaw.settings import ExploreSettings
 
 #: a rolling touch starts this far (mm) outside the predicted tangent line
 APPROACH_MARGIN_MM = 10.0
+#: a rolling touch's approach runs faster (hand_driver.motion.FREE_SPEED_FACTOR, still
+#: guarded) until this far (mm) outside the predicted tangent line; a probe's, whose
+#: prediction is an extrapolation from other normals, until APPROACH_MARGIN_MM outside it
+FREE_MARGIN_MM = 3.0
 #: a planned roll's lines must be reachable this far (mm) beyond the predicted tangent: a
 #: guarded approach's goal leads the measured pad by at most two approach steps (1 mm with
 #: config/jaw.yaml), so a contact on the line d needs d + 1 mm within the joints' reach, plus

@@ -33,10 +33,11 @@ class Exploration:
     robot_time_s: float = 0.0
     answers: list[str] = field(default_factory=list)  # class after each recognition
     stopped: Stop | None = None  # why it ended undecided and what to do: stopped early, or its budget spent (tactile_jaw.choose)
-    #: where the robot time went (s): probe and touch rounds (each including its transits),
-    #: the transits alone (per round the slower finger's), the final retreat
+    #: where the robot time went (s): probe, rolling-touch and flat-press rounds (each
+    #: including its transits), the transits alone (per round the slower finger's), the
+    #: final retreat
     time_s: dict[str, float] = field(default_factory=lambda: dict.fromkeys(
-        ("probes", "probe_transits", "touches", "touch_transits", "retreat"), 0.0))
+        ("probes", "probe_transits", "touches", "touch_transits", "presses", "press_transits", "retreat"), 0.0))
 
     @property
     def request(self) -> dict[str, Any]:
