@@ -48,7 +48,7 @@ def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings:
     touch is aimed at), faster (still guarded) up to ``FREE_MARGIN_MM`` outside it; returns
     the TouchResult."""
     start = float(roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[0])
-    problem = yield from transit_or_problem(jaw, finger, model, start, spent, aim)
+    problem = yield from transit_or_problem(jaw, finger, model, start, spent, aim, hug=True)
     if problem is not None:
         return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
     d_pred, _ = predicted_tangent(model, start, aim)

@@ -139,6 +139,36 @@ def retreat_offset(finger, model: ObjectModel, psi: float, aim=None) -> float | 
     return None
 
 
+#: a transit between rolling touches keeps APPROACH_MARGIN_MM outside the tangent the felt
+#: lines predict (instead of going out to the workspace edge) only at pad normals within the
+#: felt lines' span widened by this much (deg) each side, where the prediction interpolates
+HUG_EXTEND_DEG = 10.0
+
+
+def hug_offset(finger, model: ObjectModel, psi: float) -> float | None:
+    """The pad line of normal ψ ``APPROACH_MARGIN_MM`` outside the tangent the felt lines
+    predict (:meth:`ObjectModel.tangent`, never an aimed point's line, which is no support
+    line away from the aim), where ψ lies within the felt span widened by ``HUG_EXTEND_DEG``
+    and the joints reach it; else None. A rolling touch's first move already goes to such a
+    line unguarded (tactile_jaw.explore), so a transit through them trusts the model no more."""
+    if not model.psi.size:
+        return None
+    lo, hi = float(model.psi.min()), float(model.psi.max())
+    mid = 0.5 * (lo + hi)
+    off = abs(math.remainder(psi - mid, 2 * math.pi))
+    if off > 0.5 * (hi - lo) + math.radians(HUG_EXTEND_DEG):
+        return None
+    predicted = model.tangent(psi)
+    if predicted is None:
+        return None
+    d = predicted[0] - APPROACH_MARGIN_MM
+    try:
+        kin.ik_line(finger, psi, d, margin_rad=LIMIT_MARGIN_RAD)
+    except kin.Unreachable:
+        return None
+    return d
+
+
 def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings, aim=None) -> bool:
     """Every roll orientation around ψ has a predicted tangent (:func:`predicted_tangent`)
     that puts the pad on it, with the predicted contact on the pad, inside the joint
