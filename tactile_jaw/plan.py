@@ -24,6 +24,10 @@ from tactile_jaw.settings import ExploreSettings
 
 #: a rolling touch starts this far (mm) outside the predicted tangent line
 APPROACH_MARGIN_MM = 10.0
+#: a rolling touch's approach runs faster (hand_driver.motion.FREE_SPEED_FACTOR, still
+#: guarded) until this far (mm) outside the predicted tangent line; a probe's, whose
+#: prediction is an extrapolation from other normals, until APPROACH_MARGIN_MM outside it
+FREE_MARGIN_MM = 3.0
 #: a planned roll's lines must be reachable this far (mm) beyond the predicted tangent: a
 #: guarded approach's goal leads the measured pad by at most two approach steps (1 mm with
 #: config/jaw.yaml), so a contact on the line d needs d + 1 mm within the joints' reach, plus
@@ -133,6 +137,36 @@ def retreat_offset(finger, model: ObjectModel, psi: float, aim=None) -> float | 
         except kin.Unreachable:
             d += 1.0
     return None
+
+
+#: a transit between rolling touches keeps APPROACH_MARGIN_MM outside the tangent the felt
+#: lines predict (instead of going out to the workspace edge) only at pad normals within the
+#: felt lines' span widened by this much (deg) each side, where the prediction interpolates
+HUG_EXTEND_DEG = 10.0
+
+
+def hug_offset(finger, model: ObjectModel, psi: float) -> float | None:
+    """The pad line of normal ψ ``APPROACH_MARGIN_MM`` outside the tangent the felt lines
+    predict (:meth:`ObjectModel.tangent`, never an aimed point's line, which is no support
+    line away from the aim), where ψ lies within the felt span widened by ``HUG_EXTEND_DEG``
+    and the joints reach it; else None. A rolling touch's first move already goes to such a
+    line unguarded (tactile_jaw.explore), so a transit through them trusts the model no more."""
+    if not model.psi.size:
+        return None
+    lo, hi = float(model.psi.min()), float(model.psi.max())
+    mid = 0.5 * (lo + hi)
+    off = abs(math.remainder(psi - mid, 2 * math.pi))
+    if off > 0.5 * (hi - lo) + math.radians(HUG_EXTEND_DEG):
+        return None
+    predicted = model.tangent(psi)
+    if predicted is None:
+        return None
+    d = predicted[0] - APPROACH_MARGIN_MM
+    try:
+        kin.ik_line(finger, psi, d, margin_rad=LIMIT_MARGIN_RAD)
+    except kin.Unreachable:
+        return None
+    return d
 
 
 def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings, aim=None) -> bool:

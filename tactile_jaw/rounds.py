@@ -15,7 +15,7 @@ from hand_driver.motion import move_line, move_to
 from recognizer.result import Recognition
 from tactile_jaw.choose import Stop
 from tactile_jaw.pipeline import FeltTouch
-from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
+from tactile_jaw.plan import ObjectModel, hug_offset, nominal_psi, retreat_offset
 
 #: a transit turns along the workspace edge through pad lines at most this many degrees apart
 EDGE_TURN_STEP_DEG = 15.0
@@ -33,10 +33,11 @@ class Exploration:
     robot_time_s: float = 0.0
     answers: list[str] = field(default_factory=list)  # class after each recognition
     stopped: Stop | None = None  # why it ended undecided and what to do: stopped early, or its budget spent (tactile_jaw.choose)
-    #: where the robot time went (s): probe and touch rounds (each including its transits),
-    #: the transits alone (per round the slower finger's), the final retreat
+    #: where the robot time went (s): probe, rolling-touch and flat-press rounds (each
+    #: including its transits), the transits alone (per round the slower finger's), the
+    #: final retreat
     time_s: dict[str, float] = field(default_factory=lambda: dict.fromkeys(
-        ("probes", "probe_transits", "touches", "touch_transits", "retreat"), 0.0))
+        ("probes", "probe_transits", "touches", "touch_transits", "presses", "press_transits", "retreat"), 0.0))
 
     @property
     def request(self) -> dict[str, Any]:
@@ -44,18 +45,25 @@ class Exploration:
         return {"touches": [t.to_json() for t in self.used]}
 
 
-def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None):
+def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None, hug: bool = False):
     """Retreat to the workspace edge along the pad normal, then turn along the edge to ψ
     (where the joints cannot reach the edge, along the farthest-out line they reach that
     keeps clear of the object: tactile_jaw.plan.retreat_offset).
     Where the edge is out of the joints' reach along this normal (a pad turned far past its
     nominal direction), the pad retreats as far as it can and the finger swings open in
     joint space to its edge pose at the nominal ψ, and turns from there: without this, one
-    such pose made every later transit of the finger fail and spent the touch budget."""
+    such pose made every later transit of the finger fail and spent the touch budget.
+    With ``hug`` (between rolling touches) the pad keeps only ``APPROACH_MARGIN_MM`` outside
+    the tangent the felt lines predict where they interpolate (tactile_jaw.plan.hug_offset)
+    instead of going out to the edge there."""
     line = jaw.pad_line(jaw.last_state, finger)
     psi_from = float(line.psi)
     f = jaw.config.finger(finger)
-    via = [(psi_from, min(float(line.d), model.edge(psi_from)))]
+    def out(a: float, d: float | None) -> float | None:  # nearer the object only where hugging may
+        h = hug_offset(f, model, a) if hug else None
+        return d if h is None or d is None else max(d, h)
+
+    via = [(psi_from, min(float(line.d), out(psi_from, model.edge(psi_from))))]
     try:
         jaw.solve(finger, *via[0], jaw.finger_q(jaw.last_state, finger))
     except kin.Unreachable:
@@ -67,7 +75,7 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None):
     steps = max(1, math.ceil(abs(math.degrees(delta)) / EDGE_TURN_STEP_DEG))
     for k in range(1, steps + 1):
         a = psi_from + delta * k / steps
-        d = retreat_offset(f, model, a, aim)
+        d = out(a, retreat_offset(f, model, a, aim))
         if d is None:
             raise kin.Unreachable(f"finger {finger}: no pad line of psi={math.degrees(a):.1f} deg within the joint "
                                   f"limits keeps clear of the object")
@@ -76,12 +84,12 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None):
 
 
 def transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float,
-                       spent: dict[str, float] | None = None, aim=None):
+                       spent: dict[str, float] | None = None, aim=None, hug: bool = False):
     """:func:`transit`; why it could not go on (the path left the joint limits), or None.
     The robot time it took goes to ``spent[finger]``."""
     t0 = jaw.robot_time()
     try:
-        yield from transit(jaw, finger, model, psi_to, aim)
+        yield from transit(jaw, finger, model, psi_to, aim, hug)
     except kin.Unreachable as exc:
         return f"{finger}: transit to psi={math.degrees(psi_to):.1f} deg: {exc}"
     finally:

@@ -54,11 +54,12 @@ from tactile_common.errors import InputError
 
 CLASSES = ["line", "circle", "ellipse", "parabola", "hyperbola", "cubical_parabola", "semicubical_parabola"]
 DEFAULT_CONFIG = "config/jaw.yaml"
-#: the robot time's phases as the run log's result splits it (tactile_jaw.rounds): probes and
-#: rolling touches or flat presses, each including its transits (the next column), and the
-#: final retreat
-PHASES = ("probes", "probe_transits", "touches", "touch_transits", "retreat")
-PHASE_HEADS = ("probes", "of which transits", "touches and presses", "of which transits", "retreat")
+#: the robot time's phases as the run log's result splits it (tactile_jaw.rounds): probes,
+#: rolling touches and flat presses, each including its transits (the next column), and the
+#: final retreat (logs older than the split book flat presses under touches)
+PHASES = ("probes", "probe_transits", "touches", "touch_transits", "presses", "press_transits", "retreat")
+PHASE_HEADS = ("probes", "of which transits", "rolling touches", "of which transits", "flat presses",
+               "of which transits", "retreat")
 #: how a finite object of each class scales by s: factors of its parameters and of its
 #: canonical extent (the curve's points all scale by s; closure points scale by s)
 SCALING = {"line": ({}, 1.0), "circle": ({"r": 1.0}, None), "ellipse": ({"a": 1.0, "b": 1.0}, None),
@@ -442,15 +443,18 @@ def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAUL
               f"{rec['class'] if rec else 'exit ' + str(res['rc'])} | {said} | "
               f"{param_error(obj, rec) if said == 'yes' else '—'} | "
               + (f"{res['robot_s']:.1f} s |" if res.get("robot_s") is not None else "— |"), flush=True)
-    print("\n| class | refused | naming a move | moved: right | moved: refused | moved: wrong |")
-    print("|---|---|---|---|---|---|")
+    print("\n| class | refused | naming a move | moved: right | moved: refused | moved: wrong | "
+          "moved: robot time median |")
+    print("|---|---|---|---|---|---|---|")
     for cls in CLASSES:
         refused = sum(verdict(obj, res.get("recognition")) == "refused"
                       for (_, obj), res in zip(scenes, results) if obj["class"] == cls)
+        mine = [res for (_, obj, _), res in zip(again, second) if obj["class"] == cls]
         said = [verdict(obj, res.get("recognition")) for (_, obj, _), res in zip(again, second) if obj["class"] == cls]
+        robot = [res["robot_s"] for res in mine if res.get("robot_s") is not None]
         if refused:
             print(f"| {cls} | {refused} | {len(said)} | {said.count('yes')} | {said.count('refused')} | "
-                  f"{said.count('**WRONG**')} |", flush=True)
+                  f"{said.count('**WRONG**')} | " + (f"{np.median(robot):.1f} s |" if robot else "— |"), flush=True)
     out: list[str | None] = [None] * len(scenes)
     for k, (_, obj, _), res in zip(index, again, second):
         out[k] = verdict(obj, res.get("recognition"))

@@ -266,7 +266,9 @@ def time_breakdown(time_s: dict[str, float]) -> str:
     """Where an exploration's robot time went, for people."""
     return (f"probes {time_s['probes']:.1f} s of which transits {time_s['probe_transits']:.1f} s, "
             f"touches {time_s['touches']:.1f} s of which transits {time_s['touch_transits']:.1f} s, "
-            f"retreat {time_s['retreat']:.1f} s")
+            + (f"flat presses {time_s['presses']:.1f} s of which transits {time_s['press_transits']:.1f} s, "
+               if time_s.get("presses") else "")
+            + f"retreat {time_s['retreat']:.1f} s")
 
 
 def progress_printer(quiet: bool = False) -> Callable[[str], None]:
