@@ -26,11 +26,11 @@ import math
 from typing import Any, Callable
 
 from hand_driver.cycle import Jaw, run_together
+from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult, roll_angles, rolling_touch
 from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
-from hand_driver.flat_press import FlatResult
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
 from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel, too_few_clear
 from tactile_jaw.plan import APPROACH_MARGIN_MM, FREE_MARGIN_MM, ObjectModel, choose_psi, predicted_tangent, retreat_offset
