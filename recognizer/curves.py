@@ -193,7 +193,8 @@ class Circle(Curve):
         return np.full_like(_arr(t), self.r)
 
     def kappa(self, t):
-        return np.full_like(_arr(t), 1.0 / self.r)
+        return np.full_like(_arr(t), np.reciprocal(np.float64(self.r)))  # r = 0 (a refinement's
+        # log radius underflowed): ∞ for the caller's nonfinite guards, not ZeroDivisionError
 
     def kappa_s(self, t):
         return np.zeros_like(_arr(t))
