@@ -146,7 +146,8 @@ def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None,
     cov = curved_factor[:2] @ curved_factor[:2].T
     rho = float(fits[weighed.start][0].rho[m])
     sigma = _line_sigma(finger, q, base, noise.quantization)
-    return EnvelopeFit(base, 1.0 / float(curved.rho[m]), float(-curved.rho_psi[m] / curved.rho[m] ** 3), cov, rho,
+    kappa, kappa_s = _at_contact(curved)
+    return EnvelopeFit(base, float(kappa), float(kappa_s), cov, rho,
                        float(np.sqrt(np.sum(lowest[2] ** 2))), float(np.sum((base.residual / sigma) ** 2)),
                        n - base.degree - 1, np.sqrt(np.sum(across**2, axis=1)), np.sqrt(np.sum(along**2, axis=1)),
                        factor[3:], sigma, np.sqrt(np.sum(fpsi**2, axis=1)), curved.degree)
@@ -208,11 +209,14 @@ def _curvature_difference(fit, richer) -> tuple[np.ndarray, np.ndarray]:
     """κ and κ_s at the contact of ``fit`` less ``richer``'s, and that difference's variance
     (from the difference of their noise factors: both fits see the same readings)."""
     (c, f), (c_hi, f_hi) = fit, richer
-    m = c.x.size // 2
-    d = np.array([1.0 / c.rho[m] - 1.0 / c_hi.rho[m],
-                  c_hi.rho_psi[m] / c_hi.rho[m] ** 3 - c.rho_psi[m] / c.rho[m] ** 3])
     width = min(f.shape[1], f_hi.shape[1])
-    return d, np.sum((f[:2, :width] - f_hi[:2, :width]) ** 2, axis=1)
+    return _at_contact(c) - _at_contact(c_hi), np.sum((f[:2, :width] - f_hi[:2, :width]) ** 2, axis=1)
+
+
+def _at_contact(c: kin.TouchEnvelope) -> np.ndarray:
+    """κ = 1/ρ and κ_s = −ρ'/ρ³ of an envelope at its contact (the middle sample)."""
+    m = c.x.size // 2
+    return np.array([1.0 / c.rho[m], -c.rho_psi[m] / c.rho[m] ** 3])
 
 
 def _with_curvature_bias(fit, richer):
@@ -283,9 +287,8 @@ def _with_truncation(fit, richer):
     if rank == 0 or chi2 <= stats.chi2.isf(TRUNCATION_ALPHA, rank):
         return fit
     n, m = c.x.size, c.x.size // 2
-    diff = np.concatenate([[1.0 / c.rho[m] - 1.0 / c_hi.rho[m],
-                            c_hi.rho_psi[m] / c_hi.rho[m] ** 3 - c.rho_psi[m] / c.rho[m] ** 3,
-                            c.rho[m] - c_hi.rho[m]], c.x - c_hi.x, c.y - c_hi.y, np.zeros(n)])
+    diff = np.concatenate([_at_contact(c) - _at_contact(c_hi), [c.rho[m] - c_hi.rho[m]],
+                           c.x - c_hi.x, c.y - c_hi.y, np.zeros(n)])
     return c, np.hstack([f, diff[:, None] * math.sqrt(1.0 - rank / chi2)])
 
 
