@@ -48,28 +48,62 @@ def _cand(cls, params, chi2, sigma, theta=0.0, x=0.0, y=0.0):
     return Candidate(cls, dict(params), Pose(theta, x, y), np.zeros(3), chi2, 10, 15, uncertainty=unc)
 
 
-def test_rival_valley_within_chi2_95_widens_sigma_to_its_far_end():
+def _mixture(sd, rivals):
+    """σ about the answer of the valleys' mixture: (σ_k, offset_k, Δχ²_k) of each rival."""
+    w = [np.exp(-0.5 * rise) for _, _, rise in rivals]
+    var = sd ** 2 + sum(wk * (s ** 2 + d ** 2) for wk, (s, d, _) in zip(w, rivals))
+    return np.sqrt(var / (1.0 + sum(w)))
+
+
+def test_rival_valley_within_chi2_95_widens_sigma_to_its_far_end_or_the_mixture():
     from recognizer.intervals import CHI2_95, rival_basins
 
     ans = _cand("semicubical_parabola", {"a": 3.0, "b": -15.0}, 60.0, {"a": 0.1, "b": 0.2})
     rival = _cand("semicubical_parabola", {"a": 0.5, "b": -0.5}, 61.0, {"a": 0.15, "b": 0.4}, theta=1.0, x=20.0)
-    out = rival_basins(ans, [rival])
+    out = rival_basins(ans, [rival, rival])  # one valley found by two starts counts once
     reach = np.sqrt(CHI2_95 - 1.0)
-    assert np.isclose(out.uncertainty["a"], (2.5 + reach * 0.15) / 1.96, rtol=1e-3)
-    assert np.isclose(out.uncertainty["b"], (14.5 + reach * 0.4) / 1.96, rtol=1e-3)
-    assert np.isclose(out.uncertainty["pose_x"], (20.0 + reach * 0.1) / 1.96, rtol=1e-3)
+    for key, sd, sd_r, off in (("a", 0.1, 0.15, 2.5), ("b", 0.2, 0.4, 14.5), ("pose_x", 0.1, 0.1, 20.0)):
+        far_end = (off + reach * sd_r) / 1.96
+        want = max(far_end, _mixture(sd, [(sd_r, off, 1.0)]))
+        assert np.isclose(out.uncertainty[key], want, rtol=1e-9), key
+        assert out.uncertainty[key] >= far_end
     assert out.params == ans.params  # the answer stays; only its σ's widen
 
 
-def test_rivals_that_do_not_count_leave_sigmas_alone():
+def test_valley_past_chi2_95_weighs_by_its_relative_likelihood():
+    """A valley 4.6 above the answer (Δχ² past 3.84) counted for nothing before: bench_wide
+    seed 89, semicubical trial 14 stated b −8.5 ± 0.25 with the truth's valley at b 0.26."""
     from recognizer.intervals import rival_basins
 
+    ans = _cand("semicubical_parabola", {"a": 0.45, "b": -8.5}, 53.3, {"a": 0.008, "b": 0.25})
+    rival = _cand("semicubical_parabola", {"a": 0.13, "b": 0.26}, 57.9, {"a": 0.024, "b": 0.36})
+    out = rival_basins(ans, [rival])
+    assert np.isclose(out.uncertainty["b"], _mixture(0.25, [(0.36, 8.76, 4.6)]), rtol=1e-9)
+    assert out.uncertainty["b"] > 2.5  # the truth (b 0.42) within 3.2 σ, not 35
+
+
+def test_rivals_that_do_not_count_leave_sigmas_alone():
+    from recognizer.intervals import CHI2_VALLEY, rival_basins
+
     ans = _cand("ellipse", {"a": 3.0, "b": 2.0}, 60.0, {"a": 0.1, "b": 0.1}, theta=0.2)
-    far = _cand("ellipse", {"a": 9.0, "b": 2.0}, 64.0, {"a": 0.1, "b": 0.1})  # Δχ² 4 > 3.84
+    far = _cand("ellipse", {"a": 9.0, "b": 2.0}, 60.0 + CHI2_VALLEY, {"a": 0.1, "b": 0.1})  # beyond 3 σ
     other = _cand("hyperbola", {"a": 9.0, "b": 2.0}, 59.0, {"a": 0.1, "b": 0.1})  # another class
     turned = _cand("ellipse", {"a": 3.0, "b": 2.0}, 60.5, {"a": 0.1, "b": 0.1}, theta=0.2 - np.pi)  # the same ellipse
     out = rival_basins(ans, [far, other, turned])
     assert out.uncertainty == ans.uncertainty
+
+
+def test_both_branches_semicubical_far_out_sigmas_reach_the_valley_past_chi2_95():
+    """bench_wide seed 89 (wide set), semicubical trial 14: touches far out on one branch
+    (t −9.5 … −13.6, one place twice), answered a 0.448 ± 0.008, b −8.53 ± 0.25 (truth 0.134,
+    0.419: z 39, −35); the truth's valley (b 0.26) fits Δχ² 4.6 higher."""
+    region, shape, ts, _, rs = B.draw_case("semicubical_parabola", 14, 89, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = B._touches(shape, ts, rs, direction)
+    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert rec.cls == "semicubical_parabola" and rec.params["b"] < -5.0  # still the lowest valley
+    z = {k: (rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()}
+    assert all(abs(v) <= 3.2 for v in z.values()), z
 
 
 def test_one_branch_far_semicubical_sigmas_reach_the_truth_in_the_other_valley():
