@@ -210,20 +210,23 @@ def rival_basins(cand, rivals):
     unc = dict(cand.uncertainty)
     names = CURVES[cand.cls].param_names
     scale = {key: 1.0 for key in unc}
-    valleys = _valleys(cand, rivals)
+    near = [(float(r.chi2) - float(cand.chi2), r) for r in rivals
+            if r.cls == cand.cls and r.params and -1e-9 <= float(r.chi2) - float(cand.chi2) < CHI2_95]
+    valleys = _valleys(cand, rivals)  # the mixture: each other valley once
     weights = [math.exp(-0.5 * rise) for rise, _ in valleys]
     total = 1.0 + sum(weights)
     for key, sd in cand.uncertainty.items():
         if not (key in names or key in _POSE_KEYS):
             continue
         sd = float(sd or 0.0)
-        var = sd * sd
         need = 0.0
-        for (rise, r), w in zip(valleys, weights):
-            sd_r, off = float(r.uncertainty.get(key) or 0.0), _offset(cand, r, key)
-            var += w * (sd_r * sd_r + off * off)
-            if rise < CHI2_95:
-                need = max(need, (off + math.sqrt(CHI2_95 - rise) * sd_r) / math.sqrt(CHI2_95))
+        for rise, r in near:  # every fit within CHI2_95: its far end
+            sd_r = float(r.uncertainty.get(key) or 0.0)
+            need = max(need, (_offset(cand, r, key) + math.sqrt(CHI2_95 - max(rise, 0.0)) * sd_r) / math.sqrt(CHI2_95))
+        var = sd * sd
+        for (_, r), w in zip(valleys, weights):
+            sd_r = float(r.uncertainty.get(key) or 0.0)
+            var += w * (sd_r * sd_r + _offset(cand, r, key) ** 2)
         need = max(need, math.sqrt(var / total))
         if math.isfinite(need) and need > float(unc[key] or 0.0) * (1.0 + 1e-12):
             unc[key] = need
