@@ -32,7 +32,7 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
-from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel, too_few_clear
+from tactile_jaw.pipeline import WIDER_SPAN, FeltTouch, clear_of_corners, corner_in_doubt, feel, too_few_clear
 from tactile_jaw.plan import APPROACH_MARGIN_MM, FREE_MARGIN_MM, ObjectModel, choose_psi, predicted_tangent, retreat_offset
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
@@ -45,19 +45,20 @@ OFF_CURVE_RETIRE = 2
 
 
 def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings: ExploreSettings,
-                touch_index: int, emit, spent: dict[str, float], aim=None):
-    """Transit, then one rolling touch around ψ from ``APPROACH_MARGIN_MM`` outside the
-    predicted tangent line (tactile_jaw.plan.predicted_tangent, ``aim`` a boundary point the
-    touch is aimed at), faster (still guarded) up to ``FREE_MARGIN_MM`` outside it; returns
-    the TouchResult."""
-    start = float(roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[0])
+                touch_index: int, emit, spent: dict[str, float], aim=None, span: float | None = None):
+    """Transit, then one rolling touch around ψ over ``span`` (default the settings') from
+    ``APPROACH_MARGIN_MM`` outside the predicted tangent line (tactile_jaw.plan.predicted_tangent,
+    ``aim`` a boundary point the touch is aimed at), faster (still guarded) up to
+    ``FREE_MARGIN_MM`` outside it; returns the TouchResult."""
+    span = settings.roll_span_rad if span is None else span
+    start = float(roll_angles(psi, span, settings.samples_per_touch)[0])
     problem = yield from transit_or_problem(jaw, finger, model, start, spent, aim, hug=True)
     if problem is not None:
         return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
     d_pred, _ = predicted_tangent(model, start, aim)
     d_start = max(retreat_offset(jaw.config.finger(finger), model, start, aim), d_pred - APPROACH_MARGIN_MM)
     travel = d_pred + APPROACH_MARGIN_MM - d_start
-    return (yield from rolling_touch(jaw, finger, touch_index, psi, settings.roll_span_rad,
+    return (yield from rolling_touch(jaw, finger, touch_index, psi, span,
                                      settings.samples_per_touch, d_start, travel, on_event=emit,
                                      free_mm=d_pred - FREE_MARGIN_MM - d_start))
 
@@ -137,6 +138,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
 
     aimed_at: list[tuple[float, float]] = []
     hints: dict[str, Aim] = {}  # per finger: where its last unusable roll still felt the curved part
+    wider: set[int] = set()  # the touches rolled WIDER_SPAN times wider where a corner was in doubt
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
@@ -151,7 +153,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         budget = settings.touches - _spent(out)
         active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]
         for f in active:
-            point = None
+            point, span = None, None
             if aim is not None and f.name == aim.finger:
                 psi, point, aimed = aim.psi, aim.point, aim
                 aimed_at.append(point)
@@ -161,6 +163,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             elif f.name in hints:
                 hint = hints.pop(f.name)
                 psi, point = hint.psi, hint.point
+                if hint.kind == "wider":
+                    span = WIDER_SPAN * settings.roll_span_rad
+                    wider.add(index + len(plans))
                 aimed_at.append(point)
                 say(f"{f.name}: next touch at ({hint.x:.1f}, {hint.y:.1f}) mm, pad normal "
                     f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, {hint.why}")
@@ -183,7 +188,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 say(message)
                 continue
             used[f.name].append(psi)
-            plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent, point)
+            plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent, point,
+                                        span)
         if not plans:
             break
         index += len(plans)
@@ -197,7 +203,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 pressed.append(felt)
                 off_curve[name] += 1  # a face: the finger's side offers a closing segment, no curved part
                 continue
-            off_curve[name] = off_curve[name] + 1 if felt.off_curve and felt.curve_at is None else 0
+            doubt = (felt.corner is not None and corner_in_doubt(felt.fit) and touch.touch not in wider
+                     and reach.finger(*felt.corner, touch.psi_center - math.pi / 2, [cfg.finger(name)]) is not None)
+            off_curve[name] = off_curve[name] + 1 if felt.off_curve and felt.curve_at is None and not doubt else 0
+            if doubt:  # a corner only by its radius's deviation: the same place rolled wider tells
+                hints[name] = Aim(*felt.corner, touch.psi_center - math.pi / 2, name,
+                                  f"where its last roll turned about a point or a tight bend (radius of curvature "
+                                  f"{felt.fit.rho:.1f} ± {felt.fit.sigma_rho:.1f} mm): rolled "
+                                  f"{WIDER_SPAN:g} times wider", kind="wider")
             if felt.curve_at is not None and reach.finger(*felt.curve_at, [cfg.finger(name)]) is not None:
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
                                                         "off it", kind="curve")
