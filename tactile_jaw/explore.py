@@ -100,6 +100,23 @@ def _clear_of_corners(cfg, out: Exploration, settings: ExploreSettings, emit, sa
     return run
 
 
+def wider_again(felt: FeltTouch, reach: JawReach, wider: set[int]) -> Aim | None:
+    """A roll judged a corner only by its radius's deviation (tactile_jaw.pipeline.corner_in_doubt)
+    and not itself a wider roll (``wider``: their touch indices) is rolled again about the point
+    it turned about, over ``WIDER_SPAN`` times the span, when its finger can reach it there: the
+    Aim of that roll, else None. A corner measures ρ ≈ 0 again; boundary bent tightly (an
+    ellipse's end) is usable (docs/exploration.md)."""
+    if felt.corner is None or not corner_in_doubt(felt.fit) or felt.touch.touch in wider:
+        return None
+    phi = felt.touch.psi_center - math.pi / 2
+    finger = reach.config.finger(felt.finger)
+    if reach.finger(*felt.corner, phi, [finger]) is None:
+        return None
+    return Aim(*felt.corner, phi, felt.finger,
+               f"where its last roll turned about a point or a tight bend (radius of curvature "
+               f"{felt.fit.rho:.1f} ± {felt.fit.sigma_rho:.1f} mm): rolled {WIDER_SPAN:g} times wider", kind="wider")
+
+
 def _spent(out: Exploration) -> int:
     """Touches that count against the budget: all but those that fell on a corner or across
     a closing segment of a finite object (a finger retires after OFF_CURVE_RETIRE in a row,
@@ -203,14 +220,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 pressed.append(felt)
                 off_curve[name] += 1  # a face: the finger's side offers a closing segment, no curved part
                 continue
-            doubt = (felt.corner is not None and corner_in_doubt(felt.fit) and touch.touch not in wider
-                     and reach.finger(*felt.corner, touch.psi_center - math.pi / 2, [cfg.finger(name)]) is not None)
-            off_curve[name] = off_curve[name] + 1 if felt.off_curve and felt.curve_at is None and not doubt else 0
-            if doubt:  # a corner only by its radius's deviation: the same place rolled wider tells
-                hints[name] = Aim(*felt.corner, touch.psi_center - math.pi / 2, name,
-                                  f"where its last roll turned about a point or a tight bend (radius of curvature "
-                                  f"{felt.fit.rho:.1f} ± {felt.fit.sigma_rho:.1f} mm): rolled "
-                                  f"{WIDER_SPAN:g} times wider", kind="wider")
+            again = wider_again(felt, reach, wider)
+            off_curve[name] = off_curve[name] + 1 if felt.off_curve and felt.curve_at is None and again is None else 0
+            if again is not None:
+                hints[name] = again
             if felt.curve_at is not None and reach.finger(*felt.curve_at, [cfg.finger(name)]) is not None:
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
                                                         "off it", kind="curve")
