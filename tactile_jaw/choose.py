@@ -223,8 +223,6 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     fell off the curved part; ``empty_at``: points aimed at where the touch met nothing;
     ``anywhere``: the recognizer's ``next_touch`` anywhere in the workspace (called only
     when none is within the pads' reach, for the reason to say where it would be)."""
-    suggested = recognition.next_touch
-    within = _suggested_aim(suggested, reach, fingers)
     if why.kind == "vertex" and touched is not None:
         aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers)
         if aim is not None and not _aimed_near(aim.point, aimed_at):
@@ -233,19 +231,18 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
             return None, Stop("no touch within the pads' reach can decide: the touch aimed beyond the vertex fell off "
                               "the curved part (the object ends there): move or turn the object so that more of its "
                               "curved part faces a finger")
-        if aim is None and within is not None and not _aimed_near(within.point, aimed_at) \
-                and not _aimed_near(within.point, empty_at, EMPTY_AIM_MM):
-            # no pad reaches beyond the vertex, but the recognizer's most telling touch is within
-            # reach: another class (an ellipse curving back where a parabola goes on) may answer
-            # there without the move (X ellipse 11 of seed 11 was refused for the vertex's reach)
-            return within, None
         if aim is None:
             return None, _goal_stop("no touch within the pads' reach can decide: no pad can roll beyond the vertex "
                                     f"on that side (near {_where(*vertex_place(recognition, touched))})",
                                     vertex_goal(recognition, touched, reach), reach)
-    if within is not None:
-        skip = _aimed_near(within.point, aimed_at) or _aimed_near(within.point, empty_at, EMPTY_AIM_MM)
-        return (None if skip else within), None
+    suggested = recognition.next_touch
+    if suggested is not None:
+        f = reach.finger(suggested["x"], suggested["y"], suggested["phi"], fingers)
+        if f is not None:
+            aim = Aim(float(suggested["x"]), float(suggested["y"]), float(suggested["phi"]), f.name,
+                      f"where the recognizer points: {suggested.get('why', '')}")
+            skip = _aimed_near(aim.point, aimed_at) or _aimed_near(aim.point, empty_at, EMPTY_AIM_MM)
+            return (None if skip else aim), None
     if why.kind == "resolution":  # more touches of this jaw cannot tell them apart (tactile_jaw.decide.inseparable)
         return None, Stop("more touches of this jaw are not expected to tell them apart")
     if why.kind in ("unstable", "unclassified"):
@@ -256,17 +253,6 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
         return None, Stop(f"no touch within the pads' reach is expected to {what}: move or turn the object so that "
                           f"more of its curved part faces a finger")
     return None, _wanted_stop(f"no touch within the pads' reach is expected to {what}", wanted, reach, touched)
-
-
-def _suggested_aim(suggested: dict | None, reach: JawReach, fingers: Sequence) -> Aim | None:
-    """The recognizer's ``next_touch`` as an Aim of a finger that can roll there, or None."""
-    if suggested is None:
-        return None
-    f = reach.finger(suggested["x"], suggested["y"], suggested["phi"], fingers)
-    if f is None:
-        return None
-    return Aim(float(suggested["x"]), float(suggested["y"]), float(suggested["phi"]), f.name,
-               f"where the recognizer points: {suggested.get('why', '')}")
 
 
 def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, budget: int,
