@@ -22,8 +22,9 @@ docs/exploration.md.
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from typing import Any, Callable
+from typing import Any, Callable, Container
 
 from hand_driver.cycle import Jaw, run_together
 from hand_driver.flat_press import FlatResult
@@ -32,7 +33,8 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
-from tactile_jaw.pipeline import WIDER_SPAN, FeltTouch, clear_of_corners, corner_in_doubt, feel, too_few_clear
+from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, corner_in_doubt, feel, on_corner,
+                                  too_few_clear)
 from tactile_jaw.plan import APPROACH_MARGIN_MM, FREE_MARGIN_MM, ObjectModel, choose_psi, predicted_tangent, retreat_offset
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
@@ -100,7 +102,7 @@ def _clear_of_corners(cfg, out: Exploration, settings: ExploreSettings, emit, sa
     return run
 
 
-def wider_again(felt: FeltTouch, reach: JawReach, wider: set[int]) -> Aim | None:
+def wider_again(felt: FeltTouch, reach: JawReach, wider: Container[int]) -> Aim | None:
     """A roll judged a corner only by its radius's deviation (tactile_jaw.pipeline.corner_in_doubt)
     and not itself a wider roll (``wider``: their touch indices) is rolled again about the point
     it turned about, over ``WIDER_SPAN`` times the span, when its finger can reach it there: the
@@ -155,7 +157,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
 
     aimed_at: list[tuple[float, float]] = []
     hints: dict[str, Aim] = {}  # per finger: where its last unusable roll still felt the curved part
-    wider: set[int] = set()  # the touches rolled WIDER_SPAN times wider where a corner was in doubt
+    #: the touches rolled WIDER_SPAN times wider where a corner was in doubt: each one's index →
+    #: that doubtful roll's place in out.touches (its corner is dropped when the wider roll is none)
+    wider: dict[int, int] = {}
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
@@ -182,7 +186,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 psi, point = hint.psi, hint.point
                 if hint.kind == "wider":
                     span = WIDER_SPAN * settings.roll_span_rad
-                    wider.add(index + len(plans))
+                    wider[index + len(plans)] = hint.of
                 aimed_at.append(point)
                 say(f"{f.name}: next touch at ({hint.x:.1f}, {hint.y:.1f}) mm, pad normal "
                     f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, {hint.why}")
@@ -223,7 +227,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             again = wider_again(felt, reach, wider)
             off_curve[name] = off_curve[name] + 1 if felt.off_curve and felt.curve_at is None and again is None else 0
             if again is not None:
-                hints[name] = again
+                hints[name] = dataclasses.replace(again, of=len(out.touches) - 1)
+            if touch.touch in wider and felt.fit is not None and not on_corner(felt.fit):
+                # rolled wider, the place is no corner: the doubtful roll's corner no longer clears samples there
+                k = wider[touch.touch]
+                out.touches[k] = dataclasses.replace(out.touches[k], corner=None)
             if felt.curve_at is not None and reach.finger(*felt.curve_at, [cfg.finger(name)]) is not None:
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
                                                         "off it", kind="curve")
