@@ -166,3 +166,34 @@ def test_a_richer_class_better_at_the_one_in_a_thousand_edge_is_not_decisive():
     assert DECISIVE_ALPHA == 0.01 and math.isclose(stats.chi2.isf(DECISIVE_ALPHA, 1), 6.6349, rel_tol=1e-4)
     r = rec("parabola", ("parabola", True, 17.03, 11, 40.0), ("hyperbola", True, 6.22, 10, 42.0))
     assert "significantly better" in indecision(r, r, SETTINGS)
+
+
+def test_a_repeated_face_is_checked_with_one_press_fewer():
+    """Three presses of one face (tactile_jaw.flat.Face) touch one place: the answer on the
+    first two is the check with one touch fewer, so a line is decisive after the profile's
+    three presses (it waited for a fourth, which touched the same place again); a press of
+    another face, or rolling touches, still wait for a touch more than the profile's."""
+    from types import SimpleNamespace
+
+    from tactile_jaw.decide import decide
+    from tactile_jaw.flat import Face
+
+    def face(psi, d, along=0.0):
+        n, t = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
+        return Face(psi, d, d * n + (along - 20.0) * t, d * n + (along + 20.0) * t)
+
+    line = rec("line", ("line", True, 0.5, 4, 2.0), ("hyperbola", True, 0.4, 1, 6.0))
+    asked = []
+
+    def recognize(touches):
+        asked.append(len(touches))
+        return line
+
+    pressed = [SimpleNamespace(face=face(0.3, 80.0, along)) for along in (0.0, 0.05, -0.04)]
+    recognition, why = decide(recognize, pressed, SETTINGS)
+    assert recognition.cls == "line" and why is None and asked == [3, 2]
+    other = [*pressed[:2], SimpleNamespace(face=face(0.3 + math.radians(30.0), 80.0))]  # another face
+    asked.clear()
+    assert "one touch fewer" in decide(recognize, other, SETTINGS)[1] and asked == [3]
+    rolls = [SimpleNamespace(face=None) for _ in range(3)]
+    assert decide(recognize, rolls, SETTINGS)[1] is not None

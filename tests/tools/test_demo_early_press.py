@@ -3,7 +3,8 @@
 pad's first roll crossed the top face (its lines pass through both corners), so in the
 second round it presses flat there (tactile_jaw.flat_phase.early_press) while the left pad
 rolls again; that press is the face's first flat touch. Before, both fingers rolled a
-second time and the presses began after (4 presses after 4 rolls, 46.8 s; now 43.5 s)."""
+second time and the presses began after (4 presses after 4 rolls, 46.8 s; then 43.5 s). Three
+presses of the face answer (tactile_jaw.decide.repeats_a_face: a fourth repeated its place)."""
 
 from __future__ import annotations
 
@@ -32,7 +33,7 @@ def test_a_finger_whose_roll_crossed_a_face_presses_it_in_the_second_round(tmp_p
     assert first_flat == 2 and starts[3].get("kind") is None  # the second round: a press and a roll
     assert starts[first_flat]["finger"] == "right"
     used = [e for e in read_log(log).events if e.get("kind") == "touch_used"]
-    assert used[0]["touch"] == starts[first_flat]["touch"] and len(used) == 4
+    assert used[0]["touch"] == starts[first_flat]["touch"] and len(used) == 3
     # the answer's line is the face that press seated on (ψ 78.8°: the face's outward normal at −101.2°)
     assert abs(math.remainder(answer["pose"]["theta"] - (math.radians(-101.19) - math.pi / 2), 2 * math.pi)) < 3e-3
     result = next(r for r in lines if r["type"] == "result")
