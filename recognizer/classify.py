@@ -87,6 +87,11 @@ MODEL_ALPHA = 1e-3
 #: per seed with suggested touches (far out on a branch, an ellipse as close: a coin
 #: flip), so by default the answer names the rival and says it could not tell
 RIVAL_BIC = 6.0
+#: how an unclassified answer begins when the classes tested fail but others of the scene were
+#: not tested for too few touches (distinct places): not "no class of the scene fits", since an
+#: untested class may fit once more touches are usable (dev seed 83 semicubical 27: 2 touches
+#: clear of the corners, the parabola failed and the semicubical was never tested)
+NONE_TESTED_FITS = "no class tested fits"
 _MEAS = ("x", "y", "phi", "kappa", "kappa_s")
 
 
@@ -525,6 +530,8 @@ def _unclassified_reason(cands: list[Candidate], skipped: dict, pairs: dict, d: 
         parts.append(same)
     for cls, why in skipped.items():
         parts.append(f"{cls} not tested: {why}")
+    if untested:  # a class not yet tested may fit: more touches, not "no class fits"
+        return f"{NONE_TESTED_FITS} ({', '.join(untested)} need more touches): " + "; ".join(parts)
     return "no class of the scene fits: " + "; ".join(parts) if parts else "no class of the scene fits"
 
 
