@@ -239,14 +239,17 @@ def test_at_the_order_cap_the_next_degree_states_the_truncation():
     assert abs(abs(f.kappa) - truth) < 3.0 * math.sqrt(f.cov[0, 0])
 
 
-def test_a_roll_too_short_to_test_its_truncation_states_it():
+@pytest.mark.parametrize("name", ["p_cubical_fast_rolls.json", "p_cubical_fast_rolls_11.json"])
+def test_a_roll_too_short_to_test_its_truncation_states_it(name):
     """The ``fast`` profile's rolls on the P-series jaw (5 readings over 12°: the order rule
     weighs the cubic alone, with 1 degree of freedom left): dev seed 13, random cubical 10
     (tools.bench_explore --profile fast, saved ticks). The cubic's κ is 0.2–1.2 % low on all
     7 rolls with σ 0.17–0.19 % (z down to −7: the contacts made the cubical inconsistent and,
     in session 11, a hyperbola the answer); the quartic through the 5 lines cannot test it
-    but bounds what they cannot tell: every κ now within 3 σ, σ below 1.5 %."""
-    raw = json.loads((Path(__file__).parent / "data" / "p_cubical_fast_rolls.json").read_text())
+    but bounds what they cannot tell: every κ now within 3 σ, σ below 1.5 %. Object 11's third
+    roll: the cubic 3.0 % low (σ 0.15 %), the quartic −0.3 % (σ 0.9 %): a bias the quartic
+    shows worth its noise, so κ comes from the quartic."""
+    raw = json.loads((Path(__file__).parent / "data" / name).read_text())
     truth = raw["truth"]
     obj = SceneObject(truth["class"], truth["params"], Pose(**truth["pose"]), "left", tuple(truth["extent"]))
     z = []
@@ -257,7 +260,7 @@ def test_a_roll_too_short_to_test_its_truncation_states_it():
         f = fit_envelope(LEFT, q, kin.finger_pad_line(LEFT, q))
         m = f.contacts.x.size // 2
         kt = _true_kappa(obj, f.contacts.x[m], f.contacts.y[m])
-        assert q.shape[0] == 5 and f.kappa_degree == 3
+        assert q.shape[0] == 5 and f.kappa_degree in (3, 4)
         assert math.sqrt(f.cov[0, 0]) / kt < 0.015
         z.append((abs(f.kappa) - kt) / math.sqrt(f.cov[0, 0]))
     assert max(abs(v) for v in z) < 3.0, z
