@@ -259,7 +259,8 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
 def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, budget: int,
                   anywhere: Callable[[], dict | None] | None = None) -> Stop:
     """What a person can do when the touch budget is spent and the answer is not decisive:
-    when no class fits (``why.kind`` 'unclassified'), no move (the touches disagree with every
+    when the classes tested fail and others were not tested for too few usable touches, another
+    placement or more touches; when no class fits (``why.kind`` 'unclassified'), no move (the touches disagree with every
     class wherever they were: seed-11 random parabolas 20 and 23 of session 11's bench were
     advised the move to a ``next_touch`` of such an answer); for a parabola felt on one side of
     its vertex, the move that lets a pad roll across the vertex region (:func:`vertex_goal`,
@@ -267,6 +268,13 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     workspace would go, with the move that brings it within a pad's roll, or, when a pad
     already reaches it, a larger budget (the ``accurate`` profile)."""
     spent = f"the touch budget of {budget} is spent"
+    if why.kind == "unclassified" and recognition.untested:
+        # the classes tested failed, the others need more usable touches than the budget gave:
+        # the touches met corners or pad ends, so another placement, or more touches, may decide
+        untested = ", ".join(recognition.untested)
+        return Stop(f"{spent} with too few usable touches to test {untested}: move or turn the object so that more "
+                    f"of its curved part, clear of its corners, faces a finger, or use a profile with more touches "
+                    f"(--profile accurate)")
     if why.kind == "unclassified":  # the touches disagree with every class: where they were is not what failed
         return Stop(f"{spent} and no class of the scene fits the touches: no move of the object is known to help")
     if recognition.cls == "parabola" and touched is not None and min(vertex_sides(recognition, touched)) < VERTEX_SIDE_DEG:

@@ -6,6 +6,9 @@ across both branches or far on a branch 9.5–20 σ (classify._every_valley)."""
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -13,7 +16,7 @@ from recognizer.classify import contacts_of, recognize
 from recognizer.localize import fit_class_every_start
 from recognizer.result import RecognizeOptions
 from recognizer.scale_free import Unit
-from recognizer.touches import Request
+from recognizer.touches import Request, parse_request
 from tools.bench_sigma import CLASSES, SLOPES, _contacts, draw_case, scaled
 
 CASES = [("cubical_parabola", "far one side", 10), ("cubical_parabola", "far one side", 5),
@@ -72,3 +75,17 @@ def test_fast_profile_answer_in_a_lower_valley_still_suggests_a_touch():
     lowest = min(f.chi2 for f in fit_class_every_start("cubical_parabola", d))
     row = next(r for r in rec.ranking if r.cls == "cubical_parabola")
     assert row.chi2 == pytest.approx(lowest, rel=1e-9)
+
+
+def test_no_class_fits_only_after_every_start_of_the_classes_with_valleys():
+    """The ``fast`` profile's contact stage fits each class from its two best-placed starts. P-series
+    jaw, dev seed 13 random cubical 10 (tools.bench_explore --profile fast; its 7 rolls as the
+    pipeline states them, tactile replay --touches): those two starts left the cubical at χ² 56.9
+    on 23 dof and the answer was "no class fits" (in session 11, hyperbola); from every start it
+    is χ² 11.0 and the answer is right (truth a 0.000537, c −0.5), the hyperbola 12 BIC behind."""
+    raw = json.loads((Path(__file__).parent / "data" / "p_cubical_fast_seed13_10.json").read_text())
+    rec = recognize(parse_request(raw))
+    assert rec.cls == "cubical_parabola", rec.reason
+    assert abs(rec.params["c"] / -0.5 - 1.0) < 0.01
+    assert abs(rec.params["a"] / 0.0005370385336995737 - 1.0) < 0.01
+    assert rec.ranking[0].cls == "cubical_parabola" and rec.ranking[1].bic - rec.ranking[0].bic > 6.0

@@ -2,6 +2,7 @@
 the touch beyond a parabola's vertex on its short side, the recognizer's suggestion, and
 stopping with a reason when nothing within reach can help."""
 
+import json
 import math
 from pathlib import Path
 
@@ -9,10 +10,12 @@ import numpy as np
 
 from hand_driver.config import load_config
 from recognizer.curves import CURVES, Pose
+from recognizer.classify import NONE_TESTED_FITS, recognize
 from recognizer.result import Ranked, Recognition
+from recognizer.touches import parse_request
 from tactile_jaw.choose import (MOVE_CLEAR_MM, MOVE_MAX_MM, MOVE_TURN_MAX_DEG, JawReach, Stop, budget_advice, move_advice,
                                 move_for, next_aim, place_goal, vertex_aim, vertex_goal)
-from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, refusal_kind, vertex_sides
+from tactile_jaw.decide import NO_CLASS_FITS, VERTEX_SIDE_DEG, Why, refusal_kind, vertex_sides
 from tactile_jaw.plan import ObjectModel, feasible
 from tactile_jaw.settings import ExploreSettings
 
@@ -181,6 +184,25 @@ def test_no_move_is_advised_when_no_class_fits():
     assert stop.move is None and "no class of the scene fits" in stop and "no move" in stop
     assert refusal_kind(none.reason) == "no class fits"
     assert refusal_kind("not decisive after 4 usable touches: …; move the object 4 mm", {"dx": 4.0}) == "out of reach"
+
+
+def test_classes_untested_for_too_few_touches_make_no_no_class_fits_refusal():
+    # dev seed 83, P-series semicubical 27: 2 of 8 touches clear of the end corners; the parabola
+    # (the richest class 2 touches test) fails, ellipse..semicubical were never tested. That is
+    # not "no class fits" (no move helps) but too few usable touches: another placement or more
+    # touches (saved request: tactile replay --touches on the run's log)
+    request = parse_request(json.loads((Path(__file__).parent / "data" / "p_semicubical_two_clear_touches.json")
+                                       .read_text()))
+    rec = recognize(request)
+    assert rec.cls == "unclassified"
+    assert set(rec.untested) == {"ellipse", "hyperbola", "cubical_parabola", "semicubical_parabola"}
+    assert rec.reason.startswith(NONE_TESTED_FITS) and not rec.reason.startswith(NO_CLASS_FITS)
+    assert "parabola" in rec.reason and "needs 3 touches, got 2" in rec.reason
+    assert refusal_kind(rec.reason) == "needs another move"
+    stop = budget_advice(rec, _why("unclassified"), _touched(np.linspace(-47.0, 12.0, 40)), REACH, 8)
+    assert stop.move is None and "no class of the scene fits" not in stop
+    assert "semicubical_parabola" in stop and "clear of its corners" in stop
+    assert refusal_kind(stop) == "needs another move"
 
 
 def test_a_stop_without_a_reachable_suggestion_says_where_the_touch_anywhere_would_go():
