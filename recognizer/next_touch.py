@@ -18,7 +18,11 @@ Expected information gain (nats) of a place:
 - classes: for each other candidate c, χ²_c = Δᵀ(R + P_ℓ + P_c)⁻¹Δ is the expected
   separation of the two predictions (Δ = c's − the leader's); the pair's class entropy (w_ℓ + w_c)·H(w_ℓ/(w_ℓ + w_c))
   is resolved in proportion 1 − exp(−χ²_c/8) (the Bhattacharyya bound on the error of
-  telling two Gaussians apart);
+  telling two Gaussians apart). Both ways round, the smaller counting: c true, the pad
+  touches c's closest point q to the place, and the leader explains that touch by its own
+  closest point to q (measured across c's tangent at q), not by the place (each touch gets
+  its own point on every curve: a place on a semicubical leader's other branch, beyond its
+  cusp, whose rival contact the leader meets on its touched branch, tells nothing);
 - parameters: w_ℓ · ½ ln det(I + R⁻¹P_ℓ), the entropy the leader's parameters and pose
   lose (the determinant lemma for the linearized update C' = C − C Gᵀ(GCGᵀ + R)⁻¹GC).
 
