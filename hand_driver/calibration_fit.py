@@ -66,6 +66,11 @@ TOLERANCES = {"zero_tick": 0.5, "link_mm": 0.05, "offset_mm": 0.05, "backlash_de
 ZERO_FLOOR_DEG = 0.005
 #: a joint's band is fitted when at least this many readings load it each way
 BAND_MIN_EACH_WAY = 3
+#: a joint whose model states a band (the e-Manual's backlash b) has it fitted from any readings
+#: that load it both ways, with b as a prior of deviation ``BAND_PRIOR_FRACTION``·b: the band a
+#: few readings against the working load cannot fix is then b ± b/2, and what that leaves is in
+#: every parameter's standard error (docs/kinematics.md, backlash on the X-series jaw)
+BAND_PRIOR_FRACTION = 0.5
 #: what each parameter kind needs, for refusals
 _NEEDS = {
     "zero_tick": "face touches of this finger at widely spread pad orientations, with the other finger "
@@ -178,6 +183,9 @@ class ContactModel:
     def __init__(self, cfg: JawConfig, reference, readings: list[Reading], bands: tuple[int, ...] = ()):
         self.cfg = cfg
         self.bands = tuple(bands)  # joints (indices in cfg.joints) whose band is an unknown
+        joints = cfg.joints
+        #: each fitted band's prior (deg): its model's stated backlash, None where none is stated
+        self.priors = tuple(joints[k].spec.backlash_deg for k in self.bands)
         self.cls = reference.cls
         if self.cls == "circle":
             self.r = float(reference.params["r"])
@@ -250,6 +258,16 @@ class ContactModel:
                 else:
                     out.append((line.distal if kind == "corner" else line.proximal) @ m - b)
         return np.concatenate(out)
+
+    def prior_residuals(self, v) -> np.ndarray:
+        """Each fitted band with a stated figure b: (band − b)/(``BAND_PRIOR_FRACTION``·b)."""
+        nf = 5 * len(self.cfg.fingers)
+        return np.array([(v[nf + i] - b) / (BAND_PRIOR_FRACTION * b) for i, b in enumerate(self.priors)
+                         if b], dtype=float)
+
+    def weighted(self, x, nv: int, sig) -> np.ndarray:
+        """The fit's residuals at x = (parameters, poses): each reading's by its σ, then the priors."""
+        return np.concatenate([self.residuals(x[:nv], x[nv:]) / sig, self.prior_residuals(x[:nv])])
 
     def set_loads(self, v, w) -> None:
         """Append each reading's load sign on each joint (the sign of the moment arm of the
@@ -370,16 +388,12 @@ class ContactModel:
             self.groups = saved
 
 
-#: a joint's stated backlash matters when it spans this many of its ticks (a PH54's 0.1° is
-#: 279 ticks, an XM430's 0.25° under 3)
-BAND_TICKS = 10.0
-
-
 def backlash_matters(cfg: JawConfig) -> bool:
-    """Does any joint's model state a backlash of at least ``BAND_TICKS`` of its ticks (the
-    e-Manual's, control_table.ModelSpec.backlash_deg)? ``tactile calibrate`` then models it."""
-    return any(j.spec.backlash_deg is not None and j.spec.backlash_deg >= BAND_TICKS * 360.0 / j.ticks_per_rev
-               for j in cfg.joints)
+    """Does any joint's model state a backlash (the e-Manual's, control_table.ModelSpec.backlash_deg)?
+    ``tactile calibrate`` then models it: even the XM430's 0.25°, under 3 of its ticks, biased the
+    links by 0.13–0.17 mm (4–6 standard errors) where 5–9 readings per joint bear against the
+    working load (docs/kinematics.md)."""
+    return any(j.spec.backlash_deg for j in cfg.joints)
 
 
 def _bands(cfg: JawConfig, reference, readings: list[Reading]) -> dict[int, tuple[int, int]]:
@@ -400,7 +414,9 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     :class:`CalibrationRefused` when a parameter is not determined to its tolerance."""
     tol = dict(TOLERANCES, **(tolerances or {}))
     counts = _bands(cfg, reference, readings) if backlash else {}
-    bands = tuple(sorted(k for k, (neg, pos) in counts.items() if min(neg, pos) >= BAND_MIN_EACH_WAY))
+    joints = cfg.joints
+    bands = tuple(sorted(k for k, (neg, pos) in counts.items()
+                         if min(neg, pos) >= (1 if joints[k].spec.backlash_deg else BAND_MIN_EACH_WAY)))
     v0 = pack_params(cfg, bands)
     names = _param_names(cfg, bands)
     nv = v0.size
@@ -422,7 +438,7 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
         # weighted by each reading's quantization σ (at the nominal geometry), so that
         # readings with long lever arms (coarse) count less than fine ones
         sig = np.maximum(model.reading_sigmas(v0, before.x), 1e-4)
-        res = least_squares(lambda x: model.residuals(x[:nv], x[nv:]) / sig, x0, method="lm", x_scale="jac",
+        res = least_squares(lambda x: model.weighted(x, nv, sig), x0, method="lm", x_scale="jac",
                             xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
         sv = np.linalg.svd(res.jac, compute_uv=False)
         col = np.linalg.norm(res.jac, axis=0)
@@ -433,8 +449,8 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
         if not moved and not dropped:
             break
         used, n_reclassified, n_dropped = screened, n_reclassified + moved, n_dropped + dropped
-    r = res.fun * sig  # mm
-    m, p = r.size, x0.size
+    r = res.fun[:sig.size] * sig  # mm
+    m, p = res.fun.size, x0.size
     jac = res.jac
     u, s, vt = np.linalg.svd(jac, full_matrices=False)
     col = np.linalg.norm(jac, axis=0)
@@ -448,9 +464,10 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     sigma2 = max(float(res.fun @ res.fun) / (m - p), 1.0)
     cov = sigma2 * (vt.T / s**2) @ vt
     se = np.sqrt(np.diag(cov))
-    joints = cfg.joints
     zero_tol = [max(tol["zero_tick"], ZERO_FLOOR_DEG * j.ticks_per_rev / 360.0) for j in joints]
-    tolerance = [zero_tol[2 * (i // 5) + i % 5] if kind == "zero_tick" else tol[kind]
+    # a band with a stated figure is known to its prior at worst: its tolerance is the prior's σ
+    prior_tol = {nv - len(bands) + i: BAND_PRIOR_FRACTION * b for i, b in enumerate(model.priors) if b}
+    tolerance = [zero_tol[2 * (i // 5) + i % 5] if kind == "zero_tick" else max(tol[kind], prior_tol.get(i, 0.0))
                  for i, (_, kind) in enumerate(names)]
     estimates = tuple(Estimate(name, kind, float(v0[i]), float(res.x[i]), float(se[i]), tolerance[i])
                       for i, (name, kind) in enumerate(names))
@@ -500,7 +517,7 @@ def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0,
         if backlash:
             model.set_loads(v0, w)
         sig = np.maximum(model.reading_sigmas(v0, w), 1e-4)
-        res = least_squares(lambda y: model.residuals(y[:nv], y[nv:]) / sig, np.concatenate([x[:nv], w]), method="lm",
+        res = least_squares(lambda y: model.weighted(y, nv, sig), np.concatenate([x[:nv], w]), method="lm",
                             x_scale="jac", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
         sv = np.linalg.svd(res.jac, compute_uv=False)
         if not res.success or sv[-1] <= 1e-9 * sv[0]:

@@ -81,8 +81,10 @@ VERTEX_GOAL_PLACES = 5
 class Aim:
     """A touch aimed at the boundary point (x, y) mm whose tangent there is ``phi`` (rad, in
     the touches' direction of travel), by ``finger``; ``why`` for people; ``kind`` 'vertex'
-    (:func:`vertex_aim`), 'suggested' (the recognizer's ``next_touch``) or 'curve' (where the
-    finger's last, unusable roll felt the curved part: tactile_jaw.pipeline.curve_hint)."""
+    (:func:`vertex_aim`), 'suggested' (the recognizer's ``next_touch``), 'curve' (where the
+    finger's last, unusable roll felt the curved part: tactile_jaw.pipeline.curve_hint) or
+    'wider' (where its last roll was a corner only by its radius's deviation, rolled again
+    wider: tactile_jaw.explore.wider_again)."""
 
     x: float
     y: float
@@ -90,6 +92,7 @@ class Aim:
     finger: str
     why: str
     kind: str = "suggested"
+    of: int | None = None  # 'wider': the doubtful roll's place in the exploration's touches
 
     @property
     def psi(self) -> float:

@@ -22,8 +22,9 @@ docs/exploration.md.
 
 from __future__ import annotations
 
+import dataclasses
 import math
-from typing import Any, Callable
+from typing import Any, Callable, Container
 
 from hand_driver.cycle import Jaw, run_together
 from hand_driver.flat_press import FlatResult
@@ -32,7 +33,8 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
-from tactile_jaw.pipeline import FeltTouch, clear_of_corners, feel, too_few_clear
+from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, corner_in_doubt, feel, on_corner,
+                                  too_few_clear)
 from tactile_jaw.plan import APPROACH_MARGIN_MM, FREE_MARGIN_MM, ObjectModel, choose_psi, predicted_tangent, retreat_offset
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
@@ -42,22 +44,27 @@ from tactile_jaw.settings import ExploreSettings
 #: a finger whose last this many touches fell on corners or closing segments stops touching:
 #: its side of the object is not the curved part, and the touch budget goes to the others
 OFF_CURVE_RETIRE = 2
+#: touches that fell off the curved part do not count against the budget; all the touches
+#: tried, counted or not, stop at this many times the budget (the seed-83 P-series objects
+#: tried at most 1.5 times theirs): a bound on the robot's time whatever the rules above
+TRIED_PER_BUDGET = 3
 
 
 def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings: ExploreSettings,
-                touch_index: int, emit, spent: dict[str, float], aim=None):
-    """Transit, then one rolling touch around ψ from ``APPROACH_MARGIN_MM`` outside the
-    predicted tangent line (tactile_jaw.plan.predicted_tangent, ``aim`` a boundary point the
-    touch is aimed at), faster (still guarded) up to ``FREE_MARGIN_MM`` outside it; returns
-    the TouchResult."""
-    start = float(roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[0])
+                touch_index: int, emit, spent: dict[str, float], aim=None, span: float | None = None):
+    """Transit, then one rolling touch around ψ over ``span`` (default the settings') from
+    ``APPROACH_MARGIN_MM`` outside the predicted tangent line (tactile_jaw.plan.predicted_tangent,
+    ``aim`` a boundary point the touch is aimed at), faster (still guarded) up to
+    ``FREE_MARGIN_MM`` outside it; returns the TouchResult."""
+    span = settings.roll_span_rad if span is None else span
+    start = float(roll_angles(psi, span, settings.samples_per_touch)[0])
     problem = yield from transit_or_problem(jaw, finger, model, start, spent, aim, hug=True)
     if problem is not None:
         return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
     d_pred, _ = predicted_tangent(model, start, aim)
     d_start = max(retreat_offset(jaw.config.finger(finger), model, start, aim), d_pred - APPROACH_MARGIN_MM)
     travel = d_pred + APPROACH_MARGIN_MM - d_start
-    return (yield from rolling_touch(jaw, finger, touch_index, psi, settings.roll_span_rad,
+    return (yield from rolling_touch(jaw, finger, touch_index, psi, span,
                                      settings.samples_per_touch, d_start, travel, on_event=emit,
                                      free_mm=d_pred - FREE_MARGIN_MM - d_start))
 
@@ -99,6 +106,36 @@ def _clear_of_corners(cfg, out: Exploration, settings: ExploreSettings, emit, sa
     return run
 
 
+def wider_again(felt: FeltTouch, reach: JawReach, wider: Container[int]) -> Aim | None:
+    """A roll judged a corner only by its radius's deviation (tactile_jaw.pipeline.corner_in_doubt)
+    and not itself a wider roll (``wider``: their touch indices) is rolled again about the point
+    it turned about, over ``WIDER_SPAN`` times the span, when its finger can reach it there: the
+    Aim of that roll, else None. A corner measures ρ ≈ 0 again; boundary bent tightly (an
+    ellipse's end) is usable (docs/exploration.md)."""
+    if felt.corner is None or not corner_in_doubt(felt.fit) or felt.touch.touch in wider:
+        return None
+    phi = felt.touch.psi_center - math.pi / 2
+    finger = reach.config.finger(felt.finger)
+    if reach.finger(*felt.corner, phi, [finger]) is None:
+        return None
+    return Aim(*felt.corner, phi, felt.finger,
+               f"where its last roll turned about a point or a tight bend (radius of curvature "
+               f"{felt.fit.rho:.1f} ± {felt.fit.sigma_rho:.1f} mm): rolled {WIDER_SPAN:g} times wider", kind="wider")
+
+
+def off_curve_count(count: int, felt: FeltTouch, hinted: bool) -> tuple[int, bool]:
+    """(the finger's touches in a row off the curved part, after ``felt``; whether its next
+    roll goes where ``felt`` still felt the curved part, ``felt.curve_at``). A roll that ran
+    off the curved part yet felt it on a shorter stretch (tactile_jaw.pipeline.curve_hint) is
+    not counted and is followed, once: a roll aimed there (``hinted``) that runs off again
+    counts, hint or not, so a finger retires (``OFF_CURVE_RETIRE``) instead of rolling there
+    for ever (random parabola 11 of bench_explore --finite 3 --anywhere --follow --seed 17
+    --config config/jaw-p.yaml, moved as advised: the same roll, χ² 731 on 3 dof with a
+    hint, 236 times; off-curve touches do not count against the budget)."""
+    follow = felt.curve_at is not None and not hinted
+    return (count + 1 if felt.off_curve and not follow else 0), follow
+
+
 def _spent(out: Exploration) -> int:
     """Touches that count against the budget: all but those that fell on a corner or across
     a closing segment of a finite object (a finger retires after OFF_CURVE_RETIRE in a row,
@@ -137,21 +174,30 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
 
     aimed_at: list[tuple[float, float]] = []
     hints: dict[str, Aim] = {}  # per finger: where its last unusable roll still felt the curved part
+    #: the touches rolled WIDER_SPAN times wider where a corner was in doubt: each one's index →
+    #: that doubtful roll's place in out.touches (its corner is dropped when the wider roll is none)
+    wider: dict[int, int] = {}
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
     pressed: list[FeltTouch] = []  # flat presses made during the rolls (tactile_jaw.flat_phase.early_press)
     while _spent(out) < settings.touches:
+        if len(out.touches) >= TRIED_PER_BUDGET * settings.touches:
+            message = (f"{len(out.touches)} touches tried, {TRIED_PER_BUDGET}x the budget of {settings.touches}: "
+                       f"most fell off the curved part; no more touches")
+            emit({"type": "event", "kind": "touches_capped", "message": message})
+            say(message)
+            break
         if not cleared() and len(out.touches) >= FLAT_AFTER_TOUCHES:
             rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
             break
-        plans, spent, aimed, pressing = {}, {}, None, None
+        plans, spent, aimed, pressing, from_hint = {}, {}, None, None, set()
         budget = settings.touches - _spent(out)
         active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]
         for f in active:
-            point = None
+            point, span = None, None
             if aim is not None and f.name == aim.finger:
                 psi, point, aimed = aim.psi, aim.point, aim
                 aimed_at.append(point)
@@ -160,7 +206,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                     f"{aim.why}")
             elif f.name in hints:
                 hint = hints.pop(f.name)
+                from_hint.add(f.name)
                 psi, point = hint.psi, hint.point
+                if hint.kind == "wider":
+                    span = WIDER_SPAN * settings.roll_span_rad
+                    wider[index + len(plans)] = hint.of
                 aimed_at.append(point)
                 say(f"{f.name}: next touch at ({hint.x:.1f}, {hint.y:.1f}) mm, pad normal "
                     f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, {hint.why}")
@@ -183,7 +233,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 say(message)
                 continue
             used[f.name].append(psi)
-            plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent, point)
+            plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent, point,
+                                        span)
         if not plans:
             break
         index += len(plans)
@@ -197,8 +248,16 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 pressed.append(felt)
                 off_curve[name] += 1  # a face: the finger's side offers a closing segment, no curved part
                 continue
-            off_curve[name] = off_curve[name] + 1 if felt.off_curve and felt.curve_at is None else 0
-            if felt.curve_at is not None and reach.finger(*felt.curve_at, [cfg.finger(name)]) is not None:
+            again = wider_again(felt, reach, wider)
+            count, follow = off_curve_count(off_curve[name], felt, name in from_hint)
+            off_curve[name] = 0 if again is not None else count  # a roll in doubt, rolled again wider: not counted
+            if again is not None:
+                hints[name] = dataclasses.replace(again, of=len(out.touches) - 1)
+            if touch.touch in wider and felt.fit is not None and not on_corner(felt.fit):
+                # rolled wider, the place is no corner: the doubtful roll's corner no longer clears samples there
+                k = wider[touch.touch]
+                out.touches[k] = dataclasses.replace(out.touches[k], corner=None)
+            if follow and reach.finger(*felt.curve_at, [cfg.finger(name)]) is not None:
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
                                                         "off it", kind="curve")
             if off_curve[name] == OFF_CURVE_RETIRE:

@@ -37,6 +37,12 @@ from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
 #: rejected the cubical example's hump, ρ 14.5 mm measured 8.25 ± 3.77 mm)
 CORNER_RADIUS_MM = 1.0
 CORNER_SIGMAS = 2.0
+#: a roll judged a corner only by its radius's deviation (ρ at least CORNER_RADIUS_MM, below
+#: CORNER_SIGMAS σ_ρ: :func:`corner_in_doubt`) may be boundary bent tightly (an X-series jaw's
+#: 18° roll on an ellipse's end, ρ = b²/a = 6.8 mm, measured 5.2 ± 4.1 mm): the same place
+#: rolled over this many times the span measures ρ with σ_ρ about its square smaller
+#: (d'' of the envelope), which tells the two apart
+WIDER_SPAN = 2.0
 #: false-rejection rate of the test that a touch's pad lines are one smooth curve's tangents
 SMOOTH_ALPHA = 1e-3
 #: degree of d(ψ) whose envelope (constant radius of curvature over the roll) gives a
@@ -315,6 +321,13 @@ def on_corner(fit: EnvelopeFit) -> bool:
     """The touch rolled on a corner: its radius of curvature at the contact is below
     ``CORNER_RADIUS_MM`` or ``CORNER_SIGMAS`` of its deviation."""
     return bool(fit.rho < max(CORNER_RADIUS_MM, CORNER_SIGMAS * fit.sigma_rho))
+
+
+def corner_in_doubt(fit: EnvelopeFit | None) -> bool:
+    """A touch judged a corner (:func:`on_corner`) only because its radius of curvature is
+    below ``CORNER_SIGMAS`` of its deviation, not below ``CORNER_RADIUS_MM``: a wider roll at
+    the same place (``WIDER_SPAN``) can tell a corner from tightly bent boundary."""
+    return fit is not None and on_corner(fit) and fit.rho >= CORNER_RADIUS_MM
 
 
 def pivot_point(lines: kin.PadLine) -> tuple[float, float]:

@@ -31,9 +31,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("--corners", type=int, default=6, help="touches of each pad end per finger, branch, placement")
     parser.add_argument("--backlash", choices=("auto", "on", "off"), default="auto",
                         help="model each touch's load direction on every joint and fit the backlash of every "
-                             "joint the touches load both ways (zero_tick: under the joint's working load); auto "
-                             "(default): on when a joint's model states a backlash of 10 or more of its ticks "
-                             "(DYNAMIXEL-P: 0.1 deg = 279 PH54 ticks), off for X-series")
+                             "joint the touches load both ways (zero_tick: under the joint's working load; a band "
+                             "few touches load against the working load is held to the model's stated band ± "
+                             "half); auto (default): on when a joint's model states a backlash (DYNAMIXEL-P "
+                             "0.1 deg, XM430-W350 0.25 deg)")
     parser.add_argument("--max-se-ticks", type=float, default=0.5,
                         help="refuse if a zero_tick's standard error exceeds this many ticks (never below "
                              "0.005 deg of the joint's model)")

@@ -256,9 +256,11 @@ def finish(session: Session, args, *, config, truth=None, extra_lines: list[str]
 
 def answer_lines(answer: dict[str, Any], anchor: tuple[float, float] | None = None) -> list[str]:
     """The answer's first lines for people: ``recognized: ...`` (``anchor``: see
-    :func:`describe`), or ``refused: reason`` and ``advice: ...``."""
+    :func:`describe`) and its ``note:`` when the answer states one (a close rival, a touch
+    left out), or ``refused: reason`` and ``advice: ...``."""
     if answer["class"] != "unclassified":
-        return [f"recognized: {describe(answer, anchor)}"]
+        note = [f"note:       {answer['reason']}"] if answer.get("reason") else []
+        return [f"recognized: {describe(answer, anchor)}", *note]
     return [f"refused:    {answer['reason']}", f"advice:     {answer['advice']}"]
 
 

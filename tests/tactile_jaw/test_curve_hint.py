@@ -56,3 +56,23 @@ def test_a_usable_roll_has_no_hint():
     rest = TouchResult(touch.finger, touch.touch, touch.psi_center, touch.samples[3:], outcome="ok")
     felt = feel(config, rest, len(rest.samples))
     assert felt.problem is None and felt.curve_at is None
+
+
+def test_a_roll_aimed_where_the_curve_was_felt_is_followed_once():
+    """The same roll off the curved part with a hint, again and again (random parabola 11 of
+    bench_explore --finite 3 --anywhere --follow --seed 17 on the P-series jaw, moved as
+    advised: 236 touches): a hinted roll that runs off again counts toward retiring its
+    finger and is not followed."""
+    from types import SimpleNamespace
+
+    from tactile_jaw.explore import OFF_CURVE_RETIRE, off_curve_count
+
+    hinted_off = SimpleNamespace(off_curve=True, curve_at=(1.0, 2.0, 0.3))
+    count, follow = off_curve_count(0, hinted_off, hinted=False)
+    assert (count, follow) == (0, True)  # first time: aim there
+    for _ in range(OFF_CURVE_RETIRE):
+        count, follow = off_curve_count(count, hinted_off, hinted=True)
+        assert not follow
+    assert count == OFF_CURVE_RETIRE
+    assert off_curve_count(1, SimpleNamespace(off_curve=False, curve_at=None), hinted=True) == (0, False)
+    assert off_curve_count(1, SimpleNamespace(off_curve=True, curve_at=None), hinted=False) == (2, False)
