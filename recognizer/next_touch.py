@@ -18,7 +18,11 @@ Expected information gain (nats) of a place:
 - classes: for each other candidate c, χ²_c = Δᵀ(R + P_ℓ + P_c)⁻¹Δ is the expected
   separation of the two predictions (Δ = c's − the leader's); the pair's class entropy (w_ℓ + w_c)·H(w_ℓ/(w_ℓ + w_c))
   is resolved in proportion 1 − exp(−χ²_c/8) (the Bhattacharyya bound on the error of
-  telling two Gaussians apart);
+  telling two Gaussians apart). Both ways round, the smaller counting: c true, the pad
+  touches c's closest point q to the place, and the leader explains that touch by its own
+  closest point to q (measured across c's tangent at q), not by the place (each touch gets
+  its own point on every curve: a place on a semicubical leader's other branch, beyond its
+  cusp, whose rival contact the leader meets on its touched branch, tells nothing);
 - parameters: w_ℓ · ½ ln det(I + R⁻¹P_ℓ), the entropy the leader's parameters and pose
   lose (the determinant lemma for the linearized update C' = C − C Gᵀ(GCGᵀ + R)⁻¹GC).
 
@@ -68,6 +72,8 @@ UNDETERMINED = 1e3
 N_PLACES = 160
 N_DENSE = 400
 MIN_WEIGHT = 1e-3
+SEPARATION_MIN = 0.1
+"""an expected χ² separation below this (1.2 % of a pair's entropy) is not checked the other way round."""
 
 
 def _wrap_half(a):
@@ -177,7 +183,16 @@ def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, 
         G[..., i] = (_measure(c.cls, vp, tp, px, py, nx, ny, lead_phi) - mean) / h
     mean, G = mean @ W.T, np.einsum("ab,mbi->mai", W, G)
     G = np.where(np.isfinite(G), G, 0.0)
-    return mean, np.einsum("mai,ij,mbj->mab", G, C, G), G, _touchable(curve, t, roll)
+    return mean, np.einsum("mai,ij,mbj->mab", G, C, G), G, _touchable(curve, t, roll), (curve, pose, t)
+
+
+def _contact(posed, lead_phi):
+    """(x, y, tangent angle within π/2 of ``lead_phi``) of a candidate's points t: where a
+    pad aimed at the places would touch that candidate's curve."""
+    curve, pose, t = posed
+    qx, qy = pose.apply(*curve.point(t))
+    ang = np.asarray(curve.tangent_angle(t), float) + pose.theta
+    return np.asarray(qx, float), np.asarray(qy, float), lead_phi + _wrap_half(ang - lead_phi)
 
 
 def _inv(S: np.ndarray) -> np.ndarray:
@@ -252,7 +267,8 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     t, px, py, phi = t[keep], px[keep], py[keep], phi[keep]
     nx, ny = -np.sin(phi), np.cos(phi)
     W = _whitener(noise, samples, roll_cov(d))
-    mean_lead, P_lead, G_lead, _ = _prediction(leader, _t_span(leader, 1.0, N_DENSE), px, py, nx, ny, phi, W, d.scale)
+    span_lead = _t_span(leader, 1.0, N_DENSE)
+    mean_lead, P_lead, G_lead, _, _ = _prediction(leader, span_lead, px, py, nx, ny, phi, W, d.scale)
     own = np.all(np.isfinite(mean_lead), axis=1)  # the leader's κ, κ_s defined there
     # parameters: entropy lost, and the shrink of the largest relative σ (whitened: R = I)
     eye = np.eye(4)[None]
@@ -275,9 +291,19 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     ig_class = np.zeros(t.size)
     best_sep = {}
     for c, wc in others:
-        mean_c, P_c, _, ok_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, d.scale, roll)
+        mean_c, P_c, _, ok_c, posed_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, d.scale, roll)
         delta = mean_c - mean_lead
         chi2 = np.einsum("ma,mab,mb->m", delta, _inv(eye + P_lead + P_c), delta)
+        # c true: the pad touches c's curve at c's point nearest the place; the leader
+        # explains that touch by its own nearest point, not by the place
+        # (only where the first way separates them at all: the smaller counts)
+        sep = np.flatnonzero(~(chi2 <= SEPARATION_MIN))
+        if sep.size:
+            qx, qy, qphi = _contact((posed_c[0], posed_c[1], posed_c[2][sep]), phi[sep])
+            mean_b, P_b, _, _, _ = _prediction(leader, span_lead, qx, qy, -np.sin(qphi), np.cos(qphi), qphi, W, d.scale)
+            delta = mean_b - np.concatenate((np.zeros_like(mean_c[sep, :2]), mean_c[sep, 2:]), axis=1)
+            chi2_b = np.einsum("ma,mab,mb->m", delta, _inv(eye + P_b + P_c[sep]), delta)
+            chi2[sep] = np.minimum(chi2[sep], np.where(np.isfinite(chi2_b), chi2_b, np.inf))
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
         ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0))
         best_sep[c.cls] = chi2

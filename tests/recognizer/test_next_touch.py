@@ -168,3 +168,24 @@ def test_an_undetermined_parameter_is_maximally_uncertain_not_certain(undetermin
     known = Candidate("circle", {"r": 50.0}, Pose(0.0, 0.0, 0.0), np.array([0.3, 0.5, 0.7]), 3.0, 10, 15, bic=10.0,
                       uncertainty={"r": 1e-6, "pose_x": 0.01, "pose_y": 0.01})
     assert next_touch([known], known, d, NoiseModel(1e-3, 0.01), 9) is None  # a radius known to 2e-8 needs no touch
+
+
+def test_thin_ellipse_sharp_end_suggestion_tells_it_from_the_semicubical():
+    """A long thin ellipse (a 37.8, b 3.9 mm) touched three times across its sharp end is
+    answered semicubical. The place that tells them apart is not on the semicubical's other
+    branch beyond its cusp: an ellipse there is touched beside an earlier touch, where the
+    semicubical explains it as well (bench_wide seed 89, ellipse trial 14: the suggested
+    touch landed at t 2.78 next to the touch at 2.73 and the answer stayed semicubical)."""
+    from tools import bench_wide as bw
+
+    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("ellipse", 14, 89, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    nm = NoiseModel(noise.phi, noise.pos)
+    rec, _, _ = bw._recognize(touches, nm)
+    assert rec.cls == "semicubical_parabola" and rec.next_touch is not None
+    t = bw._closest_t(shape, rec.next_touch["x"], rec.next_touch["y"], lo, hi, clear)
+    x, y = shape.pose.apply(*shape.curve.point(np.array([t] + list(ts))))
+    assert np.min(np.hypot(x[1:] - x[0], y[1:] - y[0])) > 0.2 * shape.size  # a new place on the object
+    after, _, _ = bw._recognize(list(touches) + [bw._extra_touch(shape, t, rs, direction)], nm)
+    assert after.cls == "ellipse"
