@@ -77,11 +77,11 @@ RecognizeTouches = Callable[..., Recognition]
 #: how a refusal says that a jaw with finer angles would settle it (:func:`finer_advice`,
 #: :func:`imprecision`), and what :func:`refusal_kind` looks for
 FINER = "a jaw with >="
+#: the family-wise false-alarm rate of leaving one touch out as the misfit (:func:`without_misfit`)
+MISFIT_ALPHA = 1e-3
 #: what a refusal asks of a person (:func:`refusal_kind`): move the object where a pad can
 #: reach the deciding place; a jaw with finer angles; another placement or exploration; or
 #: nothing it can do by moving the object: no class of the scene fits the touches
-#: the family-wise false-alarm rate of leaving one touch out as the misfit (:func:`without_misfit`)
-MISFIT_ALPHA = 1e-3
 REFUSAL_KINDS = ("out of reach", "needs finer angles", "needs another move", "no class fits")
 #: how the recognizer begins the reason of an answer no class fits (recognizer.classify)
 NO_CLASS_FITS = "no class of the scene fits"
@@ -249,7 +249,7 @@ def without_misfit(recognize_touches: RecognizeTouches, touches: Sequence[Any], 
         return None
     closest = recognition.ranking[0]
     limit = MISFIT_ALPHA / len(touches)
-    best = None  # (p-value, index)
+    best = None  # (p-value, index, the touches without it)
     for j in range(len(touches)):
         rest = [t for i, t in enumerate(touches) if i != j]
         try:
@@ -261,11 +261,10 @@ def without_misfit(recognize_touches: RecognizeTouches, touches: Sequence[Any], 
             continue
         p = float(stats.chi2.sf(closest.chi2 - row.chi2, closest.dof - row.dof))
         if p < limit and (best is None or p < best[0]):
-            best = (p, j)
+            best = (p, j, rest)
     if best is None:
         return None
-    p, j = best
-    rest = [t for i, t in enumerate(touches) if i != j]
+    p, j, rest = best
     answer = recognize_touches(rest)
     if answer.cls == "unclassified":
         return None
