@@ -230,14 +230,11 @@ def _at_contact(c: kin.TouchEnvelope) -> np.ndarray:
 def _with_curvature_bias(fit, richer):
     """``fit`` with the bias of its κ, κ_s that the ``richer`` degree shows, max(0, Δ² − var Δ),
     as one more column of its noise factor (κ, κ_s rows only)."""
-    c, f = fit
     d, var_d = _curvature_difference(fit, richer)
     bias = np.sign(d) * np.sqrt(np.maximum(0.0, d**2 - var_d))
     if not (np.all(np.isfinite(bias)) and np.any(bias != 0.0)):
         return fit
-    col = np.zeros((f.shape[0], 1))
-    col[:2, 0] = bias
-    return c, np.hstack([f, col])
+    return _with_curvature_column(fit, bias)
 
 
 def _with_untestable_truncation(fit, richer):
@@ -247,12 +244,18 @@ def _with_untestable_truncation(fit, richer):
     detect a bias below that, and on fine encoders it exceeds the fit's own σ (P-series cubical,
     dev seed 13 object 10: κ of the cubic 0.2–1.2 % low on all 7 rolls with σ 0.17 %, z to −7;
     the deviation of the difference to the quartic 0.9–1.1 %)."""
-    c, f = fit
     _, var_d = _curvature_difference(fit, richer)
     if not np.all(np.isfinite(var_d)):
         return fit
+    return _with_curvature_column(fit, np.sqrt(var_d))
+
+
+def _with_curvature_column(fit, column):
+    """``fit`` (contacts, noise factor) with one more noise-factor column holding ``column``
+    (κ, κ_s) in its κ, κ_s rows and zero elsewhere: a truncation stated as noise."""
+    c, f = fit
     col = np.zeros((f.shape[0], 1))
-    col[:2, 0] = np.sqrt(var_d)
+    col[:2, 0] = column
     return c, np.hstack([f, col])
 
 
