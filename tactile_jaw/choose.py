@@ -82,9 +82,10 @@ class Aim:
     """A touch aimed at the boundary point (x, y) mm whose tangent there is ``phi`` (rad, in
     the touches' direction of travel), by ``finger``; ``why`` for people; ``kind`` 'vertex'
     (:func:`vertex_aim`), 'suggested' (the recognizer's ``next_touch``), 'curve' (where the
-    finger's last, unusable roll felt the curved part: tactile_jaw.pipeline.curve_hint) or
+    finger's last, unusable roll felt the curved part: tactile_jaw.pipeline.curve_hint),
     'wider' (where its last roll was a corner only by its radius's deviation, rolled again
-    wider: tactile_jaw.explore.wider_again)."""
+    wider: tactile_jaw.explore.wider_again) or 'corner' (beside a usable roll's stretch clear of
+    the corner it ran onto, away from it: tactile_jaw.pipeline.clear_side)."""
 
     x: float
     y: float

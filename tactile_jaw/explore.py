@@ -26,6 +26,8 @@ import dataclasses
 import math
 from typing import Any, Callable, Container
 
+import numpy as np
+
 from hand_driver.cycle import Jaw, run_together
 from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult, roll_angles, rolling_touch
@@ -33,9 +35,10 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
-from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, corner_in_doubt, feel, on_corner,
-                                  too_few_clear)
-from tactile_jaw.plan import APPROACH_MARGIN_MM, FREE_MARGIN_MM, ObjectModel, choose_psi, predicted_tangent, retreat_offset
+from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
+                                  clearing_corners, corner_in_doubt, feel, on_corner, too_few_clear)
+from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, ObjectModel, choose_psi, predicted_tangent,
+                             retreat_offset, within_curve)
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
 from tactile_jaw.separation import jaw_ticks_per_rev
@@ -123,6 +126,55 @@ def wider_again(felt: FeltTouch, reach: JawReach, wider: Container[int]) -> Aim 
                f"{felt.fit.rho:.1f} ± {felt.fit.sigma_rho:.1f} mm): rolled {WIDER_SPAN:g} times wider", kind="wider")
 
 
+def beside_corners(out: Exploration, usable: list[FeltTouch], seen: set[int], settings: ExploreSettings):
+    """(finger, (x, y, φ)) for every usable touch of ``out`` that the corners dropped
+    (``usable`` lacks it: too few of its samples clear of a corner another touch pivoted
+    about) and that is not in ``seen`` (touch indices, updated): where its finger's next roll
+    goes, beside the touch's clear stretch away from the corner (tactile_jaw.pipeline.clear_side)."""
+    kept = {t.touch.touch for t in usable}
+    corners = clearing_corners(out.touches)
+    for t in out.used:
+        if t.touch.touch in kept or t.touch.touch in seen or isinstance(t.touch, FlatResult):
+            continue
+        seen.add(t.touch.touch)
+        side = clear_side(t, corners, settings.roll_span_rad, settings.samples_per_touch)
+        if side is not None:
+            yield t.finger, side
+
+
+def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[float, float]]:
+    """Where finger ``name``'s rolls (``touches``, every one felt) left the curved part, as
+    limits a planned roll keeps short of (tactile_jaw.plan.within_curve): (ψ_end, +1) where
+    the finger felt the curve only below ψ_end, (ψ_end, −1) only above it. The curve is felt
+    at the pad orientations of its usable rolls' samples clear of the ``corners``
+    (tactile_jaw.pipeline.clearing_corners); it is left at those of their samples within
+    ``CORNER_CLEARANCE_MM`` of a corner and at the middle of its rolls off the curved part (a
+    corner, a closing segment). A finite object's curved part, convex toward the pad, is one
+    stretch of orientations, so beyond such a place from the felt curve lie its end corner
+    and closing segments: the planner's farthest orientation from the earlier rolls went
+    there again and again (P cubical 107 of bench_explore --finite 20 --anywhere --seed 97
+    --config config/jaw-p.yaml: 3 of its 4 rolls on corners). A finger that has not felt the
+    curve has no limits."""
+    on, off = [], []
+    for t in touches:
+        if t.finger != name or isinstance(t.touch, FlatResult):
+            continue
+        if t.problem is None and t.contacts is not None:
+            c = t.contacts
+            near = np.zeros(c.x.size, bool)
+            if len(corners):
+                near = np.hypot(c.x[:, None] - corners[:, 0], c.y[:, None] - corners[:, 1]).min(axis=1) < CORNER_CLEARANCE_MM
+            on += list(c.psi[~near])
+            off += list(c.psi[near])
+        elif t.off_curve:
+            off.append(t.touch.psi_center)
+    if not on:
+        return []
+    on, off = (on[0] + np.remainder(np.asarray(v, float) - on[0] + math.pi, 2 * math.pi) - math.pi for v in (on, off))
+    lo, hi = float(np.min(on)), float(np.max(on))
+    return [(float(e), 1.0) if e > hi else (float(e), -1.0) for e in off if e > hi or e < lo]
+
+
 def off_curve_count(count: int, felt: FeltTouch, hinted: bool) -> tuple[int, bool]:
     """(the finger's touches in a row off the curved part, after ``felt``; whether its next
     roll goes where ``felt`` still felt the curved part, ``felt.curve_at``). A roll that ran
@@ -180,6 +232,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
+    def limits(name):  # where the finger's rolls so far left the curved part
+        return curve_limits(name, out.touches, clearing_corners(out.touches))
+
+    cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
     pressed: list[FeltTouch] = []  # flat presses made during the rolls (tactile_jaw.flat_phase.early_press)
     while _spent(out) < settings.touches:
         if len(out.touches) >= TRIED_PER_BUDGET * settings.touches:
@@ -188,12 +244,19 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             emit({"type": "event", "kind": "touches_capped", "message": message})
             say(message)
             break
-        if not cleared() and len(out.touches) >= FLAT_AFTER_TOUCHES:
+        if not cleared() and len(out.touches) >= FLAT_AFTER_TOUCHES and not any(
+                h.kind == "corner" for h in hints.values()):  # unless a finger rolls again beside a corner
             rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
             break
         plans, spent, aimed, pressing, from_hint = {}, {}, None, None, set()
+        if aim is not None and aim.kind != "vertex" and not within_curve(aim.psi, settings.roll_span_rad,
+                                                                         limits(aim.finger)):
+            say(f"{aim.finger}: a touch at ({aim.x:.1f}, {aim.y:.1f}) mm would roll beyond where its rolls left the "
+                f"curved part: the planner's instead")
+            aimed_at.append(aim.point)
+            aim = None
         budget = settings.touches - _spent(out)
         active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]
         for f in active:
@@ -215,7 +278,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 say(f"{f.name}: next touch at ({hint.x:.1f}, {hint.y:.1f}) mm, pad normal "
                     f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, {hint.why}")
             else:
-                others_roll = bool(plans) or any(choose_psi(g, model, settings, used[g.name]) is not None
+                others_roll = bool(plans) or any(choose_psi(g, model, settings, used[g.name], limits(g.name)) is not None
                                                  for g in active[active.index(f) + 1:])
                 if (not out.used and not pressed and pressing is None and others_roll  # another finger rolls meanwhile
                         and len(cfg.fingers) <= len(out.touches) < FLAT_AFTER_TOUCHES):
@@ -225,7 +288,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                             f"on it while the other finger rolls again")
                         plans[f.name], pressing = plan, f.name
                         continue
-                psi = choose_psi(f, model, settings, used[f.name])
+                psi = choose_psi(f, model, settings, used[f.name], limits(f.name))
             if psi is None:
                 message = (f"{f.name}: no untouched pad orientation left for which the felt lines predict a "
                            f"{math.degrees(settings.roll_span_rad):g} deg roll on the pad's face")
@@ -281,6 +344,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 if not touch.samples:
                     empty_at.append(aimed.point)  # the object is not where the answered curve goes on
         usable = cleared()
+        for name, side in beside_corners(out, usable, cornered, settings):
+            if name not in hints and off_curve[name] < OFF_CURVE_RETIRE and reach.finger(*side, [cfg.finger(name)]):
+                hints[name] = Aim(*side, name, "beside its earlier roll's stretch clear of the corner it ran onto",
+                                  kind="corner")
         if len(usable) >= settings.min_touches:
             recognition, why = decide(recognize_touches, usable, settings, ticks)
             out.recognition = recognition

@@ -179,7 +179,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
                 shorter = smooth_stretch(config, touch, samples)
                 if shorter is not None:
                     return shorter
-                hint = curve_hint(config, touch)
+                hint = curve_hint(config, touch, samples)
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
                        corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint)
     if curve_checks:
@@ -270,20 +270,30 @@ def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None
 CURVE_HINT_SAMPLES = MIN_DEGREE + 2
 
 
-def curve_hint(config, touch: TouchResult) -> tuple[float, float, float] | None:
+def curve_hint(config, touch: TouchResult, samples: int) -> tuple[float, float, float] | None:
     """Where a roll that failed the smoothness test and could not be trimmed to a usable
-    touch (:func:`smooth_stretch`) still rolled on the curved part: the middle contact (x, y)
-    mm and tangent φ (rad) of its longest run of at least ``CURVE_HINT_SAMPLES`` consecutive
-    samples (ψ order) that passes every check, or None. A roll whose ρ grows many times
+    touch (:func:`smooth_stretch`) still rolled on the curved part, as the middle contact
+    (x, y) mm and tangent φ (rad) of a roll of ``samples`` readings at the roll's step: its
+    longest run of at least ``CURVE_HINT_SAMPLES`` consecutive samples (ψ order) that passes
+    every check, when that run lies at one end of the roll the roll beside it away from the
+    rest (:func:`_roll_beside`: centred on the run, a roll of the same span ran off again,
+    calibrated P cubical 16 of bench_explore --finite 3 --anywhere --seed 13 --calibrate), else
+    the run's middle; or None. A roll whose ρ grows many times
     within it (toward a cubical's inflection: 17 to 620 mm over 17° on the P-series jaw)
     and then pivots on the object's end corner keeps 6 smooth samples of 9, one too few for
     a touch (tools.bench_explore --finite 6 --anywhere --seed 17 --config
     config/jaw-p.yaml, cubical 30); the exploration aims its finger's next roll there
     (tactile_jaw.explore) instead of counting the roll as off the curved part."""
-    for _, _, felt in _passing_runs(config, touch, CURVE_HINT_SAMPLES):
-        c = felt.samples
-        m = len(c.phi) // 2
-        return float(c.x[m]), float(c.y[m]), float(c.phi[m])
+    for head, tail, felt in _passing_runs(config, touch, CURVE_HINT_SAMPLES):
+        c = felt.contacts
+        psi = np.sort([s.psi for s in touch.samples])
+        step = float(np.median(np.diff(psi)))
+        if head and not tail:
+            return _roll_beside(c, np.arange(c.x.size), 0, 1.0, step * (samples - 1), samples)
+        if tail and not head:
+            return _roll_beside(c, np.arange(c.x.size), c.x.size - 1, -1.0, step * (samples - 1), samples)
+        m = c.x.size // 2
+        return float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2
     return None
 
 
@@ -347,8 +357,7 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
     ``MIN_SAMPLES_PER_TOUCH`` and passes every check again; samples beyond a corner's, whose
     contacts the envelope fit places past it, go too), else it is dropped. Other touches
     (and flat presses) are returned as they are."""
-    corners = np.array([t.corner for t in felt if t.corner is not None and t.fit.rho < CLEARANCE_SIGMAS * t.fit.sigma_rho],
-                       dtype=float).reshape(-1, 2)
+    corners = clearing_corners(felt)
     if not corners.size:
         return list(usable), []
     kept, notes = [], []
@@ -378,6 +387,66 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
             why += f"; without them: {again.problem.removeprefix(t.finger + ': ')}"
         notes.append(f"{name}: not used: {why}")
     return kept, notes
+
+
+def clearing_corners(felt: Sequence[FeltTouch]) -> np.ndarray:
+    """(k, 2) the corners the ``felt`` touches pivoted about whose radius of curvature is below
+    ``CLEARANCE_SIGMAS`` of its deviation: the corners :func:`clear_of_corners` clears samples
+    around."""
+    return np.array([t.corner for t in felt if t.corner is not None and t.fit.rho < CLEARANCE_SIGMAS * t.fit.sigma_rho],
+                    dtype=float).reshape(-1, 2)
+
+
+def clear_side(touch: FeltTouch, corners: np.ndarray, span: float, samples: int) -> tuple[float, float, float] | None:
+    """Where to roll again when a usable ``touch`` ran near a corner (``corners``,
+    :func:`clearing_corners`) at one end of its roll and too few of its samples are clear of it
+    (:func:`clear_of_corners` dropped it): the roll of ``span`` (rad) and ``samples`` readings
+    whose nearest reading to the corner is the touch's clear sample next to the corner's, one
+    reading's step farther, so that every contact lies on the curved part the touch felt clear
+    of the corner and beyond it away from the corner (the support point of a boundary convex
+    toward the pad moves one way along it as ψ turns). Returns (x, y, φ) of that roll's middle:
+    its contact predicted by the circle the clear samples lie on (least squares, p = c + R n(ψ)),
+    φ = ψ − π/2; None when the corner's samples are not at one end of the roll, or no clear
+    sample is left. A 9-sample roll that ran 4 samples onto the object's end corner keeps 5,
+    too few to use, and the planner's next roll for that finger went to the corner again (P
+    cubical 107 of bench_explore --finite 20 --anywhere --seed 97 --config config/jaw-p.yaml:
+    refused, "no rolling touch usable clear of the corners")."""
+    c = touch.contacts
+    if c is None or not corners.size:
+        return None
+    gaps = np.hypot(c.x[:, None] - corners[:, 0], c.y[:, None] - corners[:, 1]).min(axis=1)
+    near = gaps < CORNER_CLEARANCE_MM
+    clear = np.flatnonzero(~near)
+    if not near.any() or clear.size < 3:
+        return None
+    if not near[-1] and near[0]:  # the corner at the low-ψ end: roll toward higher ψ
+        if np.any(near[clear[0]:]):
+            return None
+        edge, sign = clear[0], 1.0
+    elif near[-1] and not near[0]:
+        if np.any(near[: clear[-1] + 1]):
+            return None
+        edge, sign = clear[-1], -1.0
+    else:
+        return None
+    return _roll_beside(c, clear, edge, sign, span, samples)
+
+
+def _roll_beside(c: kin.TouchEnvelope, good: np.ndarray, edge: int, sign: float, span: float,
+                 samples: int) -> tuple[float, float, float] | None:
+    """(x, y, φ) of the middle of a roll of ``span`` (rad) and ``samples`` readings whose
+    reading nearest contact ``edge`` of ``c`` lies one reading's step beyond it toward ψ of
+    ``sign``: its contact predicted by the circle the ``good`` contacts lie on (least squares,
+    p = centre + R n(ψ)), φ = ψ − π/2; None if that is not finite."""
+    step = span / max(samples - 1, 1)
+    psi = float(c.psi[edge]) + sign * (0.5 * span + step)
+    normals = np.stack([np.cos(c.psi[good]), np.sin(c.psi[good])], axis=-1)
+    a = np.column_stack([np.tile(np.eye(2), (good.size, 1)), normals.reshape(-1)])
+    sol, *_ = np.linalg.lstsq(a, np.stack([c.x[good], c.y[good]], axis=-1).reshape(-1), rcond=None)
+    point = sol[:2] + sol[2] * np.array([math.cos(psi), math.sin(psi)])
+    if not np.all(np.isfinite(point)):
+        return None
+    return float(point[0]), float(point[1]), psi - math.pi / 2
 
 
 def _longest_run(mask: np.ndarray) -> np.ndarray:

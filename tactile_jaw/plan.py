@@ -195,12 +195,22 @@ def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings, 
     return True
 
 
-def choose_psi(finger, model: ObjectModel, settings: ExploreSettings, used: list[float]) -> float | None:
-    """Next pad orientation for ``finger`` (module docstring), None if none is feasible."""
+def within_curve(psi: float, span: float, limits) -> bool:
+    """Whether a roll of ``span`` (rad) about ψ keeps short of every limit of the curved part
+    (``limits``: (ψ_end, side) pairs, tactile_jaw.explore.curve_limits: the roll's ψ must stay
+    below ψ_end for side +1, above it for side −1)."""
+    return all(side * math.remainder(end - psi, 2 * math.pi) > 0.5 * span for end, side in limits)
+
+
+def choose_psi(finger, model: ObjectModel, settings: ExploreSettings, used: list[float],
+               limits=()) -> float | None:
+    """Next pad orientation for ``finger`` (module docstring), None if none is feasible; a
+    roll reaches no pad orientation beyond ``limits`` (:func:`within_curve`), where the
+    finger's earlier rolls left the curved part."""
     nominal = nominal_psi(finger)
     offsets = np.arange(-CANDIDATE_SPREAD_DEG, CANDIDATE_SPREAD_DEG + 1e-9, CANDIDATE_STEP_DEG)
     cands = [nominal + math.radians(o) for o in offsets]
-    ok = [a for a in cands if feasible(finger, model, a, settings)]
+    ok = [a for a in cands if within_curve(a, settings.roll_span_rad, limits) and feasible(finger, model, a, settings)]
     if not ok:
         return None
     if not used:
