@@ -289,9 +289,9 @@ def curve_hint(config, touch: TouchResult, samples: int) -> tuple[float, float, 
         psi = np.sort([s.psi for s in touch.samples])
         step = float(np.median(np.diff(psi)))
         if head and not tail:
-            return _roll_beside(c, np.arange(c.x.size), 0, 1.0, step * (samples - 1), samples)
+            return _roll_beside(felt, np.arange(c.x.size), 0, 1.0, step * (samples - 1), samples)
         if tail and not head:
-            return _roll_beside(c, np.arange(c.x.size), c.x.size - 1, -1.0, step * (samples - 1), samples)
+            return _roll_beside(felt, np.arange(c.x.size), c.x.size - 1, -1.0, step * (samples - 1), samples)
         m = c.x.size // 2
         return float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2
     return None
@@ -371,7 +371,7 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
         if not near.any():
             kept.append(t)
             continue
-        run = _longest_run(~near)  # in ψ order: the roll's stretch between the corner's samples
+        run = longest_run(~near)  # in ψ order: the roll's stretch between the corner's samples
         name = f"{t.finger}: touch {t.touch.touch}"
         where = corners[np.argmin(gaps.min(axis=0))]
         why = (f"{int(near.sum())} of its {near.size} samples within {CORNER_CLEARANCE_MM:g} mm of the corner at "
@@ -401,7 +401,8 @@ def clear_side(touch: FeltTouch, corners: np.ndarray, span: float, samples: int)
     """Where to roll again when a usable ``touch`` ran near a corner (``corners``,
     :func:`clearing_corners`) at one end of its roll and too few of its samples are clear of it
     (:func:`clear_of_corners` dropped it): the roll of ``span`` (rad) and ``samples`` readings
-    whose nearest reading to the corner is the touch's clear sample next to the corner's, one
+    whose nearest reading to the corner is the touch's clear sample next to the corner's
+    (its longest run clear of the corner, which must reach the roll's other end), one
     reading's step farther, so that every contact lies on the curved part the touch felt clear
     of the corner and beyond it away from the corner (the support point of a boundary convex
     toward the pad moves one way along it as ψ turns). Returns (x, y, φ) of that roll's middle:
@@ -416,40 +417,38 @@ def clear_side(touch: FeltTouch, corners: np.ndarray, span: float, samples: int)
         return None
     gaps = np.hypot(c.x[:, None] - corners[:, 0], c.y[:, None] - corners[:, 1]).min(axis=1)
     near = gaps < CORNER_CLEARANCE_MM
-    clear = np.flatnonzero(~near)
+    clear = longest_run(~near)  # the samples beyond the corner's, which the fit places past it, go too
     if not near.any() or clear.size < 3:
         return None
-    if not near[-1] and near[0]:  # the corner at the low-ψ end: roll toward higher ψ
-        if np.any(near[clear[0]:]):
-            return None
+    if clear[0] > 0 and clear[-1] == near.size - 1:  # the corner at the low-ψ end: roll toward higher ψ
         edge, sign = clear[0], 1.0
-    elif near[-1] and not near[0]:
-        if np.any(near[: clear[-1] + 1]):
-            return None
+    elif clear[0] == 0 and clear[-1] < near.size - 1:
         edge, sign = clear[-1], -1.0
     else:
         return None
-    return _roll_beside(c, clear, edge, sign, span, samples)
+    return _roll_beside(touch, clear, edge, sign, span, samples)
 
 
-def _roll_beside(c: kin.TouchEnvelope, good: np.ndarray, edge: int, sign: float, span: float,
+def _roll_beside(touch: FeltTouch, good: np.ndarray, edge: int, sign: float, span: float,
                  samples: int) -> tuple[float, float, float] | None:
     """(x, y, φ) of the middle of a roll of ``span`` (rad) and ``samples`` readings whose
-    reading nearest contact ``edge`` of ``c`` lies one reading's step beyond it toward ψ of
-    ``sign``: its contact predicted by the circle the ``good`` contacts lie on (least squares,
-    p = centre + R n(ψ)), φ = ψ − π/2; None if that is not finite."""
+    reading nearest contact ``edge`` of ``touch`` (contacts' order) lies one reading's step
+    beyond it toward ψ of ``sign``: its contact predicted from the middle one of the ``good``
+    contacts (a roll's contacts are surest along the pad in its middle) along the circle of the
+    touch's radius of curvature ρ, p(ψ) = p_m − ρ (n(ψ) − n(ψ_m)) (a circle's pad lines
+    d(ψ) = n(ψ)·centre − ρ touch it at centre − ρ n(ψ)); φ = ψ − π/2; None if not finite."""
+    c = touch.contacts
     step = span / max(samples - 1, 1)
     psi = float(c.psi[edge]) + sign * (0.5 * span + step)
-    normals = np.stack([np.cos(c.psi[good]), np.sin(c.psi[good])], axis=-1)
-    a = np.column_stack([np.tile(np.eye(2), (good.size, 1)), normals.reshape(-1)])
-    sol, *_ = np.linalg.lstsq(a, np.stack([c.x[good], c.y[good]], axis=-1).reshape(-1), rcond=None)
-    point = sol[:2] + sol[2] * np.array([math.cos(psi), math.sin(psi)])
+    m = good[good.size // 2]
+    rho = touch.fit.rho if touch.fit is not None and touch.fit.rho > 0.0 else 0.0
+    point = np.array([c.x[m], c.y[m]]) - rho * (kin.unit(psi) - kin.unit(float(c.psi[m])))
     if not np.all(np.isfinite(point)):
         return None
     return float(point[0]), float(point[1]), psi - math.pi / 2
 
 
-def _longest_run(mask: np.ndarray) -> np.ndarray:
+def longest_run(mask: np.ndarray) -> np.ndarray:
     """Indices of the longest stretch of consecutive True values of ``mask`` (the first of equals)."""
     best, start = np.zeros(0, dtype=int), None
     for i, v in enumerate(np.append(mask, False)):
