@@ -234,6 +234,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
+
     def limits(name):  # where the finger's rolls so far left the curved part
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
@@ -347,7 +348,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                     empty_at.append(aimed.point)  # the object is not where the answered curve goes on
         usable = cleared()
         for name, side in beside_corners(out, usable, cornered, settings):
-            if name not in hints and off_curve[name] < OFF_CURVE_RETIRE and reach.finger(*side, [cfg.finger(name)]):
+            if name not in hints and off_curve[name] < OFF_CURVE_RETIRE and reach.finger(*side, [cfg.finger(name)]) is not None:
                 hints[name] = Aim(*side, name, "beside its earlier roll's stretch clear of the corner it ran onto",
                                   kind="corner")
         if len(usable) >= settings.min_touches:
