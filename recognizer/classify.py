@@ -44,6 +44,7 @@ from recognizer.intervals import profile_uncertainty, rival_basins
 from recognizer.next_touch import next_touch
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request, SamplesTouch
 from tactile_common.angles import wrap_angle
+from tactile_common.blas import one_blas_thread
 
 __all__ = ["recognize", "contacts_of", "options_for", "close_rivals", "DEFAULT_SAMPLES_NOISE", "RIVAL_BIC"]
 
@@ -540,7 +541,8 @@ def recognize(request: Request, options: RecognizeOptions | None = None) -> Reco
     numerics in units of the touches' spread (recognizer.scale_free), the answer in mm."""
     options = options or options_for(request)
     unit = Unit.of(request)
-    return unit.answer(_recognize(unit.request(request), unit.options(options), unit))
+    with one_blas_thread():  # small matrices: BLAS threads only contend (tactile_common.blas)
+        return unit.answer(_recognize(unit.request(request), unit.options(options), unit))
 
 
 def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recognition:
