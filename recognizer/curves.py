@@ -4,7 +4,8 @@ Every class gives the point, tangent angle φ, speed |dp/dt|, curvature κ = dφ
 (eq. 1, the curve traversed in increasing t) and its arc-length derivative κ_s
 (eq. 2), all in closed form; arc length is closed form (elementary, or the incomplete
 elliptic integral of the second kind for the ellipse) except for the hyperbola and the
-cubical parabola, whose arc length is adaptive quadrature to ~1e-13 relative.
+cubical parabola, whose arc length is adaptive quadrature to ~1e-13 relative, and the
+semicubical parabola near its a → 0 limit (fixed Gauss–Legendre, where the closed form cancels).
 
 Formulas: parabola eqs. (3)-(4), ellipse eqs. (6)-(7), cubical parabola eqs. (12)-(13)
 with the errata's fix (λ − c), docs/recognition.md; the others are derived the same way and checked against
