@@ -20,7 +20,7 @@ __all__ = ["one_blas_thread"]
 
 @lru_cache(maxsize=1)
 def _controller():
-    """The loaded BLAS libraries, inspected once (~50 ms); each limit costs ~0.1 ms."""
+    """The loaded BLAS libraries, inspected once (~6 ms of CPU); each limit costs ~0.1 ms."""
     from threadpoolctl import ThreadpoolController
 
     return ThreadpoolController()
