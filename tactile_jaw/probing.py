@@ -20,7 +20,6 @@ from hand_driver.cycle import Jaw
 from hand_driver.motion import TouchResult, roll_angles, rolling_touch
 from tactile_jaw.pipeline import feel
 from tactile_jaw.plan import (
-    APPROACH_MARGIN_MM,
     PROBE_ENOUGH_DEG,
     PROBE_REFINE_DEG,
     PROBE_SAMPLES,
@@ -41,17 +40,18 @@ PROBE_IDLE_AFTER = 2
 def _probe_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, touch_index: int, emit,
                 spent: dict[str, float]):
     """Transit, then a short rolling touch (``PROBE_SAMPLES`` over ``PROBE_SPAN_DEG``) from
-    the workspace edge across the whole workspace disk, faster (still guarded) up to
-    ``APPROACH_MARGIN_MM`` outside the tangent earlier probes predict; returns the TouchResult."""
+    the workspace edge across the whole workspace disk, its first approach at the free
+    stretch's speed all the way (still guarded every cycle; the object met at that speed,
+    the sample is taken again at the normal speed: hand_driver.motion.guarded_approach);
+    returns the TouchResult."""
     span = math.radians(PROBE_SPAN_DEG)
     start = float(roll_angles(psi, span, PROBE_SAMPLES)[0])
     problem = yield from transit_or_problem(jaw, finger, model, start, spent)
     if problem is not None:
         return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
-    predicted = model.tangent(start)  # what earlier probes felt: faster up to APPROACH_MARGIN_MM outside it
-    free = 0.0 if predicted is None else predicted[0] - APPROACH_MARGIN_MM - model.edge(start)
+    travel = 2.0 * model.workspace_radius
     return (yield from rolling_touch(jaw, finger, touch_index, psi, span, PROBE_SAMPLES, model.edge(start),
-                                     2.0 * model.workspace_radius, on_event=emit, free_mm=free))
+                                     travel, on_event=emit, free_mm=travel))
 
 
 def probe_boundary(jaw: Jaw, model: ObjectModel, out: Exploration, emit, say) -> int:
