@@ -1,6 +1,8 @@
 """Exploration: rolling touches with both fingers at once until the recognizer is sure.
 
-Probes first locate the boundary (tactile_jaw.probing). Each round, every finger makes one
+Probes first locate the boundary (tactile_jaw.probing); once one finger has felt enough,
+the other's probes left run one a round beside its rolls (a touch aimed at the probing
+finger goes first). Each round, every finger makes one
 rolling touch (hand_driver.motion.rolling_touch) in the same bus cycles, at the
 orientation tactile_jaw.plan.choose_psi picks, starting ``APPROACH_MARGIN_MM`` outside the
 predicted tangent. Between touches a pad retreats to the workspace edge and turns along
@@ -35,7 +37,8 @@ from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_po
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
 from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, corner_in_doubt, feel, on_corner,
                                   too_few_clear)
-from tactile_jaw.plan import APPROACH_MARGIN_MM, FREE_MARGIN_MM, ObjectModel, choose_psi, predicted_tangent, retreat_offset
+from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi, predicted_tangent,
+                              retreat_offset)
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
 from tactile_jaw.separation import jaw_ticks_per_rev
@@ -161,7 +164,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     model = ObjectModel(ws.center_mm, ws.radius_mm)
     out = Exploration()
     t0 = jaw.robot_time()
-    index = probe_boundary(jaw, model, out, emit, say)
+    index, probes = probe_boundary(jaw, model, out, emit, say)
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
     reach = JawReach(cfg, settings)
@@ -196,8 +199,13 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         plans, spent, aimed, pressing, from_hint = {}, {}, None, None, set()
         budget = settings.touches - _spent(out)
         active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]
+        probing = probes.next()  # a finger's probes left once the other felt enough (tactile_jaw.probing)
         for f in active:
             point, span = None, None
+            if f.name in probing and not (aim is not None and f.name == aim.finger):
+                plans[f.name] = probes.plan(jaw, f.name, index + len(plans), emit, spent)
+                continue
+            probing.pop(f.name, None)
             if aim is not None and f.name == aim.finger:
                 psi, point, aimed = aim.psi, aim.point, aim
                 aimed_at.append(point)
@@ -241,6 +249,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         out.rounds += 1
         results = timed_round(jaw, plans, spent, out.time_s, "touches", "touch_transits")
         for name in plans:
+            if name in probing:
+                probes.record(feel(cfg, results[name], PROBE_SAMPLES, curve_checks=False), out, say)
+                continue
             felt = feel(cfg, results[name], settings.samples_per_touch)
             touch, problem = felt.touch, felt.problem
             out.touches.append(felt)
@@ -280,6 +291,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 vertex_missed |= aimed.kind == "vertex"
                 if not touch.samples:
                     empty_at.append(aimed.point)  # the object is not where the answered curve goes on
+        if probing:
+            probes.done(say)
         usable = cleared()
         if len(usable) >= settings.min_touches:
             recognition, why = decide(recognize_touches, usable, settings, ticks)
