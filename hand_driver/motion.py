@@ -179,11 +179,12 @@ def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_m
             # met inside the free stretch, at up to FREE_SPEED_FACTOR times the speed:
             # pressed harder, the joints' gears loaded otherwise than at the normal speed
             # (with backlash the contact read up to 0.12 mm off), so the sample is taken
-            # again as a rolling touch's next one is: backed off ROLL_CLEARANCE_MM and
-            # approached at the normal speed
-            back = d_meas - ROLL_CLEARANCE_MM
+            # again: backed off ``backoff_mm`` and approached at the normal speed (from
+            # ROLL_CLEARANCE_MM the P-series ellipse example's probes read other ticks
+            # than a slow approach, by 1–2, and it was refused, χ² p 0.0005)
+            back = d_meas - m.backoff_mm
             yield from move_line(jaw, finger, psi, back)
-            again = yield from guarded_approach(jaw, finger, psi, back, 3.0 * ROLL_CLEARANCE_MM + m.backoff_mm)
+            again = yield from guarded_approach(jaw, finger, psi, back, 2.0 * m.backoff_mm + 3.0 * ROLL_CLEARANCE_MM)
             return ApproachResult(again.contact, again.travel_mm + back - d_start, again.reason)
         if felt or stalled:
             sample = Sample(reading=i, psi=psi, ticks=jaw.finger_ticks(state, finger), line=line,

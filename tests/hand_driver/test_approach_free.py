@@ -75,7 +75,7 @@ def test_free_stretch_is_faster_and_a_nearer_object_still_stops_the_pad_as_gentl
     slow, t_slow, cap = _approach(config_path, 0.0)
     # the caller believed the whole 45 mm free: the object (26 mm in) is met at the fast speed,
     # the goal leading the pad by up to FREE_SPEED_FACTOR times the normal two steps, then
-    # taken again from ROLL_CLEARANCE_MM at the normal speed
+    # taken again from backoff_mm out at the normal speed
     fast, t_fast, _ = _approach(config_path, 45.0)
     assert slow.contact is not None and fast.contact is not None
     assert {slow.reason, fast.reason} <= {"current", "stall"}
@@ -83,7 +83,7 @@ def test_free_stretch_is_faster_and_a_nearer_object_still_stops_the_pad_as_gentl
     # and 0.12 mm off there; taken again: measured 0.0008 mm on the P truth jaw, 0 elsewhere)
     assert fast.contact.d == pytest.approx(slow.contact.d, abs=0.005)
     assert fast.contact.current_ma <= cap
-    # well under the normal speed's time (measured 1.14-1.16 -> 0.60-0.70 s)
+    # well under the normal speed's time (measured 1.14-1.16 -> 0.72-0.80 s)
     assert t_fast < 0.75 * t_slow, (t_fast, t_slow, FREE_SPEED_FACTOR)
 
 
