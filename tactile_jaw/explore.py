@@ -184,6 +184,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
     pressed: list[FeltTouch] = []  # flat presses made during the rolls (tactile_jaw.flat_phase.early_press)
+    #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
+    #: round, so a press from the second round on (early_press) counts them with the touches
+    beside = 0
     while _spent(out) < settings.touches:
         if len(out.touches) >= TRIED_PER_BUDGET * settings.touches:
             message = (f"{len(out.touches)} touches tried, {TRIED_PER_BUDGET}x the budget of {settings.touches}: "
@@ -226,7 +229,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 others_roll = bool(plans) or any(choose_psi(g, model, settings, used[g.name]) is not None
                                                  for g in active[active.index(f) + 1:])
                 if (not out.used and not pressed and pressing is None and others_roll  # another finger rolls meanwhile
-                        and len(cfg.fingers) <= len(out.touches) < FLAT_AFTER_TOUCHES):
+                        and len(cfg.fingers) <= len(out.touches) + beside and len(out.touches) < FLAT_AFTER_TOUCHES):
                     plan = early_press(jaw, f.name, model, out, index + len(plans), emit, spent)
                     if plan is not None:  # its rolls show a seat: it presses while the other rolls again
                         say(f"{f.name}: no touch usable so far and its pad lines show a face: pressing the pad flat "
@@ -251,6 +254,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         for name in plans:
             if name in probing:
                 probes.record(feel(cfg, results[name], PROBE_SAMPLES, curve_checks=False), out, say)
+                beside += 1
                 continue
             felt = feel(cfg, results[name], settings.samples_per_touch)
             touch, problem = felt.touch, felt.problem
