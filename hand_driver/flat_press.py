@@ -226,7 +226,8 @@ def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first
 
 def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: int, d_start: float,
                travel_mm: float, toward=None, on_event: Callable[[dict], None] | None = None,
-               give_up: Callable[[], str | None] | None = None) -> Motion:
+               give_up: Callable[[], str | None] | None = None,
+               interrupt: Callable[[], str | None] | None = None) -> Motion:
     """Seat the pad flat on the face of the object before it and press it there (module
     docstring): a guarded approach at ``psi_start`` from ``d_start`` (at most
     ``travel_mm``), the pad turned in FLAT_STEP_DEG steps toward the seat (the first one by
@@ -234,8 +235,9 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
     ``toward`` lowered: :func:`lowering_turn`), backed off and re-approached as in a
     rolling touch, until two supports are found, then the seated presses. Outcome ``no_seat`` when the pad turned
     FLAT_MAX_TURN_DEG either way (or to its joint limits) without seating; ``stopped`` when
-    ``give_up()`` (asked before each turn while no seat is found) returns a reason, such as
-    another pad having seated in the same cycles."""
+    ``give_up()`` (asked before each turn while no seat is found) returns a reason, or
+    ``interrupt()`` (asked every cycle of those turns and approaches), such as another pad
+    having seated in the same cycles."""
     m = jaw.config.motion
     emit = on_event or (lambda rec: None)
     length = jaw.config.finger(finger).pad.length_mm
@@ -287,11 +289,14 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
                 return result
             psi = psi_start + k * step
             try:
-                approach = yield from _press(jaw, finger, psi)
+                approach = yield from _unless(_press(jaw, finger, psi), interrupt)
             except kin.Unreachable:
                 side = 1 if k > 0 else -1
                 blocked[side] = min(abs(k), abs(blocked.get(side, math.inf))) * side
                 continue
+            if isinstance(approach, str):  # given up during this turn and approach
+                result.outcome, result.message = "stopped", f"{finger}: flat press stopped: {approach}"
+                return result
             if not take(approach, psi, "scan"):
                 return result
             steps.append(k)
@@ -313,6 +318,27 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
         emit({"type": "touch_end", "touch": touch, "finger": finger, "reading": jaw.log_index(),
               "samples": len(result.samples), "outcome": result.outcome, "roles": list(result.roles)})
     return result
+
+
+def _unless(motion: Motion, interrupt: Callable[[], str | None] | None) -> Motion:
+    """Run ``motion`` (a turn and approach of the seek), asking ``interrupt`` every cycle: its
+    reason as soon as it gives one (the motion left where it is: the next move starts from
+    the pad's measured line), else the motion's result. A turn back across the range the
+    press scanned (42° on a random block, 2.1 s) no longer runs to its end after another pad
+    seated in the same round."""
+    if interrupt is None:
+        return (yield from motion)
+    goal = motion.send(None)
+    while True:
+        why = interrupt()
+        if why is not None:
+            motion.close()
+            return why
+        reading = yield goal
+        try:
+            goal = motion.send(reading)
+        except StopIteration as stop:
+            return stop.value
 
 
 def _press(jaw: Jaw, finger: str, psi: float) -> Motion:

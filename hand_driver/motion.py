@@ -175,6 +175,17 @@ def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_m
         stalled = (len(history) >= 3 and d_goal - d_meas >= 1.5 * step
                    and history[-1] - history[-3] < 0.2 * step)
         felt = current is not None and current >= m.contact_current_ma
+        if (felt or stalled) and d_meas - d_start < free_mm:
+            # met inside the free stretch, at up to FREE_SPEED_FACTOR times the speed:
+            # pressed harder, the joints' gears loaded otherwise than at the normal speed
+            # (with backlash the contact read up to 0.12 mm off), so the sample is taken
+            # again: backed off ``backoff_mm`` and approached at the normal speed (from
+            # ROLL_CLEARANCE_MM the P-series ellipse example's probes read other ticks
+            # than a slow approach, by 1–2, and it was refused, χ² p 0.0005)
+            back = d_meas - m.backoff_mm
+            yield from move_line(jaw, finger, psi, back)
+            again = yield from guarded_approach(jaw, finger, psi, back, 2.0 * m.backoff_mm + 3.0 * ROLL_CLEARANCE_MM)
+            return ApproachResult(again.contact, again.travel_mm + back - d_start, again.reason)
         if felt or stalled:
             sample = Sample(reading=i, psi=psi, ticks=jaw.finger_ticks(state, finger), line=line,
                             current_ma=current, robot_time=jaw.robot_time())

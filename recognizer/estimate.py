@@ -105,12 +105,19 @@ def _arc_length(phi: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.concatenate(([0.0], np.cumsum(ds)))
 
 
-def _check_spacing(s: np.ndarray, where: str) -> None:
+def no_advance(s) -> int | None:
+    """The first i whose samples i and i + 1 have no arc length between them (Δs at most
+    1e-12 of the largest |s − s₀|, or of 1 mm), or None: such samples are refused."""
+    s = np.asarray(s, dtype=float) - float(s[0])
     ds = np.diff(s)
-    scale = max(float(np.max(np.abs(s))), 1.0)
-    bad = np.flatnonzero(ds <= 1e-12 * scale)
-    if bad.size:
-        i = int(bad[0])
+    bad = np.flatnonzero(ds <= 1e-12 * max(float(np.max(np.abs(s))), 1.0))
+    return int(bad[0]) if bad.size else None
+
+
+def _check_spacing(s: np.ndarray, where: str) -> None:
+    i = no_advance(s)
+    if i is not None:
+        ds = np.diff(s)
         raise InputError(
             f"{where}: samples {i} and {i + 1} have no arc length between them "
             f"(Δs = {ds[i]:.3g} mm); samples must advance along the boundary"

@@ -1,6 +1,8 @@
 """Exploration: rolling touches with both fingers at once until the recognizer is sure.
 
-Probes first locate the boundary (tactile_jaw.probing). Each round, every finger makes one
+Probes first locate the boundary (tactile_jaw.probing); once one finger has felt enough,
+the other's probes left run one a round beside its rolls (a touch aimed at the probing
+finger goes first). Each round, every finger makes one
 rolling touch (hand_driver.motion.rolling_touch) in the same bus cycles, at the
 orientation tactile_jaw.plan.choose_psi picks, starting ``APPROACH_MARGIN_MM`` outside the
 predicted tangent. Between touches a pad retreats to the workspace edge and turns along
@@ -37,8 +39,8 @@ from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_po
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, feel, longest_run, on_corner, too_few_clear)
-from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, ObjectModel, choose_psi, predicted_tangent,
-                             retreat_offset, within_curve)
+from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
+                             predicted_tangent, retreat_offset, within_curve)
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
 from tactile_jaw.separation import jaw_ticks_per_rev
@@ -215,7 +217,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     model = ObjectModel(ws.center_mm, ws.radius_mm)
     out = Exploration()
     t0 = jaw.robot_time()
-    index = probe_boundary(jaw, model, out, emit, say)
+    index, probes = probe_boundary(jaw, model, out, emit, say)
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
     reach = JawReach(cfg, settings)
@@ -240,6 +242,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
 
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
     pressed: list[FeltTouch] = []  # flat presses made during the rolls (tactile_jaw.flat_phase.early_press)
+    #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
+    #: round, so a press from the second round on (early_press) counts them with the touches
+    beside = 0
     while _spent(out) < settings.touches:
         if len(out.touches) >= TRIED_PER_BUDGET * settings.touches:
             message = (f"{len(out.touches)} touches tried, {TRIED_PER_BUDGET}x the budget of {settings.touches}: "
@@ -262,8 +267,13 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             aim = None
         budget = settings.touches - _spent(out)
         active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]
+        probing = probes.next()  # a finger's probes left once the other felt enough (tactile_jaw.probing)
         for f in active:
             point, span = None, None
+            if f.name in probing and not (aim is not None and f.name == aim.finger):
+                plans[f.name] = probes.plan(jaw, f.name, index + len(plans), emit, spent)
+                continue
+            probing.pop(f.name, None)
             if aim is not None and f.name == aim.finger:
                 psi, point, aimed = aim.psi, aim.point, aim
                 aimed_at.append(point)
@@ -284,7 +294,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 others_roll = bool(plans) or any(choose_psi(g, model, settings, used[g.name], limits(g.name)) is not None
                                                  for g in active[active.index(f) + 1:])
                 if (not out.used and not pressed and pressing is None and others_roll  # another finger rolls meanwhile
-                        and len(cfg.fingers) <= len(out.touches) < FLAT_AFTER_TOUCHES):
+                        and len(cfg.fingers) <= len(out.touches) + beside and len(out.touches) < FLAT_AFTER_TOUCHES):
                     plan = early_press(jaw, f.name, model, out, index + len(plans), emit, spent)
                     if plan is not None:  # its rolls show a seat: it presses while the other rolls again
                         say(f"{f.name}: no touch usable so far and its pad lines show a face: pressing the pad flat "
@@ -307,6 +317,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         out.rounds += 1
         results = timed_round(jaw, plans, spent, out.time_s, "touches", "touch_transits")
         for name in plans:
+            if name in probing:
+                probes.record(feel(cfg, results[name], PROBE_SAMPLES, curve_checks=False), out, say)
+                beside += 1
+                continue
             felt = feel(cfg, results[name], settings.samples_per_touch)
             touch, problem = felt.touch, felt.problem
             out.touches.append(felt)
@@ -346,6 +360,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 vertex_missed |= aimed.kind == "vertex"
                 if not touch.samples:
                     empty_at.append(aimed.point)  # the object is not where the answered curve goes on
+        if probing:
+            probes.done(say)
         usable = cleared()
         for name, side in beside_corners(out, usable, cornered, settings):
             if name not in hints and off_curve[name] < OFF_CURVE_RETIRE and reach.finger(*side, [cfg.finger(name)]) is not None:

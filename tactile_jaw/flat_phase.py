@@ -90,7 +90,8 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     seated press came from (the other side may lie beyond a joint limit); after
     ``misses`` presses that did not seat, from the edge, half a step further on each. While
     it seeks its seat it gives up once another finger's press of the same round is added to
-    ``seated`` (pressed at its seat): one face's touches make the answer, or after
+    ``seated`` (pressed at its seat), in the cycle it is added, mid-turn or mid-approach:
+    one face's touches make the answer, or after
     ``FLAT_MAX_S`` of robot time without a seat. Returns the
     FlatResult (or a TouchResult if the transit could not go on)."""
     step = math.radians(FLAT_STEP_DEG)
@@ -120,16 +121,17 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     seated = set() if seated is None else seated
     t0 = jaw.robot_time()
 
-    def give_up() -> str | None:
+    def seated_other() -> str | None:
         others = sorted(seated - {finger})
-        if others:
-            return f"the {others[0]} pad seated on a face"
-        if jaw.robot_time() - t0 > FLAT_MAX_S:
-            return f"no seat found within {FLAT_MAX_S:g} s"
-        return None
+        return f"the {others[0]} pad seated on a face" if others else None
+
+    def give_up() -> str | None:
+        return seated_other() or (f"no seat found within {FLAT_MAX_S:g} s" if jaw.robot_time() - t0 > FLAT_MAX_S
+                                  else None)
 
     result = yield from flat_press(jaw, finger, touch_index, start, side if face is not None else 1, d_start, travel,
-                                   toward=model.workspace_center, on_event=emit, give_up=give_up)
+                                   toward=model.workspace_center, on_event=emit, give_up=give_up,
+                                   interrupt=seated_other)
     if result.outcome == "ok":
         seated.add(finger)
     return result

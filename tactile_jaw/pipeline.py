@@ -21,6 +21,7 @@ from hand_driver import kinematics as kin
 from hand_driver.flat_press import FlatResult
 from hand_driver.motion import EDGE_MARGIN_MM, Sample, TouchResult
 from recognizer.classify import chi2_limit, recognize
+from recognizer.estimate import no_advance
 from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
 from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, SamplesTouch, check_touch_count, parse_noise
@@ -199,7 +200,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
                       sigma_along=smooth.sigma_along, noise_factor=smooth.noise_factor)
         c = fit.contacts
         u = _pad_u(lines, c)
-    if np.any(np.diff(c.s) <= 0.0):
+    if no_advance(c.s) is not None:  # as the recognizer refuses them (a Δs of 2e-16 mm was not ≤ 0)
         return out(f"{finger}: arc length not increasing: the pad rolled on an edge or corner", c, u, fit)
     length = f.pad.length_mm
     if np.any(u < EDGE_MARGIN_MM) or np.any(u > length - EDGE_MARGIN_MM):

@@ -7,7 +7,9 @@ samples lie on the pad's face (tactile_jaw.plan.probe_face_contact) adds its pad
 the object model; a finger stops probing once its face contacts span ``PROBE_ENOUGH_DEG``.
 A finger with a single face contact probes once more ``PROBE_REFINE_DEG`` either side of
 it. A finger without any face contact after ``PROBE_IDLE_AFTER`` probes stops once another
-finger has felt enough. docs/exploration.md.
+finger has felt enough. Once one finger has felt enough, the other's probes left go on
+beside its rolling touches (tactile_jaw.explore), one a round, instead of the finger that
+felt enough waiting for them (the semicubical of dev seed 83: 14 s). docs/exploration.md.
 """
 
 from __future__ import annotations
@@ -20,7 +22,6 @@ from hand_driver.cycle import Jaw
 from hand_driver.motion import TouchResult, roll_angles, rolling_touch
 from tactile_jaw.pipeline import feel
 from tactile_jaw.plan import (
-    APPROACH_MARGIN_MM,
     PROBE_ENOUGH_DEG,
     PROBE_REFINE_DEG,
     PROBE_SAMPLES,
@@ -41,62 +42,98 @@ PROBE_IDLE_AFTER = 2
 def _probe_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, touch_index: int, emit,
                 spent: dict[str, float]):
     """Transit, then a short rolling touch (``PROBE_SAMPLES`` over ``PROBE_SPAN_DEG``) from
-    the workspace edge across the whole workspace disk, faster (still guarded) up to
-    ``APPROACH_MARGIN_MM`` outside the tangent earlier probes predict; returns the TouchResult."""
+    the workspace edge across the whole workspace disk, its first approach at the free
+    stretch's speed all the way (still guarded every cycle; the object met at that speed,
+    the sample is taken again at the normal speed: hand_driver.motion.guarded_approach);
+    returns the TouchResult."""
     span = math.radians(PROBE_SPAN_DEG)
     start = float(roll_angles(psi, span, PROBE_SAMPLES)[0])
     problem = yield from transit_or_problem(jaw, finger, model, start, spent)
     if problem is not None:
         return TouchResult(finger, touch_index, psi, outcome="unreachable", message=problem)
-    predicted = model.tangent(start)  # what earlier probes felt: faster up to APPROACH_MARGIN_MM outside it
-    free = 0.0 if predicted is None else predicted[0] - APPROACH_MARGIN_MM - model.edge(start)
+    travel = 2.0 * model.workspace_radius
     return (yield from rolling_touch(jaw, finger, touch_index, psi, span, PROBE_SAMPLES, model.edge(start),
-                                     2.0 * model.workspace_radius, on_event=emit, free_mm=free))
+                                     travel, on_event=emit, free_mm=travel))
 
 
-def probe_boundary(jaw: Jaw, model: ObjectModel, out: Exploration, emit, say) -> int:
-    """The probe phase (module docstring): every probe goes to ``out.probes`` and its robot
-    time to ``out.time_s``, the face contacts' pad lines to ``model``. Returns the next
-    touch index."""
+class Probes:
+    """What the probes did and have left to do, per finger (module docstring): the queue of
+    each finger's probe orientations, its face contacts' ψ, and how many it made."""
+
+    def __init__(self, config, model: ObjectModel):
+        self.config, self.model = config, model
+        self.queues = {f.name: probe_psis(f, model) for f in config.fingers}
+        self.faces: dict[str, list[float]] = {f.name: [] for f in config.fingers}
+        self.probed = {f.name: 0 for f in config.fingers}
+        self.refined = False
+
+    def _enough(self, name: str) -> bool:
+        return bool(self.faces[name]) and np.ptp(self.faces[name]) >= math.radians(PROBE_ENOUGH_DEG) - 1e-9
+
+    def next(self) -> dict[str, float]:
+        """Each finger's next probe orientation (fingers with none left are absent); once
+        every queue is empty, one more pass around a finger's only face contact,
+        ``PROBE_REFINE_DEG`` either side (then nothing)."""
+        if not any(self.queues.values()) and not self.refined:
+            self.refined = True
+            self.queues = {name: [faces[0] + math.radians(sign * PROBE_REFINE_DEG) for sign in (-1, 1)]
+                           if len(faces) == 1 else [] for name, faces in self.faces.items()}
+        return {name: queue[0] for name, queue in self.queues.items() if queue}
+
+    def plan(self, jaw: Jaw, name: str, touch_index: int, emit, spent: dict[str, float]):
+        """The motion of ``name``'s next probe (:meth:`next`), taken off its queue."""
+        return _probe_plan(jaw, name, self.model, self.queues[name].pop(0), touch_index, emit, spent)
+
+    def record(self, felt, out: Exploration, say) -> None:
+        """A probe felt (tactile_jaw.pipeline.feel): to ``out.probes``, its pad lines to the
+        model if on the pad's face; a finger whose face contacts span ``PROBE_ENOUGH_DEG``
+        stops probing."""
+        name, probe = felt.finger, felt.touch
+        out.probes.append(felt)
+        u = probe_face_contact(self.config, felt)
+        if u is not None:
+            self.model.add([s.psi_measured for s in probe.samples], [s.d for s in probe.samples])
+            self.faces[name].append(probe.psi_center)
+            if self._enough(name):
+                self.queues[name] = []  # enough felt to plan this finger's touches
+        self.probed[name] += 1
+        say(f"probe {len(out.probes)}: {name} at psi {math.degrees(probe.psi_center):.1f} deg: "
+            + (f"pad face {u:.1f} mm from its proximal end" if u is not None else
+               probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
+
+    def done(self, say) -> list[str]:
+        """The fingers that felt enough; after a round, a finger without any face contact in
+        ``PROBE_IDLE_AFTER`` probes stops probing once another finger has."""
+        done = [n for n in self.faces if self._enough(n)]
+        for name, queue in self.queues.items():
+            if done and name not in done and not self.faces[name] and self.probed[name] >= PROBE_IDLE_AFTER and queue:
+                self.queues[name] = []
+                say(f"{name}: no face contact in {self.probed[name]} probes while {done[0]} felt enough: its side "
+                    f"offers the pads no curved part near them; the touches plan from what the other finger felt")
+        return done
+
+
+def probe_boundary(jaw: Jaw, model: ObjectModel, out: Exploration, emit, say) -> tuple[int, Probes]:
+    """The probe phase (module docstring) until every finger is done or one has felt
+    enough: every probe goes to ``out.probes`` and its robot time to ``out.time_s``, the
+    face contacts' pad lines to ``model``. Returns the next touch index and the
+    :class:`Probes`, whose probes left (:meth:`Probes.next`) go on beside the rolls."""
     cfg = jaw.config
     index = 0
-    queues = {f.name: probe_psis(f, model) for f in cfg.fingers}
-    faces: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
-    probed = {f.name: 0 for f in cfg.fingers}
-    refined = False
+    probes = Probes(cfg, model)
     while True:
-        if not any(queues.values()):
-            if refined:
-                break
-            refined = True  # one more pass: around a finger's only face contact, PROBE_REFINE_DEG either side
-            queues = {f.name: [faces[f.name][0] + math.radians(sign * PROBE_REFINE_DEG) for sign in (-1, 1)]
-                      if len(faces[f.name]) == 1 else [] for f in cfg.fingers}
-            if not any(queues.values()):
-                break
+        upcoming = probes.next()
+        if not upcoming:
+            break
         plans, spent = {}, {}
-        for name, queue in queues.items():
-            if queue:
-                plans[name] = _probe_plan(jaw, name, model, queue.pop(0), index + len(plans), emit, spent)
+        for name in upcoming:
+            plans[name] = probes.plan(jaw, name, index + len(plans), emit, spent)
         results = timed_round(jaw, plans, spent, out.time_s, "probes", "probe_transits")
         for name in plans:
-            felt = feel(cfg, results[name], PROBE_SAMPLES, curve_checks=False)
-            probe = felt.touch
-            out.probes.append(felt)
+            probes.record(feel(cfg, results[name], PROBE_SAMPLES, curve_checks=False), out, say)
             index += 1
-            u = probe_face_contact(cfg, felt)
-            if u is not None:
-                model.add([s.psi_measured for s in probe.samples], [s.d for s in probe.samples])
-                faces[name].append(probe.psi_center)
-                if np.ptp(faces[name]) >= math.radians(PROBE_ENOUGH_DEG) - 1e-9:
-                    queues[name] = []  # enough felt to plan this finger's touches
-            probed[name] += 1
-            say(f"probe {len(out.probes)}: {name} at psi {math.degrees(probe.psi_center):.1f} deg: "
-                + (f"pad face {u:.1f} mm from its proximal end" if u is not None else
-                   probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
-        done = [n for n in faces if faces[n] and np.ptp(faces[n]) >= math.radians(PROBE_ENOUGH_DEG) - 1e-9]
-        for name in queues:
-            if done and name not in done and not faces[name] and probed[name] >= PROBE_IDLE_AFTER and queues[name]:
-                queues[name] = []
-                say(f"{name}: no face contact in {probed[name]} probes while {done[0]} felt enough: its side "
-                    f"offers the pads no curved part near them; the touches plan from what the other finger felt")
-    return index
+        done = probes.done(say)
+        if done and len(done) < len(cfg.fingers) and probes.next():
+            say(f"{done[0]} felt enough: its rolling touches start while the other finger's probes go on")
+            break
+    return index, probes

@@ -291,6 +291,37 @@ def test_a_press_gives_up_when_told_before_turning():
     assert feel(CONFIG, result, 9).problem is not None
 
 
+def test_a_press_stops_mid_turn_when_interrupted():
+    """``interrupt`` is asked every cycle of the seek's turns and approaches: the press turned
+    25° seats after many cycles uninterrupted; told 0.4 s of robot time after its first
+    approach, it ends ``stopped`` within a cycle of that (not after the approach under way),
+    every sample it kept a whole approach's."""
+    scene = _block_turned(25.0)
+    psi0 = -math.pi / 2
+    with emulated_jaw(scene=scene) as (sim, jaw):
+        run_together(jaw, {"left": move_line(jaw, "left", psi0, _edge(psi0))})
+        t0 = sim.sim_time
+        first = []
+
+        def interrupt():
+            if first and sim.sim_time - first[0] >= 0.4:
+                return "the right pad seated on a face"
+            return None
+
+        def on_event(rec):
+            if rec.get("type") == "sample" and not first:
+                first.append(sim.sim_time)
+
+        result = run_together(jaw, {"left": flat_press(jaw, "left", 0, psi0, 1, _edge(psi0), 45.0,
+                                                       toward=CONFIG.workspace.center_mm, on_event=on_event,
+                                                       interrupt=interrupt)})["left"]
+        stopped_at = sim.sim_time
+    assert result.outcome == "stopped" and "the right pad seated" in result.message
+    assert stopped_at - first[0] == pytest.approx(0.4, abs=2.5 * jaw.period_s)
+    assert 1 <= len(result.samples) == len(result.roles) and set(result.roles) == {"scan"}
+    assert all(s.line is not None for s in result.samples)
+
+
 def test_the_rolls_lines_give_the_seat_to_start_from():
     """tactile_jaw.flat_phase._felt_seat: exact stops of the left pad where rolls 9° either
     side of a face turned 12° would take them (lines through its two corners) give the

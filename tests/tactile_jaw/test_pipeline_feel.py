@@ -395,3 +395,19 @@ def test_a_pad_end_sliding_along_a_face_is_no_roll(turn_deg):
                  for p in psis]
             circle = feel(P_CONFIG, _p_touch(np.array(q)), 9)
             assert circle.problem is None or "slid" not in circle.problem, circle.problem
+
+
+def test_samples_without_arc_length_between_them_are_refused_by_feel_as_by_the_recognizer():
+    """tactile_jaw.pipeline.feel rejects a touch by the recognizer's own rule
+    (recognizer.estimate.no_advance), not by Δs ≤ 0: a touch whose envelope put two contacts
+    2e-16 mm apart was used and then made the exploration exit 2 (`samples 5 and 6 have no
+    arc length between them`, random X ellipse 5 of bench_explore --finite 2 --anywhere --seed 13)."""
+    from recognizer.estimate import _check_spacing, no_advance
+    from tactile_common.errors import InputError
+
+    s = np.array([3.0, 4.0, 5.0, 5.0 + 2.08e-16, 6.0])
+    assert no_advance(s) == 2
+    with pytest.raises(InputError, match="samples 2 and 3 have no arc length"):
+        _check_spacing(s - s[0], "t")
+    assert no_advance(np.array([3.0, 4.0, 5.0, 5.001, 6.0])) is None
+    assert no_advance(np.array([1e6, 1e6 + 1e-7, 1e6 + 1.0])) is None  # relative to the stretch, not to s

@@ -251,13 +251,14 @@ def test_bag_is_a_ros2_mcap_with_qos(run):
 
 
 def test_a_refusal_exits_3_with_its_advice_and_its_bag_has_no_pose(run, tactile_in_process):
-    """The demo's log cut after its second used touch: too few to recognize an ellipse.
-    replay refuses (exit 3, the JSON answer unclassified with reason and advice), and the
-    bag holds the refusal and no pose or curve."""
+    """The demo's log cut after its first used touch: too few to recognize an ellipse (its
+    second round's two touches are both logged before their ``touch_used`` events, so a cut
+    after the second would hold three). replay refuses (exit 3, the JSON answer unclassified
+    with reason and advice), and the bag holds the refusal and no pose or curve."""
     lines = run["log_path"].read_text().splitlines(keepends=True)
     used = [k for k, line in enumerate(lines) if '"kind":"touch_used"' in line]
     cut = run["dir"] / "cut.jsonl"
-    cut.write_text("".join(lines[:used[1] + 1]))
+    cut.write_text("".join(lines[:used[0] + 1]))
     rc, out, err = tactile_in_process(["replay", str(cut), "--json", "--mcap", str(run["dir"] / "cut.mcap")])
     assert rc == 3, err
     answer = json.loads(out)
