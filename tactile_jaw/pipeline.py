@@ -393,23 +393,23 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
 
 
 def measured_there(corner: FeltTouch, felt: Sequence[FeltTouch]) -> bool:
-    """Did a usable rolling touch of ``felt`` measure, at the point the touch ``corner``
-    pivoted about, the radius of curvature that touch measured there, more finely: its middle
-    contact, where its κ and ρ are taken, within ``CORNER_CLEARANCE_MM`` of that point, its
-    σ_ρ smaller and the two radii within ``CORNER_SIGMAS`` of their combined deviation? The
-    corner was then tightly bent boundary measured coarsely: the wider roll at an X-series
-    ellipse's end (ρ 5.4 mm, measured 0.63 ± 3.78 mm over 18°), whose samples that corner
-    would otherwise trim. A roll that runs onto a real end corner measures the curve's radius
-    beside it, which a corner's (≈ 0) does not match. The rule reads the touches alone, so
-    replay applies it as the run did."""
-    c = corner.fit
+    """Did a usable rolling touch of ``felt`` measure the boundary's radius of curvature at
+    the point the touch ``corner`` pivoted about, at least ``WIDER_SPAN`` times more finely
+    (σ_ρ): its middle contact, where its κ and ρ are taken, within ``CORNER_CLEARANCE_MM`` of
+    that point? It passed the corner test there (:func:`on_corner`), so the corner was tightly
+    bent boundary measured coarsely: the wider roll at an X-series ellipse's end (ρ 5.4 mm,
+    measured 0.63 ± 3.78 mm over 18°, then 8.99 ± 0.92 mm over 36°), whose samples that
+    corner would otherwise trim. A real corner rolled wider pivots again (ρ ≈ 0); a roll of
+    the same span that runs onto a real end corner measures no finer than the corner's
+    own roll and does not count. The rule reads the touches alone, so replay applies it as
+    the run did."""
     for t in felt:
         u = t.fit
-        if t.problem is not None or u is None or isinstance(t.touch, FlatResult) or not u.sigma_rho < c.sigma_rho:
+        if (t.problem is not None or u is None or isinstance(t.touch, FlatResult)
+                or not u.sigma_rho * WIDER_SPAN <= corner.fit.sigma_rho):
             continue
         m = len(t.contacts.x) // 2
-        near = math.hypot(t.contacts.x[m] - corner.corner[0], t.contacts.y[m] - corner.corner[1]) < CORNER_CLEARANCE_MM
-        if near and abs(u.rho - c.rho) <= CORNER_SIGMAS * math.hypot(u.sigma_rho, c.sigma_rho):
+        if math.hypot(t.contacts.x[m] - corner.corner[0], t.contacts.y[m] - corner.corner[1]) < CORNER_CLEARANCE_MM:
             return True
     return False
 
