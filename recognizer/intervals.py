@@ -206,7 +206,11 @@ def rival_basins(cand, rivals):
       answer. Without it a valley just past ``CHI2_95`` counted for nothing: touched far
       out on one branch, a semicubical answered b −8.5 ± 0.25 where the truth's valley
       (b 0.26 refined, truth 0.42) lay Δχ² 4.6 higher (tools.bench_wide seed 89, trial 14:
-      z 39 and −35)."""
+      z 39 and −35);
+    - each valley at most √Δχ²_k σ's away (beyond ``CHI2_95``; within it the far end rules):
+      the profile χ² rises by Δχ²_k there, as it rises by z² at z σ's of a Gaussian. The
+      mixture's weight alone left a valley at Δχ² 6 at z 4.6 (tools.bench_sigma seed 71,
+      cubical far on one side, trial 29: the truth in that valley; z −2.62 now)."""
     unc = dict(cand.uncertainty)
     names = CURVES[cand.cls].param_names
     scale = {key: 1.0 for key in unc}
@@ -224,9 +228,10 @@ def rival_basins(cand, rivals):
             sd_r = float(r.uncertainty.get(key) or 0.0)
             need = max(need, (_offset(cand, r, key) + math.sqrt(CHI2_95 - max(rise, 0.0)) * sd_r) / math.sqrt(CHI2_95))
         var = sd * sd
-        for (_, r), w in zip(valleys, weights):
+        for (rise, r), w in zip(valleys, weights):
             sd_r = float(r.uncertainty.get(key) or 0.0)
             var += w * (sd_r * sd_r + _offset(cand, r, key) ** 2)
+            need = max(need, _offset(cand, r, key) / math.sqrt(max(rise, CHI2_95)))  # its z at most √Δχ²
         need = max(need, math.sqrt(var / total))
         if math.isfinite(need) and need > float(unc[key] or 0.0) * (1.0 + 1e-12):
             unc[key] = need

@@ -36,7 +36,7 @@ from recognizer.curves import CURVES
 from recognizer.solver import KERNELS
 from tactile_common.angles import wrap_angle
 
-__all__ = ["starts", "pose_from", "conic_start", "inflection_start", "semicubical_scan", "hyperbola_scan", "hyperbola_asymptote", "ellipse_scan", "clear_of_cusp",
+__all__ = ["starts", "pose_from", "conic_start", "inflection_start", "cubical_scan", "semicubical_scan", "hyperbola_scan", "hyperbola_asymptote", "ellipse_scan", "clear_of_cusp",
            "cusp_clearance"]
 
 _PI = math.pi
@@ -624,6 +624,8 @@ def _cubic_starts(cls: str, d: Contacts, every_pair: bool) -> list[tuple[dict, l
             out.append(({"a": a, "b": b}, [2 * (li - b) / (3 * a) for li in lam]))
     if cls == "cubical_parabola" and d.n >= 2:
         out += inflection_start(d)
+    if cls == "cubical_parabola" and every_pair and d.n >= 3:
+        out += cubical_scan(d)
     if cls == "semicubical_parabola" and every_pair and d.n >= 2:
         out += semicubical_scan(d)
     if cls == "semicubical_parabola" and d.reach > 0:
@@ -674,6 +676,91 @@ def inflection_start(d: Contacts) -> list[tuple[dict, list]]:
         if not (math.isfinite(a) and a != 0):
             return []
         return [({"a": a, "c": c}, [float(v) for v in s / math.sqrt(g)])]
+
+
+#: the cubical scan: the frame angle θ on a grid of this many points over the full turn, each
+#: local minimum then narrowed ``SCAN_ZOOMS`` times by a grid of ``SCAN_NZOOM`` points over the
+#: last grid's two neighbouring steps (far on one side λ is steep, and 0.5° of θ moves it by
+#: (1 + λ²)·0.0087: at λ 6.5, by 0.37)
+SCAN_NTH, SCAN_ZOOMS, SCAN_NZOOM = 720, 4, 21
+
+
+def _cubical_scan_cost(d: Contacts, th: np.ndarray):
+    """``cubical_scan``'s score at frame angles ``th`` (1-D): (cost, a, c, t per touch),
+    cost inf where a touch's tangent lies beyond ±π/2 of θ or the slopes give no a."""
+    x, y, phi, k, ks, w_pos, W = _scan_data(d)
+    sig_phi = np.array([r[6] for r in d.rows()])
+    th = th[:, None]
+    wsum = w_pos.sum()
+    dx, dy = x - (w_pos * x).sum() / wsum, y - (w_pos * y).sum() / wsum
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        psi = wrap_angle(phi - th)
+        ok = np.all(np.abs(psi) < _PI / 2, axis=-1)
+        lam = np.where(ok[:, None], np.tan(psi), 0.0)
+        u = np.cos(th) * dx + np.sin(th) * dy
+        v = np.cos(th) * dy - np.sin(th) * dx
+        w = 1.0 / ((1.0 + lam * lam) * sig_phi) ** 2  # λ's deviation from φ's
+        m = np.stack((u * u, u, np.ones_like(u)), axis=-1)  # λ = A₂u² + A₁u + A₀
+        mw = m * w[..., None]
+        lhs = np.einsum("nki,nkj->nij", mw, m)
+        rhs = np.einsum("nki,nk->ni", mw, lam)
+        good = ok & np.all(np.isfinite(lhs), axis=(1, 2)) & np.all(np.isfinite(rhs), axis=1)
+        good[good] &= np.abs(np.linalg.det(lhs[good])) > 0
+        coef = np.full(rhs.shape, np.nan)
+        if np.any(good):
+            coef[good] = np.linalg.solve(lhs[good], rhs[good][..., None])[..., 0]
+        a2, a1, a0 = coef[:, 0], coef[:, 1], coef[:, 2]
+        u0 = -a1 / (2.0 * a2)
+        a, c = a2 / 3.0, a0 - a2 * u0 * u0
+        t = u - u0[:, None]
+        curve_v = a[:, None] * t**3 + c[:, None] * t
+        v0 = (w_pos * (v - curve_v)).sum(-1) / wsum
+        rv = v - v0[:, None] - curve_v
+        lam_t = 3.0 * a[:, None] * t * t + c[:, None]
+        q = 1.0 + lam_t * lam_t
+        rphi = (np.arctan(lam_t) - psi) / sig_phi
+        rk = k - 6.0 * a[:, None] * t / q**1.5
+        rks = ks - (6.0 * a[:, None] * q - 108.0 * a[:, None] ** 2 * t * t * lam_t) / q**3
+        cost = (w_pos * rv * rv).sum(-1) + (rphi * rphi).sum(-1) + _curvature_chi2(W, rk, rks)
+        cost = np.where(good & (a != 0) & np.isfinite(cost), cost, np.inf)
+    return cost, a, c, t
+
+
+def cubical_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
+    """Starts for the cubical parabola from the tangent angles and positions first.
+
+    Far on one side of the inflection the touches' tangents turn little, κ_s is barely
+    measured, and the slope equation's frames can all miss the truth's valley
+    (tools.bench_sigma seed 103, a cubical far on one side: every start ended at a of the
+    other sign, 108 stated σ from the truth, whose valley lay Δχ² 2.2 above it). Here the
+    frame angle θ is scanned over the full turn: in the frame the curve is
+    (u₀ + t, v₀ + a t³ + c t), its slope λ = 3a(u − u₀)² + c a quadratic in the touches'
+    coordinates uᵢ along the frame's axis, so the touches' λᵢ = tan(φᵢ − θ) (each within
+    ±π/2 of θ: a cubical's tangent never turns past the vertical, and a half-turned frame
+    is the curve traversed the other way) give a, c and u₀ by weighted linear least
+    squares (exact for three touches), v₀ the positions' weighted mean offset; each point
+    is scored by the χ² of the tangent angles, the positions across the frame's axis and
+    κ = 6at/(1 + λ²)^{3/2}, κ_s (eq. 13) under their stated deviations. The ``n_best``
+    lowest local minima over θ, each narrowed (``SCAN_ZOOMS``), are returned, t = uᵢ − u₀.
+    Needs three places: through two, every frame fits."""
+    if len(d.places()) < 3:
+        return []
+    th = np.linspace(-_PI, _PI, SCAN_NTH, endpoint=False)
+    cost = _cubical_scan_cost(d, th)[0]
+    n = cost.size
+    minima = sorted((i for i in range(n) if np.isfinite(cost[i]) and cost[i] <= cost[i - 1]
+                     and cost[i] <= cost[(i + 1) % n]), key=lambda i: cost[i])
+    out = []
+    for i in minima[:n_best]:
+        best, step = float(th[i]), 2.0 * _PI / SCAN_NTH
+        for _ in range(SCAN_ZOOMS):
+            grid = best + np.linspace(-step, step, SCAN_NZOOM)
+            cz = _cubical_scan_cost(d, grid)[0]
+            best, step = float(grid[int(np.argmin(cz))]), 2.0 * step / (SCAN_NZOOM - 1)
+        cost1, a, c, t = _cubical_scan_cost(d, np.array([best]))
+        if np.isfinite(cost1[0]):
+            out.append(({"a": float(a[0]), "c": float(c[0])}, t[0].tolist()))
+    return out
 
 
 def clear_of_cusp(start: tuple[dict, list], reach: float) -> bool:

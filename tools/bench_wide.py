@@ -231,6 +231,12 @@ def _rival(rec) -> bool:
     return rec.cls != "unclassified" and any("rival_bic" in a for a in rec.also_fits)
 
 
+def _named(rec) -> list[str]:
+    """The classes a class answer names as also fitting (``also_fits``: close rivals and the
+    richer classes it is a limit of)."""
+    return [a["class"] for a in rec.also_fits] if rec.cls != "unclassified" else []
+
+
 def _extra_touch(shape, t, rs, direction):
     touches, _ = _touches(shape, [t], rs, direction)
     return touches[0]
@@ -273,7 +279,7 @@ def run_trial(task) -> dict:
     touches, noise = _touches(shape, ts, rs, direction)
     nm = NoiseModel(noise.phi, noise.pos)
     rec, dt, req = _recognize(touches, nm)
-    out.update(rival3=_rival(rec), rank3=_ranking(rec), got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
+    out.update(rival3=_rival(rec), named3=_named(rec), rank3=_ranking(rec), got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
                nt_ms=rec.timing.get("next_touch_cpu_ms", math.nan))
     if rec.cls == cls:
         z = [(rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()
@@ -308,7 +314,7 @@ def run_trial(task) -> dict:
         cur, _, reqS = _recognize(tl, nm)
     if cur.cls != cls and used:
         out["oracleS"] = _oracle(shape, ts, direction, cur, reqS, nm, [s["t"] for s in out["suggested"]])
-    out.update(rivalS=_rival(cur), rankS=_ranking(cur), t3=[float(v) for v in ts], span=[float(lo), float(hi)],
+    out.update(rivalS=_rival(cur), namedS=_named(cur), rankS=_ranking(cur), t3=[float(v) for v in ts], span=[float(lo), float(hi)],
                params=dict(shape.params), gotS=cur.cls, errS=rel_error(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
     return out
 
@@ -365,6 +371,12 @@ def report(recs: list[dict]) -> str:
                   f"{len(said)} of {len(recs)}, {sum(r['got' + k] == r['cls'] for r in said)} of them right; "
                   f"wrong answers that did not say so: "
                   f"{sum(r['got' + k] not in (r['cls'], 'unclassified') for r in recs if not r.get('rival' + k))}."]
+        wrong = [r for r in recs if r["got" + k] not in (r["cls"], "unclassified")]
+        right = [r for r in recs if r["got" + k] == r["cls"]]
+        lines += [f"Wrong answers ({what}) naming the true class among those that also fit (a close rival, or a "
+                  f"richer class the answer is a limit of): {sum(r['cls'] in r.get('named' + k, ()) for r in wrong)} "
+                  f"of {len(wrong)}; right answers naming a close rival: {sum(bool(r.get('rival' + k)) for r in right)} "
+                  f"of {len(right)}."]
     rep = [r for r in recs if r.get("repeated")]
     if rep:
         lines += ["", f"Trials with one place touched twice: {len(rep)}; right class 3 / 3+2 random / 3+≤2 suggested: "

@@ -24,8 +24,8 @@ CASES = [("cubical_parabola", "far one side", 10), ("cubical_parabola", "far one
          ("semicubical_parabola", "both branches", 1), ("semicubical_parabola", "far branch", 8)]
 
 
-def _case(cls, region, trial, L=10.0):
-    params1, ts1, pose1, direction, noise_seed = draw_case(cls, region, trial, 1)
+def _case(cls, region, trial, L=10.0, seed=1):
+    params1, ts1, pose1, direction, noise_seed = draw_case(cls, region, trial, seed)
     params, ts, pose = scaled(cls, params1, ts1, pose1, L)
     touches, nm = _contacts(cls, params, ts, pose, direction, L, np.random.default_rng(noise_seed))
     return params, Request(tuple(touches), None, CLASSES, nm), RecognizeOptions(noise=nm)
@@ -89,3 +89,44 @@ def test_no_class_fits_only_after_every_start_of_the_classes_with_valleys():
     assert abs(rec.params["c"] / -0.5 - 1.0) < 0.01
     assert abs(rec.params["a"] / 0.0005370385336995737 - 1.0) < 0.01
     assert rec.ranking[0].cls == "cubical_parabola" and rec.ranking[1].bic - rec.ranking[0].bic > 6.0
+
+
+def test_cubical_scan_places_exact_contacts_far_on_one_side():
+    """starts.cubical_scan: the frame angle scanned, a, c and the inflection from the touches'
+    slopes; on exact positions and tangents (κ, κ_s barely weighed) one of its starts is the
+    truth, far on one side (λ 6.5–14: 0.5° of frame moves λ by 0.4) and across the inflection."""
+    from recognizer.curves import CURVES, Pose
+    from recognizer.starts import cubical_scan
+    from recognizer.touches import ContactTouch, NoiseModel
+
+    for params, ts, pose in (({"a": 2.0, "c": 0.5}, [1.0, 1.6, 2.2], Pose(0.7, 100.0, 20.0)),
+                             ({"a": -0.5, "c": 3.0}, [0.8, 1.9, 3.0], Pose(-2.0, 50.0, -10.0)),
+                             ({"a": 0.4, "c": -0.6}, [-1.0, 0.2, 1.0], Pose(2.5, 80.0, 5.0))):
+        x, y, phi, k, ks = CURVES["cubical_parabola"](params).frame(np.array(ts))
+        hx, hy = pose.apply(x, y)
+        touches = tuple(ContactTouch(float(a), float(b), float(f + pose.theta), float(kk), float(kks),
+                                     np.diag([1e-4, 1e-4])) for a, b, f, kk, kks in zip(hx, hy, phi, k, ks))
+        nm = NoiseModel(1e-3, 1e-2)
+        req = Request(touches, None, ("cubical_parabola",), nm)
+        unit = Unit.of(req)
+        d = contacts_of(unit.request(req), unit.options(RecognizeOptions(noise=nm)), unit.noise(nm))
+        found = [(p["a"] / unit.u**2, p["c"]) for p, _ in cubical_scan(d)]
+        assert any(abs(a / params["a"] - 1) < 1e-4 and abs(c - params["c"]) < 1e-4 * max(abs(params["c"]), 1)
+                   for a, c in found), (params, found)
+
+
+def test_far_side_cubical_valley_of_the_truth_is_weighed():
+    """tools.bench_sigma seed 103 (development), cubical far on one side, trial 1: every start
+    of the slope equation and the inflection ended at a < 0 (a −19.0 ± 1.4, c 6.5 ± 1.1 for a
+    truth of 136.5, 0.42: z −108), while the truth's valley (a 109, c −0.07) lies Δχ² 2.2
+    higher; the scan of the frame angle reaches it, and the answer's σ's span both."""
+    params, req, opts = _case("cubical_parabola", "far one side", 1, L=1.0, seed=103)
+    rec = recognize(req, opts)
+    assert rec.cls == "cubical_parabola", rec.reason
+    for k, v in params.items():
+        assert abs(rec.params[k] - v) <= 3.0 * rec.uncertainty[k], (k, rec.params[k], v, rec.uncertainty[k])
+    unit = Unit.of(req)
+    d = contacts_of(unit.request(req), unit.options(opts), unit.noise(opts.noise))
+    fits = fit_class_every_start("cubical_parabola", d)
+    low = min(f.chi2 for f in fits)
+    assert any(f.chi2 < low + 3.84 and f.params["a"] > 0 for f in fits), [(f.chi2, f.params) for f in fits]

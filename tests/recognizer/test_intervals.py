@@ -78,8 +78,24 @@ def test_valley_past_chi2_95_weighs_by_its_relative_likelihood():
     ans = _cand("semicubical_parabola", {"a": 0.45, "b": -8.5}, 53.3, {"a": 0.008, "b": 0.25})
     rival = _cand("semicubical_parabola", {"a": 0.13, "b": 0.26}, 57.9, {"a": 0.024, "b": 0.36})
     out = rival_basins(ans, [rival])
-    assert np.isclose(out.uncertainty["b"], _mixture(0.25, [(0.36, 8.76, 4.6)]), rtol=1e-9)
+    want = max(_mixture(0.25, [(0.36, 8.76, 4.6)]), 8.76 / np.sqrt(4.6))  # its z at most √Δχ²
+    assert np.isclose(out.uncertainty["b"], want, rtol=1e-9)
     assert out.uncertainty["b"] > 2.5  # the truth (b 0.42) within 3.2 σ, not 35
+
+
+def test_valley_past_chi2_95_lies_at_most_its_root_delta_chi2_in_sigmas():
+    """A valley Δχ² 6 above the answer: the profile χ² rises by 6 there, so a Gaussian σ puts
+    it at most √6 = 2.45 σ away. The mixture alone (weight e⁻³) left it 4.6 σ away
+    (tools.bench_sigma seed 71, development, cubical far on one side, trial 29: z −4.61, the
+    truth in that valley; −2.62 now)."""
+    from recognizer.intervals import rival_basins
+
+    ans = _cand("cubical_parabola", {"a": 2.0, "c": 3.0}, 10.0, {"a": 0.5, "c": 0.2})
+    rival = _cand("cubical_parabola", {"a": -11.5, "c": 0.2}, 16.0, {"a": 1.9, "c": 0.18})
+    out = rival_basins(ans, [rival])
+    for key, sd, sd_r, off in (("a", 0.5, 1.9, 13.5), ("c", 0.2, 0.18, 2.8)):
+        assert np.isclose(out.uncertainty[key], max(off / np.sqrt(6.0), _mixture(sd, [(sd_r, off, 6.0)])), rtol=1e-9)
+        assert off / out.uncertainty[key] <= np.sqrt(6.0) * (1 + 1e-9)
 
 
 def test_rivals_that_do_not_count_leave_sigmas_alone():

@@ -120,3 +120,28 @@ def test_a_circle_of_zero_radius_has_infinite_curvature_not_an_exception():
     with np.errstate(divide="ignore"):
         k = CURVES["circle"]({"r": 0.0}).kappa(np.array([0.0, 1.0]))
     assert np.all(np.isinf(k))
+
+
+@pytest.mark.parametrize("a", [0.0, 1e-12, 1e-9, 1e-6, 1e-3, -1e-7])
+@pytest.mark.parametrize("b", [0.0, 0.7, -40.0])
+def test_semicubical_arc_length_as_a_goes_to_zero(a, b):
+    """The semicubical's closed-form arc length divides by 9a²: as a → 0 it cancelled to
+    garbage (a = 1e-9, b = 0.7: −96 for 4.88) and at a = 0 it warned of a division by zero
+    and gave NaN (printed during tools.bench_wide seed 101). It now states the arc of
+    (t², a t³ + b t²) to 1e-12 relative, without a warning, down to the ray a = 0."""
+    import warnings
+
+    c = CURVES["semicubical_parabola"]({"a": a, "b": b})
+    t = np.array([-3.0, -0.2, 0.0, 1e-4, 0.5, 2.0, 7.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        got = c.arc_length(np.zeros_like(t), t)
+        back = [float(c.t_at_arc_length(0.5 * ti, s - g)) for ti, s, g in
+                zip(t, got, c.arc_length(np.zeros_like(t), 0.5 * t)) if ti != 0]
+    want = [math.copysign(integrate.quad(lambda u: float(c.speed(u)), 0.0, abs(ti), epsabs=0, epsrel=1e-13,
+                                         limit=200)[0] if ti > 0 else
+                          integrate.quad(lambda u: float(c.speed(u)), ti, 0.0, epsabs=0, epsrel=1e-13, limit=200)[0], ti)
+            for ti in t]
+    assert np.all(np.isfinite(got))
+    assert got == pytest.approx(want, rel=1e-12, abs=1e-300)
+    assert back == pytest.approx(t[t != 0], rel=1e-9)
