@@ -60,14 +60,27 @@ FLAT_MAX_TURN_DEG = 60.0
 #: most 0.124 (single stops 0.06 rms, at most 0.22); arcs of radius 100–1000 mm that
 #: offered two supports stopped them 0.30–0.93 mm early on average (docs/driver.md#flat-press)
 SEAT_TOL_MM = 0.2
-#: the two supports of a seat are at least this fraction of the pad's length apart
-FACE_MIN_FRACTION = 0.35
 #: the lines either side of a seat miss the other side's support by more than this many
 #: SEAT_TOL_MM: a line 0.84° from the seat of a 34 mm face passed 0.23 mm from its own
 #: support (three stops' rounding) and 0.5 mm from the other, and with 1× it was taken
 #: into the wrong support, the face 1.1° off (bench_explore --finite 20 --seed 11, rand8);
-#: a line that near the seat is left between the supports instead
+#: a line that near the seat is left between the supports instead (up to two:
+#: :func:`seat_split`)
 SPLIT_APART = 2.0
+#: the two supports of a seat are at least this fraction of the pad's length apart: the
+#: lines a step (FLAT_STEP_DEG) beyond the lines nearest the seat must miss the other
+#: support by SPLIT_APART · SEAT_TOL_MM, ℓ·sin(3°) > 0.4 mm, ℓ > 7.6 mm, here 10.4 mm
+#: (0.54 mm). 0.35 until session 13: the short faces of the random blocks (12–30 mm, 0.23–0.58
+#: of the pad) were never seated, and a face that the finger met within 45° of its nominal
+#: normal was refused when its other faces lay beyond FLAT_MAX_TURN_DEG (bench_explore
+#: --finite 4 --anywhere --seed 11, block 3: faces of 14.6 mm at 19°, of 36.5 mm at 71°).
+#: An arc between supports ℓ apart bulges ℓ²/8R: the seat test (tactile_jaw.flat) tells it
+#: from a face up to R ≈ ℓ²/(8·SEAT_TOL_MM), 68 mm at 10.4 mm, and the touch states that
+#: flatness as its κ's deviation (tactile_jaw.flat.flat_curvature_sd)
+FACE_MIN_FRACTION = 0.2
+#: about a corner under the pad with at least this fraction of the pad either side, the part
+#: turned down is the one toward the object (:func:`lowering_turn`), else the longer part
+PIVOT_PART_FRACTION = 0.35
 #: each support is fitted to this many pad lines, those nearest the seat: over a long face
 #: a pad end resting on it slides as the pad turns, and on an arc of large radius a run
 #: of pad-end lines reaching far from the seat fits a support that hides the arc's bulge
@@ -139,7 +152,9 @@ def seat_split(lines: list[kin.PadLine], length_mm: float,
     from it), P, Q; None if there is no such split. The support function of a flat face is
     min(n·P, n·Q): it kinks where the pad lies flat. The split must be unambiguous: the
     last line of P misses Q and the first line of Q misses P by more than
-    ``SPLIT_APART`` · ``tol_mm``, at most one line between them, and each support lowers the pad toward the other
+    ``SPLIT_APART`` · ``tol_mm``, at most one line between them (two when both pass within
+    that of both supports: on a face shorter than SPLIT_APART · tol_mm / sin(step / 2), 15 mm,
+    the lines either side of the seat may both), and each support lowers the pad toward the other
     (:func:`lowering_turn`: +1 about P, −1 about Q; two runs of one pad end sliding along
     a long face, each within ``tol_mm`` of a point, both lower it the same way). Each
     support is fitted to the ``SUPPORT_LINES`` lines nearest the seat; lines beyond are
@@ -150,14 +165,19 @@ def seat_split(lines: list[kin.PadLine], length_mm: float,
         np_, p, rp = _run(lines, k - 1, -1, tol_mm, SUPPORT_LINES)
         if np_ < 3:
             continue
-        for gap in (0, 1):
+        for gap in (0, 1, 2):
             nq, q, rq = _run(lines, k + gap, 1, tol_mm, SUPPORT_LINES)
             if nq < 3:
                 continue
+            if gap == 2 and any(max(abs(float(ln.normal @ p - ln.d)), abs(float(ln.normal @ q - ln.d)))
+                                > SPLIT_APART * tol_mm for ln in lines[k:k + 2]):
+                continue  # two lines between the supports: both near the seat, through both
             first, last = lines[k + gap], lines[k - 1]
             apart = min(abs(float(last.normal @ q - last.d)), abs(float(first.normal @ p - first.d)))
             worst = max(rp, rq)
-            toward_seat = (lowering_turn(last, p, length_mm, q), lowering_turn(first, q, length_mm, p)) == (1, -1)
+            # about each support, the part of the pad toward the other goes down, however short
+            # (a face of 0.2 of the pad seats on that part: FACE_MIN_FRACTION)
+            toward_seat = (lowering_turn(last, p, length_mm, q, 0.0), lowering_turn(first, q, length_mm, p, 0.0)) == (1, -1)
             if SPLIT_APART * tol_mm < apart and toward_seat and (best is None or worst < best[0]):
                 groups = [-1] * len(lines)
                 groups[k - np_:k] = [0] * np_
@@ -167,12 +187,13 @@ def seat_split(lines: list[kin.PadLine], length_mm: float,
 
 
 def lowering_turn(line: kin.PadLine, about: np.ndarray | None, length_mm: float,
-                  toward: np.ndarray | None = None) -> int | None:
+                  toward: np.ndarray | None = None, least: float = PIVOT_PART_FRACTION) -> int | None:
     """The turn (+1: ψ increasing, −1: decreasing) that brings a part of the pad ``line``
     down toward the object about the point ``about`` on it, or None without a point on
-    the pad. The part lowered is the one that can seat (at least FACE_MIN_FRACTION of the
-    pad): of two such parts (a corner under the pad's middle, a face either side) the one
-    toward ``toward`` (a point of the object, e.g. the workspace centre), else the longer.
+    the pad. The part lowered is the one that can seat: of two parts of at least ``least``
+    (PIVOT_PART_FRACTION) of the pad (a corner under the pad's middle, a face either side) the
+    one toward ``toward`` (a point of the object, e.g. the workspace centre), else the longer;
+    with ``least`` 0, the part toward ``toward`` whenever the point lies on the pad.
     Turning by δ about the point moves the pad point s along the tangent t from it by
     s·δ·R90·t, toward the object when along n."""
     if about is None:
@@ -181,7 +202,7 @@ def lowering_turn(line: kin.PadLine, about: np.ndarray | None, length_mm: float,
     if not -0.5 * length_mm <= u <= 1.5 * length_mm:
         return None
     s = length_mm - u if u < 0.5 * length_mm else -u  # from the point to the farther pad end
-    if toward is not None and min(u, length_mm - u) >= FACE_MIN_FRACTION * length_mm:
+    if toward is not None and min(u, length_mm - u) >= least * length_mm:
         s = length_mm - u if float(line.pad_coordinate(toward)) > u else -u
     t = np.asarray(line.tangent, dtype=float)
     return 1 if s * float(np.array([-t[1], t[0]]) @ line.normal) > 0 else -1

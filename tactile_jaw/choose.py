@@ -93,7 +93,6 @@ class Aim:
     finger: str
     why: str
     kind: str = "suggested"
-    of: int | None = None  # 'wider': the doubtful roll's place in the exploration's touches
 
     @property
     def psi(self) -> float:

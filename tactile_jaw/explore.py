@@ -24,7 +24,6 @@ docs/exploration.md.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from typing import Any, Callable, Container
 
@@ -179,6 +178,16 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
     return [(float(e), 1.0) if e > hi else (float(e), -1.0) for e in off if e > hi or e < lo]
 
 
+def _follow_hint(hint: Aim, finger: str, from_hint: set[str], aimed_at: list, say) -> tuple[float, tuple, float | None]:
+    """A finger's next roll where its last one points (``hint``: a stretch of the curved part,
+    or a corner in doubt): (ψ, the point aimed at, the span in roll spans or None), said."""
+    from_hint.add(finger)
+    aimed_at.append(hint.point)
+    say(f"{finger}: next touch at ({hint.x:.1f}, {hint.y:.1f}) mm, pad normal "
+        f"{math.degrees(math.remainder(hint.psi, 2 * math.pi)):.1f} deg, {hint.why}")
+    return hint.psi, hint.point, (WIDER_SPAN if hint.kind == "wider" else None)
+
+
 def off_curve_count(count: int, felt: FeltTouch, hinted: bool) -> tuple[int, bool]:
     """(the finger's touches in a row off the curved part, after ``felt``; whether its next
     roll goes where ``felt`` still felt the curved part, ``felt.curve_at``). A roll that ran
@@ -230,9 +239,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
 
     aimed_at: list[tuple[float, float]] = []
     hints: dict[str, Aim] = {}  # per finger: where its last unusable roll still felt the curved part
-    #: the touches rolled WIDER_SPAN times wider where a corner was in doubt: each one's index →
-    #: that doubtful roll's place in out.touches (its corner is dropped when the wider roll is none)
-    wider: dict[int, int] = {}
+    #: the touches rolled WIDER_SPAN times wider where a corner was in doubt (their indices: not
+    #: rolled wider again; a usable one drops that corner, tactile_jaw.pipeline.measured_there)
+    wider: set[int] = set()
     vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
@@ -280,28 +289,28 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 say(f"{f.name}: next touch at ({aim.x:.1f}, {aim.y:.1f}) mm, pad normal "
                     f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, "
                     f"{aim.why}")
-            elif f.name in hints:
-                hint = hints.pop(f.name)
-                from_hint.add(f.name)
-                psi, point = hint.psi, hint.point
-                if hint.kind == "wider":
-                    span = WIDER_SPAN * settings.roll_span_rad
-                    wider[index + len(plans)] = hint.of
-                aimed_at.append(point)
-                say(f"{f.name}: next touch at ({hint.x:.1f}, {hint.y:.1f}) mm, pad normal "
-                    f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, {hint.why}")
+            elif f.name in hints and hints[f.name].kind != "wider":
+                psi, point, span = _follow_hint(hints.pop(f.name), f.name, from_hint, aimed_at, say)
             else:
-                others_roll = bool(plans) or any(choose_psi(g, model, settings, used[g.name], limits(g.name)) is not None
-                                                 for g in active[active.index(f) + 1:])
+                later = active[active.index(f) + 1:]
+                others_roll = bool(plans) or any(g.name in hints or choose_psi(g, model, settings, used[g.name], limits(g.name))
+                                                 is not None for g in later)
                 if (not out.used and not pressed and pressing is None and others_roll  # another finger rolls meanwhile
                         and len(cfg.fingers) <= len(out.touches) + beside and len(out.touches) < FLAT_AFTER_TOUCHES):
                     plan = early_press(jaw, f.name, model, out, index + len(plans), emit, spent)
                     if plan is not None:  # its rolls show a seat: it presses while the other rolls again
+                        # (its corner in doubt, if any, is a support of that face: not rolled again wider)
+                        hints.pop(f.name, None)
                         say(f"{f.name}: no touch usable so far and its pad lines show a face: pressing the pad flat "
                             f"on it while the other finger rolls again")
                         plans[f.name], pressing = plan, f.name
                         continue
-                psi = choose_psi(f, model, settings, used[f.name], limits(f.name))
+                if f.name in hints:  # a corner in doubt: rolled again wider (wider_again)
+                    psi, point, span = _follow_hint(hints.pop(f.name), f.name, from_hint, aimed_at, say)
+                    span *= settings.roll_span_rad
+                    wider.add(index + len(plans))
+                else:
+                    psi = choose_psi(f, model, settings, used[f.name], limits(f.name))
             if psi is None:
                 message = (f"{f.name}: no untouched pad orientation left for which the felt lines predict a "
                            f"{math.degrees(settings.roll_span_rad):g} deg roll on the pad's face")
@@ -332,11 +341,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             count, follow = off_curve_count(off_curve[name], felt, name in from_hint)
             off_curve[name] = 0 if again is not None else count  # a roll in doubt, rolled again wider: not counted
             if again is not None:
-                hints[name] = dataclasses.replace(again, of=len(out.touches) - 1)
-            if touch.touch in wider and felt.fit is not None and not on_corner(felt.fit):
-                # rolled wider, the place is no corner: the doubtful roll's corner no longer clears samples there
-                k = wider[touch.touch]
-                out.touches[k] = dataclasses.replace(out.touches[k], corner=None)
+                hints[name] = again
             if follow and reach.finger(*felt.curve_at, [cfg.finger(name)]) is not None:
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
                                                         "off it", kind="curve")

@@ -14,10 +14,10 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
-from hand_driver.flat_press import FACE_MIN_FRACTION, FLAT_STEP_DEG, face_normal, flat_press, seat_split
+from hand_driver.flat_press import FACE_MIN_FRACTION, FLAT_STEP_DEG, FlatResult, face_normal, flat_press, seat_split
 from hand_driver.motion import TouchResult
 from tactile_jaw.decide import RecognizeTouches, decide
-from tactile_jaw.choose import Stop
+from tactile_jaw.choose import Goal, JawReach, Stop, move_advice
 from tactile_jaw.flat import FACE_MISS_MM, curved_faces, recognized_touches
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
@@ -247,7 +247,54 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
         if _curve_felt(cfg, out, emit, say):
             break
         if _decided(out, state.flat, settings, recognize_touches, say):
-            break
+            return
+    if out.stopped is None:  # undecided, no curve felt: where a face was felt, the move after which a pad presses it
+        out.stopped = short_face_stop(cfg, settings, out, len(state.flat))
+        if out.stopped is not None:
+            emit(out.stopped.event("stopped_early"))
+            say(str(out.stopped))
+
+
+def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: int = 0) -> Stop | None:
+    """When the flat presses end undecided (``seated`` of them seated): the longest face a
+    press found — a seated press's supports, else what its lines show
+    (hand_driver.flat_press.seat_split without the FACE_MIN_FRACTION bound: a face lying
+    mostly beyond the pad's end, whose supports are that end and one corner) — and the move
+    of the object after which that pad rolls through both its supports with its tangent
+    (tactile_jaw.choose.move_advice): that face, under the pad and clear of its joint limits,
+    then seats. None if no press found one. Random block 3 of bench_explore --finite 4
+    --anywhere --seed 11: both pads met faces of 14.6 mm mostly beyond their proximal ends (the
+    right over 9.1 mm), its other faces 71° from the pads' normals; block 1 of --finite 10
+    --seed 17: the right pad seated once on a face of 12.7 mm 33° from its normal, its later
+    presses ran into its joint limits. Both were refused before with no move named."""
+    best = None
+    for t in out.touches:
+        if not isinstance(t.touch, FlatResult) or len(t.touch.samples) < 6:
+            continue
+        if t.face is not None:
+            found = (None, t.face.p, t.face.q)
+        else:
+            lines = sorted((smp.line for smp in t.touch.samples), key=lambda ln: float(ln.psi))
+            found = seat_split(lines, cfg.finger(t.finger).pad.length_mm)
+        if found is not None and (best is None or np.linalg.norm(found[2] - found[1]) > best[0]):
+            best = (float(np.linalg.norm(found[2] - found[1])), t.finger, found[1], found[2],
+                    t.touch.samples[-1].line.normal)
+    if best is None:
+        return None
+    length, finger, p, q, toward = best
+    normal = face_normal(p, q, toward)
+    psi = math.atan2(normal[1], normal[0])
+    mid = 0.5 * (p + q)
+    phi = psi - math.pi / 2
+    goal = Goal(tuple((float(x), float(y), phi) for x, y in (p, mid, q)), np.stack([p, q], axis=1),
+                (float(mid[0]), float(mid[1])), "across that face")
+    advice, move = move_advice(JawReach(cfg, settings), goal, [cfg.finger(finger)])
+    head = ("no flat press seated" if not seated else
+            f"{seated} flat press{'es' if seated > 1 else ''} seated, fewer than the answer needs on one face")
+    short = length < FACE_MIN_FRACTION * cfg.finger(finger).pad.length_mm
+    return Stop(f"{head}; the {finger} pad met a face near ({mid[0]:.0f}, {mid[1]:.0f}) mm, pad normal "
+                f"{math.degrees(psi):.0f} deg, over {length:.1f} mm of the pad"
+                + (f" (a seat needs {FACE_MIN_FRACTION:g} of it)" if short else "") + f": {advice}", move)
 
 
 def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings, recognize_touches: RecognizeTouches,

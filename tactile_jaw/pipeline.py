@@ -38,11 +38,13 @@ from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
 #: rejected the cubical example's hump, ρ 14.5 mm measured 8.25 ± 3.77 mm)
 CORNER_RADIUS_MM = 1.0
 CORNER_SIGMAS = 2.0
-#: a roll judged a corner only by its radius's deviation (ρ at least CORNER_RADIUS_MM, below
-#: CORNER_SIGMAS σ_ρ: :func:`corner_in_doubt`) may be boundary bent tightly (an X-series jaw's
-#: 18° roll on an ellipse's end, ρ = b²/a = 6.8 mm, measured 5.2 ± 4.1 mm): the same place
-#: rolled over this many times the span measures ρ with σ_ρ about its square smaller
-#: (d'' of the envelope), which tells the two apart
+#: a roll judged a corner whose radius could, within CORNER_SIGMAS σ_ρ, be one a wider roll
+#: would not judge a corner (:func:`corner_in_doubt`) may be boundary bent tightly (an
+#: X-series jaw's 18° roll on an ellipse's end, ρ = b²/a = 6.8 mm, measured 5.2 ± 4.1 mm; one
+#: of b²/a = 5.4 mm measured 0.63 ± 3.78 mm): the same place rolled over this many times the
+#: span measures ρ with σ_ρ about its square smaller (d'' of the envelope: 3.24 → 0.77 and
+#: 3.37 → 0.80 mm on block corners of bench_explore --finite 10 --anywhere --seed 17), which
+#: tells the two apart
 WIDER_SPAN = 2.0
 #: false-rejection rate of the test that a touch's pad lines are one smooth curve's tangents
 SMOOTH_ALPHA = 1e-3
@@ -335,10 +337,17 @@ def on_corner(fit: EnvelopeFit) -> bool:
 
 
 def corner_in_doubt(fit: EnvelopeFit | None) -> bool:
-    """A touch judged a corner (:func:`on_corner`) only because its radius of curvature is
-    below ``CORNER_SIGMAS`` of its deviation, not below ``CORNER_RADIUS_MM``: a wider roll at
-    the same place (``WIDER_SPAN``) can tell a corner from tightly bent boundary."""
-    return fit is not None and on_corner(fit) and fit.rho >= CORNER_RADIUS_MM
+    """A touch judged a corner (:func:`on_corner`) whose radius of curvature, within
+    ``CORNER_SIGMAS`` of its deviation, reaches one that a roll ``WIDER_SPAN`` times wider at
+    the same place (σ_ρ / WIDER_SPAN²) would not judge a corner: such a roll can tell a corner
+    from tightly bent boundary. A corner is sure only when its radius stays a corner's at its
+    deviation: with coarse encoders (σ_ρ of several mm over a short roll) a radius measured
+    under ``CORNER_RADIUS_MM`` says nothing (an X-series ellipse's end of ρ 5.4 mm measured
+    0.63 ± 3.78 mm)."""
+    if fit is None or not on_corner(fit):
+        return False
+    wider = max(CORNER_RADIUS_MM, CORNER_SIGMAS * fit.sigma_rho / WIDER_SPAN ** 2)
+    return bool(fit.rho + CORNER_SIGMAS * fit.sigma_rho >= wider)
 
 
 def pivot_point(lines: kin.PadLine) -> tuple[float, float]:
@@ -392,9 +401,12 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
 
 def clearing_corners(felt: Sequence[FeltTouch]) -> np.ndarray:
     """(k, 2) the corners the ``felt`` touches pivoted about whose radius of curvature is below
-    ``CLEARANCE_SIGMAS`` of its deviation: the corners :func:`clear_of_corners` clears samples
-    around."""
-    return np.array([t.corner for t in felt if t.corner is not None and t.fit.rho < CLEARANCE_SIGMAS * t.fit.sigma_rho],
+    ``CLEARANCE_SIGMAS`` of its deviation, but for a corner in doubt (:func:`corner_in_doubt`)
+    whose radius a usable roll measured there more finely (:func:`measured_there`: the wider
+    roll at that place), which is no corner: the corners :func:`clear_of_corners` clears
+    samples around."""
+    return np.array([t.corner for t in felt if t.corner is not None and t.fit.rho < CLEARANCE_SIGMAS * t.fit.sigma_rho
+                     and not (corner_in_doubt(t.fit) and measured_there(t, felt))],
                     dtype=float).reshape(-1, 2)
 
 
@@ -447,6 +459,28 @@ def _roll_beside(touch: FeltTouch, good: np.ndarray, edge: int, sign: float, spa
     if not np.all(np.isfinite(point)):
         return None
     return float(point[0]), float(point[1]), psi - math.pi / 2
+
+
+def measured_there(corner: FeltTouch, felt: Sequence[FeltTouch]) -> bool:
+    """Did a usable rolling touch of ``felt`` measure the boundary's radius of curvature at
+    the point the touch ``corner`` pivoted about, at least ``WIDER_SPAN`` times more finely
+    (σ_ρ): its middle contact, where its κ and ρ are taken, within ``CORNER_CLEARANCE_MM`` of
+    that point? It passed the corner test there (:func:`on_corner`), so the corner was tightly
+    bent boundary measured coarsely: the wider roll at an X-series ellipse's end (ρ 5.4 mm,
+    measured 0.63 ± 3.78 mm over 18°, then 8.99 ± 0.92 mm over 36°), whose samples that
+    corner would otherwise trim. A real corner rolled wider pivots again (ρ ≈ 0); a roll of
+    the same span that runs onto a real end corner measures no finer than the corner's
+    own roll and does not count. The rule reads the touches alone, so replay applies it as
+    the run did."""
+    for t in felt:
+        u = t.fit
+        if (t.problem is not None or u is None or isinstance(t.touch, FlatResult)
+                or not u.sigma_rho * WIDER_SPAN <= corner.fit.sigma_rho):
+            continue
+        m = len(t.contacts.x) // 2
+        if math.hypot(t.contacts.x[m] - corner.corner[0], t.contacts.y[m] - corner.corner[1]) < CORNER_CLEARANCE_MM:
+            return True
+    return False
 
 
 def longest_run(mask: np.ndarray) -> np.ndarray:

@@ -220,6 +220,25 @@ def test_the_press_walks_to_the_seat_on_exact_stops(turn_deg):
     assert np.linalg.norm(q - p) >= FACE_MIN_FRACTION * finger.pad.length_mm
 
 
+@pytest.mark.parametrize("turn_deg", [-12.0, 0.0, 7.0])
+def test_a_face_of_a_quarter_of_the_pad_seats(turn_deg):
+    """A block whose face is 13 mm across (a quarter of the 52 mm pad; the random blocks'
+    short faces are 12–30 mm) under the left pad: the walk on exact stops finds its two
+    corners as the supports, the face's line within 0.3° (until session 13 the supports had
+    to be 0.35 of the pad apart, and the split's lines nearest the seat passed within
+    0.4 mm of both corners: never seated)."""
+    finger = CONFIG.finger("left")
+    block = load_scene({"name": "short face", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": math.radians(turn_deg), "x": 105.0, "y": 10.0},
+        "extent": [-6.5, 6.5], "closure": [[6.5, -20.0], [-6.5, -20.0]]}})
+    found, lines = _walk(ContactWorld(CONFIG, block.object), finger, -math.pi / 2)
+    assert found is not None
+    groups, p, q = found
+    assert FACE_MIN_FRACTION * finger.pad.length_mm <= np.linalg.norm(q - p) <= 13.0 + 2 * SEAT_TOL_MM
+    n = face_normal(p, q, lines[max(lines)].normal)
+    assert math.atan2(n[1], n[0]) == pytest.approx(-math.pi / 2 + math.radians(turn_deg), abs=5e-3)
+
+
 def test_a_seat_near_the_joint_limit_gets_its_lines_from_part_steps():
     """Block 1 of ``bench_explore --finite 8 --anywhere --seed 11``: 32.5 mm across, turned
     31.6°. The left pad seats at ψ = −58.4°; its joints stop short of −53.25°, so whole

@@ -1,0 +1,51 @@
+"""A line whose face before a pad lies mostly beyond the pad's end: no press seats, and the
+refusal names the move of the object after which that face lies under the pad
+(tactile_jaw.flat_phase.short_face_stop), checked on exact stops before and after the move."""
+
+import math
+
+import numpy as np
+
+from hand_driver.flat_press import FACE_MIN_FRACTION, FlatResult
+from hand_driver.motion import Sample
+from hand_driver.sim.physics import ContactWorld
+from recognizer.scene import load_scene
+from tactile_jaw.flat_phase import short_face_stop
+from tactile_jaw.pipeline import FeltTouch
+from tactile_jaw.rounds import Exploration
+from tactile_jaw.settings import ExploreSettings
+from tests.hand_driver.test_flat_press import CONFIG, _stop, _walk
+from tools.bench_explore import moved_object
+
+#: a block 14.6 mm across (the short face of random block 3 of bench_explore --finite 4
+#: --anywhere --seed 11), its face at y = 10 from x = 84 to 98.6: the left pad at its nominal
+#: normal spans x 89.9–141.9 there, so 5.9 mm of the face lie beyond its proximal end
+BLOCK = {"class": "line", "params": {}, "pose": {"theta": 0.0, "x": 91.3, "y": 10.0},
+         "extent": [-7.3, 7.3], "closure": [[7.3, -20.0], [-7.3, -20.0]]}
+
+
+def _world(obj):
+    return ContactWorld(CONFIG, load_scene({"name": "b", "classes": ["line"], "object": obj}).object)
+
+
+def test_a_face_beyond_the_pad_end_names_the_move_that_seats_it():
+    """The left pad's press walk on exact stops finds only the pad end and a corner 8.7 mm
+    apart: no seat. The stop names the face and a move (turn and shift); the block moved so,
+    the walk seats on both corners of the 14.6 mm face (fails before session 13: no stop)."""
+    finger = CONFIG.finger("left")
+    world = _world(BLOCK)
+    found, lines = _walk(world, finger, -math.pi / 2)
+    assert found is None  # the pad end and a corner 8.7 mm apart: under FACE_MIN_FRACTION of the pad
+    samples = [Sample(reading=k, psi=float(ln.psi), ticks=np.zeros(2), line=ln, current_ma=None, robot_time=0.0)
+               for k, ln in enumerate(lines[s] for s in sorted(lines))]
+    press = FlatResult("left", 0, -math.pi / 2, samples, outcome="no_seat", roles=["scan"] * len(samples))
+    out = Exploration()
+    out.touches = [FeltTouch(press, None, None, None, "no seat", None)]
+    stop = short_face_stop(CONFIG, ExploreSettings.from_profile("balanced"), out)
+    assert stop is not None and stop.move is not None and "left pad met a face" in stop
+    assert 0.1 * finger.pad.length_mm < float(stop.split("over ")[1].split(" mm")[0]) < FACE_MIN_FRACTION * finger.pad.length_mm
+    moved = moved_object(BLOCK, stop.move)
+    found, _ = _walk(_world(moved), finger, -math.pi / 2)
+    assert found is not None  # moved as advised, the press seats on the whole face
+    groups, p, q = found
+    assert abs(np.linalg.norm(q - p) - 14.6) < 0.2  # both corners: the whole face
