@@ -6,6 +6,7 @@ even on jaws with backlash (the probes approach this way all the way)."""
 
 from __future__ import annotations
 
+import contextlib
 import math
 
 import pytest
@@ -20,9 +21,10 @@ from recognizer.scene import load_scene
 SCENE = load_scene("config/scenes/default.yaml")  # ellipse a=28, b=17, theta=0.3 at (110, 0)
 
 
-def _approach(config_path: str, free_mm: float):
-    """The left pad faces down onto the ellipse's top from the workspace edge: the contact,
-    and the robot time of the approach alone."""
+@contextlib.contextmanager
+def _left_pad_above_ellipse(config_path: str):
+    """The left pad at the workspace edge, facing down onto the ellipse's top: (jaw, emulator,
+    config, ψ, the edge's offset along ψ)."""
     config = load_config(config_path)
     ws = config.workspace
     psi = -math.pi / 2
@@ -34,39 +36,36 @@ def _approach(config_path: str, free_mm: float):
             bus.set_profile_raw(config.motion.profile_velocity, config.motion.profile_acceleration)
             jaw = Jaw(bus, config, None, clock=LockstepClock(sim))
             assert run_together(jaw, {"left": move_line(jaw, "left", psi, edge)})["left"]
-            t0 = sim.sim_time
-            result = run_together(jaw, {"left": guarded_approach(jaw, "left", psi, edge, 45.0, free_mm)})["left"]
-            return result, sim.sim_time - t0, config.motion.goal_current_ma
+            yield jaw, sim, config, psi, edge
+
+
+def _approach(config_path: str, free_mm: float):
+    """The left pad's approach onto the ellipse's top from the workspace edge: the contact,
+    and the robot time of the approach alone."""
+    with _left_pad_above_ellipse(config_path) as (jaw, sim, config, psi, edge):
+        t0 = sim.sim_time
+        result = run_together(jaw, {"left": guarded_approach(jaw, "left", psi, edge, 45.0, free_mm)})["left"]
+        return result, sim.sim_time - t0, config.motion.goal_current_ma
 
 
 def _readings_at_speed(config_path: str, free_mm: float):
     """Every reading of the fast stretch up to the first contact (current and pad offset),
     by stepping the approach by hand: (the peak current of any joint, that cycle's offset)."""
-    config = load_config(config_path)
-    ws = config.workspace
-    psi = -math.pi / 2
-    edge = math.cos(psi) * ws.center_mm[0] + math.sin(psi) * ws.center_mm[1] - ws.radius_mm
     peak = 0.0
-    with EmulatedBus(config, SCENE, time_scale=0.0) as sim:
-        with JointBus(sim.port, config.bus.baudrate, config, retries=config.bus.retries, timeout_s=1.0) as bus:
-            if config.fingers[0].joints[0].spec.guard_mode in config.fingers[0].joints[0].spec.current_capped_modes:
-                bus.set_goal_current(config.motion.goal_current_ma)
-            bus.set_profile_raw(config.motion.profile_velocity, config.motion.profile_acceleration)
-            jaw = Jaw(bus, config, None, clock=LockstepClock(sim))
-            assert run_together(jaw, {"left": move_line(jaw, "left", psi, edge)})["left"]
-            motion = guarded_approach(jaw, "left", psi, edge, 45.0, free_mm)
-            goal = motion.send(None)
-            try:
-                while True:
-                    if goal is not None:
-                        jaw.set_goal("left", goal)
-                    jaw.write_goals()
-                    reading = jaw.read()
-                    jaw.pace()
-                    peak = max(peak, jaw.finger_current(reading[0], "left") or 0.0)
-                    goal = motion.send(reading)
-            except StopIteration as stop:
-                return stop.value, peak, config.motion.goal_current_ma
+    with _left_pad_above_ellipse(config_path) as (jaw, sim, config, psi, edge):
+        motion = guarded_approach(jaw, "left", psi, edge, 45.0, free_mm)
+        goal = motion.send(None)
+        try:
+            while True:
+                if goal is not None:
+                    jaw.set_goal("left", goal)
+                jaw.write_goals()
+                reading = jaw.read()
+                jaw.pace()
+                peak = max(peak, jaw.finger_current(reading[0], "left") or 0.0)
+                goal = motion.send(reading)
+        except StopIteration as stop:
+            return stop.value, peak, config.motion.goal_current_ma
 
 
 @pytest.mark.parametrize("config_path", ["config/jaw.yaml", "config/jaw-p.yaml", "config/jaw-truth.yaml",
