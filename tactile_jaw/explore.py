@@ -36,8 +36,8 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
-from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
-                                  clearing_corners, corner_in_doubt, feel, longest_run, on_corner, too_few_clear)
+from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, clear_side, clearing_corners,
+                                  corner_in_doubt, feel, longest_run, near_corners, on_corner, too_few_clear)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              predicted_tangent, retreat_offset, within_curve)
 from tactile_jaw.probing import probe_boundary
@@ -149,7 +149,7 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
     the finger felt the curve only below ψ_end, (ψ_end, −1) only above it. The curve is felt
     at the pad orientations of its usable rolls' samples clear of the ``corners``
     (tactile_jaw.pipeline.clearing_corners); it is left at those of their samples within
-    ``CORNER_CLEARANCE_MM`` of a corner (and beyond them) and at the middle of its rolls off the curved part (a
+    ``CORNER_CLEARANCE_MM`` of a corner (tactile_jaw.pipeline.near_corners; and beyond them) and at the middle of its rolls off the curved part (a
     corner, a closing segment). A finite object's curved part, convex toward the pad, is one
     stretch of orientations, so beyond such a place from the felt curve lie its end corner
     and closing segments: the planner's farthest orientation from the earlier rolls went
@@ -162,11 +162,8 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
             continue
         if t.problem is None and t.contacts is not None:
             c = t.contacts
-            clear = np.ones(c.x.size, bool)
-            if len(corners):  # its longest run clear of the corners (the samples beyond a corner's go too)
-                near = np.hypot(c.x[:, None] - corners[:, 0], c.y[:, None] - corners[:, 1]).min(axis=1) < CORNER_CLEARANCE_MM
-                clear[:] = False
-                clear[longest_run(~near)] = True
+            clear = np.zeros(c.x.size, bool)  # its longest run clear of the corners (the samples beyond a corner's go too)
+            clear[longest_run(~near_corners(c, corners))] = True
             on += list(c.psi[clear])
             off += list(c.psi[~clear])
         elif t.off_curve:

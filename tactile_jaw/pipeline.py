@@ -376,7 +376,7 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
             kept.append(t)
             continue
         c = t.contacts
-        gaps = np.hypot(c.x[:, None] - corners[:, 0], c.y[:, None] - corners[:, 1])  # (samples, corners)
+        gaps = corner_gaps(c, corners)
         near = gaps.min(axis=1) < CORNER_CLEARANCE_MM
         if not near.any():
             kept.append(t)
@@ -397,6 +397,19 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
             why += f"; without them: {again.problem.removeprefix(t.finger + ': ')}"
         notes.append(f"{name}: not used: {why}")
     return kept, notes
+
+
+def corner_gaps(c: kin.TouchEnvelope, corners: np.ndarray) -> np.ndarray:
+    """(samples, k) the distances (mm) of the contacts ``c`` from each of the ``corners`` (k, 2)."""
+    return np.hypot(c.x[:, None] - corners[:, 0], c.y[:, None] - corners[:, 1])
+
+
+def near_corners(c: kin.TouchEnvelope, corners: np.ndarray) -> np.ndarray:
+    """(samples,) which of the contacts ``c`` lie within ``CORNER_CLEARANCE_MM`` of one of the
+    ``corners`` (k, 2; none near when k = 0)."""
+    if not len(corners):
+        return np.zeros(c.x.size, bool)
+    return corner_gaps(c, corners).min(axis=1) < CORNER_CLEARANCE_MM
 
 
 def clearing_corners(felt: Sequence[FeltTouch]) -> np.ndarray:
@@ -428,8 +441,7 @@ def clear_side(touch: FeltTouch, corners: np.ndarray, span: float, samples: int)
     c = touch.contacts
     if c is None or not corners.size:
         return None
-    gaps = np.hypot(c.x[:, None] - corners[:, 0], c.y[:, None] - corners[:, 1]).min(axis=1)
-    near = gaps < CORNER_CLEARANCE_MM
+    near = near_corners(c, corners)
     clear = longest_run(~near)  # the samples beyond the corner's, which the fit places past it, go too
     if not near.any() or clear.size < 3:
         return None
