@@ -7,7 +7,9 @@ samples lie on the pad's face (tactile_jaw.plan.probe_face_contact) adds its pad
 the object model; a finger stops probing once its face contacts span ``PROBE_ENOUGH_DEG``.
 A finger with a single face contact probes once more ``PROBE_REFINE_DEG`` either side of
 it. A finger without any face contact after ``PROBE_IDLE_AFTER`` probes stops once another
-finger has felt enough. Once one finger has felt enough, the other's probes left go on
+finger has felt enough, unless its last probe met the object at a pad end: then the object
+is there, beside the pad's face, and its next probe turns the pad the way that brings the
+contact toward the pad's middle (:func:`toward_middle`). Once one finger has felt enough, the other's probes left go on
 beside its rolling touches (tactile_jaw.explore), one a round, instead of the finger that
 felt enough waiting for them (the semicubical of dev seed 83: 14 s). docs/exploration.md.
 """
@@ -19,10 +21,11 @@ import math
 import numpy as np
 
 from hand_driver.cycle import Jaw
-from hand_driver.motion import TouchResult, roll_angles, rolling_touch
+from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
 from tactile_jaw.pipeline import feel
 from tactile_jaw.plan import (
     PROBE_ENOUGH_DEG,
+    PROBE_PAD_MARGIN,
     PROBE_REFINE_DEG,
     PROBE_SAMPLES,
     PROBE_SPAN_DEG,
@@ -37,6 +40,35 @@ from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
 #: nothing near its own normals (the parabola example's right finger: its flat bottom's
 #: corners, 7 probes, 4 rounds after the left finger had enough: 12 s of robot time)
 PROBE_IDLE_AFTER = 2
+
+
+def pad_contact(felt) -> float | None:
+    """Where along the pad (mm from its proximal end) a probe that met the object last
+    touched it: the crossing of its last two pad lines (hand_driver.motion.contact_on_pad),
+    beyond the pad's ends when a pad end rested on the object; None with fewer than 2 samples."""
+    samples = felt.touch.samples
+    return contact_on_pad(samples)[1] if len(samples) >= 2 else None
+
+
+def toward_middle(met: list[tuple[float, float]], length: float) -> float | None:
+    """The sign of the turn of ψ that brings a finger's contact toward the pad's middle, from
+    its last two probes that met the object (``met``: (ψ, contact along the pad), the last
+    near or beyond a pad end: outside ``PROBE_PAD_MARGIN`` of the pad's ``length`` from either
+    end); None when it lies on the face, or one probe cannot tell. Measured, not modelled:
+    how far the contact moves along the pad for a turn is the boundary's radius of curvature
+    (dp/dψ = −ρ·t(ψ)) and the finger's own motion along its pad line, of either sign. (Random
+    X-series ellipses 41 and 49 of bench_explore --finite 20 --anywhere --seed 107: the right
+    pad met the ellipse's far end at its proximal end at ψ 90° and 70°, and the finger stopped
+    probing; at 110° the contact is on its face, 12.8 and 20.0 mm along it.)"""
+    if len(met) < 2:
+        return None
+    (psi0, u0), (psi1, u1) = met[-2:]
+    if PROBE_PAD_MARGIN * length <= u1 <= (1.0 - PROBE_PAD_MARGIN) * length:
+        return None
+    rate = (u1 - u0) * math.remainder(psi1 - psi0, 2 * math.pi)
+    if rate == 0.0:
+        return None
+    return math.copysign(1.0, (0.5 * length - u1) * rate)
 
 
 def _probe_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, touch_index: int, emit,
@@ -65,6 +97,11 @@ class Probes:
         self.queues = {f.name: probe_psis(f, model) for f in config.fingers}
         self.faces: dict[str, list[float]] = {f.name: [] for f in config.fingers}
         self.probed = {f.name: 0 for f in config.fingers}
+        #: per finger: (ψ, the contact along the pad) of its probes that met the object
+        self.met: dict[str, list[tuple[float, float]]] = {f.name: [] for f in config.fingers}
+        #: per finger without a face contact: the sign of the turn toward the pad's middle when
+        #: its last probe met the object at a pad end (:func:`toward_middle`)
+        self.nudge: dict[str, float] = {}
         self.refined = False
 
     def _enough(self, name: str) -> bool:
@@ -91,6 +128,22 @@ class Probes:
         name, probe = felt.finger, felt.touch
         out.probes.append(felt)
         u = probe_face_contact(self.config, felt)
+        at = pad_contact(felt)
+        if at is not None:
+            self.met[name].append((probe.psi_center, at))
+        nudged = self.nudge.pop(name, None)
+        if u is not None and nudged is not None and not self.faces[name]:
+            # the turn toward the pad's middle found the face: the rest of this finger's probes
+            # around it, on the far side first (the queue's others met the pad end or less)
+            self.queues[name] = [probe.psi_center + nudged * s * math.radians(PROBE_REFINE_DEG) for s in (1, -1)]
+        sign = None if u is not None or self.faces[name] or at is None else toward_middle(
+            self.met[name], self.config.finger(name).pad.length_mm)
+        if sign is not None:  # met the object beside the pad's face: probe next where the contact moves onto it
+            ahead = [a for a in self.queues[name] if sign * math.remainder(a - probe.psi_center, 2 * math.pi) > 0]
+            if ahead:
+                ahead.sort(key=lambda a: abs(math.remainder(a - probe.psi_center, 2 * math.pi)))
+                self.queues[name] = ahead + [a for a in self.queues[name] if a not in ahead]
+                self.nudge[name] = sign
         if u is not None:
             self.model.add([s.psi_measured for s in probe.samples], [s.d for s in probe.samples])
             self.faces[name].append(probe.psi_center)
@@ -103,10 +156,12 @@ class Probes:
 
     def done(self, say) -> list[str]:
         """The fingers that felt enough; after a round, a finger without any face contact in
-        ``PROBE_IDLE_AFTER`` probes stops probing once another finger has."""
+        ``PROBE_IDLE_AFTER`` probes stops probing once another finger has, unless its last
+        probe met the object at a pad end (``nudge``: its next probe turns toward the face)."""
         done = [n for n in self.faces if self._enough(n)]
         for name, queue in self.queues.items():
-            if done and name not in done and not self.faces[name] and self.probed[name] >= PROBE_IDLE_AFTER and queue:
+            if (done and name not in done and not self.faces[name] and self.probed[name] >= PROBE_IDLE_AFTER and queue
+                    and name not in self.nudge):
                 self.queues[name] = []
                 say(f"{name}: no face contact in {self.probed[name]} probes while {done[0]} felt enough: its side "
                     f"offers the pads no curved part near them; the touches plan from what the other finger felt")
