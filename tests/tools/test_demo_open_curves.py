@@ -1,5 +1,5 @@
 """`tactile demo` on open curves: the finite parabola example explored end to end on the
-P-series jaw (the finger facing its flat bottom finds only corners and stops probing; the
+P-series jaw (the finger facing its flat bottom finds only corners; the
 other finger's touches on the curved part are recognized; the answer is the parabola, its
 parameter within 2 %: the emulated jaw is deterministic) and on the X-series jaw answered
 only when its touches could tell it from a semicubical, else refused naming a finer jaw; a scene whose object crosses the opened jaw is
@@ -21,9 +21,10 @@ def test_finite_parabola_explored_end_to_end(tmp_path, tactile_in_process):
     answer = json.loads(out)
     assert answer["class"] == "parabola", answer.get("reason")
     assert abs(answer["params"]["a"] / 8.0 - 1.0) < 0.02
-    # the right finger meets only the flat bottom's corners: it stops probing once the left
-    # finger felt enough (tactile_jaw.probing.PROBE_IDLE_AFTER), and every touch is the left's
-    assert "right: no face contact in 2 probes while left felt enough" in err
+    # the right finger meets only the flat bottom's corners, first at its pad's proximal end:
+    # its probes go on beside the left finger's rolls, turned toward the pad's middle
+    # (tactile_jaw.probing.toward_middle), and every touch used is the left's
+    assert "right: the contact is -1.5 mm along a 52 mm pad" in err and "probe 5: right at psi 110.0 deg" in err
     events = read_log(log).events
     used = [e for e in events if e.get("kind") == "touch_used"]
     assert len(used) >= 3 and all(e["samples"]["finger"] == "left" for e in used)
