@@ -169,12 +169,14 @@ class JawReach:
 
 
 def vertex_aim(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray], reach: JawReach,
-               fingers: Sequence | None = None) -> Aim | None:
+               fingers: Sequence | None = None, avoid: Sequence[tuple[float, float]] = ()) -> Aim | None:
     """For a parabola answer felt on one side of its vertex: the touch rolling over
     ``VERTEX_SIDE_DEG`` of tangent turn beyond the vertex on the short side
     (tactile_jaw.decide.vertex_sides), its centre the nearest to VERTEX_SIDE_DEG + a quarter
     roll a pad reaches (every ``VERTEX_AIM_STEP_DEG``, the roll's far end past
-    VERTEX_SIDE_DEG); None if no pad reaches any."""
+    VERTEX_SIDE_DEG) and not within ``AIM_AGAIN_MM`` of a place aimed at before (``avoid``:
+    a roll there that ran off the pad's face is tried at the next centre); None if no pad
+    reaches any."""
     sides = vertex_sides(recognition, touched)
     short = 0 if sides[0] <= sides[1] else 1
     sign = -1.0 if short == 0 else 1.0
@@ -183,6 +185,8 @@ def vertex_aim(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray],
     centres = np.arange(VERTEX_SIDE_DEG - half + 0.5, VERTEX_SIDE_DEG + 2 * half + 1e-9, VERTEX_AIM_STEP_DEG)
     for c in sorted(centres, key=lambda c: abs(c - goal)):
         x, y, phi = _parabola_place(recognition, sign * math.tan(math.radians(c)))
+        if _aimed_near((x, y), avoid):
+            continue
         f = reach.finger(x, y, phi, fingers)
         if f is not None:
             return Aim(x, y, phi, f.name,
@@ -225,9 +229,11 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     ``anywhere``: the recognizer's ``next_touch`` anywhere in the workspace (called only
     when none is within the pads' reach, for the reason to say where it would be)."""
     if why.kind == "vertex" and touched is not None:
-        aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers)
-        if aim is not None and not _aimed_near(aim.point, aimed_at):
+        aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers, aimed_at)
+        if aim is not None:
             return aim, None
+        if not vertex_missed:  # every centre a pad reaches was aimed at already: the recognizer's touch
+            aim = vertex_aim(recognition, touched, reach, fingers)
         if vertex_missed:  # the richer rival always fits at least as well: only that side decides
             return None, Stop("no touch within the pads' reach can decide: the touch aimed beyond the vertex fell off "
                               "the curved part (the object ends there): move or turn the object so that more of its "

@@ -359,7 +359,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(f"touch {len(out.touches)} ({_spent(out)}/{settings.touches} of the budget): {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
                 f"{len(touch.samples)} samples, {'used' if problem is None else 'not used: ' + problem}")
             if aimed is not None and name == aimed.finger and problem is not None:
-                vertex_missed |= aimed.kind == "vertex"
+                # the object ends there only when the roll fell off the curved part or met nothing;
+                # one that ran off the pad's face (P parabola 78 of bench_explore --finite 20
+                # --anywhere --seed 107: 28.8..51.4 mm along a 52 mm pad) goes to the next centre
+                vertex_missed |= aimed.kind == "vertex" and (felt.off_curve or not touch.samples)
                 if not touch.samples:
                     empty_at.append(aimed.point)  # the object is not where the answered curve goes on
         if probing:

@@ -241,3 +241,25 @@ def test_why_carries_its_kind():
     why = Why("parabola parameters not yet within 2 %", "imprecise")
     assert why == "parabola parameters not yet within 2 %" and why.kind == "imprecise"
     assert np.allclose(vertex_sides(PARABOLA, _touched([-30.0, 25.0])), (30.0, 25.0))
+
+
+def test_a_vertex_roll_that_ran_off_the_pad_is_tried_again_at_the_next_centre():
+    """A touch aimed beyond the vertex that did not fall off the curved part (its contact ran
+    off the pad's face: P parabola 78 of bench_explore --finite 20 --anywhere --seed 107) is
+    aimed again at the next centre a pad reaches, still rolling past VERTEX_SIDE_DEG; once
+    every such centre was aimed at, the recognizer's touch (or the stop without one) as before."""
+    touched = _touched(np.linspace(-47.0, 12.0, 40))
+    fingers = list(CONFIG.fingers)
+    first, _ = next_aim(PARABOLA, _why("vertex"), touched, REACH, fingers, [])
+    again, stop = next_aim(PARABOLA, _why("vertex"), touched, REACH, fingers, [first.point])
+    assert stop is None and again.kind == "vertex" and math.hypot(again.x - first.x, again.y - first.y) > 1.0
+    a = PARABOLA.params["a"]
+    turns = [math.degrees(math.atan(PARABOLA.pose.inverse(p.x, p.y)[1] / (2 * a))) for p in (first, again)]
+    half = 0.5 * math.degrees(SETTINGS.roll_span_rad)
+    assert abs(abs(turns[1] - turns[0]) - 2.5) < 1e-6 and min(turns) + half >= VERTEX_SIDE_DEG
+    aimed, aim = [], first
+    while aim is not None and aim.kind == "vertex":
+        aimed.append(aim.point)
+        aim, stop = next_aim(PARABOLA, _why("vertex"), touched, REACH, fingers, aimed)
+    # PARABOLA suggests no touch: the stop the vertex side aimed at once gave before
+    assert aim is None and "move or turn the object" in stop and len(aimed) >= 3
