@@ -9,7 +9,8 @@ residuals  per sample: (x − X(t))/σ_pos, (y − Y(t))/σ_pos and the wrapped 
            difference (φ − Φ(t) − π·[touches run in decreasing t])/σ_φ; per contact-touch
            additionally (κ − κ(t))/σ_κ and (κ_s − κ_s(t))/σ_κs from its covariance.
 
-Solved by ``scipy.optimize.least_squares`` with an analytic Jacobian for t and the pose
+Solved by MINPACK's Levenberg–Marquardt (``least_squares`` below, through
+``scipy.optimize.leastsq``) with an analytic Jacobian for t and the pose
 (dX/dt = speed·(cos Φ, sin Φ), dΦ/dt = κ·speed) and forward differences for the ≤ 2
 shape parameters. Gauge freedoms are removed: a circle's θ is held (its t's absorb a
 rotation); a line's pose moves only across the line.
