@@ -35,7 +35,7 @@ from hand_driver.motion import TouchResult, roll_angles, rolling_touch
 from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
-from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
+from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
 from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, clear_side, clearing_corners,
                                   corner_in_doubt, feel, longest_run, near_corners, on_corner, too_few_clear)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
@@ -251,6 +251,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
     #: round, so a press from the second round on (early_press) counts them with the touches
     beside = 0
+    aside: set[int] = set()  # presses of retired fingers beside the others' probes and rolls (beside_press)
     while _spent(out) < settings.touches:
         if len(out.touches) >= TRIED_PER_BUDGET * settings.touches:
             message = (f"{len(out.touches)} touches tried, {TRIED_PER_BUDGET}x the budget of {settings.touches}: "
@@ -258,13 +259,13 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             emit({"type": "event", "kind": "touches_capped", "message": message})
             say(message)
             break
-        if not cleared() and len(out.touches) >= FLAT_AFTER_TOUCHES and not any(
+        if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
                 h.kind == "corner" for h in hints.values()):  # unless a finger rolls again beside a corner
             rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
             break
-        plans, spent, aimed, pressing, from_hint = {}, {}, None, None, set()
+        plans, spent, aimed, pressing, from_hint, idle = {}, {}, None, None, set(), set()
         if aim is not None and aim.kind != "vertex" and not within_curve(aim.psi, settings.roll_span_rad,
                                                                          limits(aim.finger)):
             say(f"{aim.finger}: a touch at ({aim.x:.1f}, {aim.y:.1f}) mm would roll beyond where its rolls left the "
@@ -313,12 +314,22 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                            f"{math.degrees(settings.roll_span_rad):g} deg roll on the pad's face")
                 emit({"type": "event", "kind": "no_orientation", "message": message})
                 say(message)
+                idle.add(f.name)
                 continue
             used[f.name].append(psi)
             plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent, point,
                                         span)
         if not plans:
             break
+        if not out.used and not cleared():  # a finger with no roll presses while the others look for a curved part
+            for f in cfg.fingers:
+                if f.name in idle or (f.name not in plans and f.name not in probing
+                                      and off_curve[f.name] >= OFF_CURVE_RETIRE):
+                    plan = beside_press(jaw, f.name, model, out, pressed, settings, index + len(plans), emit, spent)
+                    if plan is not None:
+                        aside.add(index + len(plans))
+                        say(f"{f.name}: no roll to make; pressing its pad flat while the other finger goes on")
+                        plans[f.name] = plan
         index += len(plans)
         out.rounds += 1
         results = timed_round(jaw, plans, spent, out.time_s, "touches", "touch_transits")
@@ -330,7 +341,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             felt = feel(cfg, results[name], settings.samples_per_touch)
             touch, problem = felt.touch, felt.problem
             out.touches.append(felt)
-            if isinstance(touch, FlatResult):  # a press (early_press): counted by the flat phase, or not at all
+            if isinstance(touch, FlatResult) or touch.touch in aside:  # a press (early_press, beside_press):
+                # counted by the flat phase, or not at all
                 pressed.append(felt)
                 off_curve[name] += 1  # a face: the finger's side offers a closing segment, no curved part
                 continue

@@ -171,6 +171,38 @@ def early_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, tou
     return _flat_plan(jaw, finger, model, None, 0, touch_index, emit, spent, None, set(), seat)
 
 
+def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pressed: Sequence[FeltTouch],
+                 settings: ExploreSettings, touch_index: int, emit, spent: dict[str, float]):
+    """The flat press a retired finger (its latest rolls on corners or closing segments,
+    tactile_jaw.explore) makes in a round in which another finger still probes or rolls, or
+    None: its first at a seat its lines show (:func:`_felt_seat`) or from its nominal normal,
+    later ones on the face it seated on, as the flat phase would make them (``pressed``:
+    every press made during the rolls, booked as :func:`flat_presses` books them); None once
+    it has ``settings.min_touches`` seated presses or stopped for misses (``FLAT_TRIES``).
+    The flat phase counts these presses first and decides on them before pressing more: the
+    presses the block's answer needs run while the other finger still looks for a curved part,
+    which it did alone before (bench_explore --finite 20 --anywhere --seed 107, P-series: random
+    blocks whose one finger retired after two rolls on one corner while the other probed for
+    4–7 s more, its pad idle). Should a curved part be felt, no press is recognized
+    (tactile_jaw.flat.recognized_touches; tactile_jaw.pipeline.curved_part)."""
+    state = _booked(jaw.config, pressed)
+    if finger not in state.active or sum(t.finger == finger for t in state.flat) >= settings.min_touches:
+        return None
+    f = jaw.config.finger(finger)
+    return _flat_plan(jaw, finger, model, state.faces[finger], state.misses[finger], touch_index, emit, spent,
+                      _felt_stop(out, finger, nominal_psi(f)), set(),
+                      _felt_seat(out, finger, f.pad.length_mm, nominal_psi(f)), state.sides[finger])
+
+
+def _booked(cfg, pressed: Sequence[FeltTouch], emit=None, say=None) -> "_Faces":
+    """Each finger's flat-press state after the presses ``pressed`` (:class:`_Faces`)."""
+    names = [f.name for f in cfg.fingers]
+    state = _Faces(dict.fromkeys(names), dict.fromkeys(names, 0), dict.fromkeys(names, 1), list(names))
+    for felt in pressed:
+        state.book(felt.finger, felt, set(), emit or (lambda rec: None), say or (lambda msg: None))
+    return state
+
+
 @dataclass
 class _Faces:
     """Each finger's flat-press state: the face it seated on, its presses that missed, the
@@ -220,12 +252,11 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
     the presses made during the rolls (:func:`early_press`, already in ``out.touches``),
     counted first. ``out.used`` ends as those touches."""
     cfg = jaw.config
-    names = [f.name for f in cfg.fingers]
-    state = _Faces(dict.fromkeys(names), dict.fromkeys(names, 0), dict.fromkeys(names, 1), list(names))
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
-    for felt in pressed:
-        state.book(felt.finger, felt, set(), emit, say)
-    for _ in range(settings.min_touches + FLAT_SPARE - (1 if pressed else 0)):
+    state = _booked(cfg, pressed, emit, say)
+    if state.flat and (_curve_felt(cfg, out, emit, say) or _decided(out, state.flat, settings, recognize_touches, say)):
+        return  # the presses made during the rolls decide (or a curve was felt)
+    for _ in range(max(FLAT_SPARE, settings.min_touches + FLAT_SPARE - len(pressed))):
         if any(state.faces.values()):  # one face's touches make the answer: a finger without one stops
             state.active = [name for name in state.active if state.faces[name] is not None]
         if not state.active or _curve_felt(cfg, out, emit, say):
