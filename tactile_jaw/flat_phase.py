@@ -137,12 +137,16 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     return result
 
 
-def _curve_felt(cfg, out: Exploration, emit, say) -> bool:
+def _curve_felt(cfg, out: Exploration, emit, say, checked: set[int]) -> bool:
     """Did a touch so far roll on a curved part (tactile_jaw.pipeline.curved_part)? Then the
     faces are closing segments: the exploration stops, refused (``out.recognition``), and
-    says what would help (``out.stopped``)."""
-    curve = curved_part(cfg, out.touches)
+    says what would help (``out.stopped``). ``checked``: the touches (their ``id``) found no
+    curve before, not felt again (a press's scan of 30 lines is felt on every run of its
+    lines: seconds of CPU a round); updated."""
+    new = [t for t in out.touches if id(t) not in checked]
+    curve = curved_part(cfg, new)
     if curve is None:
+        checked.update(id(t) for t in new)
         return False
     out.used, out.recognition = [], curve_refusal(curve)
     c, m = curve.contacts, len(curve.contacts.x) // 2
@@ -254,12 +258,13 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
     cfg = jaw.config
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
     state = _booked(cfg, pressed, emit, say)
-    if state.flat and (_curve_felt(cfg, out, emit, say) or _decided(out, state.flat, settings, recognize_touches, say)):
+    checked: set[int] = set()  # touches whose scans rolled on no curve (_curve_felt)
+    if state.flat and (_curve_felt(cfg, out, emit, say, checked) or _decided(out, state.flat, settings, recognize_touches, say)):
         return  # the presses made during the rolls decide (or a curve was felt)
     for _ in range(max(FLAT_SPARE, settings.min_touches + FLAT_SPARE - len(pressed))):
         if any(state.faces.values()):  # one face's touches make the answer: a finger without one stops
             state.active = [name for name in state.active if state.faces[name] is not None]
-        if not state.active or _curve_felt(cfg, out, emit, say):
+        if not state.active or _curve_felt(cfg, out, emit, say, checked):
             break
         spent: dict[str, float] = {}
         seated: set[str] = set()
@@ -275,7 +280,7 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
             felt = feel(cfg, results[name], settings.samples_per_touch)
             out.touches.append(felt)
             state.book(name, felt, seated, emit, say)
-        if _curve_felt(cfg, out, emit, say):
+        if _curve_felt(cfg, out, emit, say, checked):
             break
         if _decided(out, state.flat, settings, recognize_touches, say):
             return
