@@ -223,9 +223,26 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     model = ObjectModel(ws.center_mm, ws.radius_mm)
     out = Exploration()
     t0 = jaw.robot_time()
-    index, probes = probe_boundary(jaw, model, out, emit, say)
-    used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
+    pressed: list[FeltTouch] = []  # flat presses made during the probes and rolls (tactile_jaw.flat_phase)
+    aside: set[int] = set()  # presses of fingers with no roll to make, beside the others' probes and rolls
+
+    def press_beside(name, touch_index=None, spent=None, result=None):
+        """A finger done probing presses at a seat its lines show while the other probes on
+        (tactile_jaw.flat_phase.beside_press; tactile_jaw.probing.probe_boundary's ``beside``)."""
+        if result is None:
+            return beside_press(jaw, name, model, out, pressed, settings, touch_index, emit, spent, seat_only=True)
+        felt = feel(cfg, result, settings.samples_per_touch)
+        out.touches.append(felt)
+        pressed.append(felt)
+        aside.add(felt.touch.touch)
+        off_curve[name] += 1  # a face: the finger's side offers a closing segment
+        say(f"{name}: its probes done and its pad lines show a face: pressed flat there while the other finger "
+            f"probes on")
+        return None
+
+    index, probes = probe_boundary(jaw, model, out, emit, say, press_beside)
+    used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     reach = JawReach(cfg, settings)
     ticks = jaw_ticks_per_rev(cfg)
     aim: Aim | None = None  # where the next touch goes while the answer is not decisive (tactile_jaw.choose)
@@ -247,11 +264,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
-    pressed: list[FeltTouch] = []  # flat presses made during the rolls (tactile_jaw.flat_phase.early_press)
     #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
     #: round, so a press from the second round on (early_press) counts them with the touches
     beside = 0
-    aside: set[int] = set()  # presses of retired fingers beside the others' probes and rolls (beside_press)
     while _spent(out) < settings.touches:
         if len(out.touches) >= TRIED_PER_BUDGET * settings.touches:
             message = (f"{len(out.touches)} touches tried, {TRIED_PER_BUDGET}x the budget of {settings.touches}: "

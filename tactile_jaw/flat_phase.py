@@ -176,13 +176,16 @@ def early_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, tou
 
 
 def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pressed: Sequence[FeltTouch],
-                 settings: ExploreSettings, touch_index: int, emit, spent: dict[str, float]):
+                 settings: ExploreSettings, touch_index: int, emit, spent: dict[str, float], seat_only: bool = False):
     """The flat press a retired finger (its latest rolls on corners or closing segments,
     tactile_jaw.explore) makes in a round in which another finger still probes or rolls, or
     None: its first at a seat its lines show (:func:`_felt_seat`) or from its nominal normal,
     later ones on the face it seated on, as the flat phase would make them (``pressed``:
     every press made during the rolls, booked as :func:`flat_presses` books them); None once
-    it has ``settings.min_touches`` seated presses or stopped for misses (``FLAT_TRIES``).
+    it has ``settings.min_touches`` seated presses or stopped for misses (``FLAT_TRIES``), and
+    with ``seat_only`` when it has neither a face nor a seat its lines show (a press beside
+    probes, tactile_jaw.probing: a walk from the nominal normal, 4–12 s, would hold up rounds of
+    1.5–2.5 s).
     The flat phase counts these presses first and decides on them before pressing more: the
     presses the block's answer needs run while the other finger still looks for a curved part,
     which it did alone before (bench_explore --finite 20 --anywhere --seed 107, P-series: random
@@ -193,9 +196,11 @@ def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pr
     if finger not in state.active or sum(t.finger == finger for t in state.flat) >= settings.min_touches:
         return None
     f = jaw.config.finger(finger)
+    seat = _felt_seat(out, finger, f.pad.length_mm, nominal_psi(f))
+    if seat_only and seat is None and state.faces[finger] is None:
+        return None
     return _flat_plan(jaw, finger, model, state.faces[finger], state.misses[finger], touch_index, emit, spent,
-                      _felt_stop(out, finger, nominal_psi(f)), set(),
-                      _felt_seat(out, finger, f.pad.length_mm, nominal_psi(f)), state.sides[finger])
+                      _felt_stop(out, finger, nominal_psi(f)), set(), seat, state.sides[finger])
 
 
 def _booked(cfg, pressed: Sequence[FeltTouch], emit=None, say=None) -> "_Faces":
