@@ -296,6 +296,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 plans[f.name] = probes.plan(jaw, f.name, index + len(plans), emit, spent)
                 continue
             probing.pop(f.name, None)
+            if (f.name not in hints and not out.used and not cleared()
+                    and any(t.finger == f.name and t.face is not None for t in pressed)):
+                # a face seated and no curve felt: it presses that face again instead of rolling
+                plan = beside_press(jaw, f.name, model, out, pressed, settings, index + len(plans), emit, spent)
+                if plan is not None:
+                    aside.add(index + len(plans))
+                    plans[f.name] = plan
+                    continue
             if aim is not None and f.name == aim.finger:
                 psi, point, aimed = aim.psi, aim.point, aim
                 aimed_at.append(point)
