@@ -345,10 +345,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         if not plans:
             break
         if not out.used and not cleared():  # a finger with no roll presses while the others look for a curved part
+            # from its nominal normal only once a roll found no curved part (a walk of 4-12 s before the
+            # first rolls held up the round of a random ellipse's first usable roll: seed 13, P-series)
+            rolled = any(not isinstance(t.touch, FlatResult) and t.touch.touch not in aside for t in out.touches)
             for f in cfg.fingers:
                 if f.name in idle or (f.name not in plans and f.name not in probing
                                       and off_curve[f.name] >= OFF_CURVE_RETIRE):
-                    plan = beside_press(jaw, f.name, model, out, pressed, settings, index + len(plans), emit, spent)
+                    plan = beside_press(jaw, f.name, model, out, pressed, settings, index + len(plans), emit, spent,
+                                        seat_only=not rolled)
                     if plan is not None:
                         aside.add(index + len(plans))
                         say(f"{f.name}: no roll to make; pressing its pad flat while the other finger goes on")
