@@ -235,8 +235,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         felt = feel(cfg, result, settings.samples_per_touch)
         out.touches.append(felt)
         pressed.append(felt)
-        aside.add(felt.touch.touch)
-        off_curve[name] += 1  # a face: the finger's side offers a closing segment
+        aside.add(felt.touch.touch)  # not counted against its rolls: it may still roll, the guard for a curve
         say(f"{name}: its probes done and its pad lines show a face: pressed flat there while the other finger "
             f"probes on")
         return None
@@ -371,7 +370,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             if isinstance(touch, FlatResult) or touch.touch in aside:  # a press (early_press, beside_press):
                 # counted by the flat phase, or not at all
                 pressed.append(felt)
-                off_curve[name] += 1  # a face: the finger's side offers a closing segment, no curved part
+                if touch.touch not in aside:  # a press beside the others' rolls leaves the finger's own rolls as
+                    off_curve[name] += 1  # they were (the guard for a curve); an early press replaced one
                 continue
             again = wider_again(felt, reach, wider)
             count, follow = off_curve_count(off_curve[name], felt, name in from_hint)
