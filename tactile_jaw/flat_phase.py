@@ -177,7 +177,8 @@ def early_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, tou
 
 def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pressed: Sequence[FeltTouch],
                  settings: ExploreSettings, touch_index: int, emit, spent: dict[str, float], seat_only: bool = False):
-    """The flat press a retired finger (its latest rolls on corners or closing segments,
+    """The flat press a finger with no roll to make (retired after its rolls fell on corners or
+    closing segments, no orientation to roll at, a face seated already, or its probes done:
     tactile_jaw.explore) makes in a round in which another finger still probes or rolls, or
     None: its first at a seat its lines show (:func:`_felt_seat`) or from its nominal normal,
     later ones on the face it seated on, as the flat phase would make them (``pressed``:
@@ -258,13 +259,15 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
     """Every finger presses its pad flat on the face before it, round after round, until
     the recognizer's answer on one face's flat touches (tactile_jaw.flat.recognized_touches)
     is decisive; a finger stops after FLAT_TRIES presses that did not seat. ``pressed``:
-    the presses made during the rolls (:func:`early_press`, already in ``out.touches``),
-    counted first. ``out.used`` ends as those touches."""
+    the presses made during the probes and rolls (:func:`early_press`, :func:`beside_press`,
+    already in ``out.touches``), counted first and decided on before any more. ``out.used``
+    ends as those touches."""
     cfg = jaw.config
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
     state = _booked(cfg, pressed, emit, say)
     checked: set[int] = set()  # touches whose scans rolled on no curve (_curve_felt)
-    if state.flat and (_curve_felt(cfg, out, emit, say, checked) or _decided(out, state.flat, settings, recognize_touches, say)):
+    if state.flat and (_curve_felt(cfg, out, emit, say, checked)
+                       or _decided(out, state.flat, settings, recognize_touches, say)):
         return  # the presses made during the rolls decide (or a curve was felt)
     for _ in range(max(FLAT_SPARE, settings.min_touches + FLAT_SPARE - len(pressed))):
         if any(state.faces.values()):  # one face's touches make the answer: a finger without one stops
