@@ -46,3 +46,23 @@ def test_a_finger_done_probing_presses_at_the_seat_its_probes_show(tmp_path, dem
     assert len(presses) == 3 and {t.finger for t in presses} == {"left"}
     assert presses[0].touch < first_roll  # pressed in the probe rounds, before any rolling touch
     assert contents.result["robot_time_s"] < 20.0
+
+
+ELLIPSE = {"name": "ellipse8", "classes": BLOCK["classes"],
+           "object": {"class": "ellipse", "params": {"a": 25.890036012863142, "b": 15.534021607717886},
+                      "pose": {"theta": -2.5860319961987375, "x": 126.64129144073003, "y": -6.5181860358871475}}}
+
+
+def test_a_finger_with_no_roll_does_not_walk_to_a_seat_before_any_roll(tmp_path, demo_answer):
+    """Random ellipse 8 of ``bench_explore --finite 3 --anywhere --seed 13 --config
+    config/jaw-p.yaml``: the left pad has no orientation to roll at before the right pad's first
+    roll, and its lines show no seat. A walk from its nominal normal there (4–12 s) held up the
+    round of the right pad's first roll, which was usable: 22.9 s instead of 12.5. A finger
+    presses from its nominal normal only once a roll found no curved part (tactile_jaw.explore)."""
+    log = tmp_path / "ellipse8.jsonl"
+    answer = demo_answer(ELLIPSE, tmp_path / "ellipse8.yaml", log, config="config/jaw-p.yaml")
+    assert answer["class"] == "ellipse", answer.get("reason")
+    assert abs(answer["params"]["a"] / ELLIPSE["object"]["params"]["a"] - 1) < 0.01
+    contents = read_log(log)
+    assert not [t for t in contents.touches if t.kind == "flat"]
+    assert contents.result["robot_time_s"] < 14.0
