@@ -279,7 +279,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
             break
-        plans, spent, aimed, pressing, from_hint, idle = {}, {}, None, None, set(), set()
+        plans, spent, aimed, pressing, from_hint, idle, again = {}, {}, None, None, set(), set(), {}
         if aim is not None and aim.kind != "vertex" and not within_curve(aim.psi, settings.roll_span_rad,
                                                                          limits(aim.finger)):
             say(f"{aim.finger}: a touch at ({aim.x:.1f}, {aim.y:.1f}) mm would roll beyond where its rolls left the "
@@ -301,7 +301,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 plan = beside_press(jaw, f.name, model, out, pressed, settings, index + len(plans), emit, spent)
                 if plan is not None:
                     aside.add(index + len(plans))
-                    plans[f.name] = plan
+                    plans[f.name], again[f.name] = plan, index + len(plans)
                     continue
             if aim is not None and f.name == aim.finger:
                 psi, point, aimed = aim.psi, aim.point, aim
@@ -341,6 +341,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             used[f.name].append(psi)
             plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent, point,
                                         span)
+        if set(plans) == set(again) and all(choose_psi(cfg.finger(n), model, settings, used[n], limits(n)) is None
+                                            for n in again):
+            aside.difference_update(again.values())  # only presses of a seated face, and no finger can roll
+            plans = {}  # again: the flat phase makes them and decides (nothing to guard against any more)
         if not plans:
             break
         if not out.used and not cleared():  # a finger with no roll presses while the others look for a curved part
