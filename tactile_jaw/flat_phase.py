@@ -184,9 +184,11 @@ def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pr
     later ones on the face it seated on, as the flat phase would make them (``pressed``:
     every press made during the rolls, booked as :func:`flat_presses` books them); None once
     it has ``settings.min_touches`` seated presses or stopped for misses (``FLAT_TRIES``), and
-    with ``seat_only`` when it has neither a face nor a seat its lines show (a press beside
-    probes, tactile_jaw.probing: a walk from the nominal normal, 4–12 s, would hold up rounds of
-    1.5–2.5 s).
+    after a press that missed while it has no face (a retry beside the other pad's roll ran 12.4 s
+    without a seat on X-series block 3 of seed 107; the flat phase stops one once another pad
+    seats), and with ``seat_only`` when it has neither a face nor a seat its lines show (a press
+    beside probes, tactile_jaw.probing: a walk from the nominal normal, 4–12 s, would hold up
+    rounds of 1.5–2.5 s).
     The flat phase counts these presses first and decides on them before pressing more: the
     presses the block's answer needs run while the other finger still looks for a curved part,
     which it did alone before (bench_explore --finite 20 --anywhere --seed 107, P-series: random
@@ -198,8 +200,8 @@ def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pr
         return None
     f = jaw.config.finger(finger)
     seat = _felt_seat(out, finger, f.pad.length_mm, nominal_psi(f))
-    if seat_only and seat is None and state.faces[finger] is None:
-        return None
+    if state.faces[finger] is None and (state.misses[finger] or (seat_only and seat is None)):
+        return None  # a retry is the flat phase's, which stops it once another pad seats
     return _flat_plan(jaw, finger, model, state.faces[finger], state.misses[finger], touch_index, emit, spent,
                       _felt_stop(out, finger, nominal_psi(f)), set(), seat, state.sides[finger])
 
