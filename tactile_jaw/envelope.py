@@ -28,6 +28,7 @@ from scipy import linalg, stats
 from hand_driver import kinematics as kin
 from hand_driver.units import rad_per_tick
 from tactile_common.angles import wrap_angle
+from tactile_common.blas import one_blas_thread
 from tactile_common.errors import InputError
 
 #: central-difference step (rad) of the joint-angle Jacobians
@@ -118,7 +119,18 @@ def fit_envelope(finger, q, lines: kin.PadLine, degree: int | None = None,
     """:class:`EnvelopeFit` of a touch of ``finger`` (hand_driver.config.FingerConfig) from its
     joint angles ``q`` (n, 2) and their pad lines ``lines`` (n ≥ 3 readings with distinct ψ);
     deviations from ``noise`` (default: what the finger's joints declare, :func:`joint_noise`).
-    The ``degree`` of d(ψ): given, else the order rule (:func:`choose_degree`)."""
+    The ``degree`` of d(ψ): given, else the order rule (:func:`choose_degree`). On one BLAS
+    thread (tactile_common.blas): its matrices are small (the truncation's SVD of a 30-line
+    flat-press scan is 60 × 60), where OpenBLAS's threads only contend: on 2 loaded cores
+    tactile_jaw.pipeline.curved_part of random block 4's two presses (bench_explore --finite 20
+    --anywhere --seed 107, P-series) took 6.5 s of CPU and 21 s of wall time, 2.8 s and 8 s on
+    one thread."""
+    with one_blas_thread():
+        return _fit_envelope(finger, q, lines, degree, noise)
+
+
+def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: JointNoise | None) -> EnvelopeFit:
+    """:func:`fit_envelope`'s body."""
     q = np.asarray(q, dtype=float)
     noise = joint_noise(finger) if noise is None else noise
     first = kin.touch_from_pad_lines(lines.psi, lines.d, degree=degree)

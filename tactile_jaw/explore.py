@@ -35,7 +35,7 @@ from hand_driver.motion import TouchResult, roll_angles, rolling_touch
 from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
-from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, early_press, flat_presses
+from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
 from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, clear_side, clearing_corners,
                                   corner_in_doubt, feel, longest_run, near_corners, on_corner, too_few_clear)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
@@ -223,9 +223,25 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     model = ObjectModel(ws.center_mm, ws.radius_mm)
     out = Exploration()
     t0 = jaw.robot_time()
-    index, probes = probe_boundary(jaw, model, out, emit, say)
-    used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
+    pressed: list[FeltTouch] = []  # flat presses made during the probes and rolls (tactile_jaw.flat_phase)
+    aside: set[int] = set()  # presses of fingers with no roll to make, beside the others' probes and rolls
+
+    def press_beside(name, touch_index=None, spent=None, result=None):
+        """A finger done probing presses at a seat its lines show while the other probes on
+        (tactile_jaw.flat_phase.beside_press; tactile_jaw.probing.probe_boundary's ``beside``)."""
+        if result is None:
+            return beside_press(jaw, name, model, out, pressed, settings, touch_index, emit, spent, seat_only=True)
+        felt = feel(cfg, result, settings.samples_per_touch)
+        out.touches.append(felt)
+        pressed.append(felt)
+        aside.add(felt.touch.touch)  # not counted against its rolls: it may still roll, the guard for a curve
+        say(f"{name}: its probes done and its pad lines show a face: pressed flat there while the other finger "
+            f"probes on")
+        return None
+
+    index, probes = probe_boundary(jaw, model, out, emit, say, press_beside)
+    used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     reach = JawReach(cfg, settings)
     ticks = jaw_ticks_per_rev(cfg)
     aim: Aim | None = None  # where the next touch goes while the answer is not decisive (tactile_jaw.choose)
@@ -247,7 +263,6 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
-    pressed: list[FeltTouch] = []  # flat presses made during the rolls (tactile_jaw.flat_phase.early_press)
     #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
     #: round, so a press from the second round on (early_press) counts them with the touches
     beside = 0
@@ -258,13 +273,13 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             emit({"type": "event", "kind": "touches_capped", "message": message})
             say(message)
             break
-        if not cleared() and len(out.touches) >= FLAT_AFTER_TOUCHES and not any(
+        if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
                 h.kind == "corner" for h in hints.values()):  # unless a finger rolls again beside a corner
             rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
             break
-        plans, spent, aimed, pressing, from_hint = {}, {}, None, None, set()
+        plans, spent, aimed, pressing, from_hint, idle, again = {}, {}, None, None, set(), set(), {}
         if aim is not None and aim.kind != "vertex" and not within_curve(aim.psi, settings.roll_span_rad,
                                                                          limits(aim.finger)):
             say(f"{aim.finger}: a touch at ({aim.x:.1f}, {aim.y:.1f}) mm would roll beyond where its rolls left the "
@@ -280,6 +295,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 plans[f.name] = probes.plan(jaw, f.name, index + len(plans), emit, spent)
                 continue
             probing.pop(f.name, None)
+            if (f.name not in hints and not out.used and not cleared()
+                    and any(t.finger == f.name and t.face is not None for t in pressed)):
+                # a face seated and no curve felt: it presses that face again instead of rolling
+                plan = beside_press(jaw, f.name, model, out, pressed, settings, index + len(plans), emit, spent)
+                if plan is not None:
+                    aside.add(index + len(plans))
+                    plans[f.name], again[f.name] = plan, index + len(plans)
+                    continue
             if aim is not None and f.name == aim.finger:
                 psi, point, aimed = aim.psi, aim.point, aim
                 aimed_at.append(point)
@@ -313,12 +336,30 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                            f"{math.degrees(settings.roll_span_rad):g} deg roll on the pad's face")
                 emit({"type": "event", "kind": "no_orientation", "message": message})
                 say(message)
+                idle.add(f.name)
                 continue
             used[f.name].append(psi)
             plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent, point,
                                         span)
+        if set(plans) == set(again) and all(choose_psi(cfg.finger(n), model, settings, used[n], limits(n)) is None
+                                            for n in again):
+            aside.difference_update(again.values())  # only presses of a seated face, and no finger can roll
+            plans = {}  # again: the flat phase makes them and decides (nothing to guard against any more)
         if not plans:
             break
+        if not out.used and not cleared():  # a finger with no roll presses while the others look for a curved part
+            # from its nominal normal only once a roll found no curved part (a walk of 4-12 s before the
+            # first rolls held up the round of a random ellipse's first usable roll: seed 13, P-series)
+            rolled = any(not isinstance(t.touch, FlatResult) and t.touch.touch not in aside for t in out.touches)
+            for f in cfg.fingers:
+                if f.name in idle or (f.name not in plans and f.name not in probing
+                                      and off_curve[f.name] >= OFF_CURVE_RETIRE):
+                    plan = beside_press(jaw, f.name, model, out, pressed, settings, index + len(plans), emit, spent,
+                                        seat_only=not rolled)
+                    if plan is not None:
+                        aside.add(index + len(plans))
+                        say(f"{f.name}: no roll to make; pressing its pad flat while the other finger goes on")
+                        plans[f.name] = plan
         index += len(plans)
         out.rounds += 1
         results = timed_round(jaw, plans, spent, out.time_s, "touches", "touch_transits")
@@ -330,9 +371,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             felt = feel(cfg, results[name], settings.samples_per_touch)
             touch, problem = felt.touch, felt.problem
             out.touches.append(felt)
-            if isinstance(touch, FlatResult):  # a press (early_press): counted by the flat phase, or not at all
+            if isinstance(touch, FlatResult) or touch.touch in aside:  # a press (early_press, beside_press):
+                # counted by the flat phase, or not at all
                 pressed.append(felt)
-                off_curve[name] += 1  # a face: the finger's side offers a closing segment, no curved part
+                if touch.touch not in aside:  # a press beside the others' rolls leaves the finger's own rolls as
+                    off_curve[name] += 1  # they were (the guard for a curve); an early press replaced one
                 continue
             again = wider_again(felt, reach, wider)
             count, follow = off_curve_count(off_curve[name], felt, name in from_hint)

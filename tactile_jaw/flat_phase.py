@@ -137,12 +137,16 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     return result
 
 
-def _curve_felt(cfg, out: Exploration, emit, say) -> bool:
+def _curve_felt(cfg, out: Exploration, emit, say, checked: set[int]) -> bool:
     """Did a touch so far roll on a curved part (tactile_jaw.pipeline.curved_part)? Then the
     faces are closing segments: the exploration stops, refused (``out.recognition``), and
-    says what would help (``out.stopped``)."""
-    curve = curved_part(cfg, out.touches)
+    says what would help (``out.stopped``). ``checked``: the touches (their ``id``) found no
+    curve before, not felt again (a press's scan of 30 lines is felt on every run of its
+    lines: seconds of CPU a round); updated."""
+    new = [t for t in out.touches if id(t) not in checked]
+    curve = curved_part(cfg, new)
     if curve is None:
+        checked.update(id(t) for t in new)
         return False
     out.used, out.recognition = [], curve_refusal(curve)
     c, m = curve.contacts, len(curve.contacts.x) // 2
@@ -169,6 +173,46 @@ def early_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, tou
     if seat is None:
         return None
     return _flat_plan(jaw, finger, model, None, 0, touch_index, emit, spent, None, set(), seat)
+
+
+def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pressed: Sequence[FeltTouch],
+                 settings: ExploreSettings, touch_index: int, emit, spent: dict[str, float], seat_only: bool = False):
+    """The flat press a finger with no roll to make (retired after its rolls fell on corners or
+    closing segments, no orientation to roll at, a face seated already, or its probes done:
+    tactile_jaw.explore) makes in a round in which another finger still probes or rolls, or
+    None: its first at a seat its lines show (:func:`_felt_seat`) or from its nominal normal,
+    later ones on the face it seated on, as the flat phase would make them (``pressed``:
+    every press made during the rolls, booked as :func:`flat_presses` books them); None once
+    it has ``settings.min_touches`` seated presses or stopped for misses (``FLAT_TRIES``), and
+    after a press that missed while it has no face (a retry beside the other pad's roll ran 12.4 s
+    without a seat on X-series block 3 of seed 107; the flat phase stops one once another pad
+    seats), and with ``seat_only`` when it has neither a face nor a seat its lines show (a press
+    beside probes, tactile_jaw.probing: a walk from the nominal normal, 4–12 s, would hold up
+    rounds of 1.5–2.5 s).
+    The flat phase counts these presses first and decides on them before pressing more: the
+    presses the block's answer needs run while the other finger still looks for a curved part,
+    which it did alone before (bench_explore --finite 20 --anywhere --seed 107, P-series: random
+    blocks whose one finger retired after two rolls on one corner while the other probed for
+    4–7 s more, its pad idle). Should a curved part be felt, no press is recognized
+    (tactile_jaw.flat.recognized_touches; tactile_jaw.pipeline.curved_part)."""
+    state = _booked(jaw.config, pressed)
+    if finger not in state.active or sum(t.finger == finger for t in state.flat) >= settings.min_touches:
+        return None
+    f = jaw.config.finger(finger)
+    seat = _felt_seat(out, finger, f.pad.length_mm, nominal_psi(f))
+    if state.faces[finger] is None and (state.misses[finger] or (seat_only and seat is None)):
+        return None  # a retry is the flat phase's, which stops it once another pad seats
+    return _flat_plan(jaw, finger, model, state.faces[finger], state.misses[finger], touch_index, emit, spent,
+                      _felt_stop(out, finger, nominal_psi(f)), set(), seat, state.sides[finger])
+
+
+def _booked(cfg, pressed: Sequence[FeltTouch], emit=None, say=None) -> "_Faces":
+    """Each finger's flat-press state after the presses ``pressed`` (:class:`_Faces`)."""
+    names = [f.name for f in cfg.fingers]
+    state = _Faces(dict.fromkeys(names), dict.fromkeys(names, 0), dict.fromkeys(names, 1), list(names))
+    for felt in pressed:
+        state.book(felt.finger, felt, set(), emit or (lambda rec: None), say or (lambda msg: None))
+    return state
 
 
 @dataclass
@@ -217,18 +261,20 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
     """Every finger presses its pad flat on the face before it, round after round, until
     the recognizer's answer on one face's flat touches (tactile_jaw.flat.recognized_touches)
     is decisive; a finger stops after FLAT_TRIES presses that did not seat. ``pressed``:
-    the presses made during the rolls (:func:`early_press`, already in ``out.touches``),
-    counted first. ``out.used`` ends as those touches."""
+    the presses made during the probes and rolls (:func:`early_press`, :func:`beside_press`,
+    already in ``out.touches``), counted first and decided on before any more. ``out.used``
+    ends as those touches."""
     cfg = jaw.config
-    names = [f.name for f in cfg.fingers]
-    state = _Faces(dict.fromkeys(names), dict.fromkeys(names, 0), dict.fromkeys(names, 1), list(names))
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
-    for felt in pressed:
-        state.book(felt.finger, felt, set(), emit, say)
-    for _ in range(settings.min_touches + FLAT_SPARE - (1 if pressed else 0)):
+    state = _booked(cfg, pressed, emit, say)
+    checked: set[int] = set()  # touches whose scans rolled on no curve (_curve_felt)
+    if state.flat and (_curve_felt(cfg, out, emit, say, checked)
+                       or _decided(out, state.flat, settings, recognize_touches, say)):
+        return  # the presses made during the rolls decide (or a curve was felt)
+    for _ in range(max(FLAT_SPARE, settings.min_touches + FLAT_SPARE - len(pressed))):
         if any(state.faces.values()):  # one face's touches make the answer: a finger without one stops
             state.active = [name for name in state.active if state.faces[name] is not None]
-        if not state.active or _curve_felt(cfg, out, emit, say):
+        if not state.active or _curve_felt(cfg, out, emit, say, checked):
             break
         spent: dict[str, float] = {}
         seated: set[str] = set()
@@ -244,7 +290,7 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
             felt = feel(cfg, results[name], settings.samples_per_touch)
             out.touches.append(felt)
             state.book(name, felt, seated, emit, say)
-        if _curve_felt(cfg, out, emit, say):
+        if _curve_felt(cfg, out, emit, say, checked):
             break
         if _decided(out, state.flat, settings, recognize_touches, say):
             return

@@ -17,6 +17,7 @@ felt enough waiting for them (the semicubical of dev seed 83: 14 s). docs/explor
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 import numpy as np
 
@@ -168,10 +169,14 @@ class Probes:
         return done
 
 
-def probe_boundary(jaw: Jaw, model: ObjectModel, out: Exploration, emit, say) -> tuple[int, Probes]:
+def probe_boundary(jaw: Jaw, model: ObjectModel, out: Exploration, emit, say,
+                   beside: Callable | None = None) -> tuple[int, Probes]:
     """The probe phase (module docstring) until every finger is done or one has felt
     enough: every probe goes to ``out.probes`` and its robot time to ``out.time_s``, the
-    face contacts' pad lines to ``model``. Returns the next touch index and the
+    face contacts' pad lines to ``model``. A finger whose probes are done while another's go
+    on may make another motion in the same rounds: ``beside(finger, touch_index, spent)``, a
+    plan or None (tactile_jaw.explore: a flat press at a seat its lines show), its result
+    handed back as ``beside(finger, result=...)``. Returns the next touch index and the
     :class:`Probes`, whose probes left (:meth:`Probes.next`) go on beside the rolls."""
     cfg = jaw.config
     index = 0
@@ -183,10 +188,17 @@ def probe_boundary(jaw: Jaw, model: ObjectModel, out: Exploration, emit, say) ->
         plans, spent = {}, {}
         for name in upcoming:
             plans[name] = probes.plan(jaw, name, index + len(plans), emit, spent)
+        for f in cfg.fingers:
+            plan = None if beside is None or f.name in plans else beside(f.name, index + len(plans), spent)
+            if plan is not None:
+                plans[f.name] = plan
         results = timed_round(jaw, plans, spent, out.time_s, "probes", "probe_transits")
         for name in plans:
-            probes.record(feel(cfg, results[name], PROBE_SAMPLES, curve_checks=False), out, say)
             index += 1
+            if name not in upcoming:
+                beside(name, result=results[name])
+                continue
+            probes.record(feel(cfg, results[name], PROBE_SAMPLES, curve_checks=False), out, say)
         done = probes.done(say)
         if done and len(done) < len(cfg.fingers) and probes.next():
             say(f"{done[0]} felt enough: its rolling touches start while the other finger's probes go on")

@@ -6,7 +6,11 @@ the answer is the line of the face, not a refusal. (Before, the flat presses ran
 no rolling touch was usable at all, and this block was refused.) Since the left pad presses
 during the rolls (tactile_jaw.flat_phase.early_press: its probe lines show the seat, and the
 right pad's first two rolls found no usable touch), the right pad's roll beside the corner is
-no longer made: the left pad's press begins in the round of the right pad's third roll."""
+no longer made. Since a finger with no roll to make presses beside the other's rolls
+(tactile_jaw.flat_phase.beside_press: the left pad, its probes on pad ends and a corner, has no
+orientation to roll at), the left pad's first press runs in the round of the right pad's first
+roll and its three presses are done while the right pad still rolls: 19.2 s of robot time,
+21.6 s before, when they began with the right pad's third roll."""
 
 from __future__ import annotations
 
@@ -36,4 +40,5 @@ def test_a_block_whose_rolling_touch_sits_at_a_corner_is_pressed_flat(tmp_path, 
     first_press = next(t for t in contents.touches if t.kind == "flat")
     assert first_press.finger == "left"
     rolls_after = [t for t in contents.touches if t.kind != "flat" and t.touch > first_press.touch]
-    assert [t.finger for t in rolls_after] == ["right"]  # the right pad rolled again in that round
+    assert [t.finger for t in rolls_after] == ["right"] * 3  # the right pad rolled on beside the left's presses
+    assert contents.result["robot_time_s"] < 20.0
