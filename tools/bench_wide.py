@@ -420,7 +420,8 @@ def coverage_report(recs: list[dict]) -> str:
              "interval: ≤ 1.96 / ≤ 3 % | largest |z| |",
              "|---|---|---|---|---|---|---|---|---|---|"]
     groups = [(name, [r for r in recs if name in ("all", r["cls"])]) for name in ("all",) + CLASSES]
-    groups += [(f"L 1e{k} mm", [r for r in recs if _decade(r) == k]) for k in sorted({_decade(r) for r in recs})]
+    sized = [r for r in recs if "L" in r]  # (records of an earlier bench_wide carry no L)
+    groups += [(f"L 1e{k} mm", [r for r in sized if _decade(r) == k]) for k in sorted({_decade(r) for r in sized})]
     for name, rs in groups:
         z = np.abs(np.array([v for r in rs for v in r.get("z", [])], float))
         zi = np.abs(np.array([v for r in rs for v in r.get("zi", r.get("z", []))], float))
