@@ -40,7 +40,7 @@ from recognizer.starts import clear_of_cusp, cusp_clearance, hyperbola_asymptote
 from recognizer.starts import starts as class_starts
 from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
 from recognizer.scale_free import Unit
-from recognizer.intervals import profile_uncertainty, rival_basins
+from recognizer.intervals import interval95, profile_uncertainty, rival_basins
 from recognizer.next_touch import next_touch
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request, SamplesTouch
 from tactile_common.angles import wrap_angle
@@ -655,7 +655,8 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
     said = _rivals_reason(chosen, rivals) if rivals else None
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, dh, pairs),
-                       dict(best.uncertainty), said, ranked, timing, nxt, untested=untested, also_fits=also)
+                       dict(best.uncertainty), said, ranked, timing, nxt, untested=untested, also_fits=also,
+                       interval=interval95(best))
 
 
 def _every_valley(chosen: Candidate, d: Contacts, alpha: float) -> tuple[Candidate, list[Candidate]]:

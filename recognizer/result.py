@@ -54,6 +54,9 @@ class Candidate:
     invariants: dict = field(default_factory=dict)
     uncertainty: dict = field(default_factory=dict)
     worst: str | None = None  # which measurement disagreed most, for the reason
+    #: shape parameter → (distance to the 95 % profile-likelihood end below, above) where
+    #: recognizer.intervals walked its profile (its two sides may differ)
+    profile_sides: dict = field(default_factory=dict)
 
     def curve(self):
         return CURVES[self.cls](self.params)
@@ -125,6 +128,9 @@ class Recognition:
     untested: dict = field(default_factory=dict)
     #: consistent richer classes the answer is a limit of (recognizer.classify.also_fits)
     also_fits: list = field(default_factory=list)
+    #: shape parameter → [low, high]: its 95 % interval (recognizer.intervals.interval95),
+    #: wider on the side where the likelihood falls slower; None where its σ is undetermined
+    interval: dict = field(default_factory=dict)
 
     def to_json(self) -> dict:
         out = {
@@ -134,6 +140,7 @@ class Recognition:
             "contacts": _clean(self.contacts),
             "invariants": _clean(self.invariants),
             "uncertainty": _clean(self.uncertainty),
+            "interval": _clean(self.interval),
             "reason": self.reason,
             "next_touch": _clean(self.next_touch),
             "untested": dict(self.untested),

@@ -165,7 +165,8 @@ class Unit:
                     lever = self.ox * ux + self.oy * uy  # O's distance along the line from the hand origin's foot
                     unc["pose_offset"] = math.hypot(unc["pose_offset"], lever * unc["pose_theta"])
             contacts = [{"t": t, "x": c["x"] * u + self.ox, "y": c["y"] * u + self.oy} for t, c in zip(ts, rec.contacts)]
-            out.update(params=params, pose=Pose(th, x, y), contacts=contacts, uncertainty=unc)
+            interval = {k: None if v is None else [e * self._param(cls, k) for e in v] for k, v in rec.interval.items()}
+            out.update(params=params, pose=Pose(th, x, y), contacts=contacts, uncertainty=unc, interval=interval)
         if rec.next_touch is not None:
             out["next_touch"] = {**rec.next_touch, "x": rec.next_touch["x"] * u + self.ox,
                                  "y": rec.next_touch["y"] * u + self.oy}

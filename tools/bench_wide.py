@@ -63,6 +63,7 @@ from recognizer.refine import refine_one
 from recognizer.result import Candidate, RecognizeOptions
 from recognizer.touches import NoiseModel, Request, SamplesTouch
 from tools.bench import _pool, rel_error
+from tools.bench_sigma import interval_z
 
 CLASSES = tuple(CURVES)
 SPEC_PHI, SPEC_POS_FRAC, SPACING, SAMPLES = 1.5e-3, 1e-3, 0.02, 9
@@ -285,6 +286,8 @@ def run_trial(task) -> dict:
         z = [(rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()
              if rec.uncertainty.get(k) and rec.uncertainty[k] > 0]
         out["z"] = z
+        out["zi"] = [interval_z(rec, k, v) for k, v in shape.params.items()
+                     if rec.uncertainty.get(k) and rec.uncertainty[k] > 0]
     if coverage_only:
         return out
     if rec.cls != cls:
@@ -382,6 +385,8 @@ def report(recs: list[dict]) -> str:
         lines += ["", f"Trials with one place touched twice: {len(rep)}; right class 3 / 3+2 random / 3+≤2 suggested: "
                   f"{_pct([r['got3'] == r['cls'] for r in rep])} / {_pct([r['got5'] == r['cls'] for r in rep])} / "
                   f"{_pct([r['gotS'] == r['cls'] for r in rep])} %; noise-free exact {_exact_pct(rep)} %."]
+    lines += ["", "σ coverage of the right 3-touch answers, per class and per decade of the region size L:", "",
+              coverage_report(recs)]
     inexact = [r for r in recs if "exact" in r and not r["exact"]]
     if inexact:
         lines += ["", "Noise-free answers not exact (class right and relative error ≤ 1e-6):", ""]
@@ -402,19 +407,31 @@ def _wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
     return mid - half, mid + half
 
 
+def _decade(r: dict) -> int:
+    """The scale decade k of a trial's region size L (10^k ≤ L < 10^(k+1) mm)."""
+    return int(math.floor(math.log10(r["L"])))
+
+
 def coverage_report(recs: list[dict]) -> str:
-    """Per class: σ coverage of the right 3-touch answers with its 95 % interval, RMS z."""
-    lines = ["| class | trials | right % | values | σ coverage (1.96σ) % | 95 % interval | RMS z |",
-             "|---|---|---|---|---|---|---|"]
-    for name in ("all",) + CLASSES:
-        rs = [r for r in recs if name in ("all", r["cls"])]
+    """Per class and per scale decade of L: σ coverage of the right 3-touch answers with its
+    95 % (Wilson) interval, within 3 σ, RMS z, the same with the answer's 95 % interval
+    (``Recognition.interval``; tools.bench_sigma.interval_z) and the largest |z|."""
+    lines = ["| class / decade of L | trials | right % | values | σ coverage (1.96σ) % | 95 % interval | ≤ 3σ % | RMS z | "
+             "interval: ≤ 1.96 / ≤ 3 % | largest |z| |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    groups = [(name, [r for r in recs if name in ("all", r["cls"])]) for name in ("all",) + CLASSES]
+    sized = [r for r in recs if "L" in r]  # (records of an earlier bench_wide carry no L)
+    groups += [(f"L 1e{k} mm", [r for r in sized if _decade(r) == k]) for k in sorted({_decade(r) for r in sized})]
+    for name, rs in groups:
         z = np.abs(np.array([v for r in rs for v in r.get("z", [])], float))
+        zi = np.abs(np.array([v for r in rs for v in r.get("zi", r.get("z", []))], float))
         if not z.size:
             continue
         k = int(np.sum(z <= 1.96))
         lo, hi = _wilson(k, z.size)
         lines.append(f"| {name} | {len(rs)} | {_pct([r['got3'] == r['cls'] for r in rs])} | {z.size} | "
-                     f"{100 * k / z.size:.1f} | {100 * lo:.1f}–{100 * hi:.1f} | {math.sqrt(float(np.mean(z ** 2))):.2f} |")
+                     f"{100 * k / z.size:.1f} | {100 * lo:.1f}–{100 * hi:.1f} | {_pct(z <= 3.0)} | "
+                     f"{math.sqrt(float(np.mean(z ** 2))):.2f} | {_pct(zi <= 1.96)} / {_pct(zi <= 3.0)} | {z.max():.3g} |")
     return "\n".join(lines)
 
 

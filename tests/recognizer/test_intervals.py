@@ -134,3 +134,43 @@ def test_one_branch_far_semicubical_sigmas_reach_the_truth_in_the_other_valley()
     assert abs(rec.params["b"]) > 5.0  # still the valley of lowest χ²
     z = {k: (rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()}
     assert all(abs(v) <= 1.96 for v in z.values()), z
+
+
+def _sigma_case(cls, region, trial, seed, L=1.0):
+    """tools.bench_sigma's contacts case (the contact stage, every class allowed) at size L mm:
+    (truth, answer)."""
+    from tools import bench_sigma as S
+
+    params1, ts1, pose1, direction, noise_seed = S.draw_case(cls, region, trial, seed)
+    params, ts, pose = S.scaled(cls, params1, ts1, pose1, L)
+    touches, nm = S._contacts(cls, params, ts, pose, direction, L, np.random.default_rng(noise_seed))
+    return params, recognize(Request(tuple(touches), None, S.CLASSES, nm), RecognizeOptions(noise=nm))
+
+
+def test_one_sided_profile_states_a_95_interval_wider_on_its_slow_side():
+    # bench_sigma seed 113 trial 3 (development), a semicubical across both branches: b 1.10 ± 0.10
+    # for a truth of 1.46 (z −3.58) where the profile puts the truth at Δχ² 6.3 (2.5 "σ"): the
+    # profile rises slower above the answer than below it
+    from tools.bench_sigma import interval_z
+
+    truth, rec = _sigma_case("semicubical_parabola", "both branches", 3, 113)
+    assert rec.cls == "semicubical_parabola"
+    for k, v in truth.items():
+        p, sd = rec.params[k], rec.uncertainty[k]
+        lo, hi = rec.interval[k]
+        assert abs((p - lo) - 1.96 * sd) < 1e-9 * abs(p)  # never narrower than ± 1.96 σ ...
+        assert hi - p > 1.15 * 1.96 * sd  # ... and 20–28 % wider on the side the profile reaches farther
+        assert abs((p - v) / sd) > 3.0 and abs(interval_z(rec, k, v)) < 3.0  # z −3.12/−3.58 by σ; −2.60/−2.79 by the interval
+    assert rec.to_json()["interval"] == {k: list(v) for k, v in rec.interval.items()}
+
+
+def test_interval_scales_with_the_object_and_is_symmetric_where_no_profile_was_walked():
+    truth, rec = _sigma_case("semicubical_parabola", "both branches", 3, 113)
+    truth_k, rec_k = _sigma_case("semicubical_parabola", "both branches", 3, 113, L=1e3)  # a ∝ L^−1/2, b scale-free
+    for k in truth:
+        f = truth_k[k] / truth[k]
+        assert np.allclose(np.array(rec_k.interval[k]) / f, rec.interval[k], rtol=1e-6, atol=0.0)
+    region, shape, rec = _answer("hyperbola", 5)  # both arms: a, b to ~1 %, linearized σ's, no walk
+    for k in shape.params:
+        p, sd = rec.params[k], rec.uncertainty[k]
+        assert np.allclose(rec.interval[k], [p - 1.96 * sd, p + 1.96 * sd], rtol=1e-12, atol=0.0)
