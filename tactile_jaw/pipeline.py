@@ -430,7 +430,7 @@ def clears_around(fit: EnvelopeFit) -> bool:
     is below ``CLEARANCE_SIGMAS`` of its deviation (coarse encoders: no radius told from 0),
     or below ``CORNER_RADIUS_MM`` by that many deviations (fine encoders: a roll that began on
     the curve's end and pivoted about its end corner measures ρ 0.083 ± 0.017 mm on the
-    P-series jaw, 5 deviations from 0 yet no curve of the scenes; the rolls that ran onto that
+    P-series jaw, 5 deviations from 0 yet surely under :func:`on_corner`'s floor; the rolls that ran onto that
     corner kept a sample 0.2–0.6 mm off the curve and no class fitted: bench_explore --finite
     20 --anywhere --seed 107 --config config/jaw-p.yaml, cubical 116). A hump measured
     coarsely (ρ 6.5 ± 3.6 mm) passes neither."""
