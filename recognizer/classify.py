@@ -383,13 +383,25 @@ def _clear_of_cusp_fits(cands: list[Candidate], d: Contacts, request: Request,
     return [f for f in fits if math.isfinite(f.chi2)]
 
 
+#: the asymptote starts are also refined when every touch's tangent lies within this (rad) of
+#: their mean direction although not within its noise: the turn of a rectangular hyperbola's
+#: tangent from its asymptote at t = 1.5 (e^{−3}), half the arm's t below the starts' FAR_T.
+#: A touch nearer the vertex (the tangents' noise 1.5 mrad, a turn of 7–10 mrad) leaves the
+#: stretch far on its arm for the other starts: tools.bench_wide seeds 11 and 9 (development),
+#: hyperbola trials 3 and 11 far on an arm after a suggested touch at t 2.4–2.5 with the
+#: others at t 3.7–5.8: no hyperbola start reached the truth's valley (refined: χ² 3e6;
+#: the truth's 54), the answer unclassified; from the asymptote start, the truth's valley
+FAR_ARM_TURN = math.exp(-3.0)
+
+
 def _far_arm_fits(cands: list[Candidate], d: Contacts, request: Request,
                   options: RecognizeOptions) -> list[Candidate]:
     """Refined hyperbola fits from its asymptote starts (``starts.hyperbola_asymptote``),
     in both directions of travel, when no hyperbola fit is consistent or none fits better
     than a consistent limit of it (line, parabola) by ``NESTED_MARGIN`` (it sits at the
     limit), and the touches' tangents agree with one direction within their noise (χ² at
-    ``options.alpha``: far out on an arm, or nearly straight). There every other start places the touches by tangents
+    ``options.alpha``: far out on an arm, or nearly straight) or within ``FAR_ARM_TURN``
+    (a touch nearer the vertex, such as a suggested one). There every other start places the touches by tangents
     within their noise of the asymptote's, the contact fit of three nearly collinear points
     slides toward the limit a → 0 where the refinement cannot follow, and the κ's that
     orient the data (``Contacts.dominant_kappa``) are noise: the hyperbola bent the wrong
@@ -405,9 +417,10 @@ def _far_arm_fits(cands: list[Candidate], d: Contacts, request: Request,
     limits = min((c.chi2 for c in cands if c.consistent and cls in LIMIT_OF.get(c.cls, ())), default=math.inf)
     if best < limits - NESTED_MARGIN:  # a consistent hyperbola that bends beyond its limits' fit
         return []
+    dev = np.abs(np.asarray(wrap_angle(d.phi - _circmean(d.phi)), float))
     with np.errstate(divide="ignore", invalid="ignore"):
-        turn = (np.asarray(wrap_angle(d.phi - _circmean(d.phi)), float) / d.sig_phi) ** 2
-    if not float(np.sum(turn)) <= chi2_limit(options.alpha, d.n - 1):
+        turn = (dev / d.sig_phi) ** 2
+    if not (float(np.sum(turn)) <= chi2_limit(options.alpha, d.n - 1) or float(np.max(dev)) <= FAR_ARM_TURN):
         return []
     dof, n_obs = (own[0].dof, own[0].n_obs) if own else (cands[0].dof, cands[0].n_obs) if cands else (1, 1)
     starts = []

@@ -9,7 +9,8 @@ residuals  per sample: (x − X(t))/σ_pos, (y − Y(t))/σ_pos and the wrapped 
            difference (φ − Φ(t) − π·[touches run in decreasing t])/σ_φ; per contact-touch
            additionally (κ − κ(t))/σ_κ and (κ_s − κ_s(t))/σ_κs from its covariance.
 
-Solved by ``scipy.optimize.least_squares`` with an analytic Jacobian for t and the pose
+Solved by MINPACK's Levenberg–Marquardt (``least_squares`` below, through
+``scipy.optimize.leastsq``) with an analytic Jacobian for t and the pose
 (dX/dt = speed·(cos Φ, sin Φ), dΦ/dt = κ·speed) and forward differences for the ≤ 2
 shape parameters. Gauge freedoms are removed: a circle's θ is held (its t's absorb a
 rotation); a line's pose moves only across the line.
@@ -213,6 +214,7 @@ class _Problem:
         self.n_res = self.n_raw if self.whiten is None else (
             sum(idx.size if w is None else w.shape[0] for idx, w in self.whiten) + 2 * len(data.contact_rows))
         self._memo: tuple[bytes, tuple] | None = None
+        self._jac_memo: tuple[bytes, np.ndarray] | None = None
 
     def _whitening(self, sig_phi: float, sig_pos: float, sig_along: float | None) -> list:
         """Per samples-touch (raw rows of x, y, φ; W): W·r is that touch's residuals whitened,
@@ -333,8 +335,15 @@ class _Problem:
         a[:n], a[n : 2 * n] = _across_along(a[:n].copy(), a[n : 2 * n].copy(), c, s, self._ratio)
 
     def jacobian(self, z: np.ndarray) -> np.ndarray:
+        """The Jacobian at z, memoized for the last z (MINPACK asks for it at the start
+        that ``least_squares`` checked, and refine_one at the solution): a fresh array each call."""
+        key = z.tobytes()
+        if self._jac_memo is not None and self._jac_memo[0] == key:
+            return self._jac_memo[1].copy()
         with np.errstate(all="ignore"):
-            return self._jacobian(z)
+            jac = self._jacobian(z)
+        self._jac_memo = (key, jac.copy())
+        return jac
 
     def _jacobian(self, z: np.ndarray) -> np.ndarray:
         _, pose, t, curve, hx, hy, phi, _ = self._model_at(z)
@@ -570,9 +579,23 @@ def _shape_pose_cov(problem: _Problem, cls: str, z: np.ndarray, cov_z: np.ndarra
     return _lost(out, (T[:, lost] != 0).any(axis=1)) if lost.any() else out
 
 
+@dataclass
+class _Solved:
+    """What the refinement reads of a solve: the solution, ½χ², the residuals there, the
+    function evaluations."""
+
+    x: np.ndarray
+    cost: float
+    fun: np.ndarray
+    nfev: int
+
+
 def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: float):
-    """``scipy.optimize.least_squares`` of the refinement: MINPACK's Levenberg–Marquardt on
-    the dense Jacobian (trust-region reflective where unknowns outnumber residuals); above
+    """The refinement's solve: MINPACK's Levenberg–Marquardt (lmder, Jacobian-scaled) on the
+    dense Jacobian, through ``scipy.optimize.leastsq`` — the same routine and arguments as
+    ``scipy.optimize.least_squares(method="lm", x_scale="jac")``, so the same iterates, without
+    that wrapper's per-evaluation bookkeeping and its two extra Jacobians (at the start and the
+    solution); trust-region reflective where unknowns outnumber residuals; above
     ``SPARSE_UNKNOWNS`` unknowns the trust-region reflective method on the Jacobian as a
     sparse matrix with LSMR steps (each sample's t enters 3 of the residuals: O(m·n) per
     step where the dense factorization takes O(m·n²))."""
@@ -580,7 +603,12 @@ def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: floa
     if z0.size > SPARSE_UNKNOWNS:
         return optimize.least_squares(fun, z0, jac=lambda z: sparse.csr_matrix(jac(z)), method="trf",
                                       tr_solver="lsmr", **kw)
-    return optimize.least_squares(fun, z0, jac=jac, method="lm" if n_res >= z0.size else "trf", **kw)
+    if n_res < z0.size:
+        return optimize.least_squares(fun, z0, jac=jac, method="trf", **kw)
+    x, _, info, _, _ = optimize.leastsq(fun, z0, Dfun=jac, full_output=True, ftol=tol, xtol=tol, gtol=tol,
+                                        maxfev=max_nfev, factor=100.0, diag=None)
+    f = info["fvec"]
+    return _Solved(x, 0.5 * float(np.dot(f, f)), f, int(info["nfev"]))
 
 
 def _pinv_cov(jac: np.ndarray) -> np.ndarray:

@@ -19,7 +19,7 @@ is evaluated ~10⁴ times per recognition: NumPy's per-call cost on 3-element ar
 its own wrapper per call. So the kernels below restate the closed forms of
 recognizer.curves on Python floats (checked against them to 1e-13 in
 tests/recognizer/test_recognizer_fast.py); refinement over every sample (dozens of rows)
-keeps least_squares.
+keeps MINPACK (recognizer.refine.least_squares).
 """
 
 from __future__ import annotations

@@ -685,14 +685,22 @@ def inflection_start(d: Contacts) -> list[tuple[dict, list]]:
 SCAN_NTH, SCAN_ZOOMS, SCAN_NZOOM = 720, 4, 21
 
 
-def _cubical_scan_cost(d: Contacts, th: np.ndarray):
-    """``cubical_scan``'s score at frame angles ``th`` (1-D): (cost, a, c, t per touch),
-    cost inf where a touch's tangent lies beyond ±π/2 of θ or the slopes give no a."""
+def _cubical_scan_data(d: Contacts) -> tuple:
+    """What ``_cubical_scan_cost`` scores against, computed once per scan (its ~15 calls, the
+    zooms, share it): ``_scan_data``, the φ deviations, the positions' weight sum and the
+    positions from their weighted mean."""
     x, y, phi, k, ks, w_pos, W = _scan_data(d)
     sig_phi = np.array([r[6] for r in d.rows()])
-    th = th[:, None]
     wsum = w_pos.sum()
-    dx, dy = x - (w_pos * x).sum() / wsum, y - (w_pos * y).sum() / wsum
+    return phi, k, ks, w_pos, W, sig_phi, wsum, x - (w_pos * x).sum() / wsum, y - (w_pos * y).sum() / wsum
+
+
+def _cubical_scan_cost(data: tuple, th: np.ndarray):
+    """``cubical_scan``'s score at frame angles ``th`` (1-D) on ``_cubical_scan_data``:
+    (cost, a, c, t per touch), cost inf where a touch's tangent lies beyond ±π/2 of θ or
+    the slopes give no a."""
+    phi, k, ks, w_pos, W, sig_phi, wsum, dx, dy = data
+    th = th[:, None]
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         psi = wrap_angle(phi - th)
         ok = np.all(np.abs(psi) < _PI / 2, axis=-1)
@@ -746,7 +754,8 @@ def cubical_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
     if len(d.places()) < 3:
         return []
     th = np.linspace(-_PI, _PI, SCAN_NTH, endpoint=False)
-    cost = _cubical_scan_cost(d, th)[0]
+    data = _cubical_scan_data(d)
+    cost = _cubical_scan_cost(data, th)[0]
     n = cost.size
     minima = sorted((i for i in range(n) if np.isfinite(cost[i]) and cost[i] <= cost[i - 1]
                      and cost[i] <= cost[(i + 1) % n]), key=lambda i: cost[i])
@@ -755,9 +764,9 @@ def cubical_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
         best, step = float(th[i]), 2.0 * _PI / SCAN_NTH
         for _ in range(SCAN_ZOOMS):
             grid = best + np.linspace(-step, step, SCAN_NZOOM)
-            cz = _cubical_scan_cost(d, grid)[0]
+            cz = _cubical_scan_cost(data, grid)[0]
             best, step = float(grid[int(np.argmin(cz))]), 2.0 * step / (SCAN_NZOOM - 1)
-        cost1, a, c, t = _cubical_scan_cost(d, np.array([best]))
+        cost1, a, c, t = _cubical_scan_cost(data, np.array([best]))
         if np.isfinite(cost1[0]):
             out.append(({"a": float(a[0]), "c": float(c[0])}, t[0].tolist()))
     return out

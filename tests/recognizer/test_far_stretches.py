@@ -139,3 +139,19 @@ def test_far_arm_hyperbola_not_left_at_its_line_limit():
     assert refused.cls == "unclassified" and refused.next_touch is not None
     assert {a["class"] for a in refused.also_fits} == {"cubical_parabola", "hyperbola"}, refused.also_fits
     assert "cubical_parabola" in refused.reason and "hyperbola" in refused.reason
+
+
+@pytest.mark.parametrize("seed,i,suggested_t,chi2", [(11, 3, (2.501562695336917,), 54.4),
+                                                     (9, 11, (5.749468683585448, 2.417177147143393), 75.1)])
+def test_far_arm_hyperbola_after_a_touch_nearer_its_vertex(seed, i, suggested_t, chi2):
+    """Development seeds 11 and 9, hyperbola trials 3 and 11 (far on an arm, 589 and 690 mm,
+    t 3.7–5.8) after their suggested touches, the last at t 2.4–2.5: that touch's tangent lies
+    7–10 mrad (5–7 of its deviations) off the others', so the asymptote starts were not
+    refined, no other start reached the truth's valley (every hyperbola fit at χ² 3e6) and
+    the answer was unclassified. Every tangent within ``classify.FAR_ARM_TURN`` of the
+    mean also gets the asymptote starts: the truth's valley."""
+    region, touches, nm = _with_suggested("hyperbola", i, seed, suggested_t)
+    rec, _, _ = B._recognize(touches, nm)
+    assert region == "far on an arm"
+    assert rec.cls == "hyperbola", [(r.cls, r.chi2) for r in rec.ranking]
+    assert rec.ranking[0].chi2 == pytest.approx(chi2, abs=0.5)

@@ -181,3 +181,29 @@ def test_noise_pos_along_is_parsed_and_checked():
     for bad in ({"pos_along": -1.0}, {"pos_along": "x"}, {"pos_across": 1.0}):
         with pytest.raises(InputError, match="noise"):
             parse_noise(bad)
+
+
+@pytest.mark.parametrize("cls", ["ellipse", "semicubical_parabola"])
+def test_solve_is_least_squares_lm_without_its_wrapper(cls):
+    """refine.least_squares calls MINPACK's lmder through scipy.optimize.leastsq: the same
+    iterates as scipy.optimize.least_squares(method="lm", x_scale="jac") (what it replaced),
+    to the last bit, on a noisy refinement that stops at its evaluation cap; the Jacobian's
+    memo hands out fresh arrays."""
+    from scipy import optimize
+
+    from recognizer import refine as R
+
+    shape, touches, tc = _data(cls, 5, noise=NoiseModel(2e-3, 0.05))
+    cand = _perturbed(shape, tc, rel=0.05)
+    data = R._collect(touches)
+    direction = 1
+    problem = R._Problem(cls, data, cand.pose, direction, 2e-3, 0.05)
+    z0 = problem.pack(dict(cand.params), cand.pose, R._initial_t(cls, dict(cand.params), cand.pose, tc, data, direction))
+    ours = R.least_squares(problem.residuals, problem.jacobian, z0, problem.n_res, 15, R.TOL)
+    ref = optimize.least_squares(problem.residuals, z0, jac=problem.jacobian, method="lm", x_scale="jac",
+                                 max_nfev=15, xtol=R.TOL, ftol=R.TOL, gtol=R.TOL)
+    assert np.array_equal(ours.x, ref.x) and ours.cost == ref.cost and ours.nfev == ref.nfev
+    assert np.array_equal(ours.fun, ref.fun) and not np.array_equal(ours.x, z0)
+    j = problem.jacobian(ours.x)
+    j[:] = 0.0
+    assert np.any(problem.jacobian(ours.x) != 0.0)
