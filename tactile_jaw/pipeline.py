@@ -71,9 +71,10 @@ CUT_SHORT = ("unreachable", "no_contact", "blocked")
 #: (measured on the random cubical parabolas of bench_explore --finite 20 --seed 11: every
 #: such sample within 1.5 mm of the corner another touch found)
 CORNER_CLEARANCE_MM = 2.0
-#: only a corner touch whose radius of curvature is below this many of its deviations
-#: clears the samples around it (:func:`clear_of_corners`): of the bench's touches rejected
-#: as corners (ρ < 2 σ_ρ), 104 of 123 on true corners have ρ < σ_ρ but only 4 of 19 on a
+#: only a corner touch whose radius of curvature is below this many of its deviations, or
+#: below ``CORNER_RADIUS_MM`` by this many, clears the samples around it
+#: (:func:`clears_around`, :func:`clear_of_corners`): of the bench's touches rejected as
+#: corners (ρ < 2 σ_ρ), 104 of 123 on true corners have ρ < σ_ρ but only 4 of 19 on a
 #: cubical's hump of radius ≈ 10 mm (ρ 6.5 ± 3.6 mm: a point of the curve, whose clearance
 #: would drop the good touches around it)
 CLEARANCE_SIGMAS = 1.0
@@ -418,9 +419,23 @@ def clearing_corners(felt: Sequence[FeltTouch]) -> np.ndarray:
     whose radius a usable roll measured there more finely (:func:`measured_there`: the wider
     roll at that place), which is no corner: the corners :func:`clear_of_corners` clears
     samples around."""
-    return np.array([t.corner for t in felt if t.corner is not None and t.fit.rho < CLEARANCE_SIGMAS * t.fit.sigma_rho
+    return np.array([t.corner for t in felt if t.corner is not None and clears_around(t.fit)
                      and not (corner_in_doubt(t.fit) and measured_there(t, felt))],
                     dtype=float).reshape(-1, 2)
+
+
+def clears_around(fit: EnvelopeFit) -> bool:
+    """Whether a roll judged a corner is sure to be one, so that the samples other rolls have
+    around it are not the curved part's (:func:`clearing_corners`): its radius of curvature
+    is below ``CLEARANCE_SIGMAS`` of its deviation (coarse encoders: no radius told from 0),
+    or below ``CORNER_RADIUS_MM`` by that many deviations (fine encoders: a roll that began on
+    the curve's end and pivoted about its end corner measures ρ 0.083 ± 0.017 mm on the
+    P-series jaw, 5 deviations from 0 yet surely under :func:`on_corner`'s floor; the rolls that ran onto that
+    corner kept a sample 0.2–0.6 mm off the curve and no class fitted: bench_explore --finite
+    20 --anywhere --seed 107 --config config/jaw-p.yaml, cubical 116). A hump measured
+    coarsely (ρ 6.5 ± 3.6 mm) passes neither."""
+    return bool(fit.rho < CLEARANCE_SIGMAS * fit.sigma_rho
+                or fit.rho + CLEARANCE_SIGMAS * fit.sigma_rho < CORNER_RADIUS_MM)
 
 
 def clear_side(touch: FeltTouch, corners: np.ndarray, span: float, samples: int) -> tuple[float, float, float] | None:
