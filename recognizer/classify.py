@@ -390,7 +390,7 @@ def _clear_of_cusp_fits(cands: list[Candidate], d: Contacts, request: Request,
 #: stretch far on its arm for the other starts: tools.bench_wide seeds 11 and 9 (development),
 #: hyperbola trials 3 and 11 far on an arm after a suggested touch at t 2.4–2.5 with the
 #: others at t 3.7–5.8: no hyperbola start reached the truth's valley (refined: χ² 3e6;
-#: the truth's 54), the answer unclassified; from the asymptote start, the truth's valley
+#: the truth's 54), the answer unclassified; from the asymptote starts they reach the truth's valley
 FAR_ARM_TURN = math.exp(-3.0)
 
 
