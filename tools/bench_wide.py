@@ -283,11 +283,9 @@ def run_trial(task) -> dict:
     out.update(rival3=_rival(rec), named3=_named(rec), rank3=_ranking(rec), got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
                nt_ms=rec.timing.get("next_touch_cpu_ms", math.nan))
     if rec.cls == cls:
-        z = [(rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()
-             if rec.uncertainty.get(k) and rec.uncertainty[k] > 0]
-        out["z"] = z
-        out["zi"] = [interval_z(rec, k, v) for k, v in shape.params.items()
-                     if rec.uncertainty.get(k) and rec.uncertainty[k] > 0]
+        stated = [(k, v) for k, v in shape.params.items() if rec.uncertainty.get(k) and rec.uncertainty[k] > 0]
+        out["z"] = [(rec.params[k] - v) / rec.uncertainty[k] for k, v in stated]
+        out["zi"] = [interval_z(rec, k, v) for k, v in stated]
     if coverage_only:
         return out
     if rec.cls != cls:
