@@ -170,14 +170,17 @@ def end_support(lines: list[kin.PadLine], other: np.ndarray, tol_mm: float = SEA
     lines pass through no one point (their crossings lie a few mm inside the pad, and a point
     fitted to them 13 mm from the end tilted the face 1.4°), but the ends themselves lie on the
     face; they must have slid along it by more than SPLIT_APART · ``tol_mm`` (ends that stay
-    put are one point: a corner near the pad end, :func:`_run`'s). Which of the two a seat
-    takes: :func:`better_support`."""
+    put are one point: a corner near the pad end, :func:`_run`'s), and lie at least
+    FACE_MIN_FRACTION of the pad from the other support (ends 1.5 mm from it lay within
+    0.02 mm of a line through it: a seat at a corner 43 mm away was lost, X-series block 1 of
+    --seed 13). Which of the two a seat takes: :func:`better_support`."""
     if len(lines) < least:
         return None
     for end in ("distal", "proximal"):
         v = np.array([getattr(ln, end) for ln in lines], dtype=float) - np.asarray(other, dtype=float)
-        if np.min(np.linalg.norm(v, axis=1)) < tol_mm:
-            continue
+        pad = float(np.linalg.norm(np.asarray(lines[0].distal) - np.asarray(lines[0].proximal)))
+        if np.min(np.linalg.norm(v, axis=1)) < FACE_MIN_FRACTION * pad:
+            continue  # ends beside the other support lie on any line through it: no face
         along, normal = np.linalg.svd(v)[2]  # the line through ``other`` nearest the ends
         worst = float(np.max(np.abs(v @ normal)))
         if worst <= tol_mm and float(np.ptp(v @ along)) > SPLIT_APART * tol_mm:
