@@ -188,7 +188,8 @@ def end_support(lines: list[kin.PadLine], other: np.ndarray, tol_mm: float = SEA
     return None
 
 
-def better_support(point: tuple[int, np.ndarray, float], end: tuple[int, np.ndarray, float] | None) -> tuple[int, np.ndarray, float]:
+def better_support(point: tuple[int, np.ndarray, float],
+                   end: tuple[int, np.ndarray, float] | None) -> tuple[int, np.ndarray, float]:
     """Of a support through which ≥ 3 lines pass (``point``, :func:`_run`: count, point,
     largest distance) and a pad end sliding along the face (``end``, :func:`end_support`), the
     one the lines fit better, the end only when more than ``END_SUPPORT_MM`` from the point.
@@ -227,9 +228,11 @@ def seat_split(lines: list[kin.PadLine], length_mm: float,
         for gap in (0, 1, 2):
             (np_, p, rp), (nq, q, rq) = run_p, _run(lines, k + gap, 1, tol_mm, SUPPORT_LINES)
             if np_ >= 3:  # a pad end resting on the face beyond the seat is the second support
-                nq, q, rq = better_support((nq, q, rq), end_support(lines[k + gap:k + gap + SUPPORT_LINES], p, tol_mm))
+                beyond = lines[k + gap:k + gap + SUPPORT_LINES]
+                nq, q, rq = better_support((nq, q, rq), end_support(beyond, p, tol_mm))
             if nq >= 3:  # ... or before it, the first
-                np_, p, rp = better_support((np_, p, rp), end_support(lines[max(k - SUPPORT_LINES, 0):k][::-1], q, tol_mm))
+                before = lines[max(k - SUPPORT_LINES, 0):k][::-1]
+                np_, p, rp = better_support((np_, p, rp), end_support(before, q, tol_mm))
             if np_ < 3 or nq < 3:
                 continue
             if gap == 2 and any(max(abs(float(ln.normal @ p - ln.d)), abs(float(ln.normal @ q - ln.d)))

@@ -31,8 +31,8 @@ from typing import Sequence
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.flat_press import (END_SUPPORT_MM, FACE_MIN_FRACTION, SEAT_TOL_MM, FlatResult, better_support, end_support,
-                                   face_normal)
+from hand_driver.flat_press import (END_SUPPORT_MM, FACE_MIN_FRACTION, SEAT_TOL_MM, FlatResult, better_support,
+                                   end_support, face_normal)
 from recognizer.touches import ContactTouch
 from tactile_common.angles import wrap_angle
 
@@ -124,8 +124,9 @@ def _at_ends(lines: kin.PadLine, groups: np.ndarray, p: np.ndarray, q: np.ndarra
     """The supports (``p``, ``q``: the points fitted to the ``P`` and ``Q`` lines), each one
     whose lines rest on a pad end sliding along the face (hand_driver.flat_press.end_support:
     their ends on one straight line with the other support, and they fit it better:
-    hand_driver.flat_press.better_support, seat_split's choice) replaced by that end of its line passing nearest the other
-    support: such lines pass through no one point, and a point fitted to them tilts the face."""
+    hand_driver.flat_press.better_support, seat_split's choice) replaced by that end of its
+    line passing nearest the other support: such lines pass through no one point, and a point
+    fitted to them tilts the face."""
     out = [p, q]
     for g, other in ((0, q), (1, p)):
         rows = sorted(np.flatnonzero(groups == g), key=lambda i: abs(float(lines.normal[i] @ other - lines.d[i])))
