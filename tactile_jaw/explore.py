@@ -175,6 +175,26 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
     return [(float(e), 1.0) if e > hi else (float(e), -1.0) for e in off if e > hi or e < lo]
 
 
+def unrolled_finger(active, out: Exploration, probes, deferred: set[str], roll_at) -> str | None:
+    """The first of the ``active`` fingers (not in ``deferred``) whose probes met the object's
+    face (``probes.faces``) and that has made no usable roll yet but has one to make
+    (``roll_at(finger)``, the planner's ψ, not None): a stop for want of reach waits one round
+    for its roll. Rolls of one finger see one stretch of a closed object, where an ellipse's
+    end, a circle, a parabola, a semicubical branch and a hyperbola all fit at 4,096 ticks;
+    with the other side's touches (pad normals nearly opposite) no open curve fits (random
+    X-series ellipse 44 of bench_explore --finite 20 --anywhere --seed 127: stopped for the
+    parabola vertex's reach while the left finger, its probes on the far side's face, had not
+    rolled; the exact tangents of the rolls both pads reach, quantized to ticks, answer ellipse
+    decisively from 4 touches, one finger's alone never)."""
+    for f in active:
+        if (f.name in deferred or not probes.faces.get(f.name)
+                or any(t.finger == f.name for t in out.used)):
+            continue
+        if roll_at(f) is not None:
+            return f.name
+    return None
+
+
 def _follow_hint(hint: Aim, finger: str, from_hint: set[str], aimed_at: list, say) -> tuple[float, tuple, float | None]:
     """A finger's next roll where its last one points (``hint``: a stretch of the curved part,
     or a corner in doubt): (ψ, the point aimed at, the span in roll spans or None), said."""
@@ -262,6 +282,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     def limits(name):  # where the finger's rolls so far left the curved part
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
+    deferred: set[str] = set()  # fingers a stop for want of reach waited for (unrolled_finger), once each
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
     #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
     #: round, so a press from the second round on (early_press) counts them with the touches
@@ -427,6 +448,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
             aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,
                                         vertex_missed, empty_at, anywhere(usable))
+            other = None if out.stopped is None else unrolled_finger(
+                active, out, probes, deferred, lambda f: choose_psi(f, model, settings, used[f.name], limits(f.name)))
+            if other is not None:  # its side of the object first: rolls on one side alone leave the rivals
+                deferred.add(other)
+                probes.queues[other] = []
+                say(f"{other}: its probes met the object's face and it has not rolled yet: it rolls there before "
+                    f"the exploration stops ({out.stopped})")
+                aim, out.stopped = None, None
             if out.stopped is not None:
                 emit(out.stopped.event("stopped_early"))
                 say(f"stopping after {len(usable)} usable touches: {out.stopped}")
