@@ -492,8 +492,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             if other is not None:  # its side of the object first: rolls on one side alone leave the rivals
                 deferred.add(other)
                 probes.queues[other] = []
-                say(f"{other}: its probes met the object's face and it has not rolled yet: it rolls there before "
-                    f"the exploration stops ({out.stopped})")
+                message = (f"{other}: its probes met the object's face and it has not rolled yet: it rolls there "
+                           f"before the exploration stops ({out.stopped})")
+                emit({"type": "event", "kind": "stop_deferred", "message": message})
+                say(message)
                 aim, out.stopped = None, None
             if out.stopped is not None:
                 emit(out.stopped.event("stopped_early"))
