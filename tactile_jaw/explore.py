@@ -209,8 +209,9 @@ def unrolled_places(cfg, out: Exploration, recognition) -> list[tuple[float, flo
     leaves to open rivals (:func:`unrolled_finger`; random X-series ellipse 57 of bench_explore
     --finite 20 --anywhere --seed 127, the right pad meeting it only at its proximal end: moved
     as the one-place move advised, the left alone rolled again and it was refused again; moved
-    so, it is answered). An open object's other finger meets its closing segment or corners:
-    no place (the P-series parabolas' vertex moves stay as they were)."""
+    so, it is answered). A parabola's vertex move does not take them (tactile_jaw.choose.next_aim):
+    an ellipse fits a parabola's touches as well always, and an open object's other finger meets
+    its closing segment or corners (the P-series parabolas' moves stay as they were)."""
     ranked = [r for r in recognition.ranking if r.consistent]
     if not ranked or not any(r.cls in CLOSED and r.chi2 - min(q.chi2 for q in ranked) < DECISIVE_CHI2
                              for r in ranked):
