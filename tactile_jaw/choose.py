@@ -220,14 +220,16 @@ def _where(x: float, y: float, phi: float) -> str:
 def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, fingers: Sequence,
              aimed_at: Sequence[tuple[float, float]], vertex_missed: bool = False,
              empty_at: Sequence[tuple[float, float]] = (),
-             anywhere: Callable[[], dict | None] | None = None) -> tuple[Aim | None, Stop | None]:
+             anywhere: Callable[[], dict | None] | None = None,
+             also: Sequence[tuple[float, float, float]] = ()) -> tuple[Aim | None, Stop | None]:
     """(the next touch's aim, or None for the planner's own choice; why no touch within reach
     can help, or None) for an answer that is not decisive because of ``why`` (module
     docstring). ``touched``: the usable touches' sample positions (x, y); ``aimed_at``: the
     points touches were aimed at so far; ``vertex_missed``: a touch aimed beyond the vertex
     fell off the curved part; ``empty_at``: points aimed at where the touch met nothing;
     ``anywhere``: the recognizer's ``next_touch`` anywhere in the workspace (called only
-    when none is within the pads' reach, for the reason to say where it would be)."""
+    when none is within the pads' reach, for the reason to say where it would be); ``also``:
+    places a move to that touch should bring within a pad's roll too (:func:`_goal_stop`)."""
     if why.kind == "vertex" and touched is not None:
         aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers, aimed_at)
         if aim is not None:
@@ -259,11 +261,12 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     if wanted is None:
         return None, Stop(f"no touch within the pads' reach is expected to {what}: move or turn the object so that "
                           f"more of its curved part faces a finger")
-    return None, _wanted_stop(f"no touch within the pads' reach is expected to {what}", wanted, reach, touched)
+    return None, _wanted_stop(f"no touch within the pads' reach is expected to {what}", wanted, reach, touched, also)
 
 
 def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, budget: int,
-                  anywhere: Callable[[], dict | None] | None = None) -> Stop:
+                  anywhere: Callable[[], dict | None] | None = None,
+                  also: Sequence[tuple[float, float, float]] = ()) -> Stop:
     """What a person can do when the touch budget is spent and the answer is not decisive:
     when the classes tested fail and others were not tested for too few usable touches, another
     placement or more touches; when no class fits (``why.kind`` 'unclassified'), no move (the touches disagree with every
@@ -272,7 +275,8 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     its vertex, the move that lets a pad roll across the vertex region (:func:`vertex_goal`,
     :func:`move_advice`); else where the recognizer's ``next_touch`` anywhere in the
     workspace would go, with the move that brings it within a pad's roll, or, when a pad
-    already reaches it, a larger budget (the ``accurate`` profile)."""
+    already reaches it, a larger budget (the ``accurate`` profile); a move to that touch
+    brings ``also``'s places within a pad's roll too where it can (:func:`_goal_stop`)."""
     spent = f"the touch budget of {budget} is spent"
     if why.kind == "unclassified" and recognition.untested:
         # the classes tested failed, the others need more usable touches than the budget gave:
@@ -295,7 +299,7 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     if reach.finger(float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])) is not None:
         return Stop(f"{spent}; the most telling touch would roll at ({float(wanted['x']):.0f}, {float(wanted['y']):.0f}) "
                     f"mm, within a pad's reach: a profile with more touches (--profile accurate) may decide")
-    return _wanted_stop(spent, wanted, reach, touched)
+    return _wanted_stop(spent, wanted, reach, touched, also)
 
 
 @dataclass(frozen=True)
@@ -344,18 +348,36 @@ def _thinned(touched, most: int = 24) -> np.ndarray:
     return xy[:, np.unique(np.linspace(0, xy.shape[1] - 1, min(most, xy.shape[1])).astype(int))]
 
 
-def _wanted_stop(head: str, wanted: dict, reach: JawReach, touched=None) -> Stop:
+def _wanted_stop(head: str, wanted: dict, reach: JawReach, touched=None, also=()) -> Stop:
     """``head``, then where the touch ``wanted`` (a ``next_touch``) would roll and the move of
     the object that brings it within a pad's roll (:func:`_goal_stop`)."""
     x, y, phi = float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])
     return _goal_stop(f"{head}; the most telling touch would roll at {_where(x, y, phi)}",
-                      place_goal(x, y, phi, touched), reach)
+                      place_goal(x, y, phi, touched), reach, also)
 
 
-def _goal_stop(message: str, goal: Goal, reach: JawReach) -> Stop:
-    """The stop ``message``, then the move of the object that reaches ``goal`` (:func:`move_advice`)."""
+def _goal_stop(message: str, goal: Goal, reach: JawReach, also: Sequence[tuple[float, float, float]] = ()) -> Stop:
+    """The stop ``message``, then the move of the object that reaches ``goal`` (:func:`move_advice`)
+    and with it the places ``also`` (x, y, φ), where a finger that never rolled met the object,
+    when a move reaches them all (:func:`with_places`), else ``goal``'s. (A move for ``also``'s
+    places alone was tried: random X-series ellipse 46 of bench_explore --finite 20 --anywhere
+    --seed 127, turned 30° and moved 4 mm so, gave no usable roll at all.)"""
+    if also:
+        advice, move = move_advice(reach, with_places(goal, also))
+        if move is not None:
+            return Stop(f"{message}: {advice}", move)
     advice, move = move_advice(reach, goal)
     return Stop(f"{message}: {advice}", move)
+
+
+def with_places(goal: Goal, also: Sequence[tuple[float, float, float]]) -> Goal:
+    """``goal`` with the places ``also`` (x, y, φ: where a finger that never rolled met the object,
+    tactile_jaw.explore.unrolled_places) to roll through too, kept clear of the opened jaw."""
+    xy = np.array([(x, y) for x, y, _ in also], float).T
+    where = " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y, _ in also)
+    return Goal(goal.places + tuple(also), np.hstack([np.asarray(goal.keep, float), xy]), goal.about,
+                f"{goal.where}, and another through the side of the object near {where}, which the other "
+                f"finger met only at its pad's end")
 
 
 def _moved(goal: Goal, turn: float, shift: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -31,10 +31,10 @@ import numpy as np
 
 from hand_driver.cycle import Jaw, run_together
 from hand_driver.flat_press import FlatResult
-from hand_driver.motion import TouchResult, roll_angles, rolling_touch
+from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
 from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
-from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
+from tactile_jaw.decide import DECISIVE_CHI2, RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
 from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, clear_side, clearing_corners,
                                   corner_in_doubt, feel, longest_run, near_corners, on_corner, too_few_clear)
@@ -52,6 +52,9 @@ OFF_CURVE_RETIRE = 2
 #: tried, counted or not, stop at this many times the budget (the seed-83 P-series objects
 #: tried at most 1.5 times theirs): a bound on the robot's time whatever the rules above
 TRIED_PER_BUDGET = 3
+#: the classes whose boundary closes: a finger that met such an object only at its pad end met
+#: its other side (:func:`unrolled_places`)
+CLOSED = frozenset({"circle", "ellipse"})
 
 
 def _touch_plan(jaw: Jaw, finger: str, model: ObjectModel, psi: float, settings: ExploreSettings,
@@ -175,6 +178,62 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
     return [(float(e), 1.0) if e > hi else (float(e), -1.0) for e in off if e > hi or e < lo]
 
 
+def unrolled_finger(active, out: Exploration, probes, deferred: set[str], roll_at) -> str | None:
+    """The first of the ``active`` fingers (not in ``deferred``) whose probes met the object's
+    face (``probes.faces``) and that has made no usable roll yet but has one to make
+    (``roll_at(finger)``, the planner's ψ, not None): a stop for want of reach waits one round
+    for its roll. Rolls of one finger see one stretch of a closed object, where an ellipse's
+    end, a circle, a parabola, a semicubical branch and a hyperbola all fit at 4,096 ticks;
+    with the other side's touches (pad normals nearly opposite) no open curve fits (random
+    X-series ellipse 44 of bench_explore --finite 20 --anywhere --seed 127: stopped for the
+    parabola vertex's reach while the left finger, its probes on the far side's face, had not
+    rolled; the exact tangents of the rolls both pads reach, quantized to ticks, answer ellipse
+    decisively from 4 touches, one finger's alone never)."""
+    for f in active:
+        if (f.name in deferred or not probes.faces.get(f.name)
+                or any(t.finger == f.name for t in out.used)):
+            continue
+        if roll_at(f) is not None:
+            return f.name
+    return None
+
+
+def unrolled_places(cfg, out: Exploration, recognition) -> list[tuple[float, float, float]]:
+    """While a closed class (``CLOSED``) fits within ``DECISIVE_CHI2`` of the best consistent
+    class (``recognition``'s ranking), for every finger without a usable roll whose probes met
+    the object (at a pad end, or a face it could not roll on): (x, y, φ) where the probe whose
+    contact lay nearest its pad's middle met it (the crossing of its last two pad lines,
+    hand_driver.motion.contact_on_pad; φ its pad's tangent, ψ − π/2). A move advised to the
+    recognizer's most telling touch then brings these within a pad's roll too
+    (tactile_jaw.choose.with_places): a closed object's other side decides what one side
+    leaves to open rivals (:func:`unrolled_finger`; random X-series ellipse 57 of bench_explore
+    --finite 20 --anywhere --seed 127, the right pad meeting it only at its proximal end: moved
+    as the one-place move advised, the left alone rolled again and it was refused again; moved
+    so, it is answered). A parabola's vertex move does not take them (tactile_jaw.choose.next_aim):
+    an ellipse fits a parabola's touches as well always, and an open object's other finger meets
+    its closing segment or corners (the P-series parabolas' moves stay as they were)."""
+    ranked = [r for r in recognition.ranking if r.consistent]
+    if not ranked or not any(r.cls in CLOSED and r.chi2 - min(q.chi2 for q in ranked) < DECISIVE_CHI2
+                             for r in ranked):
+        return []
+    out_places = []
+    for f in cfg.fingers:
+        if any(t.finger == f.name for t in out.used):
+            continue
+        met = []
+        for probe in out.probes:
+            samples = probe.touch.samples
+            if probe.finger != f.name or len(samples) < 2:
+                continue
+            point, u = contact_on_pad(samples)
+            if u is not None:
+                met.append((abs(u - 0.5 * f.pad.length_mm), point, float(samples[-1].line.psi)))
+        if met:
+            _, point, psi = min(met, key=lambda m: m[0])
+            out_places.append((float(point[0]), float(point[1]), psi - math.pi / 2))
+    return out_places
+
+
 def _follow_hint(hint: Aim, finger: str, from_hint: set[str], aimed_at: list, say) -> tuple[float, tuple, float | None]:
     """A finger's next roll where its last one points (``hint``: a stretch of the curved part,
     or a corner in doubt): (ψ, the point aimed at, the span in roll spans or None), said."""
@@ -262,6 +321,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     def limits(name):  # where the finger's rolls so far left the curved part
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
+    deferred: set[str] = set()  # fingers a stop for want of reach waited for (unrolled_finger), once each
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
     #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
     #: round, so a press from the second round on (early_press) counts them with the touches
@@ -426,7 +486,18 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             undecided = (recognition, why, usable)
             active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
             aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,
-                                        vertex_missed, empty_at, anywhere(usable))
+                                        vertex_missed, empty_at, anywhere(usable),
+                                        unrolled_places(cfg, out, recognition))
+            other = None if out.stopped is None else unrolled_finger(
+                active, out, probes, deferred, lambda f: choose_psi(f, model, settings, used[f.name], limits(f.name)))
+            if other is not None:  # its side of the object first: rolls on one side alone leave the rivals
+                deferred.add(other)
+                probes.queues[other] = []
+                message = (f"{other}: its probes met the object's face and it has not rolled yet: it rolls there "
+                           f"before the exploration stops ({out.stopped})")
+                emit({"type": "event", "kind": "stop_deferred", "message": message})
+                say(message)
+                aim, out.stopped = None, None
             if out.stopped is not None:
                 emit(out.stopped.event("stopped_early"))
                 say(f"stopping after {len(usable)} usable touches: {out.stopped}")
@@ -434,7 +505,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     if undecided is not None and out.stopped is None and cleared():  # the budget ran out undecided: what to do
         recognition, why, usable = undecided
         out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
-                                    anywhere(usable))
+                                    anywhere(usable), unrolled_places(cfg, out, recognition))
         emit(out.stopped.event("budget_spent"))
         say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses

@@ -263,3 +263,31 @@ def test_a_vertex_roll_that_ran_off_the_pad_is_tried_again_at_the_next_centre():
         aim, stop = next_aim(PARABOLA, _why("vertex"), touched, REACH, fingers, aimed)
     # PARABOLA suggests no touch: the stop the vertex side aimed at once gave before
     assert aim is None and "move or turn the object" in stop and len(aimed) >= 3
+
+
+def test_a_move_to_the_telling_touch_also_brings_the_side_an_unrolled_finger_met_within_reach():
+    # random X-series ellipse 57 of bench_explore --finite 20 --anywhere --seed 127: the left
+    # finger alone rolled (one end: ellipse, semicubical and parabola fit), the right pad met
+    # the object only at its proximal end (probe at ψ 90°: the contact 5.3 mm along the pad).
+    # The budget's move to the most telling touch alone left the right pad as it was (moved so,
+    # refused again); with the right's place it reaches both, and moved so it is answered
+    ellipse = Recognition("ellipse", {"a": 19.7, "b": 11.9}, pose=Pose(1.14, 94.0, -13.0),
+                          uncertainty={"a": 0.3, "b": 0.2},
+                          ranking=[Ranked("ellipse", True, 19.7, 22, 325.7, 0.6),
+                                   Ranked("semicubical_parabola", True, 20.1, 22, 326.1, 0.57)])
+    wanted = {"x": 87.138, "y": -0.463, "phi": math.radians(-48.0) - math.pi / 2, "gain": 0.3, "why": "w"}
+    right = (97.875, -30.442, 1.62295 - math.pi / 2)
+    assert REACH.finger(*right) is None and REACH.finger(wanted["x"], wanted["y"], wanted["phi"]) is None
+    alone = budget_advice(ellipse, _why("rival"), None, REACH, 8, anywhere=lambda: wanted)
+    both = budget_advice(ellipse, _why("rival"), None, REACH, 8, anywhere=lambda: wanted, also=[right])
+    assert alone.move is not None and both.move is not None and "met only at its pad's end" in both
+
+    def reached(move, x, y, phi):
+        mx, my = _moved(move, np.array([x]), np.array([y]))
+        return REACH.finger(float(mx[0]), float(my[0]), phi + math.radians(move["turn_deg"])) is not None
+
+    assert reached(both.move, wanted["x"], wanted["y"], wanted["phi"]) and reached(both.move, *right)
+    assert not reached(alone.move, *right)
+    # no move reaches both: the telling touch's alone
+    far = (60.0, -30.0, 1.62295 - math.pi / 2)
+    assert budget_advice(ellipse, _why("rival"), None, REACH, 8, anywhere=lambda: wanted, also=[far]).move == alone.move
