@@ -84,8 +84,9 @@ class Aim:
     (:func:`vertex_aim`), 'suggested' (the recognizer's ``next_touch``), 'curve' (where the
     finger's last, unusable roll felt the curved part: tactile_jaw.pipeline.curve_hint),
     'wider' (where its last roll was a corner only by its radius's deviation, rolled again
-    wider: tactile_jaw.explore.wider_again) or 'corner' (beside a usable roll's stretch clear of
-    the corner it ran onto, away from it: tactile_jaw.pipeline.clear_side)."""
+    wider: tactile_jaw.explore.wider_again), 'corner' (beside a usable roll's stretch clear of
+    the corner it ran onto, away from it: tactile_jaw.pipeline.clear_side) or 'scan' (where
+    a flat press's scan rolled on the curved part: tactile_jaw.explore.scanned_curve)."""
 
     x: float
     y: float

@@ -37,7 +37,7 @@ from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
 from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, clear_side, clearing_corners,
-                                  corner_in_doubt, feel, longest_run, near_corners, on_corner, too_few_clear)
+                                  corner_in_doubt, curved_part, feel, longest_run, near_corners, on_corner, too_few_clear)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              predicted_tangent, retreat_offset, within_curve)
 from tactile_jaw.probing import probe_boundary
@@ -198,6 +198,28 @@ def off_curve_count(count: int, felt: FeltTouch, hinted: bool) -> tuple[int, boo
     return (count + 1 if felt.off_curve and not follow else 0), follow
 
 
+def scanned_curve(cfg, felt: FeltTouch, reach: JawReach, no_curve: set[int]) -> Aim | None:
+    """Where a flat press's scan (``felt``: the pad turning toward a seat while in contact)
+    rolled on a curved part (tactile_jaw.pipeline.curved_part), as the Aim of its finger's
+    next roll, when its finger can roll there; else None, the press added to ``no_curve``
+    (its ``id``: the flat phase does not feel its scan again). Such a press ends the rolls
+    refused in the flat phase ("no rolling touch on it was usable"), while a roll there is
+    usable: P cubicals 109 and 113 of bench_explore --finite 20 --anywhere --seed 127 (a
+    scan of ρ 11 mm, the other finger's rolls on a corner)."""
+    if not isinstance(felt.touch, FlatResult):
+        return None
+    roll = curved_part(cfg, [felt])
+    if roll is None:
+        no_curve.add(id(felt))
+        return None
+    c, m = roll.contacts, len(roll.contacts.x) // 2
+    x, y, phi = float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2
+    if reach.finger(x, y, phi, [cfg.finger(felt.finger)]) is None:
+        return None
+    return Aim(x, y, phi, felt.finger, f"where its flat press's scan rolled on the curved part (radius of curvature "
+                                      f"{roll.fit.rho:.1f} mm)", kind="scan")
+
+
 def _spent(out: Exploration) -> int:
     """Touches that count against the budget: all but those that fell on a corner or across
     a closing segment of a finite object (a finger retires after OFF_CURVE_RETIRE in a row,
@@ -262,6 +284,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     def limits(name):  # where the finger's rolls so far left the curved part
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
+    no_curve: set[int] = set()  # presses whose scans rolled on no curved part (their id; scanned_curve)
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
     #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
     #: round, so a press from the second round on (early_press) counts them with the touches
@@ -274,7 +297,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(message)
             break
         if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
-                h.kind == "corner" for h in hints.values()):  # unless a finger rolls again beside a corner
+                h.kind in ("corner", "scan") for h in hints.values()):  # unless a finger rolls again beside a
+            # corner or where a press's scan felt the curve
             rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
@@ -376,6 +400,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 pressed.append(felt)
                 if touch.touch not in aside:  # a press beside the others' rolls leaves the finger's own rolls as
                     off_curve[name] += 1  # they were (the guard for a curve); an early press replaced one
+                scan = scanned_curve(cfg, felt, reach, no_curve)
+                if scan is not None:  # its scan rolled on the curved part: the finger rolls there next
+                    hints[name], off_curve[name] = scan, 0
+                    say(f"{name}: its flat press's scan rolled on a curved part: it rolls there next")
                 continue
             again = wider_again(felt, reach, wider)
             count, follow = off_curve_count(off_curve[name], felt, name in from_hint)
@@ -439,7 +467,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
         before = dict(out.time_s)
-        flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index, pressed)
+        flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index, pressed, no_curve)
         for rolls, presses in (("touches", "presses"), ("touch_transits", "press_transits")):  # booked apart
             moved = out.time_s[rolls] - before[rolls]
             out.time_s[rolls] -= moved
