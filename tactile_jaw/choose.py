@@ -347,9 +347,10 @@ def _thinned(touched, most: int = 24) -> np.ndarray:
 
 def _wanted_stop(head: str, wanted: dict, reach: JawReach, touched=None) -> Stop:
     """``head``, then where the touch ``wanted`` (a ``next_touch``) would roll and the move of
-    the object that brings it within a pad's roll (:func:`_goal_stop`)."""
+    the object that brings it within a pad's roll (:func:`_goal_stop`); ``wanted['what']``, if
+    given, names the touch (tactile_jaw.explore.past_felt_end)."""
     x, y, phi = float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])
-    return _goal_stop(f"{head}; the most telling touch would roll at {_where(x, y, phi)}",
+    return _goal_stop(f"{head}; {wanted.get('what', 'the most telling touch')} would roll at {_where(x, y, phi)}",
                       place_goal(x, y, phi, touched), reach)
 
 

@@ -32,6 +32,7 @@ import numpy as np
 from hand_driver.cycle import Jaw, run_together
 from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult, roll_angles, rolling_touch
+from recognizer.curves import CURVES
 from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import RecognizeTouches, decide, final_answer, sample_positions
@@ -193,9 +194,20 @@ def off_curve_count(count: int, felt: FeltTouch, hinted: bool) -> tuple[int, boo
     counts, hint or not, so a finger retires (``OFF_CURVE_RETIRE``) instead of rolling there
     for ever (random parabola 11 of bench_explore --finite 3 --anywhere --follow --seed 17
     --config config/jaw-p.yaml, moved as advised: the same roll, χ² 731 on 3 dof with a
-    hint, 236 times; off-curve touches do not count against the budget)."""
+    hint, 236 times; off-curve touches do not count against the budget). A roll that met
+    nothing (:func:`met_nothing`) counts as one off the curved part."""
     follow = felt.curve_at is not None and not hinted
-    return (count + 1 if felt.off_curve and not follow else 0), follow
+    return (count + 1 if (felt.off_curve or met_nothing(felt)) and not follow else 0), follow
+
+
+def met_nothing(felt: FeltTouch) -> bool:
+    """A roll whose approach met nothing (no sample): where the object model predicted a
+    tangent, the pad found no boundary within its travel. It tells as little of the curve as
+    a roll on a corner, and is counted so (toward retiring its finger, not against the
+    budget): the right pad of P cubical 113 of bench_explore --finite 20 --anywhere --seed 127
+    --config config/jaw-p.yaml rolled into empty space 4 times, 4 of the budget's 8, while
+    the left pad's rolls told the class."""
+    return isinstance(felt.touch, TouchResult) and felt.touch.outcome == "no_contact" and not felt.touch.samples
 
 
 def scanned_curve(cfg, felt: FeltTouch, reach: JawReach, no_curve: set[int]) -> Aim | None:
@@ -220,11 +232,60 @@ def scanned_curve(cfg, felt: FeltTouch, reach: JawReach, no_curve: set[int]) -> 
                                       f"{roll.fit.rho:.1f} mm)", kind="scan")
 
 
+#: how far past the felt stretch's other end :func:`past_felt_end` places a touch, in
+#: lengths of that stretch (of the answer's curve parameter t): far enough that it is not
+#: the stretch felt again, near enough to lie on the object's curved part
+PAST_END_FRACTION = 1.0
+
+
+def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], dict | None], reach: JawReach,
+                  span: float, limits: Callable[[str], list]) -> Callable[[], dict | None]:
+    """The touch a budget-spent refusal names (tactile_jaw.choose.budget_advice): the
+    recognizer's ``wanted`` (its ``next_touch`` anywhere), unless a pad reaches that place
+    but its rolls left the curved part short of it (``limits``: tactile_jaw.explore.curve_limits,
+    the object ends there, at a corner); then the place ``PAST_END_FRACTION`` of the felt
+    stretch past its other end, on the leading answer's curve (the usable ``touches``'
+    contacts' parameters t), with the tangent the touches have: the curve the pads did not
+    reach, which a move of the object brings within a roll. P semicubicals 124 and 132 of
+    bench_explore --finite 20 --anywhere --seed 127 --config config/jaw-p.yaml: the pads
+    reached t 0.86–2.9 of the branch, semicubical and ellipse both fitted, and the touch named
+    lay beside the cusp-side corner "within a pad's reach": more touches were advised, none of
+    which could roll there."""
+
+    def run() -> dict | None:
+        place = wanted()
+        if place is None or recognition.pose is None or len(recognition.contacts) != len(touches):
+            return place
+        x, y, phi = float(place["x"]), float(place["y"]), float(place["phi"])
+        finger = reach.finger(x, y, phi)
+        if finger is None or within_curve(phi + math.pi / 2, span, limits(finger.name)):
+            return place
+        curve, pose = CURVES[recognition.cls](recognition.params), recognition.pose
+        t = np.array([float(c["t"]) for c in recognition.contacts])
+        lo, hi = int(np.argmin(t)), int(np.argmax(t))
+        near = int(np.argmin(np.hypot(np.array([float(c["x"]) for c in recognition.contacts]) - x,
+                                      np.array([float(c["y"]) for c in recognition.contacts]) - y)))
+        end = lo if abs(t[near] - t[hi]) < abs(t[near] - t[lo]) else hi  # the felt stretch's other end
+        t_far = t[end] + PAST_END_FRACTION * (t[end] - t[hi if end == lo else lo])
+        if t_far == t[end]:
+            return place
+        px, py = (float(np.ravel(v)[0]) for v in pose.apply(*curve.point(np.array([t_far]))))
+        tangent = lambda u: float(np.ravel(curve.tangent_angle(np.array([u])))[0]) + pose.theta  # noqa: E731
+        felt = touches[end].samples
+        flip = math.remainder(float(np.median(felt.phi)) - tangent(t[end]), 2 * math.pi)
+        flip = math.pi if abs(flip) > math.pi / 2 else 0.0  # the touches' direction of travel
+        return {**place, "x": px, "y": py, "phi": float(math.remainder(tangent(t_far) + flip, 2 * math.pi)),
+                "what": "a touch on the curve past where the pads reached it"}
+
+    return run
+
+
 def _spent(out: Exploration) -> int:
     """Touches that count against the budget: all but those that fell on a corner or across
-    a closing segment of a finite object (a finger retires after OFF_CURVE_RETIRE in a row,
-    so these stay few); the touches on the curved part are what the budget is for."""
-    return sum(not t.off_curve and not isinstance(t.touch, FlatResult) for t in out.touches)
+    a closing segment of a finite object, or met nothing (a finger retires after
+    OFF_CURVE_RETIRE in a row, so these stay few); the touches on the curved part are what
+    the budget is for."""
+    return sum(not t.off_curve and not met_nothing(t) and not isinstance(t.touch, FlatResult) for t in out.touches)
 
 
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTouches,
@@ -414,8 +475,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
                                                         "off it", kind="curve")
             if off_curve[name] == OFF_CURVE_RETIRE:
-                message = (f"{name}: its last {OFF_CURVE_RETIRE} touches fell on corners or closing segments: "
-                           f"no more touches with this finger")
+                message = (f"{name}: its last {OFF_CURVE_RETIRE} touches fell on corners or closing segments or met "
+                           f"nothing: no more touches with this finger")
                 emit({"type": "event", "kind": "finger_retired", "message": message})
                 say(message)
             if problem is None:
@@ -461,8 +522,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 break
     if undecided is not None and out.stopped is None and cleared():  # the budget ran out undecided: what to do
         recognition, why, usable = undecided
-        out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
-                                    anywhere(usable))
+        wanted = anywhere(usable)
+        if wanted is not None:  # a place past where the rolls left the curved part is no place to touch
+            wanted = past_felt_end(recognition, usable, wanted, reach, settings.roll_span_rad, limits)
+        out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches, wanted)
         emit(out.stopped.event("budget_spent"))
         say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
