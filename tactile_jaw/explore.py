@@ -200,6 +200,19 @@ def off_curve_count(count: int, felt: FeltTouch, hinted: bool) -> tuple[int, boo
     return (count + 1 if (felt.off_curve or met_nothing(felt)) and not follow else 0), follow
 
 
+def rolls_on_within(name: str, used: list[FeltTouch], psi: float | None) -> bool:
+    """Whether finger ``name``, whose last ``OFF_CURVE_RETIRE`` rolls fell off the curved part,
+    rolls on instead of retiring: it felt the curve (a usable touch among ``used``) and the
+    planner still has an orientation ``psi`` for it short of where its rolls left the curve
+    (tactile_jaw.plan.choose_psi within :func:`curve_limits`, which those rolls bound). Its
+    rolls off the curve then only say where the curve ends on its side; its orientations
+    between them are not spent. Calibrated P semicubical 130 of bench_explore --finite 20
+    --anywhere --seed 127: the right pad rolled on the curve at ψ 82.5° and 110°, then at 55°
+    and 67.5° (the planner's farthest from the earlier ones) across the closing segment, and
+    retired; ψ 88–104° was left, and the answer was refused with 2 usable touches."""
+    return psi is not None and any(t.finger == name for t in used)
+
+
 def met_nothing(felt: FeltTouch) -> bool:
     """A roll whose approach met nothing (no sample): where the object model predicted a
     tangent, the pad found no boundary within its travel. It tells as little of the curve as
@@ -474,6 +487,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             if follow and reach.finger(*felt.curve_at, [cfg.finger(name)]) is not None:
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
                                                         "off it", kind="curve")
+            if off_curve[name] == OFF_CURVE_RETIRE and felt.off_curve and rolls_on_within(
+                    name, out.used, choose_psi(cfg.finger(name), model, settings, used[name], limits(name))):
+                off_curve[name] -= 1
+                say(f"{name}: its last {OFF_CURVE_RETIRE} touches left the curved part it felt: it rolls on short of "
+                    f"where they left it")
             if off_curve[name] == OFF_CURVE_RETIRE:
                 message = (f"{name}: its last {OFF_CURVE_RETIRE} touches fell on corners or closing segments or met "
                            f"nothing: no more touches with this finger")

@@ -101,3 +101,16 @@ def test_a_budget_refusal_names_the_curve_past_the_reach_not_a_place_past_its_en
     assert math.remainder(found["phi"] - f_phi, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
     assert reach.finger(fx, fy, f_phi) is None  # out of reach: the refusal names a move
     assert past_felt_end(rec, touches, lambda: wanted, reach, span, lambda name: [])() is wanted
+
+
+def test_a_finger_that_felt_the_curve_rolls_on_within_where_it_left_it():
+    """Calibrated P semicubical 130 of finite seed 127: the right pad felt the curve at ψ 82.5°
+    and 110°, then crossed the closing segment twice; with an orientation left short of those
+    rolls it rolls on (answered right, 18.8 s; refused with 2 usable touches before). A finger
+    that never felt the curve, or has no orientation left, retires."""
+    from tactile_jaw.explore import rolls_on_within
+
+    felt = [_roll("ok", 9)]  # a usable roll of the right pad
+    assert rolls_on_within("right", felt, math.radians(95.0))
+    assert not rolls_on_within("right", felt, None)
+    assert not rolls_on_within("left", felt, math.radians(95.0))
