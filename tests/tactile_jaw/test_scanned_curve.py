@@ -43,26 +43,28 @@ def test_a_press_whose_scan_rolled_on_the_curve_aims_its_finger_there():
     assert scanned_curve(CONFIG_P, corner, reach, no_curve) is None and no_curve == {id(corner)}
 
 
-def _roll(outcome: str, samples: int) -> FeltTouch:
-    touch = TouchResult("right", 3, 1.5, [object()] * samples, outcome=outcome)
+def _roll(outcome: str, samples: int, index: int = 3) -> FeltTouch:
+    touch = TouchResult("right", index, 1.5, [object()] * samples, outcome=outcome)
     return FeltTouch(touch, None, None, None, "why", None)
 
 
 def test_a_roll_that_met_nothing_counts_as_one_off_the_curve():
-    """Rolls into empty space (the right pad of P cubical 113 of finite seed 127: 4 of its 8
-    budgeted touches) retire their finger as rolls on corners do, and are not charged to the
-    budget; a roll cut short with samples is neither."""
-    empty, cut = _roll("no_contact", 0), _roll("no_contact", 4)
+    """Rolls into empty space of a finger that has not felt the curve (the right pad of P
+    cubical 113 of finite seed 127: 4 of its 8 budgeted touches) retire it as rolls on corners
+    do, and are not charged to the budget; a roll cut short with samples is none; a finger that
+    felt the curve goes on (P cubical 100: its right pad's third usable roll came after one)."""
+    empty, cut = _roll("no_contact", 0), _roll("no_contact", 4, index=4)
     assert met_nothing(empty) and not met_nothing(cut) and not met_nothing(_roll("ok", 9))
     count = 0
     for _ in range(OFF_CURVE_RETIRE):
-        count, follow = off_curve_count(count, empty, hinted=False)
+        count, follow = off_curve_count(count, empty, hinted=False, empty=True)
         assert not follow
     assert count == OFF_CURVE_RETIRE
+    assert off_curve_count(1, empty, hinted=False) == (0, False)  # its finger felt the curve
     assert off_curve_count(1, cut, hinted=False) == (0, False)
     out = Exploration()
     out.touches += [empty, cut]
-    assert _spent(out) == 1
+    assert _spent(out, {empty.touch.touch}) == 1 and _spent(out) == 2
 
 
 def test_a_budget_refusal_names_the_curve_past_the_reach_not_a_place_past_its_end():
