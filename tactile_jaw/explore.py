@@ -286,7 +286,10 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
         if t_far == t[end]:
             return place
         px, py = (float(np.ravel(v)[0]) for v in pose.apply(*curve.point(np.array([t_far]))))
-        tangent = lambda u: float(np.ravel(curve.tangent_angle(np.array([u])))[0]) + pose.theta  # noqa: E731
+
+        def tangent(u: float) -> float:
+            return float(np.ravel(curve.tangent_angle(np.array([u])))[0]) + pose.theta
+
         felt = touches[end].samples
         flip = math.remainder(float(np.median(felt.phi)) - tangent(t[end]), 2 * math.pi)
         flip = math.pi if abs(flip) > math.pi / 2 else 0.0  # the touches' direction of travel
