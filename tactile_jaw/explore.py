@@ -186,7 +186,7 @@ def _follow_hint(hint: Aim, finger: str, from_hint: set[str], aimed_at: list, sa
     return hint.psi, hint.point, (WIDER_SPAN if hint.kind == "wider" else None)
 
 
-def off_curve_count(count: int, felt: FeltTouch, hinted: bool, empty: bool = False) -> tuple[int, bool]:
+def off_curve_count(count: int, felt: FeltTouch, hinted: bool) -> tuple[int, bool]:
     """(the finger's touches in a row off the curved part, after ``felt``; whether its next
     roll goes where ``felt`` still felt the curved part, ``felt.curve_at``). A roll that ran
     off the curved part yet felt it on a shorter stretch (tactile_jaw.pipeline.curve_hint) is
@@ -194,11 +194,9 @@ def off_curve_count(count: int, felt: FeltTouch, hinted: bool, empty: bool = Fal
     counts, hint or not, so a finger retires (``OFF_CURVE_RETIRE``) instead of rolling there
     for ever (random parabola 11 of bench_explore --finite 3 --anywhere --follow --seed 17
     --config config/jaw-p.yaml, moved as advised: the same roll, χ² 731 on 3 dof with a
-    hint, 236 times; off-curve touches do not count against the budget). ``empty``: a roll
-    that met nothing (:func:`met_nothing`) of a finger that has not felt the curve, counted as
-    one off the curved part."""
+    hint, 236 times; off-curve touches do not count against the budget)."""
     follow = felt.curve_at is not None and not hinted
-    return (count + 1 if (felt.off_curve or empty) and not follow else 0), follow
+    return (count + 1 if felt.off_curve and not follow else 0), follow
 
 
 def rolls_on_within(name: str, used: list[FeltTouch], psi: float | None) -> bool:
@@ -212,18 +210,6 @@ def rolls_on_within(name: str, used: list[FeltTouch], psi: float | None) -> bool
     and 67.5° (the planner's farthest from the earlier ones) across the closing segment, and
     retired; ψ 88–104° was left, and the answer was refused with 2 usable touches."""
     return psi is not None and any(t.finger == name for t in used)
-
-
-def met_nothing(felt: FeltTouch) -> bool:
-    """A roll whose approach met nothing (no sample): where the object model predicted a
-    tangent, the pad found no boundary within its travel. Of a finger that has not felt the
-    curve it tells as little as a roll on a corner, and is counted so (toward retiring its
-    finger, not against the budget): the right pad of P cubical 113 of bench_explore --finite
-    20 --anywhere --seed 127 --config config/jaw-p.yaml rolled into empty space 4 times, 4 of
-    the budget's 8, while the left pad's rolls told the class. A finger that felt the curve
-    goes on as before (its count reset, the roll charged): P cubical 100 of the same run, whose
-    right pad rolled on after such a roll to its third usable touch."""
-    return isinstance(felt.touch, TouchResult) and felt.touch.outcome == "no_contact" and not felt.touch.samples
 
 
 def scanned_curve(cfg, felt: FeltTouch, reach: JawReach, no_curve: set[int]) -> Aim | None:
@@ -299,13 +285,11 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
     return run
 
 
-def _spent(out: Exploration, free: Container[int] = ()) -> int:
+def _spent(out: Exploration) -> int:
     """Touches that count against the budget: all but those that fell on a corner or across
-    a closing segment of a finite object, or are ``free`` (their touch indices: rolls that met
-    nothing before their finger felt the curve; a finger retires after OFF_CURVE_RETIRE in a
-    row, so these stay few); the touches on the curved part are what the budget is for."""
-    return sum(not t.off_curve and t.touch.touch not in free and not isinstance(t.touch, FlatResult)
-               for t in out.touches)
+    a closing segment of a finite object (a finger retires after OFF_CURVE_RETIRE in a row,
+    so these stay few); the touches on the curved part are what the budget is for."""
+    return sum(not t.off_curve and not isinstance(t.touch, FlatResult) for t in out.touches)
 
 
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTouches,
@@ -365,13 +349,12 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     def limits(name):  # where the finger's rolls so far left the curved part
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
-    free: set[int] = set()  # rolls that met nothing before their finger felt the curve (not charged)
     no_curve: set[int] = set()  # presses whose scans rolled on no curved part (their id; scanned_curve)
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
     #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
     #: round, so a press from the second round on (early_press) counts them with the touches
     beside = 0
-    while _spent(out, free) < settings.touches:
+    while _spent(out) < settings.touches:
         if len(out.touches) >= TRIED_PER_BUDGET * settings.touches:
             message = (f"{len(out.touches)} touches tried, {TRIED_PER_BUDGET}x the budget of {settings.touches}: "
                        f"most fell off the curved part; no more touches")
@@ -392,7 +375,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 f"curved part: the planner's instead")
             aimed_at.append(aim.point)
             aim = None
-        budget = settings.touches - _spent(out, free)
+        budget = settings.touches - _spent(out)
         active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE][:budget]
         probing = probes.next()  # a finger's probes left once the other felt enough (tactile_jaw.probing)
         for f in active:
@@ -488,10 +471,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                     say(f"{name}: its flat press's scan rolled on a curved part: it rolls there next")
                 continue
             again = wider_again(felt, reach, wider)
-            empty = met_nothing(felt) and not any(t.finger == name for t in out.used)
-            if empty:  # before its finger felt the curve: not charged to the budget
-                free.add(touch.touch)
-            count, follow = off_curve_count(off_curve[name], felt, name in from_hint, empty)
+            count, follow = off_curve_count(off_curve[name], felt, name in from_hint)
             off_curve[name] = 0 if again is not None else count  # a roll in doubt, rolled again wider: not counted
             if again is not None:
                 hints[name] = again
@@ -504,8 +484,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 say(f"{name}: its last {OFF_CURVE_RETIRE} touches left the curved part it felt: it rolls on short of "
                     f"where they left it")
             if off_curve[name] == OFF_CURVE_RETIRE:
-                message = (f"{name}: its last {OFF_CURVE_RETIRE} touches fell on corners or closing segments or met "
-                           f"nothing: no more touches with this finger")
+                message = (f"{name}: its last {OFF_CURVE_RETIRE} touches fell on corners or closing segments: "
+                           f"no more touches with this finger")
                 emit({"type": "event", "kind": "finger_retired", "message": message})
                 say(message)
             if problem is None:
@@ -517,7 +497,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 if touch.outcome == "ok":
                     touch.outcome = "rejected"
                 emit({"type": "event", "kind": "touch_rejected", "message": problem, "touch": touch.touch})
-            say(f"touch {len(out.touches)} ({_spent(out, free)}/{settings.touches} of the budget): {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
+            say(f"touch {len(out.touches)} ({_spent(out)}/{settings.touches} of the budget): {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
                 f"{len(touch.samples)} samples, {'used' if problem is None else 'not used: ' + problem}")
             if aimed is not None and name == aimed.finger and problem is not None:
                 # the object ends there only when the roll fell off the curved part or met nothing;

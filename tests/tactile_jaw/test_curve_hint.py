@@ -67,12 +67,12 @@ def test_a_roll_aimed_where_the_curve_was_felt_is_followed_once():
 
     from tactile_jaw.explore import OFF_CURVE_RETIRE, off_curve_count
 
-    hinted_off = SimpleNamespace(off_curve=True, curve_at=(1.0, 2.0, 0.3), touch=None)
+    hinted_off = SimpleNamespace(off_curve=True, curve_at=(1.0, 2.0, 0.3))
     count, follow = off_curve_count(0, hinted_off, hinted=False)
     assert (count, follow) == (0, True)  # first time: aim there
     for _ in range(OFF_CURVE_RETIRE):
         count, follow = off_curve_count(count, hinted_off, hinted=True)
         assert not follow
     assert count == OFF_CURVE_RETIRE
-    assert off_curve_count(1, SimpleNamespace(off_curve=False, curve_at=None, touch=None), hinted=True) == (0, False)
-    assert off_curve_count(1, SimpleNamespace(off_curve=True, curve_at=None, touch=None), hinted=False) == (2, False)
+    assert off_curve_count(1, SimpleNamespace(off_curve=False, curve_at=None), hinted=True) == (0, False)
+    assert off_curve_count(1, SimpleNamespace(off_curve=True, curve_at=None), hinted=False) == (2, False)

@@ -1,7 +1,8 @@
 """The exploration's use of what a touch that was not a usable roll still told: a flat
 press whose scan rolled on the curved part sends its finger to roll there
-(tactile_jaw.explore.scanned_curve), and a roll that met nothing counts as one off the
-curved part (tactile_jaw.explore.met_nothing)."""
+(tactile_jaw.explore.scanned_curve); a finger whose rolls left the curve it felt rolls on
+short of where they left it (tactile_jaw.explore.rolls_on_within); a budget refusal names
+the curve past the felt stretch (tactile_jaw.explore.past_felt_end)."""
 
 from __future__ import annotations
 
@@ -13,9 +14,8 @@ import pytest
 from hand_driver.motion import TouchResult
 from recognizer.scene import load_scene
 from tactile_jaw.choose import JawReach
-from tactile_jaw.explore import OFF_CURVE_RETIRE, _spent, met_nothing, off_curve_count, scanned_curve
+from tactile_jaw.explore import scanned_curve
 from tactile_jaw.pipeline import FeltTouch
-from tactile_jaw.rounds import Exploration
 from tactile_jaw.settings import ExploreSettings
 from tests.tactile_jaw.test_envelope_order import support_point
 from tests.tactile_jaw.test_flat import CONFIG_P, _press_scan
@@ -41,30 +41,6 @@ def test_a_press_whose_scan_rolled_on_the_curve_aims_its_finger_there():
     assert ZIGZAG.min() <= math.remainder(aim.psi, 2 * math.pi) <= ZIGZAG.max()
     corner = _press_scan(lambda p: np.array([100.0, 2.0]), ZIGZAG)
     assert scanned_curve(CONFIG_P, corner, reach, no_curve) is None and no_curve == {id(corner)}
-
-
-def _roll(outcome: str, samples: int, index: int = 3) -> FeltTouch:
-    touch = TouchResult("right", index, 1.5, [object()] * samples, outcome=outcome)
-    return FeltTouch(touch, None, None, None, "why", None)
-
-
-def test_a_roll_that_met_nothing_counts_as_one_off_the_curve():
-    """Rolls into empty space of a finger that has not felt the curve (the right pad of P
-    cubical 113 of finite seed 127: 4 of its 8 budgeted touches) retire it as rolls on corners
-    do, and are not charged to the budget; a roll cut short with samples is none; a finger that
-    felt the curve goes on (P cubical 100: its right pad's third usable roll came after one)."""
-    empty, cut = _roll("no_contact", 0), _roll("no_contact", 4, index=4)
-    assert met_nothing(empty) and not met_nothing(cut) and not met_nothing(_roll("ok", 9))
-    count = 0
-    for _ in range(OFF_CURVE_RETIRE):
-        count, follow = off_curve_count(count, empty, hinted=False, empty=True)
-        assert not follow
-    assert count == OFF_CURVE_RETIRE
-    assert off_curve_count(1, empty, hinted=False) == (0, False)  # its finger felt the curve
-    assert off_curve_count(1, cut, hinted=False) == (0, False)
-    out = Exploration()
-    out.touches += [empty, cut]
-    assert _spent(out, {empty.touch.touch}) == 1 and _spent(out) == 2
 
 
 def test_a_budget_refusal_names_the_curve_past_the_reach_not_a_place_past_its_end():
@@ -112,7 +88,8 @@ def test_a_finger_that_felt_the_curve_rolls_on_within_where_it_left_it():
     that never felt the curve, or has no orientation left, retires."""
     from tactile_jaw.explore import rolls_on_within
 
-    felt = [_roll("ok", 9)]  # a usable roll of the right pad
+    touch = TouchResult("right", 3, 1.5, [], outcome="ok")
+    felt = [FeltTouch(touch, None, None, None, None, None)]  # a usable roll of the right pad
     assert rolls_on_within("right", felt, math.radians(95.0))
     assert not rolls_on_within("right", felt, None)
     assert not rolls_on_within("left", felt, math.radians(95.0))
