@@ -84,8 +84,9 @@ class Aim:
     (:func:`vertex_aim`), 'suggested' (the recognizer's ``next_touch``), 'curve' (where the
     finger's last, unusable roll felt the curved part: tactile_jaw.pipeline.curve_hint),
     'wider' (where its last roll was a corner only by its radius's deviation, rolled again
-    wider: tactile_jaw.explore.wider_again) or 'corner' (beside a usable roll's stretch clear of
-    the corner it ran onto, away from it: tactile_jaw.pipeline.clear_side)."""
+    wider: tactile_jaw.explore.wider_again), 'corner' (beside a usable roll's stretch clear of
+    the corner it ran onto, away from it: tactile_jaw.pipeline.clear_side) or 'scan' (where
+    a flat press's scan rolled on the curved part: tactile_jaw.explore.scanned_curve)."""
 
     x: float
     y: float
@@ -350,9 +351,10 @@ def _thinned(touched, most: int = 24) -> np.ndarray:
 
 def _wanted_stop(head: str, wanted: dict, reach: JawReach, touched=None, also=()) -> Stop:
     """``head``, then where the touch ``wanted`` (a ``next_touch``) would roll and the move of
-    the object that brings it within a pad's roll (:func:`_goal_stop`)."""
+    the object that brings it within a pad's roll (:func:`_goal_stop`); ``wanted['what']``, if
+    given, names the touch (tactile_jaw.explore.past_felt_end)."""
     x, y, phi = float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])
-    return _goal_stop(f"{head}; the most telling touch would roll at {_where(x, y, phi)}",
+    return _goal_stop(f"{head}; {wanted.get('what', 'the most telling touch')} would roll at {_where(x, y, phi)}",
                       place_goal(x, y, phi, touched), reach, also)
 
 

@@ -32,12 +32,13 @@ import numpy as np
 from hand_driver.cycle import Jaw, run_together
 from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
+from recognizer.curves import CURVES
 from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import DECISIVE_CHI2, RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
 from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, clear_side, clearing_corners,
-                                  corner_in_doubt, feel, longest_run, near_corners, on_corner, too_few_clear)
+                                  corner_in_doubt, curved_part, feel, longest_run, near_corners, on_corner, too_few_clear)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              predicted_tangent, retreat_offset, within_curve)
 from tactile_jaw.probing import probe_boundary
@@ -257,6 +258,92 @@ def off_curve_count(count: int, felt: FeltTouch, hinted: bool) -> tuple[int, boo
     return (count + 1 if felt.off_curve and not follow else 0), follow
 
 
+def rolls_on_within(name: str, used: list[FeltTouch], psi: float | None) -> bool:
+    """Whether finger ``name``, whose last ``OFF_CURVE_RETIRE`` rolls fell off the curved part,
+    rolls on instead of retiring: it felt the curve (a usable touch among ``used``) and the
+    planner still has an orientation ``psi`` for it short of where its rolls left the curve
+    (tactile_jaw.plan.choose_psi within :func:`curve_limits`, which those rolls bound). Its
+    rolls off the curve then only say where the curve ends on its side; its orientations
+    between them are not spent. Calibrated P semicubical 130 of bench_explore --finite 20
+    --anywhere --seed 127: the right pad rolled on the curve at ψ 82.5° and 110°, then at 55°
+    and 67.5° (the planner's farthest from the earlier ones) across the closing segment, and
+    retired; ψ 88–104° was left, and the answer was refused with 2 usable touches."""
+    return psi is not None and any(t.finger == name for t in used)
+
+
+def scanned_curve(cfg, felt: FeltTouch, reach: JawReach, no_curve: set[int]) -> Aim | None:
+    """Where a flat press's scan (``felt``: the pad turning toward a seat while in contact)
+    rolled on a curved part (tactile_jaw.pipeline.curved_part), as the Aim of its finger's
+    next roll, when its finger can roll there; else None, the press added to ``no_curve``
+    (its ``id``: the flat phase does not feel its scan again). Such a press ends the rolls
+    refused in the flat phase ("no rolling touch on it was usable"), while a roll there is
+    usable: P cubicals 109 and 113 of bench_explore --finite 20 --anywhere --seed 127 (a
+    scan of ρ 11 mm, the other finger's rolls on a corner)."""
+    if not isinstance(felt.touch, FlatResult):
+        return None
+    roll = curved_part(cfg, [felt])
+    if roll is None:
+        no_curve.add(id(felt))
+        return None
+    c, m = roll.contacts, len(roll.contacts.x) // 2
+    x, y, phi = float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2
+    if reach.finger(x, y, phi, [cfg.finger(felt.finger)]) is None:
+        return None
+    return Aim(x, y, phi, felt.finger, f"where its flat press's scan rolled on the curved part (radius of curvature "
+                                      f"{roll.fit.rho:.1f} mm)", kind="scan")
+
+
+#: how far past the felt stretch's other end :func:`past_felt_end` places a touch, in
+#: lengths of that stretch (of the answer's curve parameter t): far enough that it is not
+#: the stretch felt again, near enough to lie on the object's curved part
+PAST_END_FRACTION = 1.0
+
+
+def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], dict | None], reach: JawReach,
+                  span: float, limits: Callable[[str], list]) -> Callable[[], dict | None]:
+    """The touch a budget-spent refusal names (tactile_jaw.choose.budget_advice): the
+    recognizer's ``wanted`` (its ``next_touch`` anywhere), unless a pad reaches that place
+    but its rolls left the curved part short of it (``limits``: tactile_jaw.explore.curve_limits,
+    the object ends there, at a corner); then the place ``PAST_END_FRACTION`` of the felt
+    stretch past its other end, on the leading answer's curve (the usable ``touches``'
+    contacts' parameters t), with the tangent the touches have: the curve the pads did not
+    reach, which a move of the object brings within a roll. P semicubicals 124 and 132 of
+    bench_explore --finite 20 --anywhere --seed 127 --config config/jaw-p.yaml: the pads
+    reached t 0.86–2.9 of the branch, semicubical and ellipse both fitted, and the touch named
+    lay beside the cusp-side corner "within a pad's reach": more touches were advised, none of
+    which could roll there."""
+
+    def run() -> dict | None:
+        place = wanted()
+        if place is None or recognition.pose is None or len(recognition.contacts) != len(touches):
+            return place
+        x, y, phi = float(place["x"]), float(place["y"]), float(place["phi"])
+        finger = reach.finger(x, y, phi)
+        if finger is None or within_curve(phi + math.pi / 2, span, limits(finger.name)):
+            return place
+        curve, pose = CURVES[recognition.cls](recognition.params), recognition.pose
+        t = np.array([float(c["t"]) for c in recognition.contacts])
+        lo, hi = int(np.argmin(t)), int(np.argmax(t))
+        near = int(np.argmin(np.hypot(np.array([float(c["x"]) for c in recognition.contacts]) - x,
+                                      np.array([float(c["y"]) for c in recognition.contacts]) - y)))
+        end = lo if abs(t[near] - t[hi]) < abs(t[near] - t[lo]) else hi  # the felt stretch's other end
+        t_far = t[end] + PAST_END_FRACTION * (t[end] - t[hi if end == lo else lo])
+        if t_far == t[end]:
+            return place
+        px, py = (float(np.ravel(v)[0]) for v in pose.apply(*curve.point(np.array([t_far]))))
+
+        def tangent(u: float) -> float:
+            return float(np.ravel(curve.tangent_angle(np.array([u])))[0]) + pose.theta
+
+        felt = touches[end].samples
+        flip = math.remainder(float(np.median(felt.phi)) - tangent(t[end]), 2 * math.pi)
+        flip = math.pi if abs(flip) > math.pi / 2 else 0.0  # the touches' direction of travel
+        return {**place, "x": px, "y": py, "phi": float(math.remainder(tangent(t_far) + flip, 2 * math.pi)),
+                "what": "a touch on the curve past where the pads reached it"}
+
+    return run
+
+
 def _spent(out: Exploration) -> int:
     """Touches that count against the budget: all but those that fell on a corner or across
     a closing segment of a finite object (a finger retires after OFF_CURVE_RETIRE in a row,
@@ -322,6 +409,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
     deferred: set[str] = set()  # fingers a stop for want of reach waited for (unrolled_finger), once each
+    no_curve: set[int] = set()  # presses whose scans rolled on no curved part (their id; scanned_curve)
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
     #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
     #: round, so a press from the second round on (early_press) counts them with the touches
@@ -334,7 +422,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(message)
             break
         if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
-                h.kind == "corner" for h in hints.values()):  # unless a finger rolls again beside a corner
+                h.kind in ("corner", "scan") for h in hints.values()):  # unless a finger rolls again beside a
+            # corner or where a press's scan felt the curve
             rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
@@ -436,6 +525,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 pressed.append(felt)
                 if touch.touch not in aside:  # a press beside the others' rolls leaves the finger's own rolls as
                     off_curve[name] += 1  # they were (the guard for a curve); an early press replaced one
+                scan = scanned_curve(cfg, felt, reach, no_curve)
+                if scan is not None:  # its scan rolled on the curved part: the finger rolls there next
+                    hints[name], off_curve[name] = scan, 0
+                    say(f"{name}: its flat press's scan rolled on a curved part: it rolls there next")
                 continue
             again = wider_again(felt, reach, wider)
             count, follow = off_curve_count(off_curve[name], felt, name in from_hint)
@@ -445,6 +538,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             if follow and reach.finger(*felt.curve_at, [cfg.finger(name)]) is not None:
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
                                                         "off it", kind="curve")
+            if off_curve[name] == OFF_CURVE_RETIRE and felt.off_curve and rolls_on_within(
+                    name, out.used, choose_psi(cfg.finger(name), model, settings, used[name], limits(name))):
+                off_curve[name] -= 1
+                say(f"{name}: its last {OFF_CURVE_RETIRE} touches left the curved part it felt: it rolls on short of "
+                    f"where they left it")
             if off_curve[name] == OFF_CURVE_RETIRE:
                 message = (f"{name}: its last {OFF_CURVE_RETIRE} touches fell on corners or closing segments: "
                            f"no more touches with this finger")
@@ -504,13 +602,16 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 break
     if undecided is not None and out.stopped is None and cleared():  # the budget ran out undecided: what to do
         recognition, why, usable = undecided
+        wanted = anywhere(usable)
+        if wanted is not None:  # a place past where the rolls left the curved part is no place to touch
+            wanted = past_felt_end(recognition, usable, wanted, reach, settings.roll_span_rad, limits)
         out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
-                                    anywhere(usable), unrolled_places(cfg, out, recognition))
+                                    wanted, unrolled_places(cfg, out, recognition))
         emit(out.stopped.event("budget_spent"))
         say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
         before = dict(out.time_s)
-        flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index, pressed)
+        flat_presses(jaw, settings, model, out, recognize_touches, emit, say, index, pressed, no_curve)
         for rolls, presses in (("touches", "presses"), ("touch_transits", "press_transits")):  # booked apart
             moved = out.time_s[rolls] - before[rolls]
             out.time_s[rolls] -= moved

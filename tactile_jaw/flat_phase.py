@@ -257,17 +257,18 @@ class _Faces:
 
 def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: Exploration,
                  recognize_touches: RecognizeTouches, emit, say, index: int,
-                 pressed: Sequence[FeltTouch] = ()) -> None:
+                 pressed: Sequence[FeltTouch] = (), checked: set[int] | None = None) -> None:
     """Every finger presses its pad flat on the face before it, round after round, until
     the recognizer's answer on one face's flat touches (tactile_jaw.flat.recognized_touches)
     is decisive; a finger stops after FLAT_TRIES presses that did not seat. ``pressed``:
     the presses made during the probes and rolls (:func:`early_press`, :func:`beside_press`,
-    already in ``out.touches``), counted first and decided on before any more. ``out.used``
+    already in ``out.touches``), counted first and decided on before any more; ``checked``:
+    the touches (their ``id``) whose scans were found to roll on no curve already. ``out.used``
     ends as those touches."""
     cfg = jaw.config
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
     state = _booked(cfg, pressed, emit, say)
-    checked: set[int] = set()  # touches whose scans rolled on no curve (_curve_felt)
+    checked = set() if checked is None else checked  # touches whose scans rolled on no curve (_curve_felt)
     if state.flat and (_curve_felt(cfg, out, emit, say, checked)
                        or _decided(out, state.flat, settings, recognize_touches, say)):
         return  # the presses made during the rolls decide (or a curve was felt)
