@@ -2,25 +2,26 @@
 
 Each rolling touch states κ, κ_s from one degree k of d(ψ) (tactile_jaw.envelope.curvature_degree:
 the degree with the least expected squared error judged on that roll alone) and keeps every
-degree the order rule fitted (``EnvelopeFit.ladder``). The difference Δ of degree k to k + 1 holds
-the truncation bias b of degree k (the next degree's is far smaller) and noise of variance v (the
-difference of the two degrees' noise factors). On fine encoders a low degree's κ is precise but
+degree the order rule fitted (``EnvelopeFit.ladder``). The difference Δ of degree k to k + 2 (the
+next degree that changes both: ``CurvatureLadder.difference``; k + 1 where k + 2 was not fitted)
+holds the truncation bias b of degree k (the richer degree's is far smaller) and noise of
+variance v (the difference of the two degrees' noise factors). On fine encoders a low degree's κ is precise but
 biased where ρ(ψ) bends (a least-squares cubic's ρ is linear in ψ): on the P-series cubical's
 hump the cubic's κ came out 0.65–1.43 % low with σ 0.1–0.2 % (z −3.5 … −11.6; seed 127,
 tools.bench_explore --finite 20), where v^½ ≈ 0.5 %: one roll cannot tell b from its noise, and
 the rule keeps the cubic on exactly the rolls whose Δ happened to be small. A finger's rolls on
 the same object can: the exploration rolls a finger again and again near one place, where b is
-systematic (same sign, similar size), and every roll that fitted degrees k and k + 1 shows it,
-whichever degree it states.
+systematic (same sign, similar size), and every roll that fitted degree k and the richer one
+shows it, whichever degree it states.
 
 So per finger and degree, each component (κ, κ_s) on its own: when the rolls' Σ Δ²/v exceeds its
 χ² limit at ``TRUNCATION_ALPHA`` (else nothing changes), their biases are taken as b ~ N(μ, s²),
 μ and s² by the method of moments (:func:`pool`), and each roll that states degree k has its bias
 estimated by its posterior mean b̂ = (1 − w)μ̂ + wΔ, w = s²/(s² + v), and taken out. With ω the
-roll's own weight in μ̂, the corrected value is (1 − w′)κ_k + w′κ_{k+1} + (1 − w)(b − μ̂) with
-w′ = w + (1 − w)ω: its noise factor is (1 − w′)F_k + w′F_{k+1}, and what the pooled estimate leaves,
+roll's own weight in μ̂, the corrected value is (1 − w′)κ_k + w′κ_r + (1 − w)(b − μ̂) (r the richer
+degree) with w′ = w + (1 − w)ω: its noise factor is (1 − w′)F_k + w′F_r, and what the pooled estimate leaves,
 variance (1 − w)²((1 − ω)²s² + Σ_{other rolls} ω_j²(s² + v_j)), one more column. A finger's one
-roll alone takes κ_{k+1} when its own Δ shows a bias. docs/exploration.md#pooled-truncation.
+roll alone takes κ_r when its own Δ shows a bias. docs/exploration.md#pooled-truncation.
 """
 
 from __future__ import annotations
@@ -58,7 +59,7 @@ def pool(diff: np.ndarray, var: np.ndarray) -> tuple[float, float, np.ndarray] |
 def corrected(diff: np.ndarray, var: np.ndarray, pooled_bias: tuple[float, float, np.ndarray],
               n: int) -> tuple[float, float, float]:
     """Roll ``n``'s bias estimate b̂ = (1 − w)μ̂ + wΔ_n (module docstring), the weight w′ of degree
-    k + 1 in its corrected value, and the variance the pooled estimate leaves."""
+    r in its corrected value, and the variance the pooled estimate leaves."""
     centre, spread, omega = pooled_bias
     w = spread / (spread + var[n])
     others = float(np.sum(np.delete(omega**2 * (spread + var), n)))
@@ -69,7 +70,7 @@ def corrected(diff: np.ndarray, var: np.ndarray, pooled_bias: tuple[float, float
 def pooled(touches: Sequence[Any]) -> list[Any]:
     """``touches`` (tactile_jaw.pipeline.FeltTouch) with each rolling touch's stated κ, κ_s and
     their covariance pooled across its finger's rolls (module docstring): the bias of degree k
-    against k + 1 from every roll of the finger that fitted both, taken out of those that state
+    against a richer degree r from every roll of the finger that fitted both, taken out of those that state
     κ, κ_s at degree k. A touch whose stated κ, κ_s are not its fit's own
     (tactile_jaw.separation.exact_touches puts the truth there) keeps them and takes the
     pooled covariance."""
@@ -81,12 +82,11 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
         fingers.setdefault(t.finger, []).append(i)
     out = list(touches)
     for members in fingers.values():
-        stated = {touches[i].fit.kappa_degree for i in members}
-        for k in sorted(stated):
-            rolls = [i for i in members if touches[i].fit.ladder.difference(k) is not None]
-            if not any(touches[i].fit.kappa_degree == k for i in rolls):
-                continue
-            diff, var = (np.array(a) for a in zip(*(touches[i].fit.ladder.difference(k) for i in rolls)))
+        stated = {(f.kappa_degree, d[2]) for f in (touches[i].fit for i in members)
+                  if (d := f.ladder.difference(f.kappa_degree)) is not None}
+        for k, richer in sorted(stated):
+            rolls = [i for i in members if (touches[i].fit.ladder.difference(k) or (0, 0, None))[2] == richer]
+            diff, var = (np.array(a) for a in list(zip(*(touches[i].fit.ladder.difference(k) for i in rolls)))[:2])
             biases = [pool(diff[:, j], var[:, j]) for j in range(2)]
             if all(b is None for b in biases):
                 continue
@@ -99,10 +99,10 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
 
 def _taken_out(touch, k: int, components) -> Any:
     """``touch`` with each component's (κ, κ_s) bias estimate taken out of its stated value and
-    its covariance the blend of degrees k and k + 1 and what the estimate leaves (``components``:
+    its covariance the blend of degree k and the richer one and what the estimate leaves (``components``:
     :func:`corrected` of each, or None to keep it)."""
     fit = touch.fit
-    richer = fit.ladder.rows[k + 1]
+    richer = fit.ladder.rows[fit.ladder.difference(k)[2]]
     factor = fit.ladder.own.copy()
     shift, left = np.zeros(2), np.zeros(2)
     for j, c in enumerate(components):

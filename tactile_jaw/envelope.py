@@ -104,7 +104,7 @@ class EnvelopeFit:
 @dataclass(frozen=True)
 class CurvatureLadder:
     """What each degree of d(ψ) the order rule fitted says at a touch's contact: the
-    comparison of one degree with the next that tactile_jaw.curvature_pool pools across a
+    comparison of one degree with a richer one that tactile_jaw.curvature_pool pools across a
     finger's rolls (the truncation of a degree against the next is systematic where a finger
     rolls again near the same place; one roll's own comparison is mostly noise)."""
 
@@ -112,12 +112,18 @@ class CurvatureLadder:
     rows: dict[int, np.ndarray]  # degree → (2, w) their rows of the noise factor (the same w draws for every degree)
     own: np.ndarray  # (2, W ≥ w) the stated κ, κ_s's rows (kappa_degree's, with any truncation column)
 
-    def difference(self, k: int) -> tuple[np.ndarray, np.ndarray] | None:
-        """κ, κ_s of degree k less degree k + 1's, and that difference's variance (both fits
-        see the same readings: the difference of their noise factors); None if either is missing."""
-        if k not in self.values or k + 1 not in self.values:
+    def difference(self, k: int) -> tuple[np.ndarray, np.ndarray, int] | None:
+        """κ, κ_s of degree k less those of degree k + 2 (or k + 1 where k + 2 was not fitted), that
+        difference's variance (both fits see the same readings: the difference of their noise
+        factors), and the richer degree; None if neither was fitted. Two degrees up: about the
+        roll's middle κ comes from d(ψ)'s even coefficients and κ_s from its odd ones, so on a
+        roll symmetric in ψ one degree up changes only one of them (the cubic's κ is the
+        quadratic's); k + 2 changes both."""
+        richer = k + 2 if k + 2 in self.values else k + 1
+        if k not in self.values or richer not in self.values:
             return None
-        return self.values[k] - self.values[k + 1], np.sum((self.rows[k] - self.rows[k + 1]) ** 2, axis=1)
+        return (self.values[k] - self.values[richer], np.sum((self.rows[k] - self.rows[richer]) ** 2, axis=1),
+                richer)
 
 
 #: the lowest degree of d(ψ) the order rule gives a roll: κ_s = −ρ'/ρ³ at the contact
