@@ -26,6 +26,7 @@ roll alone takes κ_r when its own Δ shows a bias. docs/exploration.md#pooled-t
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
@@ -33,7 +34,15 @@ from typing import Any
 import numpy as np
 from scipy import stats
 
+from recognizer.intervals import REL_SIGMA_CHECK
 from tactile_jaw.envelope import TRUNCATION_ALPHA
+
+#: a roll joins its finger's pool when the noise of its difference Δ in κ is within this share of
+#: its κ: the first-order noise the test weighs Δ by holds there (κ = 1/ρ is near-linear over it;
+#: recognizer.intervals doubts a linearized σ beyond the same share). An X-series roll's κ is
+#: 15–30 % uncertain: pooled at that noise, 3 of the 178 usable rolls of seed 127's circles and
+#: ellipses were "corrected" by up to 50 % on a difference of 2.4–3.5 of its first-order σ's
+LINEAR_SHARE = REL_SIGMA_CHECK
 
 
 def pool(diff: np.ndarray, var: np.ndarray) -> tuple[float, float, np.ndarray] | None:
@@ -85,7 +94,9 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
         stated = {(f.kappa_degree, d[2]) for f in (touches[i].fit for i in members)
                   if (d := f.ladder.difference(f.kappa_degree)) is not None}
         for k, richer in sorted(stated):
-            rolls = [i for i in members if (touches[i].fit.ladder.difference(k) or (0, 0, None))[2] == richer]
+            rolls = [i for i in members if _linear(touches[i].fit, k, richer)]
+            if not any(touches[i].fit.kappa_degree == k for i in rolls):
+                continue
             diff, var = (np.array(a) for a in list(zip(*(touches[i].fit.ladder.difference(k) for i in rolls)))[:2])
             biases = [pool(diff[:, j], var[:, j]) for j in range(2)]
             if all(b is None for b in biases):
@@ -95,6 +106,13 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
                     out[i] = _taken_out(touches[i], k, [None if b is None else corrected(diff[:, j], var[:, j], b, n)
                                                         for j, b in enumerate(biases)])
     return out
+
+
+def _linear(fit, k: int, richer: int) -> bool:
+    """Whether ``fit`` compared degree k with ``richer`` and its difference's noise in κ is within
+    ``LINEAR_SHARE`` of κ (the first-order noise holds)."""
+    d = fit.ladder.difference(k)
+    return d is not None and d[2] == richer and math.sqrt(d[1][0]) <= LINEAR_SHARE * abs(fit.ladder.values[k][0])
 
 
 def _taken_out(touch, k: int, components) -> Any:

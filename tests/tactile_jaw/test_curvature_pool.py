@@ -11,6 +11,7 @@ import pytest
 
 from recognizer.curves import Pose
 from recognizer.scene import SceneObject, load_scene
+from tactile_jaw import curvature_pool
 from tactile_jaw.curvature_pool import corrected, pool, pooled
 from tactile_jaw.pipeline import feel
 from tests.tactile_jaw.test_envelope_order import CONFIG, FINE, _true_kappa, roll, support_point, touch
@@ -62,6 +63,26 @@ def test_the_cubics_bias_at_the_hump_is_taken_out_and_stated(seed):
     np.testing.assert_array_equal(after[~cubic], before[~cubic])
 
 
+def test_a_roll_whose_kappa_is_coarse_stays_out_of_the_pool(monkeypatch):
+    """A roll whose difference to the richer degree is noisier than 2 % of its κ (the X-series
+    jaw's 15–30 %: the first-order noise no longer holds) neither joins the pool nor is changed:
+    the hump's rolls with their noise and their degrees' differences 256 times larger (each
+    difference as significant as before: pooled, they would change)."""
+
+    def coarse(t):
+        lad = t.fit.ladder
+        low = lad.values[3]
+        return replace(t, fit=replace(t.fit, ladder=replace(lad, rows={k: 256.0 * r for k, r in lad.rows.items()},
+                                                                 values={k: low + 256.0 * (v - low)
+                                                                         for k, v in lad.values.items()})))
+
+    felt = [coarse(t) for t in rolls(HUMP_DEG, 0)]
+    for t, p in zip(felt, pooled(felt)):
+        assert p is t
+    monkeypatch.setattr(curvature_pool, "LINEAR_SHARE", math.inf)
+    assert any(p is not t for t, p in zip(felt, pooled(felt)))
+
+
 def test_a_circle_keeps_its_kappa():
     """On a circle no degree is biased: the pooled test finds no truncation (Σ Δ²/v within its
     limit at every degree) and each touch's κ, κ_s and covariance stay as its fit states them."""
@@ -82,20 +103,22 @@ def test_the_truth_put_in_keeps_its_value_and_takes_the_pooled_deviation():
 
 
 def test_the_pooled_bias_and_what_one_roll_takes_from_it():
-    """(μ̂, s², ω) by the method of moments when Σ Δ²/v exceeds its χ² limit at 0.05, else
-    None; a roll alone that shows a bias takes the next degree (b̂ = Δ, w′ = 1, nothing left)."""
-    var = np.full(4, 0.25)
+    """(μ̂, s², ω) by the method of moments when Σ Δ²/v exceeds its χ² limit at 0.05,
+    else None; a roll alone that shows a bias takes the richer degree (b̂ = Δ, w′ = 1, nothing left)."""
+    var = np.full(4, 0.1)
     diff = np.array([-1.0, -0.9, -1.2, -0.8])  # one bias, spread within the noise: s² = 0
     centre, spread, omega = pool(diff, var)
     assert spread == 0.0 and centre == pytest.approx(-0.975)
     np.testing.assert_allclose(omega, 0.25)
     bias, blend, left = corrected(diff, var, (centre, spread, omega), 0)
     assert bias == pytest.approx(centre) and blend == pytest.approx(0.25)
-    assert left == pytest.approx(3 * 0.25**2 * 0.25)  # the other rolls' noise in μ̂
+    assert left == pytest.approx(3 * 0.25**2 * 0.1)  # the other rolls' noise in μ̂
+    var = np.full(4, 0.25)
     diff = np.array([-3.0, 0.0, -3.0, 0.0])  # biases that differ: s² = Q's excess
     q = np.sum((diff + 1.5) ** 2 / 0.25)
     assert pool(diff, var)[1] == pytest.approx((q - 3) / (16 - 4))
-    assert pool(np.array([0.9]), np.array([0.25])) is None  # z 1.8: within the limit 3.84
-    one = pool(np.array([1.1]), np.array([0.25]))
-    assert corrected(np.array([1.1]), np.array([0.25]), one, 0) == pytest.approx((1.1, 1.0, 0.0))
+    assert pool(diff / 3.0, var) is None  # Σ z² 8 on 4 rolls: within the limit 9.49
+    assert pool(np.array([0.9]), np.array([0.25])) is None  # z 1.8: within the limit 1.96
+    one = pool(np.array([1.8]), np.array([0.25]))
+    assert corrected(np.array([1.8]), np.array([0.25]), one, 0) == pytest.approx((1.8, 1.0, 0.0))
     assert pool(np.array([1.0]), np.array([0.0])) is None
