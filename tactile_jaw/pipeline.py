@@ -109,7 +109,8 @@ class FeltTouch:
 
     def to_json(self) -> dict[str, Any]:
         """The samples touch (docs/formats.md) with ``finger`` and the envelope's ``curvature``
-        (usable touches only): a request of these answers as the run did."""
+        (usable touches only): a request of these, pooled first (tactile_jaw.curvature_pool), answers
+        as the run did."""
         out = self.samples.to_json() if self.samples is not None else self.contacts.to_touch()
         out["finger"] = self.touch.finger
         return out
