@@ -93,6 +93,21 @@ SUPPORT_LINES = 3
 #: --anywhere --seed 11, block 1 turned 31.6°: its left pad seats at 31.6° from the nominal
 #: normal and its joints stop at 36°, two lines through the second support; refused before)
 FILL_PARTS = (1.0, 0.5, 0.25)
+#: next to a seat whose second support is a pad end sliding along the face
+#: (:func:`sliding_fill`), approaches at these fractions of a step from the first line beyond
+#: the seat (negative: on, away from the first support; positive: back toward it), in this
+#: order: the end slides ~2 mm a degree within a few degrees of the seat (random block 6 of
+#: bench_explore --seed 127), where the lines resting on it miss the first support by the
+#: split's margin (SPLIT_APART); back toward the first support, a line 0.75° from the seat
+#: passed within that margin of both supports and made no split
+SLIDE_PARTS = (-0.25, -0.5, -0.75, 0.25, 0.5, 0.75)
+#: a support whose pad lines cross this close (mm) to a pad end, or beyond it, is that pad
+#: end resting on the face (tactile_jaw.flat.seat_supports, :func:`better_support`): the end slides
+#: along the face as the pad turns, so its lines cross up to a few mm inside the pad and up to
+#: ~0.14 mm off the face, and that bias hid part of an arc's bulge (radius 1000 mm turned 15°:
+#: its seated presses stopped 0.07 mm early from the crossing, 0.21 from the end). Corners
+#: 5–8 mm from a pad end exist on the random blocks (taken for the end they were 0.26 mm off)
+END_SUPPORT_MM = 4.0
 #: the seated presses, at the seat's orientation ψ_f plus these (deg): re-pressing at a
 #: slightly different goal reads the same seat through different encoder roundings
 SEAT_PRESSES_DEG = (0.0, -0.1, 0.1)
@@ -143,6 +158,53 @@ def _run(lines: list[kin.PadLine], start: int, step: int, tol_mm: float,
     return best
 
 
+def end_support(lines: list[kin.PadLine], other: np.ndarray, tol_mm: float = SEAT_TOL_MM,
+                least: int = 3) -> tuple[int, np.ndarray, float] | None:
+    """A pad end resting on the face, as a seat's support: when the same end (distal, else
+    proximal) of each of ≥ 3 ``lines`` (the nearest the seat first) lies within ``tol_mm`` of
+    one straight line through the other support ``other``, (their count, the end of the first
+    line, the largest distance), else None (``least``: fewer lines than 3 may say where to
+    press next, :func:`sliding_fill`). Beyond the seat of a face that runs on past the
+    pad's end the pad rests on that end, and the end slides along the face as the pad turns
+    (2 mm a degree: random block 6 of bench_explore --finite 20 --anywhere --seed 127): its
+    lines pass through no one point (their crossings lie a few mm inside the pad, and a point
+    fitted to them 13 mm from the end tilted the face 1.4°), but the ends themselves lie on the
+    face; they must have slid along it by more than SPLIT_APART · ``tol_mm`` (ends that stay
+    put are one point: a corner near the pad end, :func:`_run`'s), and lie at least
+    FACE_MIN_FRACTION of the pad from the other support (ends 1.5 mm from it lay within
+    0.02 mm of a line through it: a seat at a corner 43 mm away was lost, X-series block 1 of
+    --seed 13). Which of the two a seat takes: :func:`better_support`."""
+    if len(lines) < least:
+        return None
+    for end in ("distal", "proximal"):
+        v = np.array([getattr(ln, end) for ln in lines], dtype=float) - np.asarray(other, dtype=float)
+        pad = float(np.linalg.norm(np.asarray(lines[0].distal) - np.asarray(lines[0].proximal)))
+        if np.min(np.linalg.norm(v, axis=1)) < FACE_MIN_FRACTION * pad:
+            continue  # ends beside the other support lie on any line through it: no face
+        along, normal = np.linalg.svd(v)[2]  # the line through ``other`` nearest the ends
+        worst = float(np.max(np.abs(v @ normal)))
+        if worst <= tol_mm and float(np.ptp(v @ along)) > SPLIT_APART * tol_mm:
+            return len(lines), np.asarray(getattr(lines[0], end), dtype=float), worst
+    return None
+
+
+def better_support(point: tuple[int, np.ndarray, float],
+                   end: tuple[int, np.ndarray, float] | None) -> tuple[int, np.ndarray, float]:
+    """Of a support through which ≥ 3 lines pass (``point``, :func:`_run`: count, point,
+    largest distance) and a pad end sliding along the face (``end``, :func:`end_support`), the
+    one the lines fit better, the end only when more than ``END_SUPPORT_MM`` from the point.
+    Lines resting on a sliding end passed within 0.05 mm of a point 11 mm from it, on none of
+    the object, while their ends lay on the face's line within 0.01 mm (random block 6 of seed
+    127: that point tilted the face 1.4°); a pad turned about a corner slides along its line,
+    and near the seat its end, a few mm beyond the corner, lies within the tolerance of the
+    face's line too (a corner 2.4 mm from the end; 7 mm on a face turned 25°: 0.14 mm, the
+    lines through the corner 0.00)."""
+    if end is None or (point[0] >= 3 and (end[2] >= point[2]
+                                          or float(np.linalg.norm(point[1] - end[1])) <= END_SUPPORT_MM)):
+        return point
+    return end
+
+
 def seat_split(lines: list[kin.PadLine], length_mm: float,
                tol_mm: float = SEAT_TOL_MM) -> tuple[list[int], np.ndarray, np.ndarray] | None:
     """Where pad lines in order of ψ rest on two supports: a run of ≥ 3 lines through P
@@ -162,12 +224,16 @@ def seat_split(lines: list[kin.PadLine], length_mm: float,
     lines far from the seat no longer pass through one point."""
     best = None
     for k in range(3, len(lines) - 2):
-        np_, p, rp = _run(lines, k - 1, -1, tol_mm, SUPPORT_LINES)
-        if np_ < 3:
-            continue
+        run_p = _run(lines, k - 1, -1, tol_mm, SUPPORT_LINES)
         for gap in (0, 1, 2):
-            nq, q, rq = _run(lines, k + gap, 1, tol_mm, SUPPORT_LINES)
-            if nq < 3:
+            (np_, p, rp), (nq, q, rq) = run_p, _run(lines, k + gap, 1, tol_mm, SUPPORT_LINES)
+            if np_ >= 3:  # a pad end resting on the face beyond the seat is the second support
+                beyond = lines[k + gap:k + gap + SUPPORT_LINES]
+                nq, q, rq = better_support((nq, q, rq), end_support(beyond, p, tol_mm))
+            if nq >= 3:  # ... or before it, the first
+                before = lines[max(k - SUPPORT_LINES, 0):k][::-1]
+                np_, p, rp = better_support((np_, p, rp), end_support(before, q, tol_mm))
+            if np_ < 3 or nq < 3:
                 continue
             if gap == 2 and any(max(abs(float(ln.normal @ p - ln.d)), abs(float(ln.normal @ q - ln.d)))
                                 > SPLIT_APART * tol_mm for ln in lines[k:k + 2]):
@@ -208,12 +274,52 @@ def lowering_turn(line: kin.PadLine, about: np.ndarray | None, length_mm: float,
     return 1 if s * float(np.array([-t[1], t[0]]) @ line.normal) > 0 else -1
 
 
+def sliding_fill(ks: list[float], lines: list[kin.PadLine], allowed: Callable[[float], bool],
+                 tol_mm: float = SEAT_TOL_MM) -> float | None:
+    """The step index of an approach between whole steps next to a seat whose second support
+    slides (module docstring, step 2), or None. At one end of the range a run of ≥ 3 lines
+    passes through one support P and the lines beyond it rest on a pad end that slides along
+    the face as the pad turns (their ends on one line with P, or three of them through no one
+    point): the pad lies flat between the last line through P and the first beyond (the face
+    runs on past the pad's end: random block 6 of bench_explore --finite 20 --anywhere --seed
+    127, the left pad's end slid 6 mm along the face in the 3° after its seat, 12 mm in 6°;
+    whole steps never put three lines through it, and the press turned its 60° to the finger's
+    reach without a seat). Lines a fraction of a step either side of the first beyond
+    (``SLIDE_PARTS``) make the third that rests on the end (:func:`end_support`) before the
+    press turns on to the finger's reach."""
+    for seq, kseq in ((lines[::-1], ks[::-1]), (lines, ks)):  # the high end of the range, then the low
+        beyond = next((b for b in range(2, len(seq) - 2) if _slid_past(seq, b, tol_mm)), None)
+        if beyond is None:
+            continue
+        first, toward_p = kseq[beyond - 1], math.copysign(1.0, kseq[beyond] - kseq[beyond - 1])
+        for part in SLIDE_PARTS:
+            if allowed(first + part * toward_p):
+                return first + part * toward_p
+    return None
+
+
+def _slid_past(seq: list[kin.PadLine], b: int, tol_mm: float) -> bool:
+    """Do ``seq[b:]`` start with a run of ≥ 3 lines through one point P, the line before it
+    miss P by more than SPLIT_APART · ``tol_mm``, and the lines before it rest on a pad end
+    sliding along the face (the ends of the two nearest P on one line with it,
+    :func:`end_support`), or the three nearest P pass through no point?"""
+    n, p, _ = _run(seq, b, 1, tol_mm, SUPPORT_LINES)
+    last = seq[b - 1]
+    if n < 3 or abs(float(last.normal @ p - last.d)) <= SPLIT_APART * tol_mm:
+        return False
+    return (end_support(seq[max(b - SUPPORT_LINES, 0):b][::-1], p, tol_mm, least=2) is not None
+            or (b >= 3 and _run(seq, b - 1, -1, tol_mm)[0] < 3))
+
+
 def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first_turn: int,
               allowed: Callable[[float], bool], toward: np.ndarray | None = None,
               tol_mm: float = SEAT_TOL_MM) -> float | None:
     """The step index of the press's next approach (module docstring, step 2), given the
     steps ``ks`` taken (increasing) and their pad lines; ``allowed(k)`` says whether step k
     may be tried. None when neither end can grow."""
+    fill = sliding_fill(ks, lines, allowed, tol_mm)
+    if fill is not None:
+        return fill
     through_lo = _run(lines, 0, 1, tol_mm)[0]
     if len(ks) == 1:
         order = [first_turn, -first_turn]
@@ -329,7 +435,18 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
         psi_f = math.atan2(normal[1], normal[0])
         for extra in SEAT_PRESSES_DEG:
             a = psi_f + math.radians(extra)
-            if not take((yield from _press(jaw, finger, a)), a, "seat"):
+            try:
+                approach = yield from _press(jaw, finger, a)
+            except kin.Unreachable:
+                if extra != SEAT_PRESSES_DEG[0]:
+                    raise
+                # the turn back from the range's far end was blocked, and backing off there is
+                # beyond the joints (a pad end slid along a face to the finger's reach): back
+                # along the scan's own stops, each ROLL_CLEARANCE_MM off, then press
+                yield from move_line(jaw, finger, *_back_along(result.samples, psi_f, ROLL_CLEARANCE_MM),
+                                     via=_back_along(result.samples, psi_f, ROLL_CLEARANCE_MM, via=True))
+                approach = yield from _press(jaw, finger, a)
+            if not take(approach, a, "seat"):
                 return result
         last = result.samples[-1]
         yield from move_line(jaw, finger, last.psi, last.d - m.backoff_mm)
@@ -339,6 +456,20 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
         emit({"type": "touch_end", "touch": touch, "finger": finger, "reading": jaw.log_index(),
               "samples": len(result.samples), "outcome": result.outcome, "roles": list(result.roles)})
     return result
+
+
+def _back_along(samples, psi_f: float, off_mm: float, via: bool = False):
+    """The pad lines (ψ, d) ``off_mm`` off the press's stops from the pad's newest one to the one
+    nearest the seat ψ_f (the turn back across the range the press scanned, every line a stop
+    the finger reached, so within its joints and clear of the object): the last (``via``:
+    those before it)."""
+    here = float(samples[-1].line.psi)
+    turn = math.remainder(psi_f - here, 2 * math.pi)
+    on_way = sorted((s for s in samples if 1e-6 < math.remainder(float(s.line.psi) - here, 2 * math.pi) * np.sign(turn)
+                     <= abs(turn) + 0.5 * math.radians(FLAT_STEP_DEG)),
+                    key=lambda s: abs(math.remainder(float(s.line.psi) - here, 2 * math.pi)))
+    lines = [(float(s.line.psi), float(s.line.d) - off_mm) for s in on_way]
+    return lines[:-1] if via else lines[-1]
 
 
 def _unless(motion: Motion, interrupt: Callable[[], str | None] | None) -> Motion:

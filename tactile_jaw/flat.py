@@ -31,7 +31,8 @@ from typing import Sequence
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.flat_press import FACE_MIN_FRACTION, SEAT_TOL_MM, FlatResult, face_normal
+from hand_driver.flat_press import (END_SUPPORT_MM, FACE_MIN_FRACTION, SEAT_TOL_MM, FlatResult, better_support,
+                                   end_support, face_normal)
 from recognizer.touches import ContactTouch
 from tactile_common.angles import wrap_angle
 
@@ -48,13 +49,6 @@ FLAT_NOISE = {"phi": 3.0e-3, "pos": 0.1}
 #: (mm) to the other's line
 SAME_FACE_RAD = 0.01
 SAME_FACE_MM = 1.0
-#: a support whose pad lines cross this close (mm) to a pad end, or beyond it, is that pad
-#: end resting on the face (:func:`seat_supports`): the end slides along the face as the
-#: pad turns, so its lines cross up to a few mm inside the pad and up to ~0.14 mm off the
-#: face, and that bias hid part of an arc's bulge (radius 1000 mm turned 15°: its seated
-#: presses stopped 0.07 mm early from the crossing, 0.21 from the end). Corners 5–8 mm
-#: from a pad end exist on the random blocks (taken for the end they were 0.26 mm off)
-END_SUPPORT_MM = 4.0
 #: the presses of one face must have stopped, on average over all of them, at most this
 #: far (mm) short of their supports: each press's own mean (3 seated stops) is held to
 #: ±SEAT_TOL_MM, the rounding of its 9 stops; over a face's presses the bias a flat face
@@ -119,11 +113,26 @@ def fit_face(lines: kin.PadLine, roles: Sequence[str]) -> Face:
         for j, i in enumerate(rows):
             a[j, 2 * groups[i]:2 * groups[i] + 2] = n[i]
         sol = np.linalg.lstsq(a, d[rows], rcond=None)[0]
-        p, q = sol[:2], sol[2:]
+        p, q = _at_ends(lines, groups, sol[:2], sol[2:])
         seat = np.array([r == "seat" for r in roles])
         groups = np.where(seat, (n @ q < n @ p).astype(int), groups)
     normal = face_normal(p, q, n[-1])
     return Face(float(math.atan2(normal[1], normal[0])), float(0.5 * normal @ (p + q)), p, q)
+
+
+def _at_ends(lines: kin.PadLine, groups: np.ndarray, p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The supports (``p``, ``q``: the points fitted to the ``P`` and ``Q`` lines), each one
+    whose lines rest on a pad end sliding along the face (hand_driver.flat_press.end_support:
+    their ends on one straight line with the other support, and they fit it better:
+    hand_driver.flat_press.better_support, seat_split's choice) replaced by that end of its
+    line passing nearest the other support: such lines pass through no one point, and a point
+    fitted to them tilts the face."""
+    out = [p, q]
+    for g, other in ((0, q), (1, p)):
+        rows = sorted(np.flatnonzero(groups == g), key=lambda i: abs(float(lines.normal[i] @ other - lines.d[i])))
+        through = float(np.max(np.abs(lines.normal[rows] @ out[g] - lines.d[rows]))) if rows else math.inf
+        out[g] = better_support((len(rows), out[g], through), end_support([lines.at(i) for i in rows], other))[1]
+    return out[0], out[1]
 
 
 def seat_supports(lines: kin.PadLine, roles: Sequence[str], face: Face, length_mm: float) -> tuple[np.ndarray, np.ndarray]:
