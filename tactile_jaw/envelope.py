@@ -97,6 +97,33 @@ class EnvelopeFit:
     line_sigma: np.ndarray  # each pad line's deviation about the fit (mm), contacts' order
     sigma_phi: np.ndarray  # each sample's tangent angle deviation (rad), contacts' order
     kappa_degree: int  # the degree of d(ψ) κ, κ_s come from (:func:`curvature_degree`)
+    #: κ, κ_s at every degree the order rule fitted (tactile_jaw.curvature_pool)
+    ladder: CurvatureLadder | None = None
+
+
+@dataclass(frozen=True)
+class CurvatureLadder:
+    """What each degree of d(ψ) the order rule fitted says at a touch's contact: the
+    comparison of one degree with a richer one that tactile_jaw.curvature_pool pools across a
+    finger's rolls (the truncation of a degree against the next is systematic where a finger
+    rolls again near the same place; one roll's own comparison is mostly noise)."""
+
+    values: dict[int, np.ndarray]  # degree → (2,) κ, κ_s
+    rows: dict[int, np.ndarray]  # degree → (2, w) their rows of the noise factor (the same w draws for every degree)
+    own: np.ndarray  # (2, W ≥ w) the stated κ, κ_s's rows (kappa_degree's, with any truncation column)
+
+    def difference(self, k: int) -> tuple[np.ndarray, np.ndarray, int] | None:
+        """κ, κ_s of degree k less those of degree k + 2 (or k + 1 where k + 2 was not fitted), that
+        difference's variance (both fits see the same readings: the difference of their noise
+        factors), and the richer degree; None if neither was fitted. Two degrees up: about the
+        roll's middle κ comes from d(ψ)'s even coefficients and κ_s from its odd ones, so on a
+        roll symmetric in ψ one degree up changes only one of them (the cubic's κ is the
+        quadratic's); k + 2 changes both."""
+        richer = k + 2 if k + 2 in self.values else k + 1
+        if k not in self.values or richer not in self.values:
+            return None
+        return (self.values[k] - self.values[richer], np.sum((self.rows[k] - self.rows[richer]) ** 2, axis=1),
+                richer)
 
 
 #: the lowest degree of d(ψ) the order rule gives a roll: κ_s = −ρ'/ρ³ at the contact
@@ -159,10 +186,14 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
     rho = float(fits[weighed.start][0].rho[m])
     sigma = _line_sigma(finger, q, base, noise.quantization)
     kappa, kappa_s = _at_contact(curved)
+    rule = {k: fit for k, fit in fits.items() if k in weighed}  # not a degree past the cap: its bias is stated there
+    width = min(f.shape[1] for _, f in rule.values())
+    ladder = CurvatureLadder({k: _at_contact(c) for k, (c, _) in rule.items()},
+                             {k: f[:2, :width].copy() for k, (_, f) in rule.items()}, curved_factor[:2].copy())
     return EnvelopeFit(base, float(kappa), float(kappa_s), cov, rho,
                        float(np.sqrt(np.sum(lowest[2] ** 2))), float(np.sum((base.residual / sigma) ** 2)),
                        n - base.degree - 1, np.sqrt(np.sum(across**2, axis=1)), np.sqrt(np.sum(along**2, axis=1)),
-                       factor[3:], sigma, np.sqrt(np.sum(fpsi**2, axis=1)), curved.degree)
+                       factor[3:], sigma, np.sqrt(np.sum(fpsi**2, axis=1)), curved.degree, ladder)
 
 
 #: a richer degree of d(ψ) is taken when its contacts differ from the present degree's by

@@ -26,6 +26,7 @@ from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
 from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, SamplesTouch, check_touch_count, parse_noise
 from tactile_common.errors import InputError
+from tactile_jaw.curvature_pool import pooled
 from tactile_jaw.envelope import MIN_DEGREE, EnvelopeFit, fit_envelope, joint_noise
 from tactile_jaw.flat import FLAT_NOISE, Face, feel_flat, recognized_touches
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
@@ -108,7 +109,8 @@ class FeltTouch:
 
     def to_json(self) -> dict[str, Any]:
         """The samples touch (docs/formats.md) with ``finger`` and the envelope's ``curvature``
-        (usable touches only): a request of these answers as the run did."""
+        (usable touches only): a request of these, pooled first (tactile_jaw.curvature_pool), answers
+        as the run did."""
         out = self.samples.to_json() if self.samples is not None else self.contacts.to_touch()
         out["finger"] = self.touch.finger
         return out
@@ -683,7 +685,7 @@ def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noi
         request = base if classes is None else replace(base, classes=tuple(c for c in base.classes if c in classes))
         check_touch_count(len(touches), request.classes, source)
         stated = stated_noise(touches) if fixed is None or _flat_only(touches) else fixed
-        return recognize(replace(request, touches=tuple(t.samples for t in touches), noise=stated),
+        return recognize(replace(request, touches=tuple(t.samples for t in pooled(touches)), noise=stated),
                          replace(options, noise=stated, reach=options.reach if reach is None else reach))
 
     return run

@@ -206,6 +206,7 @@ def kappa_comparison(log: Path, obj: dict) -> dict:
     estimate from the samples; and the final answer both ways."""
     from hand_driver.log import read_log
     from recognizer.estimate import estimate_local
+    from tactile_jaw.curvature_pool import pooled
     from tactile_jaw.decide import final_answer
     from tactile_jaw.pipeline import logged_touches, make_recognizer, stated_noise
     from tactile_jaw.settings import ExploreSettings
@@ -219,13 +220,14 @@ def kappa_comparison(log: Path, obj: dict) -> dict:
         return {"rows": []}
     noise = stated_noise(felt)
     rows = []
-    for t in felt:
+    for t in pooled(felt):  # as the recognizer is handed them (tactile_jaw.curvature_pool)
         if getattr(t.samples, "curvature", None) is None:  # a flat press's contact: no roll, no κ to compare
             continue
         k_env, ks_env, cov = t.samples.curvature
         g = estimate_local(t.samples, method=settings.recognize.get("estimator", "auto"), noise=noise)
         m = len(t.samples.phi) // 2
         k_true, ks_true = true_geometry(obj, float(t.samples.x[m]), float(t.samples.y[m]))
+        k_true = math.copysign(k_true, k_env)  # the touch's direction of travel: κ flips with it, κ_s = dκ/ds not
         rows.append({"k_true": k_true, "ks_true": ks_true, "k_env": k_env, "ks_env": ks_env,
                      "sk_env": math.sqrt(cov[0, 0]), "sks_env": math.sqrt(cov[1, 1]),
                      "k_smp": g.kappa, "ks_smp": g.kappa_s, "sk_smp": math.sqrt(g.cov[0][0]),
@@ -543,8 +545,8 @@ def print_kappa_table(runs: list[tuple[Path, dict]]) -> None:
                        if rec.cls == obj["class"] else None)
                 answers[way].append((rec.cls == obj["class"], rec.cls == "unclassified", err))
     print(f"\nκ at the contact, {len(rows)} usable touches of {len(runs)} scenes")
-    print("| estimate | median abs rel err κ | median abs err κ_s (1/mm²) | RMS z κ | RMS z κ_s |")
-    print("|---|---|---|---|---|")
+    print("| estimate | median abs rel err κ | median abs err κ_s (1/mm²) | RMS z κ | RMS z κ_s | |z| ≤ 3 κ | |z| ≤ 3 κ_s |")
+    print("|---|---|---|---|---|---|---|")
     for way, name in (("env", "envelope fit d(ψ) + quantization covariance"), ("smp", "samples (recognizer.estimate)")):
         ek = np.array([(r[f"k_{way}"] - r["k_true"]) for r in rows])
         eks = np.array([(r[f"ks_{way}"] - r["ks_true"]) for r in rows])
@@ -552,7 +554,8 @@ def print_kappa_table(runs: list[tuple[Path, dict]]) -> None:
         zks = eks / np.array([r[f"sks_{way}"] for r in rows])
         rel = np.abs(ek) / np.abs([r["k_true"] for r in rows])
         print(f"| {name} | {100 * np.median(rel):.2f} % | {np.median(np.abs(eks)):.2e} | "
-              f"{np.sqrt(np.mean(zk**2)):.2f} | {np.sqrt(np.mean(zks**2)):.2f} |")
+              f"{np.sqrt(np.mean(zk**2)):.2f} | {np.sqrt(np.mean(zks**2)):.2f} | "
+              f"{100 * np.mean(np.abs(zk) <= 3.0):.1f} % | {100 * np.mean(np.abs(zks) <= 3.0):.1f} % |")
     print("\n| recognizer input | right class | refused | median worst param error |")
     print("|---|---|---|---|")
     for way, name in (("envelope", "samples + envelope κ, κ_s, covariance (the jaw's)"),

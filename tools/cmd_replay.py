@@ -72,6 +72,7 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
     from tactile_jaw.choose import JawReach, last_stop
     from tactile_jaw.decide import final_answer
+    from tactile_jaw.curvature_pool import pooled
     from tactile_jaw.flat import is_flat
     from tactile_jaw.flat import recognized_touches
     from tactile_jaw.pipeline import clear_of_corners, curve_refusal, curved_part, logged_felt, make_recognizer, \
@@ -95,7 +96,7 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     if args.touches:
         # the run's recognizer options (its profile's) travel with the touches: tactile recognize
         # then answers with the same settings as this replay
-        request = {"scene": header.get("scene"), "touches": [t.to_json() for t in touches],
+        request = {"scene": header.get("scene"), "touches": [t.to_json() for t in pooled(touches)],
                    "noise": (fixed_noise if fixed_noise and not all(is_flat(t) for t in touches)
                              else stated_noise(touches).to_json() if touches else None),
                    "options": {**settings.recognize, "reach": workspace_reach(config).to_json()}}

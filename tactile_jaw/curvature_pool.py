@@ -1,0 +1,136 @@
+"""κ, κ_s of a finger's rolls with the truncation of their envelope fits pooled across them.
+
+Each rolling touch states κ, κ_s from one degree k of d(ψ) (tactile_jaw.envelope.curvature_degree:
+the degree with the least expected squared error judged on that roll alone) and keeps every
+degree the order rule fitted (``EnvelopeFit.ladder``). The difference Δ of degree k to k + 2 (the
+next degree that changes both: ``CurvatureLadder.difference``; k + 1 where k + 2 was not fitted)
+holds the truncation bias b of degree k (the richer degree's is far smaller) and noise of
+variance v (the difference of the two degrees' noise factors). On fine encoders a low degree's κ is precise but
+biased where ρ(ψ) bends (a least-squares cubic's ρ is linear in ψ): on the P-series cubical's
+hump the cubic's κ came out 0.65–1.43 % low with σ 0.1–0.2 % (z −3.5 … −11.6; seed 127,
+tools.bench_explore --finite 20), where v^½ ≈ 0.5 %: one roll cannot tell b from its noise, and
+the rule keeps the cubic on exactly the rolls whose Δ happened to be small. A finger's rolls on
+the same object can: the exploration rolls a finger again and again near one place, where b is
+systematic (same sign, similar size), and every roll that fitted degree k and the richer one
+shows it, whichever degree it states.
+
+So per finger and degree, each component (κ, κ_s) on its own: when the rolls' Σ Δ²/v exceeds its
+χ² limit at ``TRUNCATION_ALPHA`` (else nothing changes), their biases are taken as b ~ N(μ, s²),
+μ and s² by the method of moments (:func:`pool`), and each roll that states degree k has its bias
+estimated by its posterior mean b̂ = (1 − w)μ̂ + wΔ, w = s²/(s² + v), and taken out. With ω the
+roll's own weight in μ̂, the corrected value is (1 − w′)κ_k + w′κ_r + (1 − w)(b − μ̂) (r the richer
+degree) with w′ = w + (1 − w)ω: its noise factor is (1 − w′)F_k + w′F_r, and what the pooled estimate leaves,
+variance (1 − w)²((1 − ω)²s² + Σ_{other rolls} ω_j²(s² + v_j)), one more column. A finger's one
+roll alone takes κ_r when its own Δ shows a bias. docs/exploration.md#pooled-truncation.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+from scipy import stats
+
+from recognizer.intervals import REL_SIGMA_CHECK
+from tactile_jaw.envelope import TRUNCATION_ALPHA
+
+#: a roll joins its finger's pool when the noise of its difference Δ in κ is within this share of
+#: its κ: the first-order noise the test weighs Δ by holds there (κ = 1/ρ is near-linear over it;
+#: recognizer.intervals doubts a linearized σ beyond the same share). An X-series roll's κ is
+#: 15–30 % uncertain: pooled at that noise, 3 of the 178 usable rolls of seed 127's circles and
+#: ellipses were "corrected" by up to 50 % on a difference of 2.4–3.5 of its first-order σ's
+LINEAR_SHARE = REL_SIGMA_CHECK
+
+
+def pool(diff: np.ndarray, var: np.ndarray) -> tuple[float, float, np.ndarray] | None:
+    """The truncation bias of one degree against the next over a finger's rolls (``diff`` their
+    differences Δ, ``var`` those differences' noise variances v) as b ~ N(μ, s²), by the method of
+    moments (DerSimonian–Laird: s² the spread of Δ beyond their noise, μ̂ their mean weighted by
+    1/(v + s²)): (μ̂, s², each roll's weight ω in μ̂); None when Σ Δ²/v is within its χ² limit at
+    ``TRUNCATION_ALPHA`` (no bias shown) or a variance is not positive."""
+    diff, var = np.asarray(diff, dtype=float), np.asarray(var, dtype=float)
+    if not (np.all(var > 0.0) and np.all(np.isfinite(diff)) and np.all(np.isfinite(var))):
+        return None
+    if float(np.sum(diff**2 / var)) <= stats.chi2.isf(TRUNCATION_ALPHA, diff.size):
+        return None
+    weight = 1.0 / var
+    centre = float(np.sum(weight * diff) / np.sum(weight))
+    q = float(np.sum(weight * (diff - centre) ** 2))
+    scale = float(np.sum(weight) - np.sum(weight**2) / np.sum(weight))
+    spread = max(0.0, (q - (diff.size - 1)) / scale) if scale > 0.0 else 0.0
+    omega = (1.0 / (var + spread)) / np.sum(1.0 / (var + spread))
+    return float(np.sum(omega * diff)), spread, omega
+
+
+def corrected(diff: np.ndarray, var: np.ndarray, pooled_bias: tuple[float, float, np.ndarray],
+              n: int) -> tuple[float, float, float]:
+    """Roll ``n``'s bias estimate b̂ = (1 − w)μ̂ + wΔ_n (module docstring), the weight w′ of degree
+    r in its corrected value, and the variance the pooled estimate leaves."""
+    centre, spread, omega = pooled_bias
+    w = spread / (spread + var[n])
+    others = float(np.sum(np.delete(omega**2 * (spread + var), n)))
+    left = (1.0 - w) ** 2 * ((1.0 - omega[n]) ** 2 * spread + others)
+    return (1.0 - w) * centre + w * float(diff[n]), w + (1.0 - w) * float(omega[n]), left
+
+
+def pooled(touches: Sequence[Any]) -> list[Any]:
+    """``touches`` (tactile_jaw.pipeline.FeltTouch) with each rolling touch's stated κ, κ_s and
+    their covariance pooled across its finger's rolls (module docstring): the bias of degree k
+    against a richer degree r from every roll of the finger that fitted both, taken out of those that state
+    κ, κ_s at degree k. A touch whose stated κ, κ_s are not its fit's own
+    (tactile_jaw.separation.exact_touches puts the truth there) keeps them and takes the
+    pooled covariance."""
+    fingers: dict[str, list[int]] = {}
+    for i, t in enumerate(touches):
+        fit = getattr(t, "fit", None)
+        if fit is None or fit.ladder is None or getattr(getattr(t, "samples", None), "curvature", None) is None:
+            continue
+        fingers.setdefault(t.finger, []).append(i)
+    out = list(touches)
+    for members in fingers.values():
+        stated = {(f.kappa_degree, d[2]) for f in (touches[i].fit for i in members)
+                  if (d := f.ladder.difference(f.kappa_degree)) is not None}
+        for k, richer in sorted(stated):
+            rolls = [i for i in members if _linear(touches[i].fit, k, richer)]
+            if not any(touches[i].fit.kappa_degree == k for i in rolls):
+                continue
+            diff, var = (np.array(a) for a in list(zip(*(touches[i].fit.ladder.difference(k) for i in rolls)))[:2])
+            biases = [pool(diff[:, j], var[:, j]) for j in range(2)]
+            if all(b is None for b in biases):
+                continue
+            for n, i in enumerate(rolls):
+                if touches[i].fit.kappa_degree == k:
+                    out[i] = _taken_out(touches[i], k, [None if b is None else corrected(diff[:, j], var[:, j], b, n)
+                                                        for j, b in enumerate(biases)])
+    return out
+
+
+def _linear(fit, k: int, richer: int) -> bool:
+    """Whether ``fit`` compared degree k with ``richer`` and its difference's noise in κ is within
+    ``LINEAR_SHARE`` of κ (the first-order noise holds)."""
+    d = fit.ladder.difference(k)
+    return d is not None and d[2] == richer and math.sqrt(d[1][0]) <= LINEAR_SHARE * abs(fit.ladder.values[k][0])
+
+
+def _taken_out(touch, k: int, components) -> Any:
+    """``touch`` with each component's (κ, κ_s) bias estimate taken out of its stated value and
+    its covariance the blend of degree k and the richer one and what the estimate leaves (``components``:
+    :func:`corrected` of each, or None to keep it)."""
+    fit = touch.fit
+    richer = fit.ladder.rows[fit.ladder.difference(k)[2]]
+    factor = fit.ladder.own.copy()
+    shift, left = np.zeros(2), np.zeros(2)
+    for j, c in enumerate(components):
+        if c is not None:
+            shift[j], blend, left[j] = c
+            factor[j] *= 1.0 - blend
+            factor[j, : richer.shape[1]] += blend * richer[j]
+    factor = np.hstack([factor, np.diag(np.sqrt(left))])
+    s = touch.samples
+    kappa, kappa_s, _ = s.curvature
+    if (kappa, kappa_s) == (fit.kappa, fit.kappa_s):
+        kappa, kappa_s = fit.kappa - float(shift[0]), fit.kappa_s - float(shift[1])
+    return replace(touch, samples=replace(s, curvature=(kappa, kappa_s, factor @ factor.T)))
