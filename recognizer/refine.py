@@ -43,7 +43,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
 import numpy as np
-from scipy import optimize, sparse, stats
+from scipy import optimize, sparse, special
 
 from recognizer.curves import CURVES, Pose, travel_direction
 from recognizer.localize import SINGULAR, scaled_covariance
@@ -215,6 +215,7 @@ class _Problem:
             sum(idx.size if w is None else w.shape[0] for idx, w in self.whiten) + 2 * len(data.contact_rows))
         self._memo: tuple[bytes, tuple] | None = None
         self._jac_memo: tuple[bytes, np.ndarray] | None = None
+        self._t_flat: tuple | None = None
 
     def _whitening(self, sig_phi: float, sig_pos: float, sig_along: float | None) -> list:
         """Per samples-touch (raw rows of x, y, φ; W): W·r is that touch's residuals whitened,
@@ -355,11 +356,11 @@ class _Problem:
             speed = np.asarray(curve.speed(t), float)
             kap = np.asarray(curve.kappa(t), float)
             ang = phi - (np.pi if self.direction < 0 else 0.0)
-        idx = np.arange(n)
-        col_t = self.n_glob + idx
-        jac[idx, col_t] = -speed * np.cos(ang) / self.sig_pos
-        jac[n + idx, col_t] = -speed * np.sin(ang) / self.sig_pos
-        jac[2 * n + idx, col_t] = -kap * speed / self.sig_phi
+        flat = jac.reshape(-1)  # each sample's t column: one entry in each of its x, y, φ rows
+        fx, fy, fphi = self._t_entries(z.size)
+        flat[fx] = -speed * np.cos(ang) / self.sig_pos
+        flat[fy] = -speed * np.sin(ang) / self.sig_pos
+        flat[fphi] = -kap * speed / self.sig_phi
         k = self.k
         # pose columns
         dx_th, dy_th = -(hy - pose.y), hx - pose.x
@@ -429,6 +430,16 @@ class _Problem:
                 jac[:n, i] = (c * dx - s * dy) * f
                 jac[n : 2 * n, i] = (s * dx + c * dy) * f
                 jac[2 * n : 3 * n, i] = dphi * (-scale / self.sig_phi)
+
+    def _t_entries(self, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Flat indices, in the raw Jacobian of ``m`` columns, of each sample's t entry in its
+        x, y and φ rows (computed once per problem)."""
+        if self._t_flat is None or self._t_flat[0] != m:
+            n = self.n_rows
+            idx = np.arange(n)
+            col = self.n_glob + idx
+            self._t_flat = (m, tuple(r * m + col for r in (idx, n + idx, 2 * n + idx)))
+        return self._t_flat[1]
 
     def _raw(self, z: np.ndarray) -> np.ndarray:
         """Residuals without the angle wrap's discontinuity (for differences)."""
@@ -704,10 +715,12 @@ def _unknowns_cov(problem: _Problem, jac: np.ndarray) -> np.ndarray:
         return _lost(cov, lost) / np.outer(norms, norms)
 
 
-def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, alpha: float = 1e-3) -> RefinedCandidate:
-    """Refine one candidate over every sample of ``touches`` (see module docstring)."""
+def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, alpha: float = 1e-3,
+               data: _Data | None = None) -> RefinedCandidate:
+    """Refine one candidate over every sample of ``touches`` (see module docstring);
+    ``data``: the touches already flattened (``_collect``; refine_candidates does it once)."""
     cls = candidate.cls
-    data = _collect(touches)
+    data = _collect(touches) if data is None else data
     params = {k: float(v) for k, v in candidate.params.items()}
     for name in _POSITIVE.get(cls, ()):
         params[name] = max(params.get(name, 1.0), 1e-9)
@@ -768,7 +781,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
         loglik = -0.5 * (2 * n * math.log(max(float(rp @ rp) / (2 * n), (SIGMA_FLOOR_POS * scale) ** 2))
                          + n * math.log(max(float(rf @ rf) / n, SIGMA_FLOOR_PHI**2)))
     bic = -2.0 * loglik + n_unknown * math.log(max(n_obs, 2))
-    p_value = float(stats.chi2.sf(chi2, dof)) if dof > 0 else 1.0
+    p_value = float(special.chdtrc(dof, chi2)) if dof > 0 else 1.0  # the χ² upper tail (stats.chi2.sf's own, 50× cheaper)
     # covariance of the unknowns, then the shape parameters and pose in their own units
     jac = problem.jacobian(z)
     cov_z = _unknowns_cov(problem, jac) if z.size > SPARSE_UNKNOWNS else _pinv_cov(jac)
@@ -811,10 +824,14 @@ def refine_candidates(candidates: Sequence[Candidate], request: Any, options: An
     noise = getattr(options, "noise", None) or getattr(request, "noise", None)
     alpha = float(getattr(options, "alpha", 1e-3) or 1e-3)
     touches = request.touches
+    try:  # flattened once for every candidate (refine_one's κ floors on it are idempotent)
+        data = _collect(touches) if candidates else None
+    except (ValueError, np.linalg.LinAlgError, FloatingPointError):
+        data = None  # each refine_one below collects again and says why it failed
     out = []
     for cand in candidates:
         try:
-            out.append(refine_one(cand, touches, noise, alpha))
+            out.append(refine_one(cand, touches, noise, alpha, data))
         except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
             fields = {f: getattr(cand, f) for f in Candidate.__dataclass_fields__}
             fields.update(chi2=math.inf, loglik=-math.inf, bic=math.inf, p_value=0.0, consistent=False,
