@@ -12,8 +12,9 @@ residuals  per sample: (x − X(t))/σ_pos, (y − Y(t))/σ_pos and the wrapped 
 Solved by MINPACK's Levenberg–Marquardt (``least_squares`` below, through
 ``scipy.optimize.leastsq``) with an analytic Jacobian: for t and the pose
 (dX/dt = speed·(cos Φ, sin Φ), dΦ/dt = κ·speed) and for the ≤ 2 shape parameters
-(``Curve.param_derivatives``; forward differences only where contact touches add κ, κ_s rows). Gauge freedoms are removed: a circle's θ is held (its t's absorb a
-rotation); a line's pose moves only across the line.
+(``Curve.param_derivatives``; forward differences only where contact touches add κ, κ_s
+rows). Gauge freedoms are removed: a circle's θ is held (its t's absorb a rotation); a
+line's pose moves only across the line.
 
 Weights: the request's (or options') NoiseModel; a zero σ is floored (``SIGMA_FLOOR_*``).
 A samples touch with a ``noise_factor`` F (its samples' errors have covariance F·Fᵀ,
@@ -69,7 +70,8 @@ runs when exact data's fit stops (at ``MAX_NFEV_EXACT``, or making no progress) 
 residual between EXACT_DONE and VALLEY_BELOW (within the floors' noise: a right class on its
 valley, 2 % off at 0.004–0.05; the semicubical's wrong branches stall at 25–60 and more)."""
 FD_STEP = 1.5e-8
-"""relative forward-difference step for the shape parameters' Jacobian columns (√ε)."""
+"""relative forward-difference step for the shape parameters' Jacobian columns (√ε) where
+contact touches add κ, κ_s rows (samples alone: closed form, ``_Problem._shape_columns``)."""
 TOL = 1e-10
 """least_squares' xtol, ftol, gtol: a relative χ² change of 1e-10 is far below any decision
 (1e-12 ran most wrong-class fits to the evaluation cap for nothing)."""
