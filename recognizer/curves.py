@@ -86,6 +86,11 @@ class Curve:
     def kappa_s(self, t):  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def param_derivatives(self, t) -> tuple:
+        """Per shape parameter (``param_names`` order): (∂x/∂p, ∂y/∂p, ∂φ/∂p) at t, t held
+        (recognizer.refine's Jacobian columns of the shape parameters)."""
+        raise NotImplementedError  # pragma: no cover - abstract
+
     def _arc(self, t):
         """An antiderivative S(t) of the speed (closed form), or None for quadrature."""
         return None
@@ -173,6 +178,9 @@ class Line(Curve):
     def kappa_s(self, t):
         return np.zeros_like(_arr(t))
 
+    def param_derivatives(self, t) -> tuple:
+        return ()
+
     def _arc(self, t):
         return _arr(t).copy()
 
@@ -199,6 +207,10 @@ class Circle(Curve):
 
     def kappa_s(self, t):
         return np.zeros_like(_arr(t))
+
+    def param_derivatives(self, t) -> tuple:
+        t = _arr(t)
+        return ((np.cos(t), np.sin(t), np.zeros_like(t)),)
 
     def _arc(self, t):
         return self.r * _arr(t)
@@ -235,6 +247,15 @@ class Ellipse(Curve):
         a, b = self.a, self.b
         return -3 * a * b * (a - b) * (a + b) * np.sin(t) * np.cos(t) / self._s2(t) ** 3
 
+    def param_derivatives(self, t) -> tuple:
+        """φ = atan2(V, U), U = −a sin t, V = b cos t: dφ = (U dV − V dU)/(U² + V²)."""
+        t = _arr(t)
+        c, s = np.cos(t), np.sin(t)
+        u, v = -self.a * s, self.b * c
+        q = u * u + v * v
+        zero = np.zeros_like(t)
+        return ((c, zero, v * s / q), (zero, s, u * c / q))
+
     def _arc(self, t):
         a, b = max(self.a, self.b), min(self.a, self.b)
         t = _arr(t)
@@ -266,6 +287,10 @@ class Parabola(Curve):
     def kappa_s(self, t):
         t = _arr(t)
         return 3 * t / (4 * self.a**2 * np.hypot(1.0, t) ** 6)
+
+    def param_derivatives(self, t) -> tuple:
+        t = _arr(t)
+        return ((t * t, 2.0 * t, np.zeros_like(t)),)
 
     def _arc(self, t):
         t = _arr(t)
@@ -299,6 +324,15 @@ class Hyperbola(Curve):
         a, b = self.a, self.b
         return 3 * a * b * (a * a + b * b) * np.sinh(t) * np.cosh(t) / self.speed(t) ** 6
 
+    def param_derivatives(self, t) -> tuple:
+        """φ = atan2(V, U), U = a sinh t, V = b cosh t: dφ = (U dV − V dU)/(U² + V²)."""
+        t = _arr(t)
+        ch, sh = np.cosh(t), np.sinh(t)
+        u, v = self.a * sh, self.b * ch
+        q = u * u + v * v
+        zero = np.zeros_like(t)
+        return ((ch, zero, -v * sh / q), (zero, sh, u * ch / q))
+
 
 class CubicalParabola(Curve):
     """(t, a t³ + c t), λ = 3at² + c; κ = 6at/(1+λ²)^{3/2}, κ_s eq. (13) (errata, docs/recognition.md)."""
@@ -328,6 +362,13 @@ class CubicalParabola(Curve):
         lam = self._lam(t)
         q = 1.0 + lam * lam
         return (6 * self.a * q - 108 * self.a**2 * t * t * lam) / q**3
+
+    def param_derivatives(self, t) -> tuple:
+        """φ = arctan λ, λ = 3at² + c: dφ = dλ/(1 + λ²)."""
+        t = _arr(t)
+        q = 1.0 + self._lam(t) ** 2
+        zero = np.zeros_like(t)
+        return ((zero, t**3, 3.0 * t * t / q), (zero, t.copy(), 1.0 / q))
 
 
 class SemicubicalParabola(Curve):
@@ -369,6 +410,13 @@ class SemicubicalParabola(Curve):
         q = 4.0 + u * u
         with np.errstate(divide="ignore", invalid="ignore"):
             return -6 * self.a * (q + 9 * self.a * u * t) / (t**3 * q**3)
+
+    def param_derivatives(self, t) -> tuple:
+        """φ = atan2(sg·u, sg·2), u = 3at + 2b: dφ = 2 du/(4 + u²) on either branch."""
+        t = _arr(t)
+        q = 4.0 + self._u(t) ** 2
+        zero = np.zeros_like(t)
+        return ((zero, t**3, 6.0 * t / q), (zero, t * t, 4.0 / q))
 
     def _arc(self, t):
         """S(t) = sign(t) ∫₀^|t| τ √(4 + u(τ)²) dτ: in closed form, antiderivative F(u)/(9a²)

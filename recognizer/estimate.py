@@ -44,6 +44,7 @@ arc-length, Taylor-basis and propagation helpers below.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -229,6 +230,13 @@ def _select(phi: np.ndarray, s: np.ndarray, m: int, sigma_fit: float | None, max
     return _Choice("poly", chosen[0], chosen[1]), bias2, sigma
 
 
+@lru_cache(maxsize=64)
+def _gof_limit(dof: int) -> float:
+    """The goodness-of-fit test's χ² threshold at ``GOF_LEVEL`` (stats.chi2.ppf costs ~0.2 ms
+    a call; a recognition asks it a few times per touch, for a handful of dof)."""
+    return float(stats.chi2.ppf(1.0 - GOF_LEVEL, dof))
+
+
 def _select_gof(phi: np.ndarray, s: np.ndarray, m: int, sigma: float, max_deg: int) -> _Choice:
     """Known noise: the lowest degree d whose φ residuals pass the χ² goodness-of-fit test
     at level ``GOF_LEVEL`` (the highest degree if none does) gives κ_s; κ comes from the
@@ -243,7 +251,7 @@ def _select_gof(phi: np.ndarray, s: np.ndarray, m: int, sigma: float, max_deg: i
         if dof <= 0:
             break
         chi2 = float(np.sum((resid @ rphi) ** 2)) / sigma**2
-        if chi2 <= stats.chi2.ppf(1.0 - GOF_LEVEL, dof):
+        if chi2 <= _gof_limit(dof):
             turn = abs(float(phi[-1] - phi[0]))
             d_ks = min(d + 2, max_deg) if turn > TURN_LIMIT else d
             return _Choice("poly", min(d + 1 - d % 2, max_deg), d_ks)

@@ -10,10 +10,11 @@ residuals  per sample: (x − X(t))/σ_pos, (y − Y(t))/σ_pos and the wrapped 
            additionally (κ − κ(t))/σ_κ and (κ_s − κ_s(t))/σ_κs from its covariance.
 
 Solved by MINPACK's Levenberg–Marquardt (``least_squares`` below, through
-``scipy.optimize.leastsq``) with an analytic Jacobian for t and the pose
-(dX/dt = speed·(cos Φ, sin Φ), dΦ/dt = κ·speed) and forward differences for the ≤ 2
-shape parameters. Gauge freedoms are removed: a circle's θ is held (its t's absorb a
-rotation); a line's pose moves only across the line.
+``scipy.optimize.leastsq``) with an analytic Jacobian: for t and the pose
+(dX/dt = speed·(cos Φ, sin Φ), dΦ/dt = κ·speed) and for the ≤ 2 shape parameters
+(``Curve.param_derivatives``; forward differences only where contact touches add κ, κ_s
+rows). Gauge freedoms are removed: a circle's θ is held (its t's absorb a rotation); a
+line's pose moves only across the line.
 
 Weights: the request's (or options') NoiseModel; a zero σ is floored (``SIGMA_FLOOR_*``).
 A samples touch with a ``noise_factor`` F (its samples' errors have covariance F·Fᵀ,
@@ -43,7 +44,7 @@ from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
 import numpy as np
-from scipy import optimize, sparse, stats
+from scipy import optimize, sparse, special
 
 from recognizer.curves import CURVES, Pose, travel_direction
 from recognizer.localize import SINGULAR, scaled_covariance
@@ -69,7 +70,8 @@ runs when exact data's fit stops (at ``MAX_NFEV_EXACT``, or making no progress) 
 residual between EXACT_DONE and VALLEY_BELOW (within the floors' noise: a right class on its
 valley, 2 % off at 0.004–0.05; the semicubical's wrong branches stall at 25–60 and more)."""
 FD_STEP = 1.5e-8
-"""relative forward-difference step for the shape parameters' Jacobian columns (√ε)."""
+"""relative forward-difference step for the shape parameters' Jacobian columns (√ε) where
+contact touches add κ, κ_s rows (samples alone: closed form, ``_Problem._shape_columns``)."""
 TOL = 1e-10
 """least_squares' xtol, ftol, gtol: a relative χ² change of 1e-10 is far below any decision
 (1e-12 ran most wrong-class fits to the evaluation cap for nothing)."""
@@ -215,6 +217,7 @@ class _Problem:
             sum(idx.size if w is None else w.shape[0] for idx, w in self.whiten) + 2 * len(data.contact_rows))
         self._memo: tuple[bytes, tuple] | None = None
         self._jac_memo: tuple[bytes, np.ndarray] | None = None
+        self._t_flat: tuple | None = None
 
     def _whitening(self, sig_phi: float, sig_pos: float, sig_along: float | None) -> list:
         """Per samples-touch (raw rows of x, y, φ; W): W·r is that touch's residuals whitened,
@@ -355,11 +358,11 @@ class _Problem:
             speed = np.asarray(curve.speed(t), float)
             kap = np.asarray(curve.kappa(t), float)
             ang = phi - (np.pi if self.direction < 0 else 0.0)
-        idx = np.arange(n)
-        col_t = self.n_glob + idx
-        jac[idx, col_t] = -speed * np.cos(ang) / self.sig_pos
-        jac[n + idx, col_t] = -speed * np.sin(ang) / self.sig_pos
-        jac[2 * n + idx, col_t] = -kap * speed / self.sig_phi
+        flat = jac.reshape(-1)  # each sample's t column: one entry in each of its x, y, φ rows
+        fx, fy, fphi = self._t_entries(z.size)
+        flat[fx] = -speed * np.cos(ang) / self.sig_pos
+        flat[fy] = -speed * np.sin(ang) / self.sig_pos
+        flat[fphi] = -kap * speed / self.sig_phi
         k = self.k
         # pose columns
         dx_th, dy_th = -(hy - pose.y), hx - pose.x
@@ -382,15 +385,18 @@ class _Problem:
             jac[2 * n : 3 * n, k] = -1.0 / self.sig_phi
             jac[:n, k + 1] = -1.0 / self.sig_pos
             jac[n : 2 * n, k + 2] = -1.0 / self.sig_pos
-        # shape parameters: forward differences from the memoized model (step √ε·max(|z|, 1));
-        # contact rows' t: central differences
-        base = self._raw_from(hx, hy, phi, self._memo[1][7])
-        for i in range(k):
-            h = FD_STEP * max(abs(z[i]), 1.0)
-            zp = z.copy()
-            zp[i] += h
-            h = zp[i] - z[i]
-            jac[:, i] = (self._raw(zp) - base) / h
+        if nc:
+            # shape parameters: forward differences from the memoized model (step √ε·max(|z|, 1))
+            # (the κ, κ_s rows of contact touches); contact rows' t: central differences
+            base = self._raw_from(hx, hy, phi, self._memo[1][7])
+            for i in range(k):
+                h = FD_STEP * max(abs(z[i]), 1.0)
+                zp = z.copy()
+                zp[i] += h
+                h = zp[i] - z[i]
+                jac[:, i] = (self._raw(zp) - base) / h
+        else:
+            self._shape_columns(jac, z, curve, pose, t)
         if nc:
             for j, r in enumerate(self.data.contact_rows):
                 c = self.n_glob + r
@@ -404,6 +410,38 @@ class _Problem:
         if self.aniso:
             self._across_along(jac)
         return np.clip(jac, -JACOBIAN_CAP, JACOBIAN_CAP, out=jac)
+
+    def _shape_columns(self, jac: np.ndarray, z: np.ndarray, curve, pose: Pose, t: np.ndarray) -> None:
+        """The shape parameters' raw columns in closed form (``Curve.param_derivatives``,
+        turned into the hand frame; a log parameter's column times the parameter): the forward
+        differences they replace cost two model evaluations per Jacobian, half of the
+        refinement's time in its Jacobian. A log parameter at the ``unpack`` clamp (z ≥ 700)
+        moves nothing: its column is zero, as a difference there was."""
+        n = self.n_rows
+        c, s = math.cos(pose.theta), math.sin(pose.theta)
+        with np.errstate(all="ignore"):
+            for i, (dx, dy, dphi) in enumerate(curve.param_derivatives(t)):
+                name = self.names[i]
+                if name in self.pos_names:
+                    if not z[i] < 700.0:
+                        continue
+                    scale = curve.params[name]
+                else:
+                    scale = 1.0
+                f = -scale / self.sig_pos
+                jac[:n, i] = (c * dx - s * dy) * f
+                jac[n : 2 * n, i] = (s * dx + c * dy) * f
+                jac[2 * n : 3 * n, i] = dphi * (-scale / self.sig_phi)
+
+    def _t_entries(self, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Flat indices, in the raw Jacobian of ``m`` columns, of each sample's t entry in its
+        x, y and φ rows (computed once per problem)."""
+        if self._t_flat is None or self._t_flat[0] != m:
+            n = self.n_rows
+            idx = np.arange(n)
+            col = self.n_glob + idx
+            self._t_flat = (m, tuple(r * m + col for r in (idx, n + idx, 2 * n + idx)))
+        return self._t_flat[1]
 
     def _raw(self, z: np.ndarray) -> np.ndarray:
         """Residuals without the angle wrap's discontinuity (for differences)."""
@@ -679,10 +717,12 @@ def _unknowns_cov(problem: _Problem, jac: np.ndarray) -> np.ndarray:
         return _lost(cov, lost) / np.outer(norms, norms)
 
 
-def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, alpha: float = 1e-3) -> RefinedCandidate:
-    """Refine one candidate over every sample of ``touches`` (see module docstring)."""
+def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, alpha: float = 1e-3,
+               data: _Data | None = None) -> RefinedCandidate:
+    """Refine one candidate over every sample of ``touches`` (see module docstring);
+    ``data``: the touches already flattened (``_collect``; refine_candidates does it once)."""
     cls = candidate.cls
-    data = _collect(touches)
+    data = _collect(touches) if data is None else data
     params = {k: float(v) for k, v in candidate.params.items()}
     for name in _POSITIVE.get(cls, ()):
         params[name] = max(params.get(name, 1.0), 1e-9)
@@ -743,7 +783,7 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
         loglik = -0.5 * (2 * n * math.log(max(float(rp @ rp) / (2 * n), (SIGMA_FLOOR_POS * scale) ** 2))
                          + n * math.log(max(float(rf @ rf) / n, SIGMA_FLOOR_PHI**2)))
     bic = -2.0 * loglik + n_unknown * math.log(max(n_obs, 2))
-    p_value = float(stats.chi2.sf(chi2, dof)) if dof > 0 else 1.0
+    p_value = float(special.chdtrc(dof, chi2)) if dof > 0 else 1.0  # the χ² upper tail (stats.chi2.sf's own, 50× cheaper)
     # covariance of the unknowns, then the shape parameters and pose in their own units
     jac = problem.jacobian(z)
     cov_z = _unknowns_cov(problem, jac) if z.size > SPARSE_UNKNOWNS else _pinv_cov(jac)
@@ -786,10 +826,14 @@ def refine_candidates(candidates: Sequence[Candidate], request: Any, options: An
     noise = getattr(options, "noise", None) or getattr(request, "noise", None)
     alpha = float(getattr(options, "alpha", 1e-3) or 1e-3)
     touches = request.touches
+    try:  # flattened once for every candidate (refine_one's κ floors on it are idempotent)
+        data = _collect(touches) if candidates else None
+    except (ValueError, np.linalg.LinAlgError, FloatingPointError):
+        data = None  # each refine_one below collects again and says why it failed
     out = []
     for cand in candidates:
         try:
-            out.append(refine_one(cand, touches, noise, alpha))
+            out.append(refine_one(cand, touches, noise, alpha, data))
         except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
             fields = {f: getattr(cand, f) for f in Candidate.__dataclass_fields__}
             fields.update(chi2=math.inf, loglik=-math.inf, bic=math.inf, p_value=0.0, consistent=False,

@@ -145,3 +145,31 @@ def test_semicubical_arc_length_as_a_goes_to_zero(a, b):
     assert np.all(np.isfinite(got))
     assert got == pytest.approx(want, rel=1e-12, abs=1e-300)
     assert back == pytest.approx(t[t != 0], rel=1e-9)
+
+
+@pytest.mark.parametrize("cls", list(CURVES))
+def test_param_derivatives_match_sympy(cls):
+    """∂x/∂p, ∂y/∂p and ∂φ/∂p at fixed t (refine's shape columns) against sympy, φ = atan2(y', x'),
+    at the test shapes and at extremes: far out (t 15), near the cusp, steep, thin."""
+    import mpmath
+
+    mpmath.mp.dps = 40
+    x, y = FORMS[cls]
+    xd, yd = sp.diff(x, T), sp.diff(y, T)
+    syms = [T] + [P[n] for n in CURVES[cls].param_names]
+    exact = {n: [sp.lambdify(syms, e, "mpmath") for e in (sp.diff(x, P[n]), sp.diff(y, P[n]),
+                 (xd * sp.diff(yd, P[n]) - yd * sp.diff(xd, P[n])) / (xd**2 + yd**2))]
+             for n in CURVES[cls].param_names}
+    extremes = {"ellipse": [{"a": 1.0, "b": 0.01}], "hyperbola": [{"a": 1.0, "b": 0.4}],
+                "cubical_parabola": [{"a": 0.3, "c": 1e4}], "semicubical_parabola": [{"a": 1.0, "b": -0.5}]}
+    ts = TS + [15.0, -8.5, 1e-4]
+    for params in PARAMS[cls] + extremes.get(cls, []):
+        curve = CURVES[cls](params)
+        args = [params[n] for n in curve.param_names]
+        derivs = curve.param_derivatives(np.array(ts))
+        assert len(derivs) == len(curve.param_names)
+        for name, cols in zip(curve.param_names, derivs):
+            for i, ti in enumerate(ts):
+                for got, f in zip(cols, exact[name]):
+                    want = float(f(mpmath.mpf(ti), *args))
+                    assert got[i] == pytest.approx(want, rel=1e-11, abs=1e-13 * (1 + abs(want))), (cls, name, ti)
