@@ -443,8 +443,8 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
                 # the turn back from the range's far end was blocked, and backing off there is
                 # beyond the joints (a pad end slid along a face to the finger's reach): back
                 # along the scan's own stops, each ROLL_CLEARANCE_MM off, then press
-                yield from move_line(jaw, finger, *_back_along(result.samples, psi_f, ROLL_CLEARANCE_MM),
-                                     via=_back_along(result.samples, psi_f, ROLL_CLEARANCE_MM, via=True))
+                path = _back_along(result.samples, psi_f, ROLL_CLEARANCE_MM)
+                yield from move_line(jaw, finger, *path[-1], via=path[:-1])
                 approach = yield from _press(jaw, finger, a)
             if not take(approach, a, "seat"):
                 return result
@@ -458,18 +458,16 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
     return result
 
 
-def _back_along(samples, psi_f: float, off_mm: float, via: bool = False):
+def _back_along(samples, psi_f: float, off_mm: float) -> list[tuple[float, float]]:
     """The pad lines (ψ, d) ``off_mm`` off the press's stops from the pad's newest one to the one
     nearest the seat ψ_f (the turn back across the range the press scanned, every line a stop
-    the finger reached, so within its joints and clear of the object): the last (``via``:
-    those before it)."""
+    the finger reached, so within its joints and clear of the object), in that order."""
     here = float(samples[-1].line.psi)
     turn = math.remainder(psi_f - here, 2 * math.pi)
     on_way = sorted((s for s in samples if 1e-6 < math.remainder(float(s.line.psi) - here, 2 * math.pi) * np.sign(turn)
                      <= abs(turn) + 0.5 * math.radians(FLAT_STEP_DEG)),
                     key=lambda s: abs(math.remainder(float(s.line.psi) - here, 2 * math.pi)))
-    lines = [(float(s.line.psi), float(s.line.d) - off_mm) for s in on_way]
-    return lines[:-1] if via else lines[-1]
+    return [(float(s.line.psi), float(s.line.d) - off_mm) for s in on_way]
 
 
 def _unless(motion: Motion, interrupt: Callable[[], str | None] | None) -> Motion:
