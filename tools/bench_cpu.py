@@ -3,7 +3,7 @@ down so that two code versions can be compared answer by answer (not a test).
 
     python -m tools.bench_cpu [--set wide|hand] [--seed 1] [--trials 16] [--first 0] [--exact] --out A.json
     python -m tools.bench_cpu ... --profile PROF.out      (cProfile of the recognitions only)
-    python -m tools.bench_cpu --compare A.json B.json [--rel 1e-9]
+    python -m tools.bench_cpu --compare A.json B.json [--rel 1e-9] [--abs 0]
 
 The requests are exactly `tools.bench_wide`'s first recognition of each trial (the same
 draws: shape, region, contacts, direction, noise), balanced profile, every class allowed;
@@ -13,7 +13,9 @@ shared machine as long as both versions run under the same conditions: run them 
 side or interleaved). ``--compare`` checks class, parameters, pose, contacts, σ's,
 intervals, invariants, ranking (χ², BIC, p), ``also_fits``, ``untested``, the reason and
 ``next_touch`` of every request: bit-identical, else the largest relative difference, and
-fails (exit 1) when one exceeds ``--rel`` or a class, text or structure differs.
+fails (exit 1) when a number differs by more than ``--rel`` relative and ``--abs`` absolute (a
+``gain`` of χ² between two classes at the same limit, 1e-12, is rounding), or a class, text
+or structure differs.
 """
 
 from __future__ import annotations
@@ -120,12 +122,12 @@ def _diff(a, b, path, worst, bad):
     elif isinstance(a, (int, float)) and isinstance(b, (int, float)):
         if a != b:
             rel = abs(a - b) / max(abs(a), abs(b)) if math.isfinite(a) and math.isfinite(b) else math.inf
-            worst.append((rel, path, a, b))
+            worst.append((rel, path, a, b, abs(a - b)))
     elif a != b:
         bad.append(f"{path}: {a!r} vs {b!r}")
 
 
-def compare(path_a: str, path_b: str, rel: float) -> int:
+def compare(path_a: str, path_b: str, rel: float, tol_abs: float = 0.0) -> int:
     with open(path_a, encoding="utf-8") as f:
         a = json.load(f)
     with open(path_b, encoding="utf-8") as f:
@@ -144,13 +146,13 @@ def compare(path_a: str, path_b: str, rel: float) -> int:
     for line in bad[:20]:
         print("  DIFF", line)
     worst.sort(reverse=True)
-    for r, p, u, v in worst[:10]:
-        print(f"  {r:.3g} relative at {p}: {u!r} vs {v!r}")
+    for r, p, u, v, d in worst[:10]:
+        print(f"  {r:.3g} relative ({d:.3g} absolute) at {p}: {u!r} vs {v!r}")
     for name, recs in (("A", ra), ("B", rb)):
         print(f"{name} ({path_a if name == 'A' else path_b}): " + summary(recs).replace("\n", "\n    "))
-    over = [w for w in worst if w[0] > rel]
+    over = [w for w in worst if w[0] > rel and w[4] > tol_abs]
     print(f"largest relative difference {worst[0][0]:.3g}" if worst else "every number bit-identical",
-          f"({len(over)} beyond {rel:g})")
+          f"({len(over)} beyond {rel:g} relative" + (f" and {tol_abs:g} absolute)" if tol_abs else ")"))
     return 1 if bad or over else 0
 
 
@@ -166,9 +168,10 @@ def main(argv=None) -> int:
     ap.add_argument("--profile", help="write a cProfile of the recognize calls to this file")
     ap.add_argument("--compare", nargs=2, metavar=("A", "B"), help="compare two --out files")
     ap.add_argument("--rel", type=float, default=1e-9, help="--compare: largest relative difference allowed")
+    ap.add_argument("--abs", type=float, default=0.0, help="--compare: ... or absolute difference allowed")
     args = ap.parse_args(argv)
     if args.compare:
-        return compare(*args.compare, args.rel)
+        return compare(*args.compare, args.rel, args.abs)
     if not args.out:
         raise SystemExit("bench_cpu: --out FILE.json is required (or --compare A B)")
     return run(args)
