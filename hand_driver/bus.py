@@ -173,9 +173,10 @@ class JointBus:
 
     @classmethod
     def for_config(cls, config: JawConfig, port: str | None = None, **options) -> "JointBus":
-        """The bus of a jaw config: its joints, baud rate, retries and Bus Watchdog time;
-        ``port`` (default the config's) and other keyword options as for the constructor."""
+        """The bus of a jaw config: its joints, baud rate, retries, status timeout and Bus Watchdog
+        time; ``port`` (default the config's) and other keyword options as for the constructor."""
         options.setdefault("retries", config.bus.retries)
+        options.setdefault("timeout_s", config.bus.timeout_s)
         options.setdefault("watchdog_ms", config.bus.watchdog_ms)
         return cls(port if port is not None else config.bus.port, config.bus.baudrate, config, **options)
 
