@@ -15,7 +15,7 @@ import numpy as np
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
 from hand_driver.flat_press import FACE_MIN_FRACTION, FLAT_STEP_DEG, FlatResult, face_normal, flat_press, seat_split
-from hand_driver.motion import TouchResult
+from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.choose import Goal, JawReach, Stop, move_advice
 from tactile_jaw.flat import FACE_MISS_MM, curved_faces, recognized_touches
@@ -117,7 +117,13 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
         start = face.psi - side * (FLAT_RESTART_STEPS + 0.5 * misses) * step
         n = kin.unit(start)
         d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
-        travel = 2.0 * FLAT_RESTART_MM
+        # each joint runs its own profile: from the seat the base joint's turn ends first and
+        # pressed the pad onto the face's corner on the way (random block 18 of bench_explore
+        # --finite 20 --anywhere --seed 139, P-series: stuck there, "no contact"); start as
+        # far out as keeps both supports clear wherever a joint arrives first
+        extra = max(uncoordinated_overshoot(jaw, finger, start, d_start, s) for s in (face.p, face.q))
+        d_start -= extra
+        travel = 2.0 * FLAT_RESTART_MM + extra
     seated = set() if seated is None else seated
     t0 = jaw.robot_time()
 
