@@ -14,7 +14,8 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
-from hand_driver.flat_press import FACE_MIN_FRACTION, FLAT_STEP_DEG, FlatResult, face_normal, flat_press, seat_split
+from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_STEP_DEG, SEAT_TOL_MM, SPLIT_APART, FlatResult, face_normal,
+                                     flat_press, seat_split)
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.choose import Goal, JawReach, Stop, move_advice
@@ -332,6 +333,11 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
         if found is not None and (best is None or np.linalg.norm(found[2] - found[1]) > best[0]):
             best = (float(np.linalg.norm(found[2] - found[1])), t.finger, found[1], found[2],
                     t.touch.samples[-1].line.normal)
+    for f in cfg.fingers:  # ... or one a pad end slid along during the rolls
+        slid = sliding_face([t.lines for t in out.touches if t.finger == f.name and t.lines is not None
+                             and not isinstance(t.touch, FlatResult)], f.pad.length_mm)
+        if slid is not None and (best is None or slid[0] > best[0]):
+            best = (slid[0], f.name, *slid[1:])
     if best is None:
         return None
     length, finger, p, q, toward = best
@@ -348,6 +354,40 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
     return Stop(f"{head}; the {finger} pad met a face near ({mid[0]:.0f}, {mid[1]:.0f}) mm, pad normal "
                 f"{math.degrees(psi):.0f} deg, over {length:.1f} mm of the pad"
                 + (f" (a seat needs {FACE_MIN_FRACTION:g} of it)" if short else "") + f": {advice}", move)
+
+
+def sliding_face(rolls: Sequence[kin.PadLine], length_mm: float,
+                 tol_mm: float = SEAT_TOL_MM) -> tuple[float, np.ndarray, np.ndarray, np.ndarray] | None:
+    """The longest face a pad end slid along in a finger's rolls (``rolls``: each roll's pad
+    lines), as (its length felt, its ends P and Q, the pad's normal toward it), or None: the
+    same end of every line of a roll within ``tol_mm`` of one straight line, slid along it by
+    more than SPLIT_APART · ``tol_mm``, and that end of every line of the finger's rolls within
+    ``tol_mm`` of it spanning at least FACE_MIN_FRACTION of the pad (an end turning about a
+    corner under the pad moves on a circle of at most the pad's length: over that span it bows
+    out by more than the tolerance). Random block 8 of bench_explore --finite 20 --anywhere
+    --seed 139 (P-series, near the palm): no press seated, the right pad's proximal end slid
+    12.5 mm along a face 69° from its nominal normal over three rolls (tactile_jaw.pipeline
+    .pad_end_slid), while the move named came from a press's scan that split at two points
+    5.7 mm apart inside the block."""
+    best = None
+    for end in ("proximal", "distal"):
+        every = [np.asarray(getattr(ln, end), dtype=float).reshape(-1, 2) for ln in rolls]
+        pool = np.concatenate(every) if every else np.empty((0, 2))
+        for pts, ln in zip(every, rolls):
+            if len(pts) < 3:
+                continue
+            centre = pts.mean(axis=0)
+            along, across = np.linalg.svd(pts - centre)[2]
+            if float(np.max(np.abs((pts - centre) @ across))) > tol_mm or float(np.ptp((pts - centre) @ along)) \
+                    <= SPLIT_APART * tol_mm:
+                continue
+            on = pool[np.abs((pool - centre) @ across) <= tol_mm]
+            u = (on - centre) @ along
+            length = float(np.ptp(u))
+            if length >= FACE_MIN_FRACTION * length_mm and (best is None or length > best[0]):
+                toward = np.asarray(ln.normal, dtype=float).reshape(-1, 2)[0]
+                best = (length, centre + float(np.min(u)) * along, centre + float(np.max(u)) * along, toward)
+    return best
 
 
 def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings, recognize_touches: RecognizeTouches,
