@@ -14,8 +14,8 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
-from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_STEP_DEG, SEAT_TOL_MM, SPLIT_APART, FlatResult, face_normal,
-                                     flat_press, seat_split)
+from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_STEP_DEG, SEAT_TOL_MM, SPLIT_APART, FlatResult, _run,
+                                     face_normal, flat_press, seat_split)
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.choose import Goal, JawReach, Stop, move_advice
@@ -46,6 +46,10 @@ FLAT_AFTER_TOUCHES = 4
 #: that did not took 9–44 s each (one turned 70°, its approaches up to 1.5 s apart), a
 #: round lasting as long as its slowest press
 FLAT_MAX_S = 12.0
+#: two rolls whose lines pass through points this close (mm) turned about one corner
+#: (:func:`sliding_face`); the X-series rolls about one corner of seed 139's block 18 met it
+#: within 0.3 mm, the P-series slides of its block 8 passed through points 4–7 mm apart
+PIVOT_AGAIN_MM = 1.0
 
 
 def _felt_stop(out: Exploration, finger: str, psi: float) -> tuple[float, float] | None:
@@ -364,18 +368,26 @@ def sliding_face(rolls: Sequence[kin.PadLine], length_mm: float,
     more than SPLIT_APART · ``tol_mm``, and that end of every line of the finger's rolls within
     ``tol_mm`` of it spanning at least FACE_MIN_FRACTION of the pad (an end turning about a
     corner under the pad moves on a circle of at most the pad's length: over that span it bows
-    out by more than the tolerance). Random block 8 of bench_explore --finite 20 --anywhere
+    out by more than the tolerance), from a roll whose lines do not pass through a point
+    another roll's lines pass through (within ``PIVOT_AGAIN_MM``): the lines of a roll resting
+    on a sliding end may pass within 0.02 mm of one point off the object, a different one each
+    roll, while the rolls about one corner all pass through it, and their ends may lie on a
+    straight line too (the X-series right pad about the corner of random block 18 of seed
+    139: within 0.03 mm over 10.6 mm, off the object). Random block 8 of bench_explore --finite 20 --anywhere
     --seed 139 (P-series, near the palm): no press seated, the right pad's proximal end slid
     12.5 mm along a face 69° from its nominal normal over three rolls (tactile_jaw.pipeline
     .pad_end_slid), while the move named came from a press's scan that split at two points
     5.7 mm apart inside the block."""
     best = None
+    pivots = [_pivot(ln, tol_mm) if np.asarray(ln.psi).size >= 3 else None for ln in rolls]
     for end in ("proximal", "distal"):
         every = [np.asarray(getattr(ln, end), dtype=float).reshape(-1, 2) for ln in rolls]
         pool = np.concatenate(every) if every else np.empty((0, 2))
-        for pts, ln in zip(every, rolls):
-            if len(pts) < 3:
-                continue
+        for i, (pts, ln) in enumerate(zip(every, rolls)):
+            if len(pts) < 3 or (pivots[i] is not None and any(
+                    o is not None and j != i and np.linalg.norm(o - pivots[i]) <= PIVOT_AGAIN_MM
+                    for j, o in enumerate(pivots))):
+                continue  # its lines pass through a point another roll's pass through: a corner
             centre = pts.mean(axis=0)
             along, across = np.linalg.svd(pts - centre)[2]
             if float(np.max(np.abs((pts - centre) @ across))) > tol_mm or float(np.ptp((pts - centre) @ along)) \
@@ -388,6 +400,14 @@ def sliding_face(rolls: Sequence[kin.PadLine], length_mm: float,
                 toward = np.asarray(ln.normal, dtype=float).reshape(-1, 2)[0]
                 best = (length, centre + float(np.min(u)) * along, centre + float(np.max(u)) * along, toward)
     return best
+
+
+def _pivot(lines: kin.PadLine, tol_mm: float) -> np.ndarray | None:
+    """The point more than half a roll's consecutive lines pass within ``tol_mm`` of, or None."""
+    seq = [lines.at(i) for i in range(np.asarray(lines.psi).size)]
+    runs = [_run(seq, i, 1, tol_mm) for i in range(len(seq))]
+    n, p, _ = max(runs, key=lambda r: r[0])
+    return p if n > len(seq) // 2 else None
 
 
 def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings, recognize_touches: RecognizeTouches,
