@@ -338,7 +338,7 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
             best = (float(np.linalg.norm(found[2] - found[1])), t.finger, found[1], found[2],
                     t.touch.samples[-1].line.normal)
     for f in cfg.fingers:  # ... or one a pad end slid along during the rolls
-        slid = sliding_face([t.lines for t in out.touches if t.finger == f.name and t.lines is not None
+        slid = sliding_face([t for t in out.touches if t.finger == f.name and t.lines is not None
                              and not isinstance(t.touch, FlatResult)], f.pad.length_mm)
         if slid is not None and (best is None or slid[0] > best[0]):
             best = (slid[0], f.name, *slid[1:])
@@ -360,11 +360,15 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
                 + (f" (a seat needs {FACE_MIN_FRACTION:g} of it)" if short else "") + f": {advice}", move)
 
 
-def sliding_face(rolls: Sequence[kin.PadLine], length_mm: float,
+def sliding_face(rolls: Sequence[FeltTouch], length_mm: float,
                  tol_mm: float = SEAT_TOL_MM) -> tuple[float, np.ndarray, np.ndarray, np.ndarray] | None:
-    """The longest face a pad end slid along in a finger's rolls (``rolls``: each roll's pad
-    lines), as (its length felt, its ends P and Q, the pad's normal toward it), or None: the
-    same end of every line of a roll within ``tol_mm`` of one straight line, slid along it by
+    """The longest face a pad end slid along in a finger's rolls (``rolls``: felt rolling
+    touches, their pad lines and envelope fits), as (its length felt, its ends P and Q, the pad's
+    normal toward it), or None: a roll whose lines' envelope bends the way no convex boundary's
+    tangents do (radius of curvature below 0 by 3 σ: a roll on a curve near the pad's end moves
+    that end along a nearly straight path too — 54 of the 140 P-series logs of seed 139, circles
+    among them, had such ends — and a corner's radius is 0), the
+    same end of every line of that roll within ``tol_mm`` of one straight line, slid along it by
     more than SPLIT_APART · ``tol_mm``, and that end of every line of the finger's rolls within
     ``tol_mm`` of it spanning at least FACE_MIN_FRACTION of the pad (an end turning about a
     corner under the pad moves on a circle of at most the pad's length: over that span it bows
@@ -379,12 +383,14 @@ def sliding_face(rolls: Sequence[kin.PadLine], length_mm: float,
     .pad_end_slid), while the move named came from a press's scan that split at two points
     5.7 mm apart inside the block."""
     best = None
-    pivots = [_pivot(ln, tol_mm) if np.asarray(ln.psi).size >= 3 else None for ln in rolls]
+    lines = [t.lines for t in rolls]
+    pivots = [_pivot(ln, tol_mm) if np.asarray(ln.psi).size >= 3 else None for ln in lines]
+    concave = [t.fit is not None and t.fit.rho + 3.0 * t.fit.sigma_rho < 0.0 for t in rolls]
     for end in ("proximal", "distal"):
-        every = [np.asarray(getattr(ln, end), dtype=float).reshape(-1, 2) for ln in rolls]
+        every = [np.asarray(getattr(ln, end), dtype=float).reshape(-1, 2) for ln in lines]
         pool = np.concatenate(every) if every else np.empty((0, 2))
-        for i, (pts, ln) in enumerate(zip(every, rolls)):
-            if len(pts) < 3 or (pivots[i] is not None and any(
+        for i, (pts, ln) in enumerate(zip(every, lines)):
+            if len(pts) < 3 or not concave[i] or (pivots[i] is not None and any(
                     o is not None and j != i and np.linalg.norm(o - pivots[i]) <= PIVOT_AGAIN_MM
                     for j, o in enumerate(pivots))):
                 continue  # its lines pass through a point another roll's pass through: a corner
