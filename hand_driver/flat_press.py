@@ -176,15 +176,18 @@ def end_support(lines: list[kin.PadLine], other: np.ndarray, tol_mm: float = SEA
     --seed 13). Which of the two a seat takes: :func:`better_support`."""
     if len(lines) < least:
         return None
+    pad = float(np.linalg.norm(np.asarray(lines[0].distal) - np.asarray(lines[0].proximal)))
     for end in ("distal", "proximal"):
         v = np.array([getattr(ln, end) for ln in lines], dtype=float) - np.asarray(other, dtype=float)
-        pad = float(np.linalg.norm(np.asarray(lines[0].distal) - np.asarray(lines[0].proximal)))
-        if np.min(np.linalg.norm(v, axis=1)) < FACE_MIN_FRACTION * pad:
-            continue  # ends beside the other support lie on any line through it: no face
+        far = np.linalg.norm(v, axis=1) >= FACE_MIN_FRACTION * pad
+        n = len(far) if bool(np.all(far)) else int(np.argmin(far))  # the ends nearest the seat, while far
+        if n < least:
+            continue  # ends beside the other support lie on any line through it: no evidence of a face
+        v = v[:n]
         along, normal = np.linalg.svd(v)[2]  # the line through ``other`` nearest the ends
         worst = float(np.max(np.abs(v @ normal)))
         if worst <= tol_mm and float(np.ptp(v @ along)) > SPLIT_APART * tol_mm:
-            return len(lines), np.asarray(getattr(lines[0], end), dtype=float), worst
+            return n, np.asarray(getattr(lines[0], end), dtype=float), worst
     return None
 
 
@@ -305,7 +308,7 @@ def _slid_past(seq: list[kin.PadLine], b: int, tol_mm: float) -> bool:
     :func:`end_support`), or the three nearest P pass through no point?"""
     n, p, _ = _run(seq, b, 1, tol_mm, SUPPORT_LINES)
     last = seq[b - 1]
-    if n < 3 or abs(float(last.normal @ p - last.d)) <= SPLIT_APART * tol_mm:
+    if n < 3 or abs(float(last.normal @ p - last.d)) <= tol_mm:
         return False
     return (end_support(seq[max(b - SUPPORT_LINES, 0):b][::-1], p, tol_mm, least=2) is not None
             or (b >= 3 and _run(seq, b - 1, -1, tol_mm)[0] < 3))

@@ -14,8 +14,9 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
-from hand_driver.flat_press import FACE_MIN_FRACTION, FLAT_STEP_DEG, FlatResult, face_normal, flat_press, seat_split
-from hand_driver.motion import TouchResult
+from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_STEP_DEG, SEAT_TOL_MM, SPLIT_APART, FlatResult, _run,
+                                     face_normal, flat_press, seat_split)
+from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.choose import Goal, JawReach, Stop, move_advice
 from tactile_jaw.flat import FACE_MISS_MM, curved_faces, recognized_touches
@@ -45,6 +46,10 @@ FLAT_AFTER_TOUCHES = 4
 #: that did not took 9–44 s each (one turned 70°, its approaches up to 1.5 s apart), a
 #: round lasting as long as its slowest press
 FLAT_MAX_S = 12.0
+#: two rolls whose lines pass through points this close (mm) turned about one corner
+#: (:func:`sliding_face`); the X-series rolls about one corner of seed 139's block 18 met it
+#: within 0.3 mm, the P-series slides of its block 8 passed through points 4–7 mm apart
+PIVOT_AGAIN_MM = 1.0
 
 
 def _felt_stop(out: Exploration, finger: str, psi: float) -> tuple[float, float] | None:
@@ -117,7 +122,13 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
         start = face.psi - side * (FLAT_RESTART_STEPS + 0.5 * misses) * step
         n = kin.unit(start)
         d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
-        travel = 2.0 * FLAT_RESTART_MM
+        # each joint runs its own profile: from the seat the base joint's turn ends first and
+        # pressed the pad onto the face's corner on the way (random block 18 of bench_explore
+        # --finite 20 --anywhere --seed 139, P-series: stuck there, "no contact"); start as
+        # far out as keeps both supports clear wherever a joint arrives first
+        extra = max(uncoordinated_overshoot(jaw, finger, start, d_start, s) for s in (face.p, face.q))
+        d_start -= extra
+        travel = 2.0 * FLAT_RESTART_MM + extra
     seated = set() if seated is None else seated
     t0 = jaw.robot_time()
 
@@ -326,6 +337,11 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
         if found is not None and (best is None or np.linalg.norm(found[2] - found[1]) > best[0]):
             best = (float(np.linalg.norm(found[2] - found[1])), t.finger, found[1], found[2],
                     t.touch.samples[-1].line.normal)
+    for f in cfg.fingers:  # ... or one a pad end slid along during the rolls
+        slid = sliding_face([t for t in out.touches if t.finger == f.name and t.lines is not None
+                             and not isinstance(t.touch, FlatResult)], f.pad.length_mm)
+        if slid is not None and (best is None or slid[0] > best[0]):
+            best = (slid[0], f.name, *slid[1:])
     if best is None:
         return None
     length, finger, p, q, toward = best
@@ -342,6 +358,62 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
     return Stop(f"{head}; the {finger} pad met a face near ({mid[0]:.0f}, {mid[1]:.0f}) mm, pad normal "
                 f"{math.degrees(psi):.0f} deg, over {length:.1f} mm of the pad"
                 + (f" (a seat needs {FACE_MIN_FRACTION:g} of it)" if short else "") + f": {advice}", move)
+
+
+def sliding_face(rolls: Sequence[FeltTouch], length_mm: float,
+                 tol_mm: float = SEAT_TOL_MM) -> tuple[float, np.ndarray, np.ndarray, np.ndarray] | None:
+    """The longest face a pad end slid along in a finger's rolls (``rolls``: felt rolling
+    touches, their pad lines and envelope fits), as (its length felt, its ends P and Q, the pad's
+    normal toward it), or None: a roll whose lines' envelope bends the way no convex boundary's
+    tangents do (radius of curvature below 0 by 3 σ: a roll on a curve near the pad's end moves
+    that end along a nearly straight path too — 54 of the 140 P-series logs of seed 139, circles
+    among them, had such ends — and a corner's radius is 0), the
+    same end of every line of that roll within ``tol_mm`` of one straight line, slid along it by
+    more than SPLIT_APART · ``tol_mm``, and that end of every line of the finger's rolls within
+    ``tol_mm`` of it spanning at least FACE_MIN_FRACTION of the pad (an end turning about a
+    corner under the pad moves on a circle of at most the pad's length: over that span it bows
+    out by more than the tolerance), from a roll whose lines do not pass through a point
+    another roll's lines pass through (within ``PIVOT_AGAIN_MM``): the lines of a roll resting
+    on a sliding end may pass within 0.02 mm of one point off the object, a different one each
+    roll, while the rolls about one corner all pass through it, and their ends may lie on a
+    straight line too (the X-series right pad about the corner of random block 18 of seed
+    139: within 0.03 mm over 10.6 mm, off the object). Random block 8 of bench_explore --finite 20 --anywhere
+    --seed 139 (P-series, near the palm): no press seated, the right pad's proximal end slid
+    12.5 mm along a face 69° from its nominal normal over three rolls (tactile_jaw.pipeline
+    .pad_end_slid), while the move named came from a press's scan that split at two points
+    5.7 mm apart inside the block."""
+    best = None
+    lines = [t.lines for t in rolls]
+    pivots = [_pivot(ln, tol_mm) if np.asarray(ln.psi).size >= 3 else None for ln in lines]
+    concave = [t.fit is not None and t.fit.rho + 3.0 * t.fit.sigma_rho < 0.0 for t in rolls]
+    for end in ("proximal", "distal"):
+        every = [np.asarray(getattr(ln, end), dtype=float).reshape(-1, 2) for ln in lines]
+        pool = np.concatenate(every) if every else np.empty((0, 2))
+        for i, (pts, ln) in enumerate(zip(every, lines)):
+            if len(pts) < 3 or not concave[i] or (pivots[i] is not None and any(
+                    o is not None and j != i and np.linalg.norm(o - pivots[i]) <= PIVOT_AGAIN_MM
+                    for j, o in enumerate(pivots))):
+                continue  # its lines pass through a point another roll's pass through: a corner
+            centre = pts.mean(axis=0)
+            along, across = np.linalg.svd(pts - centre)[2]
+            if float(np.max(np.abs((pts - centre) @ across))) > tol_mm or float(np.ptp((pts - centre) @ along)) \
+                    <= SPLIT_APART * tol_mm:
+                continue
+            on = pool[np.abs((pool - centre) @ across) <= tol_mm]
+            u = (on - centre) @ along
+            length = float(np.ptp(u))
+            if length >= FACE_MIN_FRACTION * length_mm and (best is None or length > best[0]):
+                toward = np.asarray(ln.normal, dtype=float).reshape(-1, 2)[0]
+                best = (length, centre + float(np.min(u)) * along, centre + float(np.max(u)) * along, toward)
+    return best
+
+
+def _pivot(lines: kin.PadLine, tol_mm: float) -> np.ndarray | None:
+    """The point more than half a roll's consecutive lines pass within ``tol_mm`` of, or None."""
+    seq = [lines.at(i) for i in range(np.asarray(lines.psi).size)]
+    runs = [_run(seq, i, 1, tol_mm) for i in range(len(seq))]
+    n, p, _ = max(runs, key=lambda r: r[0])
+    return p if n > len(seq) // 2 else None
 
 
 def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings, recognize_touches: RecognizeTouches,

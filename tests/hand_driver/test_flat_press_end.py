@@ -11,7 +11,8 @@ import math
 import numpy as np
 import pytest
 
-from hand_driver.flat_press import SEAT_TOL_MM, better_support, face_normal
+from hand_driver import kinematics as kin
+from hand_driver.flat_press import SEAT_TOL_MM, better_support, end_support, face_normal
 from hand_driver.sim.physics import ContactWorld
 from recognizer.scene import load_scene
 from tests.hand_driver.test_flat_press import CONFIG, _walk
@@ -61,3 +62,55 @@ def test_the_better_support():
     exact = (3, corner[1], 0.0)
     assert better_support(exact, (3, far_end[1], 0.01)) is exact
     assert better_support((2, corner[1], 0.0), far_end) is far_end
+
+
+#: random block 18 of bench_explore --finite 20 --anywhere --seed 139 (a development seed
+#: since session 16), mirrored across the hand's x axis so that the left pad meets it as the
+#: right pad did: its face 34° from the pad's nominal normal, 19 mm of it beyond the pad's
+#: distal end when the pad lies flat; 2 mm a degree past the seat the sliding end reaches
+#: the face's corner within 3 steps, so whole steps left only two ends farther than 0.2 of
+#: the pad from it (refused on both jaws, naming no move, before session 16)
+THETA18, X18, Y18, E18, H18 = 2.5500108568192132, 124.61518357528242, 24.50651003790156, 19.151051038110438, 15.32084083048835
+BLOCK18 = load_scene({"name": "rand18 mirrored", "classes": ["line"], "object": {
+    "class": "line", "params": {}, "pose": {"theta": THETA18, "x": X18, "y": Y18},
+    "extent": [-E18, E18], "closure": [[E18, H18], [-E18, H18]]}}).object
+
+
+def test_a_sliding_end_that_nears_the_corner_still_seats():
+    """The walk from the left pad's nominal normal seats on the face's corner and the
+    sliding end: ends within 0.2 of the pad of the corner are left out (they lie on any line
+    through it), not a veto, and the approaches between whole steps next to the seat make the
+    third end beyond it. Both supports on the face, its normal within 0.05° of the truth."""
+    finger = CONFIG.finger("left")
+    found, lines = _walk(ContactWorld(CONFIG, BLOCK18), finger, -math.pi / 2)
+    assert found is not None
+    _, p, q = found
+    n = face_normal(p, q, lines[min(lines)].normal)
+    seat = THETA18 - math.pi - math.pi / 2  # −n of the outward normal of the face the pad lies on
+    assert math.remainder(math.atan2(n[1], n[0]) - seat, 2 * math.pi) == pytest.approx(0.0, abs=math.radians(0.05))
+    normal = -np.array([math.cos(seat), math.sin(seat)])
+    corner = np.array([X18, Y18]) + E18 * np.array([math.cos(THETA18), math.sin(THETA18)])
+    for s in (p, q):
+        assert float(normal @ (s - corner)) == pytest.approx(0.0, abs=SEAT_TOL_MM)
+    assert np.linalg.norm(p - q) >= 0.2 * finger.pad.length_mm
+    assert any(k != round(k) for k in lines)
+
+
+def test_ends_beside_the_other_support_are_left_out():
+    """end_support: of ends sliding toward the other support, those within 0.2 of the pad of it
+    are no evidence and are left out; three farther ones on a line through it make the
+    support, two do not."""
+    other = np.array([0.0, 0.0])
+
+    def line_with_distal(x):  # the pad turned past its seat on y = 0 by (17 − x)/2 degrees
+        a = math.radians(0.5 * (17.0 - x) + 1.0)
+        t, n = np.array([math.cos(a), math.sin(a)]), np.array([-math.sin(a), math.cos(a)])
+        distal = np.array([x, 0.0])
+        return kin.PadLine(psi=np.array(math.atan2(n[1], n[0])), d=np.array(float(n @ distal)), normal=n,
+                           tangent=t, proximal=distal - 52.0 * t, distal=distal, joint2=distal - 70.0 * t)
+
+    far3 = [line_with_distal(x) for x in (17.0, 15.0, 13.0, 5.0)]
+    found = end_support(far3, other)
+    assert found is not None and found[0] == 3 and found[1][0] == pytest.approx(17.0)
+    assert end_support([line_with_distal(x) for x in (17.0, 13.0, 5.0, 3.0)], other) is None
+    assert end_support([line_with_distal(x) for x in (5.0, 17.0, 15.0, 13.0)], other) is None  # nearest the seat first

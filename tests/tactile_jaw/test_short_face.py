@@ -3,8 +3,10 @@ refusal names the move of the object after which that face lies under the pad
 (tactile_jaw.flat_phase.short_face_stop), checked on exact stops before and after the move."""
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 from hand_driver.flat_press import FACE_MIN_FRACTION, FlatResult
 from hand_driver.motion import Sample
@@ -49,3 +51,39 @@ def test_a_face_beyond_the_pad_end_names_the_move_that_seats_it():
     assert found is not None  # moved as advised, the press seats on the whole face
     groups, p, q = found
     assert abs(np.linalg.norm(q - p) - 14.6) < 0.2  # both corners: the whole face
+
+
+def _pad(proximal, angle: float, length: float = 52.0):
+    """One pad line whose proximal end is at ``proximal``, the pad along ``angle``."""
+    from hand_driver import kinematics as kin
+    t = np.array([math.cos(angle), math.sin(angle)])
+    n = np.array([-math.sin(angle), math.cos(angle)])
+    p = np.asarray(proximal, dtype=float)
+    return kin.PadLine(psi=np.array(math.atan2(n[1], n[0])), d=np.array(float(n @ p)), normal=n, tangent=t,
+                       proximal=p, distal=p + length * t, joint2=p - 65.0 * t)
+
+
+def test_a_face_a_pad_end_slid_along():
+    """tactile_jaw.flat_phase.sliding_face: three rolls whose proximal end slid along y = 0
+    (the pad turning 18° each, 4.5 mm of slide a roll, their envelope concave) show a face of
+    the whole 13.5 mm the ends covered, its normal toward the pad's; the same ends under a
+    convex envelope (a roll on a curve near the pad's end), rolls turning about a corner 10 mm
+    from the proximal end and a single roll's 4.5 mm show none."""
+    from hand_driver import kinematics as kin
+    from tactile_jaw.flat_phase import sliding_face
+    def roll(lines, rho=-30.0):  # a felt roll: its pad lines and its envelope's radius of curvature
+        return SimpleNamespace(lines=kin.PadLine.stack(lines), fit=SimpleNamespace(rho=rho, sigma_rho=0.01))
+
+    slides = [[_pad((x0 + 0.5 * k, 0.0), math.radians(20.0 + 2.0 * k)) for k in range(10)] for x0 in (0.0, 4.5, 9.0)]
+    rolls = [roll(lines) for lines in slides]
+    got = sliding_face(rolls, 52.0)
+    assert got is not None
+    length, p, q, toward = got
+    assert length == pytest.approx(13.5, abs=1e-6)
+    assert abs(p[1]) < 1e-9 and abs(q[1]) < 1e-9 and sorted([p[0], q[0]]) == pytest.approx([0.0, 13.5])
+    assert sliding_face(rolls[:1], 52.0) is None  # 4.5 mm: under FACE_MIN_FRACTION of the pad
+    assert sliding_face([roll(lines, rho=25.0) for lines in slides], 52.0) is None  # convex: a curve's roll
+    corner = np.array([0.0, 0.0])
+    about = [roll([_pad(corner - 10.0 * np.array([math.cos(a), math.sin(a)]), a)
+                   for a in np.radians(a0 + 2.0 * np.arange(10))], rho=0.0) for a0 in (0.0, 18.0, 36.0)]
+    assert sliding_face(about, 52.0) is None
