@@ -321,7 +321,7 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
 
     def run() -> dict | None:
         place = wanted()
-        if place is None or recognition.pose is None or len(recognition.contacts) != len(touches):
+        if place is None or recognition.pose is None or not recognition.contacts:
             return place
         x, y, phi = float(place["x"]), float(place["y"]), float(place["phi"])
         finger = reach.finger(x, y, phi)
@@ -342,7 +342,10 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
         def tangent(u: float) -> float:
             return float(np.ravel(curve.tangent_angle(np.array([u])))[0]) + pose.theta
 
-        felt = touches[end].samples
+        # the touch nearest that end (the answer may hold fewer contacts than there are touches)
+        felt = touches[end].samples if len(touches) == len(t) else min(
+            (touch.samples for touch in touches),
+            key=lambda v: float(np.min(np.hypot(np.asarray(v.x) - cx[end], np.asarray(v.y) - cy[end]))))
         flip = math.remainder(float(np.median(felt.phi)) - tangent(t[end]), 2 * math.pi)
         flip = math.pi if abs(flip) > math.pi / 2 else 0.0  # the touches' direction of travel
         return {**place, "x": px, "y": py, "phi": float(math.remainder(tangent(t_far) + flip, 2 * math.pi)),
