@@ -65,11 +65,11 @@ SLIDE_MAX_SIGMA_MM = 0.002
 CUT_SHORT = ("unreachable", "no_contact", "blocked")
 #: a rolling touch's sample whose pad lay farther than this share of the roll's step from the
 #: orientation it was commanded to is not one of the roll's samples (:func:`at_orientation`):
-#: on the P-series jaw the measured pad normal is within 0.001° of the commanded one in 99.9 %
-#: of 10,377 samples (seed 139's calibrated runs, backlash and zero errors declared), but a
-#: roll's first approach that met the object while the pad was still turning to its start
-#: (hand_driver.motion.rolling_touch: the move to the start line) stalled there, 4–43° off
-#: (26 of those touches); 12.9° before the next sample, the envelope fit across that gap
+#: on the P-series jaw the measured pad normal is within 0.1° of the commanded one (the truth
+#: jaw's backlash; 99.5 % within 0.001°) in all but 26 of 10,377 samples (seed 139's calibrated
+#: runs, backlash and zero errors declared): in those a roll's first approach met the object
+#: while the pad was still turning to its start (hand_driver.motion.rolling_touch: the move to
+#: the start line) and stalled there, 4–43° off; 12.9° before the next sample, the envelope fit across that gap
 #: misplaced the sample's contact and κ_s (random cubicals 115 of bench_explore --finite 20
 #: --anywhere --seed 139 and 111 of seed 127: "no class fits", χ² 5.9e3 and 1.3e5, each
 #: answered right without that one sample)
