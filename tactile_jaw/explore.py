@@ -315,7 +315,7 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
     which could roll there. So too when the place lies within ``CORNER_CLEARANCE_MM`` of a
     corner a roll pivoted about (``corners``, tactile_jaw.pipeline.clearing_corners): a roll
     there keeps none of its samples near that corner (tactile_jaw.pipeline.clear_of_corners)
-    and runs onto it (P cubical 104 of seed 139: the place named lay 1.7 mm from the corner
+    and runs onto it (P cubical 104 of seed 139: the place named lay 0.8 mm from the corner
     where the left pad's rolls left the curve, and more touches were advised)."""
     corners = np.asarray(corners, float).reshape(-1, 2)
 
