@@ -37,8 +37,9 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import DECISIVE_CHI2, RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
-from tactile_jaw.pipeline import (WIDER_SPAN, FeltTouch, clear_of_corners, clear_side, clearing_corners,
-                                  corner_in_doubt, curved_part, feel, longest_run, near_corners, on_corner, too_few_clear)
+from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
+                                  clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
+                                  on_corner, too_few_clear)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              predicted_tangent, retreat_offset, within_curve)
 from tactile_jaw.probing import probe_boundary
@@ -300,7 +301,7 @@ PAST_END_FRACTION = 1.0
 
 
 def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], dict | None], reach: JawReach,
-                  span: float, limits: Callable[[str], list]) -> Callable[[], dict | None]:
+                  span: float, limits: Callable[[str], list], corners=()) -> Callable[[], dict | None]:
     """The touch a budget-spent refusal names (tactile_jaw.choose.budget_advice): the
     recognizer's ``wanted`` (its ``next_touch`` anywhere), unless a pad reaches that place
     but its rolls left the curved part short of it (``limits``: tactile_jaw.explore.curve_limits,
@@ -311,21 +312,27 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
     bench_explore --finite 20 --anywhere --seed 127 --config config/jaw-p.yaml: the pads
     reached t 0.86–2.9 of the branch, semicubical and ellipse both fitted, and the touch named
     lay beside the cusp-side corner "within a pad's reach": more touches were advised, none of
-    which could roll there."""
+    which could roll there. So too when the place lies within ``CORNER_CLEARANCE_MM`` of a
+    corner a roll pivoted about (``corners``, tactile_jaw.pipeline.clearing_corners): a roll
+    there keeps none of its samples near that corner (tactile_jaw.pipeline.clear_of_corners)
+    and runs onto it (P cubical 104 of seed 139: the place named lay 0.8 mm from the corner
+    where the left pad's rolls left the curve, and more touches were advised)."""
+    corners = np.asarray(corners, float).reshape(-1, 2)
 
     def run() -> dict | None:
         place = wanted()
-        if place is None or recognition.pose is None or len(recognition.contacts) != len(touches):
+        if place is None or recognition.pose is None or not recognition.contacts:
             return place
         x, y, phi = float(place["x"]), float(place["y"]), float(place["phi"])
         finger = reach.finger(x, y, phi)
-        if finger is None or within_curve(phi + math.pi / 2, span, limits(finger.name)):
+        at_corner = bool(len(corners)) and float(np.min(np.hypot(corners[:, 0] - x, corners[:, 1] - y))) \
+            < CORNER_CLEARANCE_MM
+        if finger is None or (not at_corner and within_curve(phi + math.pi / 2, span, limits(finger.name))):
             return place
         curve, pose = CURVES[recognition.cls](recognition.params), recognition.pose
-        t = np.array([float(c["t"]) for c in recognition.contacts])
+        cx, cy, t = np.array([(float(c["x"]), float(c["y"]), float(c["t"])) for c in recognition.contacts]).T
         lo, hi = int(np.argmin(t)), int(np.argmax(t))
-        near = int(np.argmin(np.hypot(np.array([float(c["x"]) for c in recognition.contacts]) - x,
-                                      np.array([float(c["y"]) for c in recognition.contacts]) - y)))
+        near = int(np.argmin(np.hypot(cx - x, cy - y)))
         end = lo if abs(t[near] - t[hi]) < abs(t[near] - t[lo]) else hi  # the felt stretch's other end
         t_far = t[end] + PAST_END_FRACTION * (t[end] - t[hi if end == lo else lo])
         if t_far == t[end]:
@@ -335,7 +342,10 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
         def tangent(u: float) -> float:
             return float(np.ravel(curve.tangent_angle(np.array([u])))[0]) + pose.theta
 
-        felt = touches[end].samples
+        # the touch nearest that end (the answer may hold fewer contacts than there are touches)
+        felt = touches[end].samples if len(touches) == len(t) else min(
+            (touch.samples for touch in touches),
+            key=lambda v: float(np.min(np.hypot(np.asarray(v.x) - cx[end], np.asarray(v.y) - cy[end]))))
         flip = math.remainder(float(np.median(felt.phi)) - tangent(t[end]), 2 * math.pi)
         flip = math.pi if abs(flip) > math.pi / 2 else 0.0  # the touches' direction of travel
         return {**place, "x": px, "y": py, "phi": float(math.remainder(tangent(t_far) + flip, 2 * math.pi)),
@@ -604,7 +614,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         recognition, why, usable = undecided
         wanted = anywhere(usable)
         if wanted is not None:  # a place past where the rolls left the curved part is no place to touch
-            wanted = past_felt_end(recognition, usable, wanted, reach, settings.roll_span_rad, limits)
+            wanted = past_felt_end(recognition, usable, wanted, reach, settings.roll_span_rad, limits,
+                                   clearing_corners(out.touches))
         out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
                                     wanted, unrolled_places(cfg, out, recognition))
         emit(out.stopped.event("budget_spent"))

@@ -79,6 +79,13 @@ def test_a_budget_refusal_names_the_curve_past_the_reach_not_a_place_past_its_en
     assert math.remainder(found["phi"] - f_phi, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
     assert reach.finger(fx, fy, f_phi) is None  # out of reach: the refusal names a move
     assert past_felt_end(rec, touches, lambda: wanted, reach, span, lambda name: [])() is wanted
+    # no limit there, but a corner a roll pivoted about 1.5 mm from the place (P cubical 104 of
+    # seed 139): a roll there runs onto it, and the curve past the other end is named instead
+    corner = np.array([[wx + 1.5, wy]])
+    found = past_felt_end(rec, touches, lambda: wanted, reach, span, lambda name: [], corner)()
+    assert (found["x"], found["y"]) == pytest.approx((fx, fy)) and "past where" in found["what"]
+    far = np.array([[wx + 2.5, wy]])  # beyond the clearance: the recognizer's touch stands
+    assert past_felt_end(rec, touches, lambda: wanted, reach, span, lambda name: [], far)() is wanted
 
 
 def test_a_finger_that_felt_the_curve_rolls_on_within_where_it_left_it():
