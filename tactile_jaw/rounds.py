@@ -15,7 +15,7 @@ from hand_driver.motion import move_line, move_to
 from recognizer.result import Recognition
 from tactile_jaw.choose import Stop
 from tactile_jaw.pipeline import FeltTouch
-from tactile_jaw.plan import ObjectModel, hug_offset, nominal_psi, retreat_offset
+from tactile_jaw.plan import ObjectModel, clear_offset, hug_offset, nominal_psi, retreat_offset
 
 #: a transit turns along the workspace edge through pad lines at most this many degrees apart
 EDGE_TURN_STEP_DEG = 15.0
@@ -61,7 +61,7 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None, 
     f = jaw.config.finger(finger)
     def out(a: float, d: float | None) -> float | None:  # nearer the object only where hugging may
         h = hug_offset(f, model, a) if hug else None
-        return d if h is None or d is None else max(d, h)
+        return clear_offset(f, model, a, d if h is None or d is None else max(d, h))
 
     via = [(psi_from, min(float(line.d), out(psi_from, model.edge(psi_from))))]
     try:
