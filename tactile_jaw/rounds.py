@@ -6,6 +6,8 @@ run together with its robot time booked (:func:`timed_round`). docs/exploration.
 from __future__ import annotations
 
 import math
+
+import numpy as np
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -69,6 +71,11 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None, 
     except kin.Unreachable:
         psi_from = nominal_psi(f)
         q_open = kin.ik_line(f, psi_from, model.edge(psi_from), margin_rad=LIMIT_MARGIN_RAD)
+        q0 = jaw.finger_q(jaw.last_state, finger)  # the joints' straight path, paced: each servo's own
+        step = math.radians(jaw.config.motion.turn_speed_deg_s) * jaw.period_s  # profile to the far goal
+        steps = max(1, math.ceil(float(np.max(np.abs(q_open - q0))) / step))  # starts both joints alike
+        for k in range(1, steps):  # and slides the pad along its normal onto the object (X line 18 of seed 139)
+            yield q0 + (q_open - q0) * k / steps
         yield from move_to(jaw, finger, q_open)
         via = []
     delta = math.remainder(psi_to - psi_from, 2 * math.pi)
