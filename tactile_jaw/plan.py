@@ -169,6 +169,25 @@ def hug_offset(finger, model: ObjectModel, psi: float) -> float | None:
     return d
 
 
+def clear_offset(finger, model: ObjectModel, psi: float, d: float | None) -> float | None:
+    """A transit's line of normal ψ: ``d``, or farther out where ``d`` lies less than
+    ``APPROACH_MARGIN_MM`` outside the tangent the felt lines predict (:meth:`ObjectModel.tangent`;
+    an object reaching to within that of the workspace edge) and the joints reach the line that
+    far out. Each servo runs its own trapezoidal profile, so on a turn the joints start alike and
+    the pad first slides along its normal: from the workspace edge 5.7 mm outside a circle's
+    tangent the right pad of random X-series circle 32 of bench_explore --finite 20 --anywhere
+    --seed 139 slid back onto the circle at every transit and stayed wedged there (three rolls
+    without contact; refused)."""
+    predicted = None if d is None else model.tangent(psi)
+    if predicted is None or d <= predicted[0] - APPROACH_MARGIN_MM:
+        return d
+    try:
+        kin.ik_line(finger, psi, predicted[0] - APPROACH_MARGIN_MM, margin_rad=LIMIT_MARGIN_RAD)
+    except kin.Unreachable:
+        return d
+    return predicted[0] - APPROACH_MARGIN_MM
+
+
 def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings, aim=None) -> bool:
     """Every roll orientation around ψ has a predicted tangent (:func:`predicted_tangent`)
     that puts the pad on it, with the predicted contact on the pad, inside the joint

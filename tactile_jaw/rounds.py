@@ -9,13 +9,15 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 from hand_driver import kinematics as kin
 from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
 from hand_driver.motion import move_line, move_to
 from recognizer.result import Recognition
 from tactile_jaw.choose import Stop
 from tactile_jaw.pipeline import FeltTouch
-from tactile_jaw.plan import ObjectModel, hug_offset, nominal_psi, retreat_offset
+from tactile_jaw.plan import ObjectModel, clear_offset, hug_offset, nominal_psi, retreat_offset
 
 #: a transit turns along the workspace edge through pad lines at most this many degrees apart
 EDGE_TURN_STEP_DEG = 15.0
@@ -61,7 +63,7 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None, 
     f = jaw.config.finger(finger)
     def out(a: float, d: float | None) -> float | None:  # nearer the object only where hugging may
         h = hug_offset(f, model, a) if hug else None
-        return d if h is None or d is None else max(d, h)
+        return clear_offset(f, model, a, d if h is None or d is None else max(d, h))
 
     via = [(psi_from, min(float(line.d), out(psi_from, model.edge(psi_from))))]
     try:
@@ -69,6 +71,11 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None, 
     except kin.Unreachable:
         psi_from = nominal_psi(f)
         q_open = kin.ik_line(f, psi_from, model.edge(psi_from), margin_rad=LIMIT_MARGIN_RAD)
+        q0 = jaw.finger_q(jaw.last_state, finger)  # the joints' straight path, paced: each servo's own
+        step = math.radians(jaw.config.motion.turn_speed_deg_s) * jaw.period_s  # profile to the far goal
+        steps = max(1, math.ceil(float(np.max(np.abs(q_open - q0))) / step))  # starts both joints alike
+        for k in range(1, steps):  # and slides the pad along its normal onto the object (X line 18 of seed 139)
+            yield q0 + (q_open - q0) * k / steps
         yield from move_to(jaw, finger, q_open)
         via = []
     delta = math.remainder(psi_to - psi_from, 2 * math.pi)
