@@ -46,7 +46,7 @@ from recognizer.curves import CURVES
 from recognizer.refine import least_squares
 from tactile_common.angles import wrap_angle
 
-__all__ = ["profile_uncertainty", "rival_basins", "interval95", "three_sigma", "REL_SIGMA_CHECK", "CHI2_95", "CHI2_3SIGMA"]
+__all__ = ["profile_uncertainty", "rival_basins", "same_valley", "interval95", "three_sigma", "REL_SIGMA_CHECK", "CHI2_95", "CHI2_3SIGMA"]
 
 REL_SIGMA_CHECK = 0.02
 """linearized σ relative to the parameter (to max(|p|, 1) for the slopes c and b) above which
@@ -283,7 +283,7 @@ def _offset(cand, rival, key: str) -> float:
     return abs(float(rival.params[key]) - float(cand.params[key]))
 
 
-def _same_valley(cand, rival) -> bool:
+def same_valley(cand, rival) -> bool:
     """Whether ``rival`` is ``cand``'s own valley again (another start that ended there):
     every shape and pose value within the larger of their two σ's."""
     for key, sd in cand.uncertainty.items():
@@ -302,7 +302,7 @@ def _valleys(cand, rivals) -> list:
         rise = float(r.chi2) - float(cand.chi2)
         if r.cls != cand.cls or not (-1e-9 <= rise < CHI2_VALLEY) or not r.params or not r.uncertainty:
             continue
-        if _same_valley(cand, r) or any(_same_valley(v, r) for _, v in out):
+        if same_valley(cand, r) or any(same_valley(v, r) for _, v in out):
             continue
         out.append((max(rise, 0.0), r))
     return out
