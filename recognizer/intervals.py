@@ -46,7 +46,7 @@ from recognizer.curves import CURVES
 from recognizer.refine import least_squares
 from tactile_common.angles import wrap_angle
 
-__all__ = ["profile_uncertainty", "rival_basins", "interval95", "three_sigma", "REL_SIGMA_CHECK", "CHI2_95", "CHI2_3SIGMA"]
+__all__ = ["profile_uncertainty", "rival_basins", "same_valley", "interval95", "three_sigma", "REL_SIGMA_CHECK", "CHI2_95", "CHI2_3SIGMA"]
 
 REL_SIGMA_CHECK = 0.02
 """linearized σ relative to the parameter (to max(|p|, 1) for the slopes c and b) above which
@@ -61,9 +61,18 @@ STEP = 0.75
 MAX_STEPS = 8
 MAX_STEPS_3SIGMA = 12
 """steps of the walk on to the 3 σ end (``CHI2_3SIGMA``), 9 linearized σ's."""
+MAX_SECANT = 6
+"""fits past ``MAX_STEPS_3SIGMA`` steps towards a 3 σ end farther than 9 linearized σ's (a
+profile that flattens: secant steps in √rise, each at most 4× as far out as the last)."""
 CHI2_3SIGMA = 9.0
 """the rise of the profile χ² at 3 σ (χ²₁ quantile at 0.9973)."""
 MAX_NFEV = 30
+PROBE_SHARE = 0.1
+"""a shape parameter whose linearized relative σ is below the walk's check but above this
+share of it gets its profile probed (``_flatter``) and is walked if it flattens."""
+PROBE_SIGMAS = 2.0
+FLAT_RISE = 0.6
+"""the share of a quadratic profile's rise below which a probed profile counts as flattening."""
 _SLOPES = {("cubical_parabola", "c"), ("semicubical_parabola", "b")}
 
 
@@ -88,27 +97,21 @@ def _walk(problem, z_hat: np.ndarray, cov_z: np.ndarray, i: int, side: float, ch
     far = np.zeros(z_hat.size)
     prev_z = z_hat.copy()
     end95 = None
-    for n in range(1, MAX_STEPS_3SIGMA + 1):
+    n, slope = 0, 0.0
+    while n < MAX_STEPS_3SIGMA + MAX_SECANT:
+        n += 1
         if end95 is None and n > MAX_STEPS:
             end95 = (prev_delta, far)
-        delta = side * STEP * sd * n
-        start = zf + lin * (delta - (zf[i] - z_hat[i]))
-        zf = start.copy()
-
-        def fun(v):
-            zf[free] = v
-            return problem.residuals(zf)
-
-        def jac(v):
-            zf[free] = v
-            return problem.jacobian(zf)[:, free]
-
-        res = least_squares(fun, jac, start[free], problem.n_res, MAX_NFEV, 1e-8)
-        zf[free] = res.x
-        rise = 2.0 * float(res.cost) - chi2_hat
+        if n <= MAX_STEPS_3SIGMA:
+            delta = side * STEP * sd * n
+        else:  # past the steps, still below the 3 σ end: a secant step in √rise, at most 4× as far out
+            reach = (3.0 - prev_root) / slope if slope > 0.0 else math.inf
+            delta = side * min(abs(prev_delta) + max(reach, STEP * sd), 4.0 * abs(prev_delta))
+        zf, rise = _fit_at(problem, z_hat, zf, lin, free, i, delta, chi2_hat)
         if not math.isfinite(rise):
             return None if end95 is None else (*end95, prev_delta)
         root = math.sqrt(max(rise, 0.0))
+        slope = (root - prev_root) / max(abs(delta - prev_delta), 1e-300)
         if end95 is None and root >= math.sqrt(CHI2_95):
             frac = (math.sqrt(CHI2_95) - prev_root) / max(root - prev_root, 1e-12)
             far = np.maximum(far, np.abs(prev_z + frac * (zf - prev_z) - z_hat))
@@ -120,6 +123,26 @@ def _walk(problem, z_hat: np.ndarray, cov_z: np.ndarray, i: int, side: float, ch
             far = np.maximum(far, np.abs(zf - z_hat))
         prev_delta, prev_root, prev_z = delta, root, zf.copy()
     return (*(end95 if end95 is not None else (prev_delta, far)), prev_delta)
+
+
+def _fit_at(problem, z_hat: np.ndarray, zf: np.ndarray, lin: np.ndarray, free: np.ndarray, i: int, delta: float,
+            chi2_hat: float):
+    """(every unknown, profile χ² rise) with unknown i held at ``delta`` from the answer, the
+    others refitted from ``zf`` moved along their linearized regression on unknown i."""
+    start = zf + lin * (delta - (zf[i] - z_hat[i]))
+    zf = start.copy()
+
+    def fun(v):
+        zf[free] = v
+        return problem.residuals(zf)
+
+    def jac(v):
+        zf[free] = v
+        return problem.jacobian(zf)[:, free]
+
+    res = least_squares(fun, jac, start[free], problem.n_res, MAX_NFEV, 1e-8)
+    zf[free] = res.x
+    return zf, 2.0 * float(res.cost) - chi2_hat
 
 
 def profile_uncertainty(cand, rel_check: float = REL_SIGMA_CHECK):
@@ -145,7 +168,9 @@ def profile_uncertainty(cand, rel_check: float = REL_SIGMA_CHECK):
         i = perm[j]
         p, sd = float(cand.params[name]), float(unc.get(name) or 0.0)
         ref = max(abs(p), 1.0) if (cand.cls, name) in _SLOPES else abs(p)
-        if not (sd > rel_check * ref and cov_z[i, i] > 0 and math.isfinite(cov_z[i, i])):
+        if not (cov_z[i, i] > 0 and math.isfinite(cov_z[i, i]) and sd > PROBE_SHARE * rel_check * ref):
+            continue
+        if not sd > rel_check * ref and not _flatter(problem, z_hat, cov_z, i, float(cand.chi2)):
             continue
         with np.errstate(all="ignore"):
             walks = [_walk(problem, z_hat, cov_z, i, side, float(cand.chi2)) for side in (-1.0, 1.0)]
@@ -172,6 +197,22 @@ def profile_uncertainty(cand, rel_check: float = REL_SIGMA_CHECK):
             scale[j] *= need / sd
             unc[name] = need
     return _widened(replace(cand, profile_sides=sides), unc, scale)
+
+
+def _flatter(problem, z_hat: np.ndarray, cov_z: np.ndarray, i: int, chi2_hat: float) -> bool:
+    """Whether unknown i's profile has risen by less than ``FLAT_RISE`` of a quadratic's
+    ``PROBE_SIGMAS``² at ``PROBE_SIGMAS`` linearized σ's on either side (one fit a side): its
+    valley flattens within its linearized σ's, so they are too small, whatever their size."""
+    sd = math.sqrt(cov_z[i, i])
+    free = np.ones(z_hat.size, bool)
+    free[i] = False
+    lin = np.nan_to_num(cov_z[:, i] / cov_z[i, i], nan=0.0, posinf=0.0, neginf=0.0)
+    with np.errstate(all="ignore"):
+        for side in (-1.0, 1.0):
+            _, rise = _fit_at(problem, z_hat, z_hat.copy(), lin, free, i, side * PROBE_SIGMAS * sd, chi2_hat)
+            if rise < FLAT_RISE * PROBE_SIGMAS ** 2:
+                return True
+    return False
 
 
 def _in_parameter(problem, i: int, p: float, end: float) -> float:
@@ -242,7 +283,7 @@ def _offset(cand, rival, key: str) -> float:
     return abs(float(rival.params[key]) - float(cand.params[key]))
 
 
-def _same_valley(cand, rival) -> bool:
+def same_valley(cand, rival) -> bool:
     """Whether ``rival`` is ``cand``'s own valley again (another start that ended there):
     every shape and pose value within the larger of their two σ's."""
     for key, sd in cand.uncertainty.items():
@@ -261,7 +302,7 @@ def _valleys(cand, rivals) -> list:
         rise = float(r.chi2) - float(cand.chi2)
         if r.cls != cand.cls or not (-1e-9 <= rise < CHI2_VALLEY) or not r.params or not r.uncertainty:
             continue
-        if _same_valley(cand, r) or any(_same_valley(v, r) for _, v in out):
+        if same_valley(cand, r) or any(same_valley(v, r) for _, v in out):
             continue
         out.append((max(rise, 0.0), r))
     return out

@@ -39,7 +39,9 @@ prediction counts nothing where its closest point lies that near its cusp. A pla
 when its class gain is at least ``CLASS_GAIN_MIN`` nats or it shrinks the leader's largest relative parameter σ by at least
 ``SHRINK_MIN`` while that σ is above ``REL_SIGMA_ENOUGH``; ``None`` when no place helps.
 Places: the leader's curve over its touched span widened by the span on each side (a closed
-curve all round), no farther than the touches' extent from the nearest touch, inside
+curve all round; a semicubical parabola's also mirrored onto its other branch, the same t's
+of the other sign: the one stretch no other class has), no farther than the touches' extent
+from the nearest touch, inside
 ``options.reach`` when given (any object with ``contains(x, y, phi)``, phi the place's
 tangent in the touches' direction of travel: a hand-frame disk, recognizer.touches.Reach,
 or a robot's own reach, which depends on the orientation its pad must take there).
@@ -252,6 +254,8 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     # places on the leader's curve
     curve = leader.curve()
     t = _t_span(leader)
+    if curve.name == "semicubical_parabola":  # and its other branch, as far from the cusp
+        t = np.concatenate((t, -t))
     px, py = leader.pose.apply(*curve.point(t))
     phi = np.asarray(curve.tangent_angle(t), float) + leader.pose.theta
     keep = np.isfinite(px) & np.isfinite(py) & np.isfinite(phi)

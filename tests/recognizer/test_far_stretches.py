@@ -155,3 +155,16 @@ def test_far_arm_hyperbola_after_a_touch_nearer_its_vertex(seed, i, suggested_t,
     assert region == "far on an arm"
     assert rec.cls == "hyperbola", [(r.cls, r.chi2) for r in rec.ranking]
     assert rec.ranking[0].chi2 == pytest.approx(chi2, abs=0.5)
+
+
+def test_thin_ellipse_at_its_sharp_end_restarted_until_it_stops_crawling():
+    """Seed 149 (development) ellipse trial 11, thin (b/a 0.12), touched at its sharp end: the
+    ellipse's best fit, restarted once, stopped at its 40 evaluations at χ² 75.5 still moving
+    (the truth's valley 72.5) and the answer was a semicubical at 73.4 (a search miss)."""
+    region, shape, ts, _, rs = B.draw_case("ellipse", 11, 149, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = B._touches(shape, ts, rs, direction)
+    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert region == "thin, sharp end"
+    assert rec.cls == "ellipse", rec.reason
+    assert rec.params["b"] == pytest.approx(shape.params["b"], rel=0.2)

@@ -189,3 +189,27 @@ def test_thin_ellipse_sharp_end_suggestion_tells_it_from_the_semicubical():
     assert np.min(np.hypot(x[1:] - x[0], y[1:] - y[0])) > 0.2 * shape.size  # a new place on the object
     after, _, _ = bw._recognize(list(touches) + [bw._extra_touch(shape, t, rs, direction)], nm)
     assert after.cls == "ellipse"
+
+
+def test_a_semicubical_leader_suggests_its_other_branch():
+    """bench_wide seed 149 (development), semicubical trial 1, one branch far (t 5.7–9.0):
+    after a first suggested touch at t 10.9 the semicubical leads the ellipse by ΔBIC 3.9;
+    the places scored were its touched branch only, the second suggestion went to t 4.9 near
+    the cusp there and the answer turned ellipse (ΔBIC 0.63). Its other branch, which no
+    rival has, is now scored too: the suggestion lands there and decides."""
+    from tools import bench_wide as bw
+
+    _, shape, ts, (lo, hi, sign, both, clear), rs = bw.draw_case("semicubical_parabola", 1, 149, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    nm = NoiseModel(noise.phi, noise.pos)
+    for _ in range(2):  # the bench's two random touches, drawn for the same noise after them
+        bw._extra_touch(shape, max(abs(rs.uniform(lo, hi)), clear) * sign, rs, direction)
+    touches = list(touches) + [bw._extra_touch(shape, 10.892, rs, direction)]
+    rec, _, _ = bw._recognize(touches, nm)
+    assert rec.cls == "semicubical_parabola" and rec.next_touch is not None
+    t = bw._closest_t(shape, rec.next_touch["x"], rec.next_touch["y"], lo, hi, clear)
+    assert t * sign < 0  # the other branch
+    after, _, _ = bw._recognize(touches + [bw._extra_touch(shape, t, rs, direction)], nm)
+    assert after.cls == "semicubical_parabola"
+    assert after.ranking[1].bic - after.ranking[0].bic > 100
