@@ -173,9 +173,10 @@ class JointBus:
 
     @classmethod
     def for_config(cls, config: JawConfig, port: str | None = None, **options) -> "JointBus":
-        """The bus of a jaw config: its joints, baud rate, retries and Bus Watchdog time;
-        ``port`` (default the config's) and other keyword options as for the constructor."""
+        """The bus of a jaw config: its joints, baud rate, retries, status timeout and Bus Watchdog
+        time; ``port`` (default the config's) and other keyword options as for the constructor."""
         options.setdefault("retries", config.bus.retries)
+        options.setdefault("timeout_s", config.bus.timeout_s)
         options.setdefault("watchdog_ms", config.bus.watchdog_ms)
         return cls(port if port is not None else config.bus.port, config.bus.baudrate, config, **options)
 
@@ -391,8 +392,7 @@ class JointBus:
                 try:
                     out = fn()
                     if timed_out:
-                        time.sleep(_LATE_ANSWER_S if self.timeout_s is None else max(_LATE_ANSWER_S, self.timeout_s))
-                        self._port.clearPort()
+                        self._settle()
                     return out
                 except (BusTimeout, CrcError) as exc:
                     last = exc
@@ -406,6 +406,11 @@ class JointBus:
                     raise PortError(f"{what}: serial port {self.port_name} failed ({exc}); "
                                     f"adapter unplugged?{stop}") from None
         raise type(last)(f"{last} — gave up after {n} attempts")
+
+    def _settle(self) -> None:
+        """Let a late answer to a timed-out transaction arrive, then flush it (held lock)."""
+        time.sleep(_LATE_ANSWER_S if self.timeout_s is None else max(_LATE_ANSWER_S, self.timeout_s))
+        self._port.clearPort()
 
     def _call(self, what: str, fn: Callable, dxl_id: int | None = None):
         """An SDK TxRx call returning (..., result, error) with retries."""
@@ -661,12 +666,20 @@ class JointBus:
         return found
 
     def _scan_ping(self, dxl_id: int, silent_pings: int) -> int | None:
-        """The model number of the servo at ``dxl_id``, or None (see :meth:`scan`)."""
+        """The model number of the servo at ``dxl_id``, or None (see :meth:`scan`). An answer
+        after a silent ping may be the late answer to that ping: the answer to the last one
+        would then pass for the answer to the firmware read (same id), so it is flushed."""
         silent_left, garbled_left = silent_pings, silent_pings
+        timed_out = False
         while silent_left > 0 and garbled_left > 0:
             try:
-                return self._call(f"ping of servo {dxl_id}", lambda: self._ph.ping(self._port, dxl_id), dxl_id)[0]
+                number = self._call(f"ping of servo {dxl_id}", lambda: self._ph.ping(self._port, dxl_id), dxl_id)[0]
+                if timed_out:
+                    with self._lock:
+                        self._settle()
+                return number
             except BusTimeout:
+                timed_out = True
                 silent_left -= 1
             except CrcError:
                 garbled_left -= 1
@@ -722,9 +735,11 @@ class JointBus:
                 self._write(dxl_id, spec.field("bus_watchdog"), self.watchdog_ms // units.WATCHDOG_STEP_MS)
 
 
-def scan(port: str, ids: Sequence[int], baudrates: Sequence[int], **attempts) -> list[ServoInfo]:
-    """Servos answering on ``port`` (no jaw config needed); ``attempts``: see JointBus.scan."""
-    with JointBus(port, int(baudrates[0]), (), handle_signals=False) as bus:
+def scan(port: str, ids: Sequence[int], baudrates: Sequence[int], timeout_s: float | None = None,
+         **attempts) -> list[ServoInfo]:
+    """Servos answering on ``port`` (no jaw config needed); ``timeout_s``: the status timeout
+    (default the SDK's); ``attempts``: see JointBus.scan."""
+    with JointBus(port, int(baudrates[0]), (), handle_signals=False, timeout_s=timeout_s) as bus:
         return bus.scan(ids, baudrates, **attempts)
 
 
