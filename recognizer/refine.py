@@ -218,6 +218,7 @@ class _Problem:
         self._memo: tuple[bytes, tuple] | None = None
         self._jac_memo: tuple[bytes, np.ndarray] | None = None
         self._t_flat: tuple | None = None
+        self._const: np.ndarray | None = None
 
     def _whitening(self, sig_phi: float, sig_pos: float, sig_along: float | None) -> list:
         """Per samples-touch (raw rows of x, y, φ; W): W·r is that touch's residuals whitened,
@@ -292,16 +293,16 @@ class _Problem:
 
     def unpack(self, z: np.ndarray) -> tuple[dict, Pose, np.ndarray]:
         k = self.k
-        params = {n: (math.exp(min(z[i], 700.0)) if n in self.pos_names else float(z[i]))
+        g = z[: self.n_glob].tolist()  # Python floats: the same values as float(z[i]), read once
+        params = {n: (math.exp(min(g[i], 700.0)) if n in self.pos_names else g[i])
                   for i, n in enumerate(self.names)}
-        g = z[k : k + self.n_pose]
         if self.cls == "circle":
-            pose = Pose(self.theta0, float(g[0]), float(g[1]))
+            pose = Pose(self.theta0, g[k], g[k + 1])
         elif self.cls == "line":
-            th, d = float(g[0]), float(g[1])
+            th, d = g[k], g[k + 1]
             pose = Pose(th, self.anchor[0] - d * math.sin(th), self.anchor[1] + d * math.cos(th))
         else:
-            pose = Pose(float(g[0]), float(g[1]), float(g[2]))
+            pose = Pose(g[k], g[k + 1], g[k + 2])
         return params, pose, z[self.n_glob :]
 
     # -- model -----------------------------------------------------------------------------
@@ -328,7 +329,11 @@ class _Problem:
             r = self._whitened(np.concatenate(parts))
             if self.aniso:
                 self._across_along(r)
-        return np.where(np.isfinite(r), np.clip(r, -RESIDUAL_CAP, RESIDUAL_CAP), 1e8)
+        bad = ~np.isfinite(r)  # (in place on the fresh array: as np.where(finite, clip, 1e8))
+        r.clip(-RESIDUAL_CAP, RESIDUAL_CAP, out=r)
+        if bad.any():
+            r[bad] = 1e8
+        return r
 
     def _across_along(self, a: np.ndarray) -> None:
         """In place: position rows (x, y)/σ_pos of residuals or Jacobian → (across the
@@ -353,38 +358,30 @@ class _Problem:
         n = self.n_rows
         nc = len(self.data.contact_rows)
         rows = 3 * n + 2 * nc
-        jac = np.zeros((rows, z.size))  # raw rows (whitened at the end)
-        with np.errstate(all="ignore"):
-            speed = np.asarray(curve.speed(t), float)
-            kap = np.asarray(curve.kappa(t), float)
-            ang = phi - (np.pi if self.direction < 0 else 0.0)
+        jac = self._constant_jacobian(rows, z.size)  # raw rows (whitened at the end)
+        speed = np.asarray(curve.speed(t), float)
+        kap = np.asarray(curve.kappa(t), float)
+        ang = phi - (np.pi if self.direction < 0 else 0.0)
         flat = jac.reshape(-1)  # each sample's t column: one entry in each of its x, y, φ rows
         fx, fy, fphi = self._t_entries(z.size)
-        flat[fx] = -speed * np.cos(ang) / self.sig_pos
-        flat[fy] = -speed * np.sin(ang) / self.sig_pos
-        flat[fphi] = -kap * speed / self.sig_phi
+        neg = -speed
+        np.divide(neg * np.cos(ang), self.sig_pos, out=flat[fx])
+        np.divide(neg * np.sin(ang), self.sig_pos, out=flat[fy])
+        np.divide(-kap * speed, self.sig_phi, out=flat[fphi])
         k = self.k
-        # pose columns
-        dx_th, dy_th = -(hy - pose.y), hx - pose.x
-        if self.cls == "circle":
-            jac[:n, k] = -1.0 / self.sig_pos
-            jac[n : 2 * n, k + 1] = -1.0 / self.sig_pos
-        elif self.cls == "line":
+        # pose columns (their constant entries: ``_constant_jacobian``)
+        if self.cls == "line":
             th = pose.theta
             # (x, y) = anchor + d·(−sin θ, cos θ): ∂/∂θ includes the anchor's rotation term
-            dpx = dx_th - z[k + 1] * math.cos(th)
-            dpy = dy_th - z[k + 1] * math.sin(th)
+            dpx = -(hy - pose.y) - z[k + 1] * math.cos(th)
+            dpy = hx - pose.x - z[k + 1] * math.sin(th)
             jac[:n, k] = -dpx / self.sig_pos
             jac[n : 2 * n, k] = -dpy / self.sig_pos
-            jac[2 * n :3 * n, k] = -1.0 / self.sig_phi
             jac[:n, k + 1] = math.sin(th) / self.sig_pos
             jac[n : 2 * n, k + 1] = -math.cos(th) / self.sig_pos
-        else:
-            jac[:n, k] = -dx_th / self.sig_pos
-            jac[n : 2 * n, k] = -dy_th / self.sig_pos
-            jac[2 * n : 3 * n, k] = -1.0 / self.sig_phi
-            jac[:n, k + 1] = -1.0 / self.sig_pos
-            jac[n : 2 * n, k + 2] = -1.0 / self.sig_pos
+        elif self.cls != "circle":
+            np.divide(hy - pose.y, self.sig_pos, out=jac[:n, k])  # −(−(hy − y))/σ: the sign of −dx_th/σ
+            np.divide(-(hx - pose.x), self.sig_pos, out=jac[n : 2 * n, k])
         if nc:
             # shape parameters: forward differences from the memoized model (step √ε·max(|z|, 1))
             # (the κ, κ_s rows of contact touches); contact rows' t: central differences
@@ -405,11 +402,32 @@ class _Problem:
                 zp[c] += h
                 zm[c] -= h
                 jac[3 * n :, c] = ((self._raw(zp) - self._raw(zm)) / (2 * h))[3 * n :]
-        jac[~np.isfinite(jac)] = 0.0
+        bad = ~np.isfinite(jac)
+        if bad.any():
+            jac[bad] = 0.0
         jac = self._whitened(jac)
         if self.aniso:
             self._across_along(jac)
-        return np.clip(jac, -JACOBIAN_CAP, JACOBIAN_CAP, out=jac)
+        return jac.clip(-JACOBIAN_CAP, JACOBIAN_CAP, out=jac)
+
+    def _constant_jacobian(self, rows: int, m: int) -> np.ndarray:
+        """A fresh raw Jacobian of ``rows`` × ``m`` holding the entries that do not depend on
+        the unknowns (the pose's translation columns and θ's φ rows, −1/σ; zeros elsewhere),
+        copied from one made once per problem."""
+        if self._const is None or self._const.shape != (rows, m):
+            n, k = self.n_rows, self.k
+            jac = np.zeros((rows, m))
+            if self.cls == "circle":
+                jac[:n, k] = -1.0 / self.sig_pos
+                jac[n : 2 * n, k + 1] = -1.0 / self.sig_pos
+            elif self.cls == "line":
+                jac[2 * n : 3 * n, k] = -1.0 / self.sig_phi
+            else:
+                jac[2 * n : 3 * n, k] = -1.0 / self.sig_phi
+                jac[:n, k + 1] = -1.0 / self.sig_pos
+                jac[n : 2 * n, k + 2] = -1.0 / self.sig_pos
+            self._const = jac
+        return self._const.copy()
 
     def _shape_columns(self, jac: np.ndarray, z: np.ndarray, curve, pose: Pose, t: np.ndarray) -> None:
         """The shape parameters' raw columns in closed form (``Curve.param_derivatives``,
@@ -419,28 +437,27 @@ class _Problem:
         moves nothing: its column is zero, as a difference there was."""
         n = self.n_rows
         c, s = math.cos(pose.theta), math.sin(pose.theta)
-        with np.errstate(all="ignore"):
-            for i, (dx, dy, dphi) in enumerate(curve.param_derivatives(t)):
-                name = self.names[i]
-                if name in self.pos_names:
-                    if not z[i] < 700.0:
-                        continue
-                    scale = curve.params[name]
-                else:
-                    scale = 1.0
-                f = -scale / self.sig_pos
-                jac[:n, i] = (c * dx - s * dy) * f
-                jac[n : 2 * n, i] = (s * dx + c * dy) * f
-                jac[2 * n : 3 * n, i] = dphi * (-scale / self.sig_phi)
+        for i, (dx, dy, dphi) in enumerate(curve.param_derivatives(t)):  # (errstate: the caller's)
+            name = self.names[i]
+            if name in self.pos_names:
+                if not z[i] < 700.0:
+                    continue
+                scale = curve.params[name]
+            else:
+                scale = 1.0
+            f = -scale / self.sig_pos
+            np.multiply(c * dx - s * dy, f, out=jac[:n, i])
+            np.multiply(s * dx + c * dy, f, out=jac[n : 2 * n, i])
+            np.multiply(dphi, -scale / self.sig_phi, out=jac[2 * n : 3 * n, i])
 
-    def _t_entries(self, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Flat indices, in the raw Jacobian of ``m`` columns, of each sample's t entry in its
-        x, y and φ rows (computed once per problem)."""
+    def _t_entries(self, m: int) -> tuple[slice, slice, slice]:
+        """Flat positions, in the raw Jacobian of ``m`` columns, of each sample's t entry in its
+        x, y and φ rows: sample i's t is column n_glob + i of rows i, n + i and 2n + i, so each
+        set lies on a diagonal, a strided slice of the flat array (computed once per problem)."""
         if self._t_flat is None or self._t_flat[0] != m:
-            n = self.n_rows
-            idx = np.arange(n)
-            col = self.n_glob + idx
-            self._t_flat = (m, tuple(r * m + col for r in (idx, n + idx, 2 * n + idx)))
+            n, step = self.n_rows, m + 1
+            first = [r * m + self.n_glob for r in (0, n, 2 * n)]
+            self._t_flat = (m, tuple(slice(f, f + (n - 1) * step + 1, step) for f in first))
         return self._t_flat[1]
 
     def _raw(self, z: np.ndarray) -> np.ndarray:

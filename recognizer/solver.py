@@ -171,7 +171,7 @@ class ContactModel:
                 fr.append(f)
         except _NUMERIC_ERRORS:
             return None, math.inf, None
-        cost = sum(v * v for v in r)
+        cost = sum([v * v for v in r])  # (a list: the same sum, in the same order, without a generator)
         return r, (cost if math.isfinite(cost) else math.inf), (p, ct, st, fr)
 
     def jac(self, z, r, parts):
@@ -273,7 +273,7 @@ class ContactModel:
             if cost < 1e-12 or (it >= GIVE_UP_AFTER and cost > give_up):
                 break
             J = self.jac(z, r, parts)
-            if not np.all(np.isfinite(J)):
+            if not np.isfinite(J).all():
                 break
             cn = np.sqrt(np.einsum("ij,ij->j", J, J))
             cn[cn == 0] = 1.0

@@ -694,21 +694,31 @@ def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noi
     recognizer options. Each call extends one validated request with the touches' samples
     (already checked by :func:`feel`): nothing is parsed again per decision. A call's
     ``reach`` replaces ``reach`` for that call (where its ``next_touch`` may point); its
-    ``classes`` (a subset of the scene's) fits only those (tactile_jaw.separation)."""
+    ``classes`` (a subset of the scene's) fits only those (tactile_jaw.separation).
+    ``run.pooled(touches)``: the touches as a call pools them (tactile_jaw.curvature_pool),
+    the last set pooled kept, so that a caller that also writes them (``tactile replay
+    --touches``) and the calls on the same touches pool them once."""
     source = "exploration"
     loaded = load_scene(scene) if scene is not None else None
     fixed = parse_noise(dict(noise), f"{source}.noise") if noise is not None else None
     base = Request((), loaded, loaded.classes if loaded is not None else ALL_CLASSES, fixed, {}, source)
     options = RecognizeOptions(noise=fixed, reach=reach, **settings.recognize)
+    last: list = [(), []]  # the touches last pooled (the same objects, in order) and their pooled copies
+
+    def pool(touches: Sequence[FeltTouch]) -> list[FeltTouch]:
+        if len(touches) != len(last[0]) or any(a is not b for a, b in zip(touches, last[0])):
+            last[:] = [tuple(touches), pooled(touches)]
+        return list(last[1])
 
     def run(touches: Sequence[FeltTouch], reach: Reach | None = None,
             classes: Sequence[str] | None = None) -> Recognition:
         request = base if classes is None else replace(base, classes=tuple(c for c in base.classes if c in classes))
         check_touch_count(len(touches), request.classes, source)
         stated = stated_noise(touches) if fixed is None or _flat_only(touches) else fixed
-        return recognize(replace(request, touches=tuple(t.samples for t in pooled(touches)), noise=stated),
+        return recognize(replace(request, touches=tuple(t.samples for t in pool(touches)), noise=stated),
                          replace(options, noise=stated, reach=options.reach if reach is None else reach))
 
+    run.pooled = pool  # type: ignore[attr-defined]
     return run
 
 

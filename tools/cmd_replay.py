@@ -72,7 +72,6 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
     from tactile_jaw.choose import JawReach, last_stop
     from tactile_jaw.decide import final_answer
-    from tactile_jaw.curvature_pool import pooled
     from tactile_jaw.flat import is_flat
     from tactile_jaw.flat import recognized_touches
     from tactile_jaw.pipeline import clear_of_corners, curve_refusal, curved_part, logged_felt, make_recognizer, \
@@ -93,10 +92,14 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
                                  curved=curve is not None)
     logged_noise = header["settings"].get("noise")
     fixed_noise = logged_noise if isinstance(logged_noise, dict) else None  # an older run's fixed noise
+    recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
+                                        reach=JawReach(config, settings)) if touches else None
     if args.touches:
         # the run's recognizer options (its profile's) travel with the touches: tactile recognize
-        # then answers with the same settings as this replay
-        request = {"scene": header.get("scene"), "touches": [t.to_json() for t in pooled(touches)],
+        # then answers with the same settings as this replay; pooled once, by the recognizer
+        # that answers below (tactile_jaw.pipeline.make_recognizer)
+        request = {"scene": header.get("scene"),
+                   "touches": [t.to_json() for t in (recognize_touches.pooled(touches) if touches else [])],
                    "noise": (fixed_noise if fixed_noise and not all(is_flat(t) for t in touches)
                              else stated_noise(touches).to_json() if touches else None),
                    "options": {**settings.recognize, "reach": workspace_reach(config).to_json()}}
@@ -108,8 +111,6 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     elif not touches:
         too_few = f"no usable touch in the log ({len(contents.touches)} touches logged): too few to recognize"
     else:
-        recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
-                                            reach=JawReach(config, settings))
         try:
             recognition = final_answer(recognize_touches, touches, settings,
                                        stop.get("message") if stop is not None else None,

@@ -85,6 +85,26 @@ def test_replay_touches_recognize_the_same(demo, tmp_path, tactile_in_process):
     assert answer["params"] == pytest.approx(replayed["params"], rel=1e-12)
 
 
+def test_replay_touches_pools_each_set_once(demo, tmp_path, tactile_in_process, monkeypatch):
+    """``replay --touches`` writes the touches the answer pools (the recognizer's own pooling,
+    tactile_jaw.pipeline.make_recognizer's ``run.pooled``): no set of touches is pooled twice."""
+    import tactile_jaw.curvature_pool as curvature_pool
+    import tactile_jaw.pipeline as pipeline
+
+    calls = []
+    pooled = curvature_pool.pooled
+
+    def counted(touches):
+        calls.append(tuple(id(t) for t in touches))
+        return pooled(touches)
+
+    monkeypatch.setattr(pipeline, "pooled", counted)
+    monkeypatch.setattr(curvature_pool, "pooled", counted)
+    rc, _, err = tactile_in_process(["replay", str(demo["log"]), "--json", "--touches", str(tmp_path / "t.json")])
+    assert rc == 0, err
+    assert calls and len(set(calls)) == len(calls)
+
+
 def test_truth_lines_report_relative_error(demo):
     lines = truth_lines(json.loads(demo["out"]), TRUTH)
     assert lines[0].startswith("true:       ellipse a=28.000 b=17.000")
