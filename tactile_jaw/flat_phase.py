@@ -160,11 +160,11 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
     """What would help once ``curve`` (tactile_jaw.pipeline.curved_part), a stretch of the
     touch ``felt``, rolled on a curved part that no usable touch measured: where ``felt``
     left that part at one end of its ψ range more than at the other (a roll run onto a
-    corner or closing segment: more of its samples left out on that side), the move of the object after which a pad rolls on from the stretch's other end
-    through a roll's span of tangent (a roll centred half a span past that end, placed
-    ρ·span/2 on along the stretch's direction of travel), away from the corner
-    (tactile_jaw.choose.move_advice); else (a press's scan, or a stretch cut on both sides)
-    a pad clear of the corners there."""
+    corner or closing segment: more of its samples left out on that side), the move of the
+    object after which a pad rolls on from the stretch's other end through a roll's span of
+    tangent (a roll centred half a span past that end, placed ρ·span/2 on along the
+    stretch's direction of travel), away from the corner (tactile_jaw.choose.move_advice);
+    else (a press's scan, or a stretch cut on both sides) a pad clear of the corners there."""
     c, m = curve.contacts, len(curve.contacts.x) // 2
     psi = np.asarray(c.psi, dtype=float)
     whole = np.array([smp.psi for smp in felt.touch.samples] if not isinstance(felt.touch, FlatResult) else [])
