@@ -148,10 +148,11 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     return result
 
 
-def _curve_felt(cfg, out: Exploration, emit, say, checked: set[int]) -> bool:
-    """Did a touch so far roll on a curved part (tactile_jaw.pipeline.curved_part)? Then the
-    faces are closing segments: the exploration stops, refused (``out.recognition``), and
-    says what would help (``out.stopped``). ``checked``: the touches (their ``id``) found no
+def _curve_felt(cfg, settings: ExploreSettings, out: Exploration, emit, say, checked: set[int]) -> bool:
+    """Did a touch so far roll on a curved part (tactile_jaw.pipeline.curved_part: a press's
+    scan, or a roll's stretch beside the corner it crossed)? Then the faces are closing
+    segments: the exploration stops, refused (``out.recognition``), and says what would help
+    (``out.stopped``, :func:`curve_stop`). ``checked``: the touches (their ``id``) found no
     curve before, not felt again (a press's scan of 30 lines is felt on every run of its
     lines: seconds of CPU a round); updated."""
     new = [t for t in out.touches if id(t) not in checked]
@@ -160,12 +161,43 @@ def _curve_felt(cfg, out: Exploration, emit, say, checked: set[int]) -> bool:
         checked.update(id(t) for t in new)
         return False
     out.used, out.recognition = [], curve_refusal(curve)
-    c, m = curve.contacts, len(curve.contacts.x) // 2
-    out.stopped = Stop(f"move or turn the object so that its curved part, felt near ({c.x[m]:.1f}, {c.y[m]:.1f}) mm, "
-                       f"faces a pad clear of the object's corners")
+    out.stopped = curve_stop(cfg, settings, curve, next(t for t in new if t.touch.touch == curve.touch.touch))
     emit(out.stopped.event("stopped_early"))
     say(f"{out.recognition.reason}; {out.stopped}")
     return True
+
+
+def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch) -> Stop:
+    """What would help once ``curve`` (tactile_jaw.pipeline.curved_part), a stretch of the
+    touch ``felt``, rolled on a curved part that no usable touch measured: where ``felt``
+    left that part at one end of its ψ range more than at the other (a roll run onto a
+    corner or closing segment: more of its samples left out on that side), the move of the
+    object after which a pad rolls on from the stretch's other end through a roll's span of
+    tangent (a roll centred half a span past that end, placed ρ·span/2 on along the
+    stretch's direction of travel), away from the corner (tactile_jaw.choose.move_advice);
+    else (a press's scan, or a stretch cut on both sides) a pad clear of the corners there."""
+    c, m = curve.contacts, len(curve.contacts.x) // 2
+    psi = np.asarray(c.psi, dtype=float)
+    whole = np.array([smp.psi for smp in felt.touch.samples] if not isinstance(felt.touch, FlatResult) else [])
+    low = int(np.sum(whole < float(np.min(psi)) - 1e-6))  # samples left out below the stretch's ψ range
+    high = int(np.sum(whole > float(np.max(psi)) + 1e-6))
+    near = f"felt near ({c.x[m]:.1f}, {c.y[m]:.1f}) mm"
+    if low == high:
+        return Stop(f"move or turn the object so that its curved part, {near}, faces a pad clear of the object's "
+                    f"corners")
+    end = -1 if low > high else 0  # on past the end away from where the roll left the curved part
+    way = 1.0 if low > high else -1.0  # ψ (and the tangent) grow toward the contacts' last
+    back = end - int(way)  # the contact before the end, toward the stretch's other end
+    step = np.array([c.x[end] - c.x[back], c.y[end] - c.y[back]])
+    along = step / max(float(np.linalg.norm(step)), 1e-9)
+    half = 0.5 * settings.roll_span_rad
+    x, y = np.array([c.x[end], c.y[end]]) + along * float(curve.fit.rho) * half
+    phi = float(psi[end]) + way * half - math.pi / 2
+    goal = Goal(((float(x), float(y), phi),), np.array([c.x, c.y], dtype=float), (float(c.x[m]), float(c.y[m])),
+                f"on along its curved part, {near}, past the end of that stretch away from the corner "
+                f"{felt.finger} roll {felt.touch.touch} ran onto")
+    advice, move = move_advice(JawReach(cfg, settings), goal)
+    return Stop(advice, move)
 
 
 def early_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, touch_index: int, emit,
@@ -280,13 +312,13 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
     say("no rolling touch was usable: pressing the pads flat on the faces before them")
     state = _booked(cfg, pressed, emit, say)
     checked = set() if checked is None else checked  # touches whose scans rolled on no curve (_curve_felt)
-    if state.flat and (_curve_felt(cfg, out, emit, say, checked)
+    if state.flat and (_curve_felt(cfg, settings, out, emit, say, checked)
                        or _decided(out, state.flat, settings, recognize_touches, say)):
         return  # the presses made during the rolls decide (or a curve was felt)
     for _ in range(max(FLAT_SPARE, settings.min_touches + FLAT_SPARE - len(pressed))):
         if any(state.faces.values()):  # one face's touches make the answer: a finger without one stops
             state.active = [name for name in state.active if state.faces[name] is not None]
-        if not state.active or _curve_felt(cfg, out, emit, say, checked):
+        if not state.active or _curve_felt(cfg, settings, out, emit, say, checked):
             break
         spent: dict[str, float] = {}
         seated: set[str] = set()
@@ -302,7 +334,7 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
             felt = feel(cfg, results[name], settings.samples_per_touch)
             out.touches.append(felt)
             state.book(name, felt, seated, emit, say)
-        if _curve_felt(cfg, out, emit, say, checked):
+        if _curve_felt(cfg, settings, out, emit, say, checked):
             break
         if _decided(out, state.flat, settings, recognize_touches, say):
             return

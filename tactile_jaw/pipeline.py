@@ -649,9 +649,18 @@ def curved_part(config, felt: Sequence[FeltTouch]) -> FeltTouch | None:
     part was felt the faces the pads pressed flat are closing segments, and one face's
     presses are no line (:func:`curve_refusal`; tactile_jaw.flat.recognized_touches). A
     block shows none: its corners are pivots (radius ≈ 0) and a pad end sliding on a face is
-    no contact on the pad's face."""
+    no contact on the pad's face. A rolling touch that crossed a corner or closing segment
+    (its lines no smooth curve's tangents) yet rolled on a curved part over a stretch of it
+    (``curve_at``, :func:`curve_hint`) counts too, as that stretch (:func:`curved_stretch`):
+    the corners it crossed are a finite curved object's, and its straight faces are closing
+    segments (P cubical 116 of bench_explore --finite 20 --anywhere --seed 139: the left pad's
+    two rolls kept 5 smooth samples of 9, ρ 43.9 ± 0.07 mm, beside the curve's end corner,
+    and the right pad's presses on a closing segment were answered line)."""
     for t in felt:
         if not isinstance(t.touch, FlatResult):  # a usable roll beside a corner can be a pivot at 4,096 ticks
+            stretch = curved_stretch(config, t) if t.curve_at is not None else None
+            if stretch is not None:
+                return stretch
             continue
         scans = [s for s, role in zip(t.touch.samples, t.touch.roles) if role == "scan"]
         if len(scans) < MIN_SAMPLES_PER_TOUCH:
@@ -660,6 +669,18 @@ def curved_part(config, felt: Sequence[FeltTouch]) -> FeltTouch | None:
                                         outcome="ok"), len(scans))
         if roll.problem is None:
             return roll
+    return None
+
+
+def curved_stretch(config, felt: FeltTouch) -> FeltTouch | None:
+    """The stretch of a rolling touch ``felt`` that failed the smoothness test on which it
+    rolled on a curved part, felt alone: its longest run of at least ``CURVE_HINT_SAMPLES``
+    consecutive samples (ψ order) that passes every check of :func:`feel` (:func:`curve_hint`
+    aims there), or None. A touch the exploration marked ``rejected`` is felt as taken
+    (``ok``: only a touch taken whole is marked so)."""
+    touch = replace(felt.touch, outcome="ok") if felt.touch.outcome == "rejected" else felt.touch
+    for _, _, run in _passing_runs(config, touch, CURVE_HINT_SAMPLES):
+        return run
     return None
 
 
