@@ -42,3 +42,24 @@ def sim(bus_joints):
 def jaw_config() -> JawConfig:
     """The repository's jaw config (config/jaw.yaml)."""
     return load_config("config/jaw.yaml")
+
+
+@pytest.fixture
+def peak_current():
+    """``watch(jaw, finger, motion) -> (motion, peak)``: ``motion`` (a generator of joint goals
+    for tactile_jaw.rounds / hand_driver.cycle.run_together) wrapped so that ``peak[0]`` holds
+    the largest |current| (mA) the finger drew on the way."""
+    def watch(jaw, finger: str, motion):
+        peak = [0.0]
+
+        def run():
+            goal = next(motion)
+            try:
+                while True:
+                    state, i = yield goal
+                    peak[0] = max(peak[0], abs(jaw.finger_current(state, finger) or 0.0))
+                    goal = motion.send((state, i))
+            except StopIteration as stop:
+                return stop.value
+        return run(), peak
+    return watch

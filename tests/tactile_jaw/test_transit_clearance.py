@@ -59,7 +59,7 @@ def test_the_line_keeps_the_margin_where_the_edge_is_nearer_the_object():
     assert clear_offset(RIGHT, model, math.radians(90.0), None) is None
 
 
-def test_a_transit_from_beside_the_circle_turns_without_meeting_it():
+def test_a_transit_from_beside_the_circle_turns_without_meeting_it(peak_current):
     config = CONFIG
     model = _model()
     psi_from, psi_to = math.radians(112.9), math.radians(78.5)
@@ -72,20 +72,8 @@ def test_a_transit_from_beside_the_circle_turns_without_meeting_it():
             # backed off 2.9 mm after a probe at ψ 113°, as in the run
             assert run_together(jaw, {"right": move_line(jaw, "right", psi_from, _support(psi_from) - 2.9,
                                                          via=[(psi_from, model.edge(psi_from))])})["right"]
-            peak = [0.0]
-
-            def watched():
-                motion = transit(jaw, "right", model, psi_to, hug=True)
-                goal = next(motion)
-                try:
-                    while True:
-                        state, i = yield goal
-                        peak[0] = max(peak[0], abs(jaw.finger_current(state, "right") or 0.0))
-                        goal = motion.send((state, i))
-                except StopIteration as stop:
-                    return stop.value
-
-            run_together(jaw, {"right": watched()})
+            motion, peak = peak_current(jaw, "right", transit(jaw, "right", model, psi_to, hug=True))
+            run_together(jaw, {"right": motion})
             line = jaw.pad_line(jaw.last_state, "right")
     assert peak[0] < config.motion.contact_current_ma  # never pressed on the circle on the way
     assert math.degrees(float(line.psi)) == pytest.approx(78.5, abs=0.5)  # and arrived (wedged at 112.4° before)

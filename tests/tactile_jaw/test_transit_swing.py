@@ -32,7 +32,7 @@ SCENE = {"name": "line18", "classes": ["line"],
 Q_AFTER_ROLL = np.radians([-26.5, 62.0])  # the right finger 3 mm off the block's corner, pad normal 125.5°
 
 
-def test_the_swing_open_does_not_slide_the_pad_onto_the_block():
+def test_the_swing_open_does_not_slide_the_pad_onto_the_block(peak_current):
     config = CONFIG
     q_open = open_pose(config)
     ticks = np.rint(kin.angles_to_ticks(config.joints, q_open)).astype(int).tolist()
@@ -49,20 +49,8 @@ def test_the_swing_open_does_not_slide_the_pad_onto_the_block():
             model = ObjectModel(ws.center_mm, ws.radius_mm)
             with pytest.raises(kin.Unreachable):  # the premise: no retreat along its normal to the edge
                 jaw.solve("right", float(start.psi), model.edge(float(start.psi)), jaw.finger_q(jaw.last_state, "right"))
-            peak = [0.0]
-
-            def watched():
-                motion = transit(jaw, "right", model, math.radians(89.5))
-                goal = next(motion)
-                try:
-                    while True:
-                        state, i = yield goal
-                        peak[0] = max(peak[0], abs(jaw.finger_current(state, "right") or 0.0))
-                        goal = motion.send((state, i))
-                except StopIteration as stop:
-                    return stop.value
-
-            run_together(jaw, {"right": watched()})
+            motion, peak = peak_current(jaw, "right", transit(jaw, "right", model, math.radians(89.5)))
+            run_together(jaw, {"right": motion})
             line = jaw.pad_line(jaw.last_state, "right")
     assert peak[0] < config.motion.contact_current_ma  # never pressed on the block on the way
     assert math.degrees(float(line.psi)) == pytest.approx(89.5, abs=0.5)
