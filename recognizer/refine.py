@@ -660,8 +660,11 @@ def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: floa
                                       tr_solver="lsmr", **kw)
     if n_res < z0.size:
         return optimize.least_squares(fun, z0, jac=jac, method="trf", **kw)
-    x, _, info, _, _ = optimize.leastsq(fun, z0, Dfun=jac, full_output=True, ftol=tol, xtol=tol, gtol=tol,
-                                        maxfev=max_nfev, factor=100.0, diag=None)
+    # full_output for nfev and fvec; leastsq also forms its covariance (unused: ``_pinv_cov``),
+    # which overflows on a badly scaled fit and printed a RuntimeWarning to the user's stderr
+    with np.errstate(over="ignore", invalid="ignore"):
+        x, _, info, _, _ = optimize.leastsq(fun, z0, Dfun=jac, full_output=True, ftol=tol, xtol=tol, gtol=tol,
+                                            maxfev=max_nfev, factor=100.0, diag=None)
     f = info["fvec"]
     return _Solved(x, 0.5 * float(np.dot(f, f)), f, int(info["nfev"]))
 
