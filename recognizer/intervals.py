@@ -43,7 +43,7 @@ from scipy.optimize import brentq
 from scipy.special import ndtr
 
 from recognizer.curves import CURVES
-from recognizer.refine import least_squares
+from recognizer.refine import fit_held
 from tactile_common.angles import wrap_angle
 
 __all__ = ["profile_uncertainty", "rival_basins", "same_valley", "interval95", "three_sigma", "REL_SIGMA_CHECK", "CHI2_95", "CHI2_3SIGMA"]
@@ -129,19 +129,7 @@ def _fit_at(problem, z_hat: np.ndarray, zf: np.ndarray, lin: np.ndarray, free: n
             chi2_hat: float):
     """(every unknown, profile χ² rise) with unknown i held at ``delta`` from the answer, the
     others refitted from ``zf`` moved along their linearized regression on unknown i."""
-    start = zf + lin * (delta - (zf[i] - z_hat[i]))
-    zf = start.copy()
-
-    def fun(v):
-        zf[free] = v
-        return problem.residuals(zf)
-
-    def jac(v):
-        zf[free] = v
-        return problem.jacobian(zf)[:, free]
-
-    res = least_squares(fun, jac, start[free], problem.n_res, MAX_NFEV, 1e-8)
-    zf[free] = res.x
+    zf, res = fit_held(problem, zf + lin * (delta - (zf[i] - z_hat[i])), free, MAX_NFEV, 1e-8)
     return zf, 2.0 * float(res.cost) - chi2_hat
 
 

@@ -543,20 +543,10 @@ def _valley_search(problem: _Problem, z: np.ndarray) -> tuple[np.ndarray, int]:
     used = [0]
 
     def profile(v: float) -> float:
-        zf = best["z"] + lin * (v - best["z"][i])
-        zf[i] = v
-
-        def fun(x):
-            zf[free] = x
-            return problem.residuals(zf)
-
-        def jac_free(x):
-            zf[free] = x
-            return problem.jacobian(zf)[:, free]
-
-        res = least_squares(fun, jac_free, zf[free], problem.n_res, VALLEY_NFEV, TOL_EXACT)
+        start = best["z"] + lin * (v - best["z"][i])
+        start[i] = v
+        zf, res = fit_held(problem, start, free, VALLEY_NFEV, TOL_EXACT)
         used[0] += int(res.nfev)
-        zf[free] = res.x
         chi2 = 2.0 * float(res.cost)
         if chi2 < best["chi2"]:
             best.update(chi2=chi2, z=zf.copy())
@@ -643,6 +633,24 @@ class _Solved:
     cost: float
     fun: np.ndarray
     nfev: int
+
+
+def fit_held(problem, z: np.ndarray, free: np.ndarray, max_nfev: int, tol: float) -> tuple[np.ndarray, "_Solved"]:
+    """``problem``'s unknowns ``free`` refitted from ``z``, the others held at their values in
+    ``z`` (a point of a profile): (every unknown at the fit, the solve)."""
+    zf = z.copy()
+
+    def fun(v):
+        zf[free] = v
+        return problem.residuals(zf)
+
+    def jac(v):
+        zf[free] = v
+        return problem.jacobian(zf)[:, free]
+
+    res = least_squares(fun, jac, z[free], problem.n_res, max_nfev, tol)
+    zf[free] = res.x
+    return zf, res
 
 
 def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: float):
