@@ -432,8 +432,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(message)
             break
         if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
-                h.kind in ("corner", "scan") for h in hints.values()):  # unless a finger rolls again beside a
-            # corner or where a press's scan felt the curve
+                h.kind in ("corner", "scan") or (h.kind == "wider" and out.used) for h in hints.values()):
+            # unless a finger rolls again beside a corner, where a press's scan felt the curve, or wider where
+            # a roll was in doubt while the curve was felt (wider_pending)
             rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
