@@ -250,7 +250,10 @@ SIDE_PAD_MARGIN = 0.05
 def other_side_aim(recognition, finger, reach: JawReach) -> Aim | None:
     """Where ``finger``, with no usable roll and no orientation the planner predicts a roll
     at from the lines felt (its probes met the object at a pad end, or not at all), rolls on
-    a closed answer (``CLOSED``: the leading, undecided ``recognition``): of the pad normals
+    a closed answer (``CLOSED``: the leading ``recognition``, undecided only for its parameters:
+    while an open class fits too, that side may not exist, and a roll aimed there spends the
+    budget on nothing — P-series semicubical 126 of seed 157, ellipse and semicubical fitting,
+    was refused so): of the pad normals
     within ``SIDE_SPREAD_DEG`` of the finger's zero-angle normal at which the planner could
     roll on the answer's curve (tactile_jaw.plan.feasible on the answer's support lines, the
     contact ``SIDE_PAD_MARGIN`` of the pad's length from its ends), the one whose contact
@@ -549,8 +552,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 else:
                     psi = choose_psi(f, model, settings, used[f.name], limits(f.name))
                     side = None
-                    if psi is None and undecided is not None and f.name not in sided and not any(
-                            t.finger == f.name for t in out.used):
+                    if (psi is None and undecided is not None and undecided[1].kind == "imprecise"
+                            and f.name not in sided and not any(t.finger == f.name for t in out.used)):
                         sided.add(f.name)
                         side = other_side_aim(undecided[0], f, reach)
                     if side is not None:
