@@ -38,7 +38,7 @@ from recognizer.curves import CURVES
 from recognizer.result import Recognition
 from recognizer.touches import Reach
 from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
-from tactile_jaw.plan import PLAN_PAD_MARGIN, ObjectModel, feasible, nominal_psi
+from tactile_jaw.plan import ObjectModel, feasible, nominal_psi
 from tactile_jaw.settings import ExploreSettings
 
 #: a suggested next touch this near (mm) one already aimed at is not aimed at again
@@ -143,16 +143,14 @@ class JawReach:
         self.disk = Reach(float(ws.center_mm[0]), float(ws.center_mm[1]), float(ws.radius_mm))
         self._model = ObjectModel(ws.center_mm, ws.radius_mm)  # nothing felt: only its workspace edge is used
 
-    def finger(self, x: float, y: float, phi: float, fingers: Sequence | None = None,
-               pad_margin: float = PLAN_PAD_MARGIN):
+    def finger(self, x: float, y: float, phi: float, fingers: Sequence | None = None):
         """The finger (of ``fingers``, default all) that can roll through (x, y) with its pad
-        normal at φ + π/2 nearest its zero-angle normal (its contact ``pad_margin`` of the
-        pad's length from either end: tactile_jaw.plan.feasible), or None."""
+        normal at φ + π/2 nearest its zero-angle normal, or None."""
         if not bool(self.disk.contains(x, y)):
             return None
         psi = phi + math.pi / 2
         ok = [f for f in (self.config.fingers if fingers is None else fingers)
-              if feasible(f, self._model, psi, self.settings, aim=(x, y), pad_margin=pad_margin)]
+              if feasible(f, self._model, psi, self.settings, aim=(x, y))]
         return min(ok, key=lambda f: abs(math.remainder(psi - nominal_psi(f), 2 * math.pi)), default=None)
 
     def contains(self, px, py, phi=None) -> np.ndarray:

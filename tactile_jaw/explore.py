@@ -253,8 +253,8 @@ def other_side_aim(recognition, finger, reach: JawReach) -> Aim | None:
     a closed answer (``CLOSED``: the leading ``recognition``, undecided only for its parameters:
     while an open class fits too, that side may not exist, and a roll aimed there spends the
     budget on nothing — P-series semicubical 126 of seed 157, ellipse and semicubical fitting,
-    was refused so): of the pad normals
-    within ``SIDE_SPREAD_DEG`` of the finger's zero-angle normal at which the planner could
+    was refused so): of the pad normals within ``SIDE_SPREAD_DEG`` of the finger's zero-angle
+    normal at which the planner could
     roll on the answer's curve (tactile_jaw.plan.feasible on the answer's support lines, the
     contact ``SIDE_PAD_MARGIN`` of the pad's length from its ends), the one whose contact
     lies deepest inside the pad. One finger's rolls on one side of an ellipse leave its axes
@@ -494,7 +494,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
                 h.kind in ("corner", "scan") or (h.kind == "wider" and out.used) for h in hints.values()):
             # unless a finger rolls again beside a corner, where a press's scan felt the curve, or wider where
-            # a roll was in doubt while the curve was felt (wider_pending)
+            # a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157: its tight ends)
             rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
