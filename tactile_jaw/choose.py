@@ -116,11 +116,13 @@ class Aim:
 
 
 #: how a touch aimed beyond a parabola's vertex fell off the curved part (:func:`next_aim`'s
-#: ``vertex_missed``): it pivoted about a corner or met nothing, so the object ends there, and
-#: no move helps; or it ran off elsewhere — random P parabola 62 of ``bench_explore --finite 20
-#: --anywhere --seed 157`` calibrated against config/jaw-p-truth.yaml: a roll centred 19° past
-#: the vertex at the edge of the left pad's reach (centres up to 19° reachable there) gave pad
-#: lines no smooth curve has, 37° short of the object's end; uncalibrated, the same roll was used
+#: ``vertex_missed``): it pivoted about a corner or its approach met nothing, so the object ends
+#: there, and no move helps; or it ran off elsewhere, or could not be made, at the edge of its
+#: pad's reach, and the vertex move is named — random P parabola 62 of ``bench_explore --finite
+#: 20 --anywhere --seed 157`` calibrated against config/jaw-p-truth.yaml: a roll centred 19° past
+#: the vertex, where the left pad reaches centres up to 19°, gave pad lines no smooth curve has,
+#: 37° short of the object's end (uncalibrated, the same roll was used); P parabola 66 of seed
+#: 127: the roll's first line outside the joint limits. Both were refused naming no move.
 VERTEX_ENDS, VERTEX_OFF = "ends", "off"
 
 #: the run-log events that carry a :class:`Stop`: stopped for want of reach, or the budget spent undecided

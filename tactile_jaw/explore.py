@@ -570,12 +570,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(f"touch {len(out.touches)} ({_spent(out)}/{settings.touches} of the budget): {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
                 f"{len(touch.samples)} samples, {'used' if problem is None else 'not used: ' + problem}")
             if aimed is not None and name == aimed.finger and problem is not None:
-                # the object ends there only when the roll pivoted about a corner or met nothing; one
-                # that ran off the curved part elsewhere stops naming a move (tactile_jaw.choose.VERTEX_OFF);
-                # one that ran off the pad's face (P parabola 78 of bench_explore --finite 20
-                # --anywhere --seed 107: 28.8..51.4 mm along a 52 mm pad) goes to the next centre
+                # the object ends there only when the roll pivoted about a corner or its approach met
+                # nothing; one that ran off the curved part elsewhere, or could not be made (outside the
+                # joint limits: P parabola 66 of bench_explore --finite 20 --anywhere --seed 127), stops
+                # naming a move (tactile_jaw.choose.VERTEX_OFF); one that ran off the pad's face (P
+                # parabola 78 of --seed 107: 28.8..51.4 mm along a 52 mm pad) goes to the next centre
                 if aimed.kind == "vertex" and (felt.off_curve or not touch.samples) and vertex_missed != VERTEX_ENDS:
-                    vertex_missed = VERTEX_ENDS if felt.corner is not None or not touch.samples else VERTEX_OFF
+                    ends = felt.corner is not None or (not touch.samples and touch.outcome == "no_contact")
+                    vertex_missed = VERTEX_ENDS if ends else VERTEX_OFF
                 if not touch.samples:
                     empty_at.append(aimed.point)  # the object is not where the answered curve goes on
         if probing:
