@@ -264,8 +264,9 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
                               "curved part faces a finger")
         if vertex_missed:  # no corner there: the roll ran off at the edge of its pad's reach (module docstring)
             return None, _goal_stop("no touch within the pads' reach can decide: the touch aimed beyond the vertex "
-                                    f"(near {_where(*vertex_place(recognition, touched))}) ran off the curved part "
-                                    "without pivoting about a corner, at the edge of the pads' reach",
+                                    f"(near {_where(*vertex_place(recognition, touched))}) could not be made, or ran "
+                                    "off the curved part without pivoting about a corner: it lies at the edge of the "
+                                    "pads' reach",
                                     vertex_goals(recognition, touched, reach), reach)
         if aim is None:
             return None, _goal_stop("no touch within the pads' reach can decide: no pad can roll beyond the vertex "
