@@ -70,6 +70,8 @@ MOVE_CLEAR_MM = 3.0
 #: random parabola 18 on the P-series jaw: a turn of 30° and a (-14, -8) mm shift, found after
 #: more than 1,200 questions, 2.3 s more)
 MOVE_QUERIES = 6000
+#: what :func:`move_advice` asks when a pad already reaches every place, yet its finger gave up there
+WITHIN_REACH = "move or turn the object so that more of its curved part faces a finger"
 #: a shift found is lengthened by this much (mm) when every place is still reached then
 MOVE_MARGIN_MM = 2.0
 #: the vertex region a move is for: roll centres at this many places evenly from one side's
@@ -78,12 +80,12 @@ VERTEX_GOAL_PLACES = 5
 #: the vertex regions a move is sought for, widest first (:func:`vertex_goals`): the outermost
 #: roll centres this many quarter rolls past VERTEX_SIDE_DEG either side. +1 is where
 #: :func:`vertex_aim` aims first; −1 puts a roll's far end a quarter roll past VERTEX_SIDE_DEG,
-#: still within the centres vertex_aim tries. One pad rolls over 43–61° of a parabola's tangent
-#: turn from one placement (the other pad meets only its concave side), so the widest region
-#: (59° of centres) is out of every pad's reach for some parabolas wherever they lie: random P
-#: parabola 72 of ``bench_explore --finite 20 --anywhere --seed 157`` (a 10.4 mm) had no move
-#: up to 90° and 20 mm for it, refused naming none; the region a quarter roll narrower each side
-#: is reached turned 30° and moved 12 mm, and followed so it is answered right (19.7 s)
+#: still within the centres vertex_aim tries. One pad rolls over 42–61° of a parabola's tangent
+#: turn from one placement (roll centres; the other pad meets only its concave side), so the
+#: widest region (59° of centres) is out of every pad's reach for some parabolas wherever they
+#: lie: random P parabola 72 of ``bench_explore --finite 20 --anywhere --seed 157`` (a 10.4 mm)
+#: had no move up to 90° and 20 mm for it, refused naming none; ±25° is reached turned 30° and
+#: moved 20 mm, and followed so it is answered right (15.9 s; ±20.5°'s move, 12 mm: 19.7 s)
 VERTEX_GOAL_QUARTERS = (1, 0, -1)
 
 
@@ -248,7 +250,8 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     docstring). ``touched``: the usable touches' sample positions (x, y); ``aimed_at``: the
     points touches were aimed at so far; ``vertex_missed``: a touch aimed beyond the vertex
     fell off the curved part, ``VERTEX_ENDS`` when it pivoted about a corner or met nothing (the
-    object ends there), ``VERTEX_OFF`` when it ran off the curved part elsewhere; ``empty_at``: points aimed at where the touch met nothing;
+    object ends there), ``VERTEX_OFF`` when it ran off the curved part elsewhere or could not be
+    made; ``empty_at``: points aimed at where the touch met nothing;
     ``anywhere``: the recognizer's ``next_touch`` anywhere in the workspace (called only
     when none is within the pads' reach, for the reason to say where it would be); ``also``:
     places a move to that touch should bring within a pad's roll too (:func:`_goal_stop`)."""
@@ -399,8 +402,8 @@ def _goal_stop(message: str, goal: Goal | Sequence[Goal], reach: JawReach,
     when a move reaches them all (:func:`with_places`), else ``goal``'s. (A move for ``also``'s
     places alone was tried: random X-series ellipse 46 of bench_explore --finite 20 --anywhere
     --seed 127, turned 30° and moved 4 mm so, gave no usable roll at all.) Several goals
-    (:func:`vertex_goals`, widest first): the move for the first one a move reaches; when none
-    is, the first's advice."""
+    (:func:`vertex_goals`, widest first): the advice for the first one a move reaches, or a pad
+    already reaches (``WITHIN_REACH``); when none is, the first's."""
     goals = (goal,) if isinstance(goal, Goal) else tuple(goal)
     first = None
     for g in goals:
@@ -409,7 +412,7 @@ def _goal_stop(message: str, goal: Goal | Sequence[Goal], reach: JawReach,
             if move is not None:
                 return Stop(f"{message}: {advice}", move)
         advice, move = move_advice(reach, g)
-        if move is not None:
+        if move is not None or advice == WITHIN_REACH:
             return Stop(f"{message}: {advice}", move)
         first = advice if first is None else first
     return Stop(f"{message}: {first}", None)
@@ -500,7 +503,7 @@ def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None) ->
                 f"{MOVE_TURN_MAX_DEG:g} deg inside the workspace: place the object so that more of its curved part "
                 f"faces a finger"), None
     if move == (0.0, 0.0, 0.0):  # within reach, yet its finger gave up there (corners, closing segments)
-        return "move or turn the object so that more of its curved part faces a finger", None
+        return WITHIN_REACH, None
     dx, dy, a = move
     grow = (math.hypot(dx, dy) + MOVE_MARGIN_MM) / max(math.hypot(dx, dy), 1e-9)
     if (dx or dy) and _reaches(reach, goal, grow * dx, grow * dy, a, fingers):
