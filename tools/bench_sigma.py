@@ -14,7 +14,9 @@ region, each counted once per decade), and recognizes three touches of it with e
 allowed:
 
 - ``samples``: 3 touches × 9 samples 2 % of L apart, standard noise (tangent angle
-  1.5 mrad, positions 0.1 % of L), the balanced profile (refinement, profile σ's);
+  1.5 mrad, positions 0.1 % of L), the balanced profile (refinement, profile σ's); a
+  semicubical's touches moved out along their branches until none reaches across the cusp
+  (``clear_of_cusp``);
 - ``contacts``: 3 contacts with Gaussian noise at their stated deviations (positions
   0.1 % of L, φ 1.5 mrad, κ ± (1 %·|κ| + 1 %/L), κ_s ± 5 %·(|κ_s| + |κ|/L + 1/L²)), the
   contact stage alone (the invariants and the contact fit, as a contacts-only request is
@@ -141,6 +143,8 @@ def run_trial(task) -> list[dict]:
             params, ts, pose = scaled(cls, params1, ts1, pose1, L)
             rs = np.random.default_rng(noise_seed)  # the same draws, in units of L, at every scale
             if kind == "samples":
+                if cls == "semicubical_parabola":
+                    ts = clear_of_cusp(CURVES[cls](params), ts, synth.touch_reach(SAMPLES, SPACING * L))
                 shape = synth.Shape(cls, params, pose, L, (float(ts.min()), float(ts.max())), CURVES[cls](params))
                 noise = synth.SynthNoise(SPEC_PHI, SPEC_POS_FRAC * L)
                 touches, _ = synth.sample_shape(shape, ts, SAMPLES, SPACING * L, direction, noise, rs, with_s=False)
@@ -172,6 +176,18 @@ def run_trial(task) -> list[dict]:
             out.append({"cls": cls, "region": region, "trial": i, "kind": kind, "decade": k, "answer": answer,
                         "z": zs, "zi": zis, "rel": rels, "cpu": cpu, "error": err})
     return out
+
+
+def clear_of_cusp(curve, ts: np.ndarray, reach: float) -> np.ndarray:
+    """A semicubical's contacts moved out along their branches, all by the same Δ|t| (their
+    spacing kept), until a touch reaching ``reach`` either side of its contact stays on its
+    branch, as bench_wide's do: a pad cannot roll through the cusp. Near the cusp and even
+    on the far branch (t 3–10 of a region spanning both branches) a 9-sample touch 2 % of L
+    apart reached across it (before session 17: noise-free samples of those regions
+    unclassified, a touch's samples on both branches)."""
+    clear = synth._clear_of_cusp(curve, 1.02 * reach, max(float(np.max(np.abs(ts))), 1e-9))
+    shift = max(clear - float(np.min(np.abs(ts))), 0.0)
+    return np.sign(ts) * (np.abs(ts) + shift)
 
 
 def interval_z(rec, name: str, truth: float) -> float:
