@@ -56,7 +56,7 @@ import numpy as np
 from recognizer import synth
 from recognizer.class_limits import LIMIT_OF
 from recognizer.classify import MODEL_ALPHA, RIVAL_BIC, chi2_limit, recognize
-from recognizer.curves import CURVES, Pose
+from recognizer.curves import CURVES, Pose, travel_direction
 from recognizer.localize import N_SHAPE
 from recognizer.profiles import PROFILES
 from recognizer.refine import refine_one
@@ -288,10 +288,32 @@ def _send(shape, x, y, phi, lo, hi, clear, aim, left, direction) -> Landing:
 
 
 def _aim_at(shape, t, direction):
-    """(x, y, pad orientation) of the true curve's point t: where a random touch is sent."""
+    """(x, y, pad orientation) of the true curve's point t."""
     x, y = shape.pose.apply(*shape.curve.point(np.array([t])))
     phi = float(np.asarray(shape.curve.tangent_angle(np.array([t])), float)[0]) + shape.pose.theta
     return float(x[0]), float(y[0]), phi + (math.pi if direction < 0 else 0.0)
+
+
+def _random_aim(shape, t, direction, rec, touches):
+    """Where a hand sends a random touch at the region's point t (``--aim approach``): the
+    place as the hand knows it, the 3-touch answer's curve at its point nearest the true
+    one, with that curve's tangent in the direction of travel (the true point and tangent
+    when the answer is ``unclassified``: the hand has no curve)."""
+    x, y, phi = _aim_at(shape, t, direction)
+    if rec.cls == "unclassified" or rec.pose is None:
+        return x, y, phi
+    curve = CURVES[rec.cls](rec.params)
+    tc = np.array([c["t"] for c in rec.contacts], float)
+    if curve.t_period is not None:
+        dense = np.linspace(-np.pi, np.pi, 4000, endpoint=False)
+    else:
+        w = max(float(np.ptp(tc)), 1e-9)
+        dense = np.linspace(tc.min() - 2.0 * w, tc.max() + 2.0 * w, 4000)
+    cx, cy = rec.pose.apply(*curve.point(dense))
+    k = int(np.nanargmin(np.hypot(cx - x, cy - y)))
+    ang = float(np.asarray(curve.tangent_angle(dense[k:k + 1]), float)[0]) + rec.pose.theta
+    way = travel_direction(curve, rec.pose, tc, [tt.phi[len(tt.phi) // 2] for tt in touches])
+    return float(cx[k]), float(cy[k]), ang + (math.pi if way < 0 else 0.0)
 
 
 def _exact(shape, ts, direction) -> dict:
@@ -326,7 +348,8 @@ def run_trial(task) -> dict:
         return out
     if rec.cls != cls:
         out["oracle"] = _oracle(shape, ts, direction, rec, req, nm)
-    # two random extra touches in the region, sent as a hand sends any touch (``aim``)
+    # two random extra touches in the region, sent as a hand sends any touch (``aim``:
+    # ``approach``, to the region's point as the 3-touch answer places it, with its tangent)
     left = solid_left(shape.curve, ts, direction)
 
     def draw_t():
@@ -336,7 +359,11 @@ def run_trial(task) -> dict:
         return t
     extra = []
     for _ in range(2):
-        landing = _send(shape, *_aim_at(shape, draw_t(), direction), lo, hi, clear, aim, left, direction)
+        t = draw_t()
+        if aim == "nearest":  # touched where drawn
+            landing = Landing(t, "", 0.0)
+        else:
+            landing = _send(shape, *_random_aim(shape, t, direction, rec, touches), lo, hi, clear, aim, left, direction)
         out.setdefault("random", []).append({"t": landing.t, "lost": landing.why})
         if landing.t is not None:
             extra.append(_extra_touch(shape, landing.t, rs, direction))
