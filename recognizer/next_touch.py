@@ -31,6 +31,14 @@ parameters' uncertainty: a semicubical parabola's branch far from its cusp and a
 through the same touches bend differently along a roll (bench_wide: modelled as one point,
 the suggested touches left the far branch 76.9 % right).
 
+A pad reaches a place only from the free side: a touch is sent as the place and its
+tangent, and the pad comes in along its normal from away from the solid (the side the
+touches curve toward: ``Contacts.dominant_kappa``). Places are kept where such a pad,
+``PAD_ROLLS`` rolls either side of its middle and starting the touches' extent out, first
+meets the leader's curve there (``_landed``: no stretch concave toward it, no other branch
+in the way); a rival's separation counts, when the rival is true, only where the pad lands
+on the rival's curve too.
+
 Greedy, one touch at a time (adaptive-submodular selection, so greedy is near-optimal):
 while some place resolves at least ``CLASS_GAIN_MIN`` nats of class entropy, the place of
 largest class gain, else of largest gain. A touch is ``roll`` long: no place within
