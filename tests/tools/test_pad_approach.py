@@ -65,3 +65,18 @@ def test_a_semicubical_branch_near_the_cusp_is_shadowed_and_no_roll_crosses_it()
     assert near.t is None and "end" in near.why
     at_cusp = land(curve, POSE, (-8.0, 8.0), *_aim(curve, 0.3), left, 1, 0.1, 0.05, 10.0)
     assert at_cusp.t is None
+
+
+def test_a_pad_tilted_a_little_seats_on_a_flat_stretch_and_not_a_lot():
+    """A pad tilted 1e-4 rad meets a line (and a hyperbola far out on its arm) with its end;
+    it turns to seat on the boundary under its middle and lands there; tilted 0.1 rad (more
+    than ``SEAT_RAD``) it is lost."""
+    line = CURVES["line"]({})
+    hyp = CURVES["hyperbola"]({"a": 1.0, "b": 1.0})
+    for curve, t, rng in ((line, 5.0, (-50.0, 50.0)), (hyp, 5.0, (-12.0, 12.0))):
+        x, y, phi = _aim(curve, t)
+        left = solid_left(curve, [t], 1)
+        assert land(curve, POSE, rng, x, y, phi + 1e-4, left, 1, 6.0, 3.0, 60.0, seat=0.0).t is None
+        got = land(curve, POSE, rng, x, y, phi + 1e-4, left, 1, 6.0, 3.0, 60.0)
+        assert got.why == "" and abs(got.t - t) < 0.01
+        assert land(curve, POSE, rng, x, y, phi + 0.1, left, 1, 6.0, 3.0, 60.0).t is None
