@@ -2,7 +2,7 @@
 with an oracle for every wrong answer, suggested against random extra touches, and the
 honesty of the stated σ's (not a test).
 
-    python -m tools.bench_wide [--set wide|hand] [--trials 40] [--seed 1] [--jobs 2] [--out FILE.md] [--records FILE.json]
+    python -m tools.bench_wide [--set wide|hand] [--aim approach|nearest] [--trials 40] [--seed 1] [--jobs 2] [--out FILE.md] [--records FILE.json]
     python -m tools.bench_wide --coverage-only [--first 40] [--trials 80]   (σ coverage alone)
     tactile bench --wide-trials N        (writes OUT/bench_wide.md beside the other results)
 
@@ -31,10 +31,14 @@ positions 0.1 % of L), the balanced profile, every class allowed. Rows:
   itself, passes its consistency test.
 - ``3 + 2 random``: two more touches at random places of the region.
 - ``3 + ≤2 suggested``: up to two more touches where ``next_touch`` says, stopping when it
-  says null. The object is the whole curve around the region: a suggestion is touched at
-  the true curve's point closest to it on either side of the vertex, cusp or inflection
-  (a semicubical's other branch too, clear of the cusp); ``aim miss`` is how far that
-  point lies from the suggested one.
+  says null. The object is the whole curve around the region (both sides of the vertex,
+  cusp or inflection, a semicubical's other branch). ``--aim approach`` (the default): every
+  extra touch is sent as a place and a pad orientation (a random one: the region's random
+  point as the 3-touch answer places it, with its tangent) and lands where a pad coming in
+  along its normal first meets the object (tools.pad_approach), or is lost; a lost
+  suggested touch ends the suggestions. ``--aim nearest``: a suggestion is touched at the
+  true curve's point closest to it (a semicubical's clear of the cusp), a random touch where
+  drawn. ``aim miss`` is how far the landing lies from the place sent to.
 - coverage: on right answers of ``3 touches``, the fraction of shape parameters within
   1.96 stated σ and the RMS of (p̂ − p)/σ. ``--coverage-only`` runs the 3-touch
   recognitions alone (trials ``--first`` … ``--first + --trials − 1``) and gives each
