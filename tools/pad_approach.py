@@ -93,8 +93,10 @@ def _wrap(a: float) -> float:
 
 
 def _dense(curve: Curve, t_range):
-    lo, hi = curve.t_period if curve.t_period is not None else t_range
-    return np.linspace(lo, hi, N_DENSE)
+    """The object's t's, ``N_DENSE`` of them (a closed curve's once round)."""
+    if curve.t_period is not None:
+        return np.linspace(*curve.t_period, N_DENSE, endpoint=False)
+    return np.linspace(*t_range, N_DENSE)
 
 
 def _under_middle(curve: Curve, pose: Pose, t_range, x, y, phi, left, direction, standoff) -> float | None:
