@@ -320,7 +320,7 @@ def curve_hint(config, touch: TouchResult, samples: int) -> tuple[float, float, 
     a touch (tools.bench_explore --finite 6 --anywhere --seed 17 --config
     config/jaw-p.yaml, cubical 30); the exploration aims its finger's next roll there
     (tactile_jaw.explore) instead of counting the roll as off the curved part."""
-    for head, tail, felt in _passing_runs(config, touch, CURVE_HINT_SAMPLES):
+    for head, tail, felt in _felt_run(config, touch):
         c = felt.contacts
         psi = np.sort([s.psi for s in touch.samples])
         step = float(np.median(np.diff(psi)))
@@ -331,6 +331,34 @@ def curve_hint(config, touch: TouchResult, samples: int) -> tuple[float, float, 
         m = c.x.size // 2
         return float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2
     return None
+
+
+def _felt_run(config, touch: TouchResult):
+    """(samples dropped at the start, at the end, the run felt) of the stretch of a roll that
+    failed the smoothness test on which it still rolled on the curved part, as a list of one,
+    or empty: of the runs of at least ``CURVE_HINT_SAMPLES`` consecutive samples (ψ order)
+    that pass every check with the fewest dropped (:func:`_passing_runs`), one at an end of
+    the roll when such a run keeps that end and none keeps the other: the roll left the
+    curved part at the other end alone, and the curve goes on past the kept end, where the
+    next roll goes (:func:`curve_hint`) and a move points (tactile_jaw.flat_phase.curve_stop);
+    else the first (the middle of the roll). P cubical 117 of bench_explore --finite 20
+    --anywhere --seed 157: its right pad's 9-sample roll ran from ρ 25 mm onto the inflection
+    and the end corner beside it; 5 samples passed dropping 2 at each end, or 3 and 1, or 4
+    and 0, and the first, the roll's middle, was rolled again: the same roll, then a refusal
+    naming no move."""
+    runs, drop = [], None
+    for head, tail, run in _passing_runs(config, touch, CURVE_HINT_SAMPLES):
+        if drop is not None and head + tail > drop:
+            break
+        drop = head + tail
+        runs.append((head, tail, run))
+    if not runs:
+        return []
+    for end in (0, 1):  # the runs all keep the low-ψ end (0) or all the high-ψ end (1)
+        kept = [r for r in runs if r[end] == 0]
+        if kept and not any(r[1 - end] == 0 for r in runs):
+            return kept[:1]
+    return runs[:1]
 
 
 def _passing_runs(config, touch: TouchResult, least: int, margin: int = 0):
@@ -679,7 +707,7 @@ def curved_stretch(config, felt: FeltTouch) -> FeltTouch | None:
     aims there), or None. A touch the exploration marked ``rejected`` is felt as taken
     (``ok``: only a touch taken whole is marked so)."""
     touch = replace(felt.touch, outcome="ok") if felt.touch.outcome == "rejected" else felt.touch
-    for _, _, run in _passing_runs(config, touch, CURVE_HINT_SAMPLES):
+    for _, _, run in _felt_run(config, touch):
         return run
     return None
 
