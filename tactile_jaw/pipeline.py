@@ -113,9 +113,9 @@ class FeltTouch:
     corner: tuple[float, float] | None = None  # the point it pivoted about, when it fell on a corner
     #: an unusable roll's stretch on the curved part (:func:`curve_hint`): (x, y, φ) of its middle
     curve_at: tuple[float, float, float] | None = None
-    #: and that stretch's pad orientations (ψ_low, ψ_high, rad, contacts' ψ), with the end at which
-    #: the roll alone left the curved part: +1 its high ψ, −1 its low ψ, 0 both or neither (:func:`_felt_run`)
-    curve_span: tuple[float, float, int] | None = None
+    #: and that stretch's end (ψ rad, x, y mm of its contact) on the side where the roll alone left the
+    #: curved part, with that side: +1 its high ψ, −1 its low ψ (:func:`_felt_run`); None if both or neither
+    curve_span: tuple[float, float, float, int] | None = None
 
     @property
     def finger(self) -> str:
@@ -330,7 +330,9 @@ def curve_hint(config, touch: TouchResult,
         c = felt.contacts
         psi = np.sort([s.psi for s in touch.samples])
         step = float(np.median(np.diff(psi)))
-        span = (float(c.psi[0]), float(c.psi[-1]), (1 if tail else 0) - (1 if head else 0))
+        way = (1 if tail else 0) - (1 if head else 0)
+        end = -1 if way > 0 else 0
+        span = (float(c.psi[end]), float(c.x[end]), float(c.y[end]), way) if way else None
         if head and not tail:
             return _roll_beside(felt, np.arange(c.x.size), 0, 1.0, step * (samples - 1), samples), span
         if tail and not head:
@@ -448,7 +450,7 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
         c = t.contacts
         gaps = corner_gaps(c, corners) if corners.size else np.full((c.x.size, 1), np.inf)
         near = gaps.min(axis=1) < CORNER_CLEARANCE_MM
-        past = past_ends(c.psi, ends.get(t.finger, []))
+        past = past_ends(c, ends.get(t.finger, []))
         if not near.any() and not past.any():
             kept.append(t)
             continue
@@ -474,33 +476,35 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
     return kept, notes
 
 
-def curve_ends(felt: Sequence[FeltTouch]) -> dict[str, list[tuple[float, int]]]:
+def curve_ends(felt: Sequence[FeltTouch]) -> dict[str, list[tuple[float, float, float, int]]]:
     """Per finger, where its rolls left the curved part at one end alone (``FeltTouch.curve_span``
-    of a roll off the curve that still rolled on it): (ψ of the stretch's last contact on that
-    end's side, +1 when the curve ends at higher ψ, −1 at lower). The pad normals at which a pad
-    meets a finite object's curved part, convex toward it, are one interval of ψ whatever the
-    roll: past its end the pad rests on the end corner. A usable roll's sample there lies on the
-    corner, yet one line past the end is a tangent of the curve's continuation within ρδ²/2 (a
+    of a roll off the curve that still rolled on it): (ψ, x, y of the stretch's last contact on
+    that end's side, +1 when the curve ends at higher ψ, −1 at lower). The pad normals at which a
+    pad meets a finite object's curved part, convex toward it, are one interval of ψ whatever the
+    roll: past its end the pad rests on the end corner (:func:`past_ends`). A usable roll's
+    sample there lies on the corner, yet one line past the end is a tangent of the curve's continuation within ρδ²/2 (a
     µm), so the roll passes every check and the envelope places that contact 0.1–0.3 mm off
     along the pad (:func:`smooth_stretch`). P cubical 105 of bench_explore --finite 20
     --anywhere --seed 157 --config config/jaw-p.yaml: a usable roll's last sample lay 0.5° past
     the curve's end tangent (0.14 mm from the end corner; the other roll there, past it by 2.3°,
     was left out), its block of the refined fit's χ² was 23 on 15 rows, and no class fitted (p
     6.8e-4); without that sample: cubical, a +0.8 %, c +1.2 %."""
-    ends: dict[str, list[tuple[float, int]]] = {}
+    ends: dict[str, list[tuple[float, float, float, int]]] = {}
     for t in felt:
-        if t.curve_span is not None and t.curve_span[2]:
-            lo, hi, way = t.curve_span
-            ends.setdefault(t.finger, []).append((hi if way > 0 else lo, way))
+        if t.curve_span is not None:
+            ends.setdefault(t.finger, []).append(t.curve_span)
     return ends
 
 
-def past_ends(psi: np.ndarray, ends: Sequence[tuple[float, int]]) -> np.ndarray:
-    """Which pad orientations ``psi`` (rad) lie past one of a finger's ``ends`` (:func:`curve_ends`)."""
-    psi = np.asarray(psi, dtype=float)
-    past = np.zeros(psi.shape, bool)
-    for edge, way in ends:
-        past |= way * (np.remainder(psi - edge + math.pi, 2 * math.pi) - math.pi) > 0.0
+def past_ends(c: kin.TouchEnvelope, ends: Sequence[tuple[float, float, float, int]]) -> np.ndarray:
+    """Which contacts of ``c`` lie past one of a finger's ``ends`` (:func:`curve_ends`): their pad
+    orientation beyond the end's and their contact within ``CORNER_CLEARANCE_MM`` of the end's
+    (on the end corner, where the stretch left off; a roll can also lose an end to its pad's
+    end, beyond which the curve goes on and its contacts move away)."""
+    past = np.zeros(c.psi.shape, bool)
+    for edge, x, y, way in ends:
+        beyond = way * (np.remainder(c.psi - edge + math.pi, 2 * math.pi) - math.pi) > 0.0
+        past |= beyond & (np.hypot(c.x - x, c.y - y) < CORNER_CLEARANCE_MM)
     return past
 
 

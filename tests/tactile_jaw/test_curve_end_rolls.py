@@ -53,7 +53,7 @@ def test_a_roll_that_crossed_the_end_says_where_the_curve_ends(felt):
     config, touches = felt
     crossed = touches[15]
     assert crossed.problem is not None and crossed.off_curve
-    (edge, way), = curve_ends([crossed])["right"]
+    (edge, x, y, way), = curve_ends([crossed])["right"]
     assert way == 1  # it kept its low ψ and lost its high ψ: the curve ends above
     assert abs(math.degrees(edge) - _end_normal_deg()) < 0.5  # the truth 126.0°, its last kept 126.2°
 
