@@ -311,7 +311,7 @@ CURVE_HINT_SAMPLES = MIN_DEGREE + 2
 
 
 def curve_hint(config, touch: TouchResult,
-               samples: int) -> tuple[tuple[float, float, float] | None, tuple[float, float, int] | None]:
+               samples: int) -> tuple[tuple[float, float, float] | None, tuple[float, float, float, int] | None]:
     """Where a roll that failed the smoothness test and could not be trimmed to a usable
     touch (:func:`smooth_stretch`) still rolled on the curved part, as the middle contact
     (x, y) mm and tangent φ (rad) of a roll of ``samples`` readings at the roll's step: its
@@ -363,7 +363,7 @@ def _felt_run(config, touch: TouchResult):
         runs.append((head, tail, run))
     if not runs:
         return []
-    for end in (0, 1):  # the runs all keep the low-ψ end (0) or all the high-ψ end (1)
+    for end in (0, 1):  # a run keeps the low-ψ end (0: nothing dropped at the start) and none the other
         kept = [r for r in runs if r[end] == 0]
         if kept and not any(r[1 - end] == 0 for r in runs):
             return kept[:1]
@@ -482,9 +482,9 @@ def curve_ends(felt: Sequence[FeltTouch]) -> dict[str, list[tuple[float, float, 
     that end's side, +1 when the curve ends at higher ψ, −1 at lower). The pad normals at which a
     pad meets a finite object's curved part, convex toward it, are one interval of ψ whatever the
     roll: past its end the pad rests on the end corner (:func:`past_ends`). A usable roll's
-    sample there lies on the corner, yet one line past the end is a tangent of the curve's continuation within ρδ²/2 (a
-    µm), so the roll passes every check and the envelope places that contact 0.1–0.3 mm off
-    along the pad (:func:`smooth_stretch`). P cubical 105 of bench_explore --finite 20
+    sample there lies on the corner, yet one line past the end is a tangent of the curve's
+    continuation within ρδ²/2 (a µm), so the roll passes every check and the envelope places
+    that contact 0.1–0.3 mm off along the pad (:func:`smooth_stretch`). P cubical 105 of bench_explore --finite 20
     --anywhere --seed 157 --config config/jaw-p.yaml: a usable roll's last sample lay 0.5° past
     the curve's end tangent (0.14 mm from the end corner; the other roll there, past it by 2.3°,
     was left out), its block of the refined fit's χ² was 23 on 15 rows, and no class fitted (p
