@@ -21,7 +21,9 @@ estimated by its posterior mean b̂ = (1 − w)μ̂ + wΔ, w = s²/(s² + v), an
 roll's own weight in μ̂, the corrected value is (1 − w′)κ_k + w′κ_r + (1 − w)(b − μ̂) (r the richer
 degree) with w′ = w + (1 − w)ω: its noise factor is (1 − w′)F_k + w′F_r, and what the pooled estimate leaves,
 variance (1 − w)²((1 − ω)²s² + Σ_{other rolls} ω_j²(s² + v_j)), one more column. A finger's one
-roll alone takes κ_r when its own Δ shows a bias. docs/exploration.md#pooled-truncation.
+roll alone takes κ_r when its own Δ shows a bias. A roll with too few readings for degree k + 2
+(its own Δ to k + 1 hardly shows κ_s's bias) takes the pool of k against k + 2 where it shows one:
+b̂ = μ̂, its own value kept (:func:`unseen`). docs/exploration.md#pooled-truncation.
 """
 
 from __future__ import annotations
@@ -91,21 +93,44 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
         fingers.setdefault(t.finger, []).append(i)
     out = list(touches)
     for members in fingers.values():
-        stated = {(f.kappa_degree, d[2]) for f in (touches[i].fit for i in members)
-                  if (d := f.ladder.difference(f.kappa_degree)) is not None}
-        for k, richer in sorted(stated):
-            rolls = [i for i in members if _linear(touches[i].fit, k, richer)]
-            if not any(touches[i].fit.kappa_degree == k for i in rolls):
-                continue
-            diff, var = (np.array(a) for a in list(zip(*(touches[i].fit.ladder.difference(k) for i in rolls)))[:2])
-            biases = [pool(diff[:, j], var[:, j]) for j in range(2)]
-            if all(b is None for b in biases):
-                continue
-            for n, i in enumerate(rolls):
-                if touches[i].fit.kappa_degree == k:
-                    out[i] = _taken_out(touches[i], k, [None if b is None else corrected(diff[:, j], var[:, j], b, n)
-                                                        for j, b in enumerate(biases)])
+        for k in sorted({touches[i].fit.kappa_degree for i in members}):
+            stating = [i for i in members if touches[i].fit.kappa_degree == k
+                       and touches[i].fit.ladder.difference(k) is not None]
+            components: dict[int, list] = {i: [None, None] for i in stating}
+            for richer in (k + 2, k + 1):  # k + 2 first: the degree that changes both κ and κ_s
+                rolls = [i for i in members if _linear(touches[i].fit, k, richer)]
+                if not rolls:
+                    continue
+                diff, var = (np.array(a) for a in list(zip(*(touches[i].fit.ladder.difference(k) for i in rolls)))[:2])
+                for j in range(2):
+                    bias = pool(diff[:, j], var[:, j])
+                    if bias is None:
+                        continue
+                    for i in stating:
+                        if components[i][j] is not None:
+                            continue
+                        if i in rolls:
+                            components[i][j] = corrected(diff[:, j], var[:, j], bias, rolls.index(i))
+                        elif richer == k + 2:  # too few readings for degree k + 2: the finger's bias
+                            components[i][j] = unseen(var[:, j], bias)
+            for i in stating:
+                if any(c is not None for c in components[i]):
+                    out[i] = _taken_out(touches[i], k, components[i])
     return out
+
+
+def unseen(var: np.ndarray, pooled_bias: tuple[float, float, np.ndarray]) -> tuple[float, float, float]:
+    """:func:`corrected` for a roll that states degree k but has too few readings to fit k + 2
+    (eight of a roll's nine kept: tactile_jaw.envelope.degrees), so its own difference to k + 1
+    shows κ_s's truncation hardly at all (about the roll's middle one degree up changes κ or
+    κ_s, not both: CurvatureLadder.difference): its bias is the finger's pooled one, b̂ = μ̂
+    (w = 0, its own value kept: w′ = 0), leaving s² + Σ ω_j²(s² + v_j). P cubical 105 of
+    bench_explore --finite 20 --anywhere --seed 157 --config config/jaw-p.yaml: a roll of 8
+    readings on the hump stated the cubic's κ_s −3.26e-3 ± 0.13e-3 where the truth is −3.81e-3
+    (the quartic's −3.34e-3), z 4.1, and no class fitted; the finger's rolls of 9 readings
+    showed the cubic's κ_s off its quintic's by −0.3 … +0.4e-3."""
+    centre, spread, omega = pooled_bias
+    return centre, 0.0, spread + float(np.sum(omega**2 * (spread + var)))
 
 
 def _linear(fit, k: int, richer: int) -> bool:

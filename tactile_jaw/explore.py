@@ -97,12 +97,14 @@ def _memo(recognize_touches: RecognizeTouches) -> RecognizeTouches:
 
 def _clear_of_corners(cfg, out: Exploration, settings: ExploreSettings, emit, say) -> Callable[[], list[FeltTouch]]:
     """The usable touches so far without their samples at the corners the touches so far
-    pivoted about (tactile_jaw.pipeline.clear_of_corners; recomputed when either list grows),
+    pivoted about and past the curve's ends they felt (tactile_jaw.pipeline.clear_of_corners;
+    recomputed when any of these grows),
     each change logged once (event ``touch_trimmed``)."""
     state: dict[str, Any] = {"key": None, "usable": [], "said": set()}
 
     def run() -> list[FeltTouch]:
-        key = (len(out.used), sum(t.corner is not None for t in out.touches))
+        key = (len(out.used), sum(t.corner is not None for t in out.touches),
+               sum(t.curve_span is not None for t in out.touches))  # the corners and the curve's ends felt
         if key != state["key"]:
             state["key"] = key
             state["usable"], notes = clear_of_corners(cfg, out.used, out.touches, settings.samples_per_touch)

@@ -113,6 +113,9 @@ class FeltTouch:
     corner: tuple[float, float] | None = None  # the point it pivoted about, when it fell on a corner
     #: an unusable roll's stretch on the curved part (:func:`curve_hint`): (x, y, φ) of its middle
     curve_at: tuple[float, float, float] | None = None
+    #: and that stretch's end (ψ rad, x, y mm of its contact) on the side where the roll alone left the
+    #: curved part, with that side: +1 its high ψ, −1 its low ψ (:func:`_felt_run`); None if both or neither
+    curve_span: tuple[float, float, float, int] | None = None
 
     @property
     def finger(self) -> str:
@@ -156,13 +159,14 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
         touch = at_orientation(touch)
     lines = kin.PadLine.stack([s.line for s in touch.samples]) if touch.samples else None
 
-    def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False, corner=None, curve_at=None):
+    def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False, corner=None, curve_at=None,
+            curve_span=None):
         samples_touch = None
         if problem is None and fit is not None:
             samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
                                          curvature=(fit.kappa, fit.kappa_s, fit.cov), noise_factor=fit.noise_factor)
         return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve, corner=corner,
-                         curve_at=curve_at)
+                         curve_at=curve_at, curve_span=curve_span)
 
     cut_short = touch.outcome in CUT_SHORT
     if touch.outcome != "ok" and not cut_short:
@@ -193,14 +197,14 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     if curve_checks:
         off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)), lines)
         if off_curve is not None:
-            hint = None
+            hint = span = None
             if trim and rough(fit) and off_curve == rough(fit):
                 shorter = smooth_stretch(config, touch, samples)
                 if shorter is not None:
                     return shorter
-                hint = curve_hint(config, touch, samples)
+                hint, span = curve_hint(config, touch, samples)
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
-                       corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint)
+                       corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint, curve_span=span)
     if curve_checks:
         slid = pad_end_slid(lines, fit)
         if slid is not None:
@@ -306,7 +310,8 @@ def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None
 CURVE_HINT_SAMPLES = MIN_DEGREE + 2
 
 
-def curve_hint(config, touch: TouchResult, samples: int) -> tuple[float, float, float] | None:
+def curve_hint(config, touch: TouchResult,
+               samples: int) -> tuple[tuple[float, float, float] | None, tuple[float, float, float, int] | None]:
     """Where a roll that failed the smoothness test and could not be trimmed to a usable
     touch (:func:`smooth_stretch`) still rolled on the curved part, as the middle contact
     (x, y) mm and tangent φ (rad) of a roll of ``samples`` readings at the roll's step: its
@@ -319,18 +324,50 @@ def curve_hint(config, touch: TouchResult, samples: int) -> tuple[float, float, 
     and then pivots on the object's end corner keeps 6 smooth samples of 9, one too few for
     a touch (tools.bench_explore --finite 6 --anywhere --seed 17 --config
     config/jaw-p.yaml, cubical 30); the exploration aims its finger's next roll there
-    (tactile_jaw.explore) instead of counting the roll as off the curved part."""
-    for head, tail, felt in _passing_runs(config, touch, CURVE_HINT_SAMPLES):
+    (tactile_jaw.explore) instead of counting the roll as off the curved part. Returns (that
+    hint, the stretch's ``FeltTouch.curve_span``), each None when no run passes."""
+    for head, tail, felt in _felt_run(config, touch):
         c = felt.contacts
         psi = np.sort([s.psi for s in touch.samples])
         step = float(np.median(np.diff(psi)))
+        way = (1 if tail else 0) - (1 if head else 0)
+        end = -1 if way > 0 else 0
+        span = (float(c.psi[end]), float(c.x[end]), float(c.y[end]), way) if way else None
         if head and not tail:
-            return _roll_beside(felt, np.arange(c.x.size), 0, 1.0, step * (samples - 1), samples)
+            return _roll_beside(felt, np.arange(c.x.size), 0, 1.0, step * (samples - 1), samples), span
         if tail and not head:
-            return _roll_beside(felt, np.arange(c.x.size), c.x.size - 1, -1.0, step * (samples - 1), samples)
+            return _roll_beside(felt, np.arange(c.x.size), c.x.size - 1, -1.0, step * (samples - 1), samples), span
         m = c.x.size // 2
-        return float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2
-    return None
+        return (float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2), span
+    return None, None
+
+
+def _felt_run(config, touch: TouchResult):
+    """(samples dropped at the start, at the end, the run felt) of the stretch of a roll that
+    failed the smoothness test on which it still rolled on the curved part, as a list of one,
+    or empty: of the runs of at least ``CURVE_HINT_SAMPLES`` consecutive samples (ψ order)
+    that pass every check with the fewest dropped (:func:`_passing_runs`), one at an end of
+    the roll when such a run keeps that end and none keeps the other: the roll left the
+    curved part at the other end alone, and the curve goes on past the kept end, where the
+    next roll goes (:func:`curve_hint`) and a move points (tactile_jaw.flat_phase.curve_stop);
+    else the first (the middle of the roll). P cubical 117 of bench_explore --finite 20
+    --anywhere --seed 157: its right pad's 9-sample roll ran from ρ 25 mm onto the inflection
+    and the end corner beside it; 5 samples passed dropping 2 at each end, or 3 and 1, or 4
+    and 0, and the first, the roll's middle, was rolled again: the same roll, then a refusal
+    naming no move."""
+    runs, drop = [], None
+    for head, tail, run in _passing_runs(config, touch, CURVE_HINT_SAMPLES):
+        if drop is not None and head + tail > drop:
+            break
+        drop = head + tail
+        runs.append((head, tail, run))
+    if not runs:
+        return []
+    for end in (0, 1):  # a run keeps the low-ψ end (0: nothing dropped at the start) and none the other
+        kept = [r for r in runs if r[end] == 0]
+        if kept and not any(r[1 - end] == 0 for r in runs):
+            return kept[:1]
+    return runs[:1]
 
 
 def _passing_runs(config, touch: TouchResult, least: int, margin: int = 0):
@@ -395,13 +432,15 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
     """The usable rolling touches without their samples that lie within
     ``CORNER_CLEARANCE_MM`` of a corner another of the ``felt`` touches pivoted about
     (:attr:`FeltTouch.corner`, its radius of curvature below ``CLEARANCE_SIGMAS`` of its
-    deviation), and why each touch changed: a touch is felt again on its
+    deviation) or past the end of the curved part where a roll of the same finger left it
+    (:func:`curve_ends`), and why each touch changed: a touch is felt again on its
     longest stretch of samples clear of the corners (:func:`feel`: it still needs
     ``MIN_SAMPLES_PER_TOUCH`` and passes every check again; samples beyond a corner's, whose
     contacts the envelope fit places past it, go too), else it is dropped. Other touches
     (and flat presses) are returned as they are."""
     corners = clearing_corners(felt)
-    if not corners.size:
+    ends = curve_ends(felt)
+    if not corners.size and not ends:
         return list(usable), []
     kept, notes = [], []
     for t in usable:
@@ -409,27 +448,64 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
             kept.append(t)
             continue
         c = t.contacts
-        gaps = corner_gaps(c, corners)
+        gaps = corner_gaps(c, corners) if corners.size else np.full((c.x.size, 1), np.inf)
         near = gaps.min(axis=1) < CORNER_CLEARANCE_MM
-        if not near.any():
+        past = past_ends(c, ends.get(t.finger, []))
+        if not near.any() and not past.any():
             kept.append(t)
             continue
-        run = longest_run(~near)  # in ψ order: the roll's stretch between the corner's samples
+        run = longest_run(~(near | past))  # in ψ order: the roll's stretch between the corner's samples
         name = f"{t.finger}: touch {t.touch.touch}"
-        where = corners[np.argmin(gaps.min(axis=0))]
-        why = (f"{int(near.sum())} of its {near.size} samples within {CORNER_CLEARANCE_MM:g} mm of the corner at "
-               f"({where[0]:.1f}, {where[1]:.1f}) mm another touch pivoted about")
+        if near.any():
+            where = corners[np.argmin(gaps.min(axis=0))]
+            why = (f"{int(near.sum())} of its {near.size} samples within {CORNER_CLEARANCE_MM:g} mm of the corner at "
+                   f"({where[0]:.1f}, {where[1]:.1f}) mm another touch pivoted about")
+        else:
+            why = (f"{int(past.sum())} of its {past.size} samples past the pad orientation where another roll of its "
+                   f"finger left the curved part")
         if run.size:
             taken = sorted(int(c.order[j]) for j in run)
             again = feel(config, replace(t.touch, samples=[t.touch.samples[i] for i in taken]), samples)
             if again.problem is None:
                 kept.append(again)
-                notes.append(f"{name}: {why}: used without them" + (
-                    f" and the {near.size - near.sum() - run.size} beyond them" if near.size - near.sum() > run.size else ""))
+                left = near.size - int(np.sum(near | past)) - run.size
+                notes.append(f"{name}: {why}: used without them" + (f" and the {left} beyond them" if left else ""))
                 continue
             why += f"; without them: {again.problem.removeprefix(t.finger + ': ')}"
         notes.append(f"{name}: not used: {why}")
     return kept, notes
+
+
+def curve_ends(felt: Sequence[FeltTouch]) -> dict[str, list[tuple[float, float, float, int]]]:
+    """Per finger, where its rolls left the curved part at one end alone (``FeltTouch.curve_span``
+    of a roll off the curve that still rolled on it): (ψ, x, y of the stretch's last contact on
+    that end's side, +1 when the curve ends at higher ψ, −1 at lower). The pad normals at which a
+    pad meets a finite object's curved part, convex toward it, are one interval of ψ whatever the
+    roll: past its end the pad rests on the end corner (:func:`past_ends`). A usable roll's
+    sample there lies on the corner, yet one line past the end is a tangent of the curve's
+    continuation within ρδ²/2 (a µm), so the roll passes every check and the envelope places
+    that contact 0.1–0.3 mm off along the pad (:func:`smooth_stretch`). P cubical 105 of bench_explore --finite 20
+    --anywhere --seed 157 --config config/jaw-p.yaml: a usable roll's last sample lay 0.5° past
+    the curve's end tangent (0.14 mm from the end corner; the other roll there, past it by 2.3°,
+    was left out), its block of the refined fit's χ² was 23 on 15 rows, and no class fitted (p
+    6.8e-4); without that sample: cubical, a +0.8 %, c +1.2 %."""
+    ends: dict[str, list[tuple[float, float, float, int]]] = {}
+    for t in felt:
+        if t.curve_span is not None:
+            ends.setdefault(t.finger, []).append(t.curve_span)
+    return ends
+
+
+def past_ends(c: kin.TouchEnvelope, ends: Sequence[tuple[float, float, float, int]]) -> np.ndarray:
+    """Which contacts of ``c`` lie past one of a finger's ``ends`` (:func:`curve_ends`): their pad
+    orientation beyond the end's and their contact within ``CORNER_CLEARANCE_MM`` of the end's
+    (on the end corner, where the stretch left off; a roll can also lose an end to its pad's
+    end, beyond which the curve goes on and its contacts move away)."""
+    past = np.zeros(c.psi.shape, bool)
+    for edge, x, y, way in ends:
+        beyond = way * (np.remainder(c.psi - edge + math.pi, 2 * math.pi) - math.pi) > 0.0
+        past |= beyond & (np.hypot(c.x - x, c.y - y) < CORNER_CLEARANCE_MM)
+    return past
 
 
 def corner_gaps(c: kin.TouchEnvelope, corners: np.ndarray) -> np.ndarray:
@@ -681,7 +757,7 @@ def curved_stretch(config, felt: FeltTouch) -> FeltTouch | None:
     aims there), or None. A touch the exploration marked ``rejected`` is felt as taken
     (``ok``: only a touch taken whole is marked so)."""
     touch = replace(felt.touch, outcome="ok") if felt.touch.outcome == "rejected" else felt.touch
-    for _, _, run in _passing_runs(config, touch, CURVE_HINT_SAMPLES):
+    for _, _, run in _felt_run(config, touch):
         return run
     return None
 

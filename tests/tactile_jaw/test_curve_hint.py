@@ -6,6 +6,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from hand_driver import kinematics as kin
 from hand_driver.config import load_config
@@ -19,8 +20,8 @@ TRUTH = ("cubical_parabola", {"a": 0.0009383107856381567, "c": -0.5}, Pose(0.310
                                                                             12.34287536994391))
 
 
-def _logged_roll():
-    raw = json.loads(DATA.read_text())
+def _logged_roll(data=DATA):
+    raw = json.loads(data.read_text())
     config = load_config("config/jaw-p.yaml")
     ticks = np.array(raw["ticks"], dtype=float)
     lines = kin.finger_pad_line_from_ticks(config, raw["finger"], ticks)
@@ -35,7 +36,9 @@ def test_roll_onto_the_end_corner_notes_where_it_felt_the_curve():
     (ρ 620 mm) and onto the end corner; 6 of its 9 samples pass every check, one fewer than
     a touch needs. Its fingers then fell on corners, were retired, and flat presses on the
     closing segment answered line. The roll now says where it felt the curve: a point of
-    the cubical within 0.05 mm, with its tangent within 0.01 rad."""
+    the cubical within 0.05 mm, with its tangent within 0.02 rad (predicted one roll on past
+    the stretch, along the circle of its radius of curvature: 0.010 rad off where ρ grows
+    toward the inflection), on the side away from the samples the roll lost (its low ψ)."""
     config, touch = _logged_roll()
     felt = feel(config, touch, len(touch.samples))
     assert felt.problem is not None and felt.off_curve
@@ -48,7 +51,33 @@ def test_roll_onto_the_end_corner_notes_where_it_felt_the_curve():
     k = int(np.argmin(np.hypot(px - x, py - y)))
     assert np.hypot(px[k] - x, py[k] - y) < 0.05
     tangent = float(curve.tangent_angle(t[k])) + pose.theta
-    assert abs(np.remainder(phi - tangent + np.pi / 2, np.pi) - np.pi / 2) < 0.01
+    assert abs(np.remainder(phi - tangent + np.pi / 2, np.pi) - np.pi / 2) < 0.02
+    assert phi + np.pi / 2 > max(s.psi for s in touch.samples) - 0.5 * (touch.samples[-1].psi - touch.samples[0].psi)
+
+
+def test_a_roll_that_lost_one_end_is_followed_past_the_other():
+    """P-series jaw, random cubical 117 of bench_explore --finite 20 --anywhere --seed 157
+    (development seed): the right pad's roll over ψ 73.5–91.5° began on the end corner beside
+    the inflection, where ρ grows without bound. Five samples pass every check dropping 2 at
+    each end, or 3 and 1, or 4 and 0: only the low end is lost in every way. The roll's middle
+    was rolled again (the same roll: refused, naming no move); now the next roll goes on past
+    the high end (its middle beyond the roll's), at a point of the cubical within 0.5 mm, and
+    the stretch felt keeps that end, so a refusal names the move on past it."""
+    from tactile_jaw.pipeline import curved_stretch
+
+    config, touch = _logged_roll(DATA.with_name("p_cubical_roll_onto_inflection.json"))
+    felt = feel(config, touch, len(touch.samples))
+    assert felt.problem is not None and felt.off_curve and felt.curve_at is not None
+    x, y, phi = felt.curve_at
+    psi = np.array([s.psi for s in touch.samples])
+    assert phi + np.pi / 2 > psi.max()
+    stretch = curved_stretch(config, felt)
+    assert stretch.contacts.psi.max() == pytest.approx(psi.max(), abs=1e-3)
+    assert stretch.contacts.psi.min() > psi.min() + 0.05
+    curve = CURVES["cubical_parabola"]({"a": 0.0005389292807981494, "c": -0.5})
+    px, py = Pose(-2.948510620823335, 97.23699782543376, 4.53610048876182).apply(
+        *curve.point(np.linspace(-29.24087371530389, 2.4367394762753243, 200001)))
+    assert float(np.min(np.hypot(px - x, py - y))) < 0.5
 
 
 def test_a_usable_roll_has_no_hint():
