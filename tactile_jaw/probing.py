@@ -166,23 +166,37 @@ class Probes:
     def _narrow(self, name: str) -> None:
         """A finger's lone face contact with a probe that met the object off the pad's face
         within ``PROBE_ENOUGH_DEG`` of it (the orientations at which its pad meets the object on
-        its face span less than that on that side) is probed around ``PROBE_REFINE_DEG`` either
-        side next, before the rest of its queue, instead of after it (:meth:`next`): those two
-        are what can still make the span, and the grid's farther orientations met the pad's end
-        or its joint limits on the random blocks where this went last (P-series blocks 3 and 11
-        of bench_explore --finite 20 --anywhere --seed 157: 12 probes, 16-17 s, before the rolls)."""
+        its face span less than that on that side): its next probe is the one that can still
+        make the span alone, ``PROBE_ENOUGH_DEG`` on the other side, if it is queued and not
+        yet missed; else the two ``PROBE_REFINE_DEG`` either side, before the rest of its queue
+        instead of after it (:meth:`next`), and once. The grid's farther orientations met the
+        pad's end or its joint limits on the random blocks where this went last (P-series
+        blocks 3 and 11 of bench_explore --finite 20 --anywhere --seed 157: 12 probes, 16-17 s,
+        before the rolls)."""
         faces = self.faces[name]
         if len(faces) != 1 or name in self.narrow or self._enough(name) or not self.queues[name] and self.refined:
             return
-        near = math.radians(PROBE_ENOUGH_DEG) + 1e-9
-        if not any(abs(math.remainder(m - faces[0], 2 * math.pi)) <= near for m in self.missed[name]):
+        enough = math.radians(PROBE_ENOUGH_DEG)
+        off = [math.remainder(m - faces[0], 2 * math.pi) for m in self.missed[name]]
+        near = [o for o in off if abs(o) <= enough + 1e-9]
+        if not near:
             return
+
+        def same(a: float, b: float) -> bool:
+            return abs(math.remainder(a - b, 2 * math.pi)) < 1e-6
+
+        sides = {math.copysign(1.0, o) for o in near}
+        if len(sides) == 1:  # a miss on one side only: the grid's probe on the other side makes the span alone
+            other = faces[0] - sides.pop() * enough
+            queued = [a for a in self.queues[name] if same(a, other)]
+            if queued:
+                self.queues[name] = queued[:1] + [a for a in self.queues[name] if not same(a, other)]
+                return
         self.narrow.add(name)
         tried = [*self.missed[name], *faces]
         refine = [faces[0] + math.radians(s * PROBE_REFINE_DEG) for s in (-1, 1)]
-        refine = [a for a in refine if all(abs(math.remainder(a - t, 2 * math.pi)) > 1e-6 for t in tried)]
-        rest = [a for a in self.queues[name] if all(abs(math.remainder(a - r, 2 * math.pi)) > 1e-6 for r in refine)]
-        self.queues[name] = refine + rest
+        refine = [a for a in refine if not any(same(a, t) for t in tried)]
+        self.queues[name] = refine + [a for a in self.queues[name] if not any(same(a, r) for r in refine)]
 
     def done(self, say) -> list[str]:
         """The fingers that felt enough; after a round, a finger without any face contact in

@@ -46,11 +46,20 @@ def _run(monkeypatch, finger: str, found: dict[float, float | None], rounds: int
     return seen
 
 
-def test_a_lone_face_contact_beside_a_miss_is_probed_around_next(monkeypatch):
-    # block 11 (right pad): 90° on the face, 70° at its proximal end; 80° and 100° on the face
+def test_a_lone_face_contact_between_misses_is_probed_around_next(monkeypatch):
+    # block 11 (right pad): 90° on the face, 70° at its proximal end, 110° off the face; 80° and
+    # 100° on the face
     seen = _run(monkeypatch, "right", {90.0: 41.0, 80.0: 42.4, 100.0: 42.4}, 8)
-    assert seen[:4] == [90.0, 70.0, 80.0, 100.0]  # before: 90, 70, 110, 50, 30, then 80, 100
-    assert len(seen) == 4  # the face contacts span PROBE_ENOUGH_DEG: done
+    assert seen == [90.0, 70.0, 110.0, 80.0, 100.0]  # before: 90, 70, 110, 50, 30, then 80, 100
+    # done: the face contacts span PROBE_ENOUGH_DEG
+
+
+def test_a_miss_on_one_side_probes_the_other_side_first(monkeypatch):
+    # the grid's probe on the other side makes the span alone: one probe, not the refining two
+    seen = _run(monkeypatch, "right", {70.0: 30.0, 90.0: 26.0}, 8)
+    assert seen == [90.0, 70.0]
+    seen = _run(monkeypatch, "right", {90.0: 26.0, 110.0: 30.0}, 8)
+    assert seen == [90.0, 70.0, 110.0]
 
 
 def test_the_refine_is_not_repeated(monkeypatch):
