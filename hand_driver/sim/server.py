@@ -264,6 +264,19 @@ class EmulatedBus:
             time.sleep(0.001)
         raise TimeoutError("emulated bus still busy")
 
+    def wait_until(self, condition, timeout: float = 10.0) -> bool:
+        """Whether ``condition()`` came true within ``timeout`` s (for tests: a host's last
+        broadcast writes reach the emulator late on a loaded host — the pty's flip buffer is
+        pushed by a kernel worker, so a quiet bus (``wait_idle``) is no proof that every byte
+        written has arrived), then the bus idle."""
+        deadline = time.monotonic() + timeout
+        while not condition():
+            if time.monotonic() >= deadline:
+                return False
+            time.sleep(0.005)
+        self.wait_idle(timeout=max(deadline - time.monotonic(), 0.1))
+        return bool(condition())
+
     # -- serving --------------------------------------------------------------------------
     def _line_baud(self) -> int | None:
         try:

@@ -33,8 +33,7 @@ def run_until_fault(sim, arm, fast=True, retries=3):
                 bus.fault_retries = bus.stats.retries - before
     except Exception as exc:  # noqa: BLE001 - the test inspects it
         err = exc
-    sim.wait_idle()
-    assert not any(s.torque_on for s in sim.servos.values()), "torque must end off"
+    assert sim.wait_until(lambda: not any(s.torque_on for s in sim.servos.values())), "torque must end off"
     assert readings[: len(returned)] == returned and len(readings) >= len(returned), "every reading is logged"
     return readings, err, bus
 

@@ -32,8 +32,7 @@ def test_open_configures_every_servo_and_close_turns_torque_off(sim, bus_joints)
             assert (s.get("min_position_limit"), s.get("max_position_limit")) == (lo, hi)
             assert s.get("goal_current") == units.ma_to_current(j.current_limit_ma, s.spec)
             assert s.torque_on
-    sim.wait_idle()
-    assert not any(s.torque_on for s in sim.servos.values())
+    assert sim.wait_until(lambda: not any(s.torque_on for s in sim.servos.values()))
 
 
 def test_cycle_reads_state_and_moves_to_goals_with_one_sync_write(sim, bus_joints):
@@ -123,8 +122,7 @@ def test_sigint_turns_torque_off_then_interrupts(sim, bus_joints):
             for _ in range(1000):  # the handler runs between bytecodes
                 bus.read_state()
     assert signal.getsignal(signal.SIGINT) is old
-    sim.wait_idle()
-    assert not any(s.torque_on for s in sim.servos.values())
+    assert sim.wait_until(lambda: not any(s.torque_on for s in sim.servos.values()))
 
 
 def test_scan_lists_servos_with_model_and_firmware(sim):

@@ -41,8 +41,8 @@ def test_open_arms_every_servo_and_close_disarms(bus_joints):
             sim.wait_idle()
             assert bus.watchdog_ms == 100
             assert [s.get("bus_watchdog") for s in sim.servos.values()] == [5, 5, 5]  # 5 × 20 ms
-        sim.wait_idle()
-        assert [(s.get("bus_watchdog"), s.torque_on) for s in sim.servos.values()] == [(0, False)] * 3
+        assert sim.wait_until(lambda: [(s.get("bus_watchdog"), s.torque_on) for s in sim.servos.values()]
+                              == [(0, False)] * 3)
 
 
 def test_killed_host_stops_the_jaw_and_the_next_open_clears_it(make_joint, caplog):
