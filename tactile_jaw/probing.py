@@ -104,10 +104,8 @@ class Probes:
         #: its last probe met the object at a pad end (:func:`toward_middle`)
         self.nudge: dict[str, float] = {}
         self.refined = False
-        #: per finger: the ψ of its probes that met the object but not on the pad's face
-        self.missed: dict[str, list[float]] = {f.name: [] for f in config.fingers}
-        #: the fingers whose lone face contact was probed around early (:meth:`_narrow`)
-        self.narrow: set[str] = set()
+        #: per finger: the ψ of every probe it made
+        self.tried: dict[str, list[float]] = {f.name: [] for f in config.fingers}
 
     def _enough(self, name: str) -> bool:
         return bool(self.faces[name]) and np.ptp(self.faces[name]) >= math.radians(PROBE_ENOUGH_DEG) - 1e-9
@@ -115,12 +113,16 @@ class Probes:
     def next(self) -> dict[str, float]:
         """Each finger's next probe orientation (fingers with none left are absent); once
         every queue is empty, one more pass around a finger's only face contact,
-        ``PROBE_REFINE_DEG`` either side (then nothing)."""
+        ``PROBE_REFINE_DEG`` either side where the finger has not probed already (then
+        nothing): a probe turned toward the pad's middle that found the face probes there
+        first (:meth:`record`), and the pass made both again (P-series block 8 of
+        bench_explore --finite 20 --anywhere --seed 157: 100° and 120° twice each, 4 rounds of
+        ~2.5 s while the other finger pressed beside them)."""
         if not any(self.queues.values()) and not self.refined:
             self.refined = True
-            self.queues = {name: [faces[0] + math.radians(sign * PROBE_REFINE_DEG) for sign in (-1, 1)]
-                           if len(faces) == 1 and name not in self.narrow else []
-                           for name, faces in self.faces.items()}
+            self.queues = {name: [a for a in (faces[0] + math.radians(sign * PROBE_REFINE_DEG) for sign in (-1, 1))
+                                  if not any(abs(math.remainder(a - t, 2 * math.pi)) < 1e-6 for t in self.tried[name])]
+                           if len(faces) == 1 else [] for name, faces in self.faces.items()}
         return {name: queue[0] for name, queue in self.queues.items() if queue}
 
     def plan(self, jaw: Jaw, name: str, touch_index: int, emit, spent: dict[str, float]):
@@ -133,6 +135,7 @@ class Probes:
         stops probing."""
         name, probe = felt.finger, felt.touch
         out.probes.append(felt)
+        self.tried[name].append(probe.psi_center)
         u = probe_face_contact(self.config, felt)
         at = pad_contact(felt)
         if at is not None:
@@ -150,53 +153,15 @@ class Probes:
                 ahead.sort(key=lambda a: abs(math.remainder(a - probe.psi_center, 2 * math.pi)))
                 self.queues[name] = ahead + [a for a in self.queues[name] if a not in ahead]
                 self.nudge[name] = sign
-        if u is None and probe.samples:
-            self.missed[name].append(probe.psi_center)
         if u is not None:
             self.model.add([s.psi_measured for s in probe.samples], [s.d for s in probe.samples])
             self.faces[name].append(probe.psi_center)
             if self._enough(name):
                 self.queues[name] = []  # enough felt to plan this finger's touches
-        self._narrow(name)
         self.probed[name] += 1
         say(f"probe {len(out.probes)}: {name} at psi {math.degrees(probe.psi_center):.1f} deg: "
             + (f"pad face {u:.1f} mm from its proximal end" if u is not None else
                probe.message or f"{len(probe.samples)} samples, not on the pad's face"))
-
-    def _narrow(self, name: str) -> None:
-        """A finger's lone face contact with a probe that met the object off the pad's face
-        within ``PROBE_ENOUGH_DEG`` of it (the orientations at which its pad meets the object on
-        its face span less than that on that side): its next probe is the one that can still
-        make the span alone, ``PROBE_ENOUGH_DEG`` on the other side, if it is queued and not
-        yet missed; else the two ``PROBE_REFINE_DEG`` either side, before the rest of its queue
-        instead of after it (:meth:`next`), and once. The grid's farther orientations met the
-        pad's end or its joint limits on the random blocks where this went last (P-series
-        blocks 3 and 11 of bench_explore --finite 20 --anywhere --seed 157: 12 probes, 16-17 s,
-        before the rolls)."""
-        faces = self.faces[name]
-        if len(faces) != 1 or name in self.narrow or self._enough(name) or not self.queues[name] and self.refined:
-            return
-        enough = math.radians(PROBE_ENOUGH_DEG)
-        off = [math.remainder(m - faces[0], 2 * math.pi) for m in self.missed[name]]
-        near = [o for o in off if abs(o) <= enough + 1e-9]
-        if not near:
-            return
-
-        def same(a: float, b: float) -> bool:
-            return abs(math.remainder(a - b, 2 * math.pi)) < 1e-6
-
-        sides = {math.copysign(1.0, o) for o in near}
-        if len(sides) == 1:  # a miss on one side only: the grid's probe on the other side makes the span alone
-            other = faces[0] - sides.pop() * enough
-            queued = [a for a in self.queues[name] if same(a, other)]
-            if queued:
-                self.queues[name] = queued[:1] + [a for a in self.queues[name] if not same(a, other)]
-                return
-        self.narrow.add(name)
-        tried = [*self.missed[name], *faces]
-        refine = [faces[0] + math.radians(s * PROBE_REFINE_DEG) for s in (-1, 1)]
-        refine = [a for a in refine if not any(same(a, t) for t in tried)]
-        self.queues[name] = refine + [a for a in self.queues[name] if not any(same(a, r) for r in refine)]
 
     def done(self, say) -> list[str]:
         """The fingers that felt enough; after a round, a finger without any face contact in
