@@ -39,7 +39,6 @@ from typing import Callable, Sequence
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver import units
 from hand_driver.cycle import Jaw, Motion
 
 #: between the samples of a rolling touch the pad backs off this far (mm) before it turns;
@@ -65,10 +64,6 @@ STILL_RAD = math.radians(0.09)
 #: pressed with a lead of at most 3 mm: 213 mA instead of 113 mA on the X jaw, 186 instead of
 #: 112 on the P jaw, under the 300 mA goal current (tests/hand_driver/test_approach_free.py)
 FREE_SPEED_FACTOR = 3.0
-#: a Cartesian move (:func:`move_line`) asks each joint for at most this fraction of what its
-#: servo turns in a cycle at the config's ``profile_velocity``: goals farther apart leave the
-#: servos behind, each on its own profile, and the pad off its path (:func:`joint_steps`)
-JOINT_PACE = 1.0
 
 
 # --------------------------------------------------------------------------------- motions
@@ -126,15 +121,13 @@ def move_to(jaw: Jaw, finger: str, q_goal, max_cycles: int = 200) -> Motion:
 
 
 def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tuple[float, float]] = (),
-              shift_mm_s: float | None = None, turn_deg_s: float | None = None, paced: bool = False) -> Motion:
+              shift_mm_s: float | None = None, turn_deg_s: float | None = None) -> Motion:
     """Put the pad on the line (ψ, d) by a coordinated Cartesian move, through the pad
     lines ``via`` (ψ, d) in turn without stopping: the pad line is interpolated from where
     it is, turning about the pad's middle at ``turn_deg_s`` and shifting at ``shift_mm_s``
     (default: the config's ``motion.turn_speed_deg_s``, ``motion.move_speed_mm_s``) per
     second of robot time (a straight joint-space move would sweep the pad off the path
-    between the two lines); then :func:`move_to` the final goal. Returns True when reached.
-    ``paced``: no joint's goal moves faster than its servo follows (:func:`joint_steps`), so the
-    pad keeps to the interpolated lines (a transit's swing along the workspace edge)."""
+    between the two lines); then :func:`move_to` the final goal. Returns True when reached."""
     m = jaw.config.motion
     max_turn = math.radians(turn_deg_s if turn_deg_s is not None else m.turn_speed_deg_s) * jaw.period_s
     max_shift = (shift_mm_s if shift_mm_s is not None else m.move_speed_mm_s) * jaw.period_s
@@ -143,42 +136,18 @@ def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tupl
     psi0 = float(line.psi)
     shift0 = float(line.d) - float(line.normal @ center)  # 0: the pad's middle is on its line
     q = jaw.finger_q(jaw.last_state, finger)
-    pace = joint_steps(jaw, finger) if paced else np.full(q.size, np.inf)
     lines = [*via, (psi, d)]
     for i, (psi1, d1) in enumerate(lines):
         turn = math.remainder(psi1 - psi0, 2 * math.pi)
         shift1 = d1 - float(kin.unit(psi1) @ center)
         steps = max(1, math.ceil(max(abs(turn) / max_turn, abs(shift1 - shift0) / max_shift)))
         for k in range(1, steps + 1):
-            def goal(u: float, seed):
-                a = psi0 + turn * u / steps
-                return jaw.solve(finger, a, shift0 + (shift1 - shift0) * u / steps + float(kin.unit(a) @ center), seed)
-
-            q_next = goal(k, q)
-            parts = math.ceil(float(np.max(np.abs(q_next - q) / pace)))  # a joint outruns its servo: finer
-            for j in range(1, parts):
-                q = goal(k - 1 + j / parts, q)
-                yield q
-            q = q_next
+            a = psi0 + turn * k / steps
+            q = jaw.solve(finger, a, shift0 + (shift1 - shift0) * k / steps + float(kin.unit(a) @ center), q)
             if k < steps or i < len(lines) - 1:
                 yield q
         psi0, shift0 = psi0 + turn, shift1
     return (yield from move_to(jaw, finger, q))
-
-
-def joint_steps(jaw: Jaw, finger: str) -> np.ndarray:
-    """Per joint of ``finger``: the farthest (rad) :func:`move_line` moves its goal in a cycle,
-    ``JOINT_PACE`` of what its servo turns in one at the config's ``profile_velocity`` (in each
-    joint's model's unit). Faster goals left the P-series joints at that velocity, turning
-    alike and opposite: the pad kept its orientation and slid 23 mm along its normal back
-    onto the corner it had just probed, and its flat press found no contact (random block 1 of
-    bench_explore --finite 20 --anywhere --seed 157, a transit turning from 123° along the
-    workspace edge)."""
-    raw = jaw.config.motion.profile_velocity
-    if raw <= 0:  # 0: no profile velocity (the servo's own limit): not paced
-        return np.full(len(jaw.config.finger(finger).joints), np.inf)
-    return np.array([float(units.velocity_to_rad_s(raw, j.spec)) for j in jaw.config.finger(finger).joints]) \
-        * jaw.period_s * JOINT_PACE
 
 
 def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_mm: float,
