@@ -351,12 +351,16 @@ def _widened(cand, unc: dict, scale: np.ndarray, pose_scale: np.ndarray | None =
         return cand
     k = len(scale)
     cov = getattr(cand, "cov", None)
-    if cov is not None and cov.shape == (k, k):
-        cov = cov * np.outer(scale, scale)
-    cov_pose = getattr(cand, "cov_pose", None)
-    if cov_pose is not None:
-        full = np.concatenate((scale, pose_scale if cov_pose.shape[0] == k + 3 else np.ones(cov_pose.shape[0] - k)))
-        cov_pose = cov_pose * np.outer(full, full)
+    # a σ widened past 1e154 times its linearized one (a walk along a log parameter that found
+    # no end) overflows its variance to ∞: undetermined, as stated; no warning on the user's stderr
+    # (tools.bench_sigma seed 1 --fresh, a hyperbola far on an arm at 1 mm printed one)
+    with np.errstate(over="ignore", invalid="ignore"):
+        if cov is not None and cov.shape == (k, k):
+            cov = cov * np.outer(scale, scale)
+        cov_pose = getattr(cand, "cov_pose", None)
+        if cov_pose is not None:
+            full = np.concatenate((scale, pose_scale if cov_pose.shape[0] == k + 3 else np.ones(cov_pose.shape[0] - k)))
+            cov_pose = cov_pose * np.outer(full, full)
     fields = {"uncertainty": unc}
     if cov is not None:
         fields.update(cov=cov, cov_pose=cov_pose)

@@ -33,7 +33,7 @@ from recognizer.starts import pose_from, starts
 from tactile_common.angles import wrap_angle
 
 __all__ = ["Fit", "fit_class", "fit_class_every_start", "N_SHAPE", "scaled_covariance", "profiled",
-           "ProfiledCandidate"]
+           "ProfiledCandidate", "line_correlation"]
 
 #: shape parameters + pose degrees of freedom not lost to a symmetry (BIC counts these)
 N_SHAPE = {"line": 0 + 2, "circle": 1 + 2, "ellipse": 2 + 3, "parabola": 1 + 3, "hyperbola": 2 + 3,
@@ -317,3 +317,33 @@ def profiled(cand: Candidate, data: Contacts) -> Candidate:
     fields = {f: getattr(cand, f) for f in Candidate.__dataclass_fields__}
     return ProfiledCandidate(**fields, fit=(_ContactProblem(model, data.n), z, cov, list(range(o))))
 
+
+
+def line_correlation(cand: Candidate, data: Contacts) -> float:
+    """The correlation of a line answer's θ and its offset across itself at the foot of
+    the perpendicular from the origin (the touches' middle, in recognizer.scale_free's
+    units): from a refined fit's ``cov_pose`` (θ, x, y), else from the contact fit's
+    column-scaled covariance (``_gauge_free``'s θ turns the line about that foot); 0 where
+    neither is finite. recognizer.classify states the offset's σ at the hand origin's foot
+    with it (the θ term's lever is the distance between the two feet)."""
+    th = float(cand.pose.theta)
+    n = np.array([-math.sin(th), math.cos(th)])
+    cov = getattr(cand, "cov_pose", None)
+    if cov is not None and np.shape(cov) == (3, 3):
+        c_tt, c_td, c_dd = float(cov[0, 0]), float(cov[0, 1:] @ n), float(n @ cov[1:, 1:] @ n)
+    else:
+        model = ContactModel("line", _oriented("line", data))
+        z = model.pack({}, th, float(cand.pose.x), float(cand.pose.y), np.asarray(cand.t, float))
+        r, _, parts = model.eval(z)
+        if r is None:
+            return 0.0
+        J = model.jac(z, np.array(r), parts)
+        if not np.all(np.isfinite(J)):
+            return 0.0
+        with np.errstate(over="ignore", invalid="ignore"):
+            c = scaled_covariance(_gauge_free(model, z, J)[0])
+        o = model.np
+        c_tt, c_td, c_dd = float(c[o, o]), float(c[o, o + 1]), float(c[o + 1, o + 1])
+    with np.errstate(all="ignore"):
+        rho = c_td / math.sqrt(c_tt * c_dd) if c_tt > 0 and c_dd > 0 else 0.0
+    return float(np.clip(rho, -1.0, 1.0)) if math.isfinite(rho) else 0.0

@@ -11,9 +11,9 @@ in floating point), and maps the answer back: κ·U, κ_s·U², positions (less 
 and the position noise / U; the shape parameters by their dimensions (``PARAM_POWER``), a
 cubical's t by U, a semicubical's by √U. Both matter: a conic through contacts 1e6 units
 from the origin (touches of 1e-4 mm, 150 mm away) is ill-conditioned, as is a σ floor in
-mm. A line's offset is measured from the hand's origin: its σ there adds the angle's σ
-times the distance along the line from O's foot (the offset at the touches' middle and the
-angle are uncorrelated, as a regression line's intercept at the data's mean and its slope).
+mm. A line's offset is measured from the hand's origin: recognizer.classify states its σ
+there (the angle's σ times the distance along the line from O's foot added with the
+correlation of the fit's angle and offset at O) before the answer comes back here.
 """
 
 from __future__ import annotations
@@ -161,9 +161,6 @@ class Unit:
                 ux, uy = math.cos(th), math.sin(th)
                 along = x * ux + y * uy
                 x, y, ts = x - along * ux, y - along * uy, [t + along for t in ts]
-                if unc.get("pose_offset") is not None and unc.get("pose_theta") is not None:
-                    lever = self.ox * ux + self.oy * uy  # O's distance along the line from the hand origin's foot
-                    unc["pose_offset"] = math.hypot(unc["pose_offset"], lever * unc["pose_theta"])
             contacts = [{"t": t, "x": c["x"] * u + self.ox, "y": c["y"] * u + self.oy} for t, c in zip(ts, rec.contacts)]
             interval = {k: None if v is None else [e * self._param(cls, k) for e in v] for k, v in rec.interval.items()}
             out.update(params=params, pose=Pose(th, x, y), contacts=contacts, uncertainty=unc, interval=interval)

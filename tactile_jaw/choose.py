@@ -70,11 +70,23 @@ MOVE_CLEAR_MM = 3.0
 #: random parabola 18 on the P-series jaw: a turn of 30° and a (-14, -8) mm shift, found after
 #: more than 1,200 questions, 2.3 s more)
 MOVE_QUERIES = 6000
+#: what :func:`move_advice` asks when a pad already reaches every place, yet its finger gave up there
+WITHIN_REACH = "move or turn the object so that more of its curved part faces a finger"
 #: a shift found is lengthened by this much (mm) when every place is still reached then
 MOVE_MARGIN_MM = 2.0
 #: the vertex region a move is for: roll centres at this many places evenly from one side's
 #: VERTEX_SIDE_DEG + a quarter roll to the other's (:func:`vertex_goal`)
 VERTEX_GOAL_PLACES = 5
+#: the vertex regions a move is sought for, widest first (:func:`vertex_goals`): the outermost
+#: roll centres this many quarter rolls past VERTEX_SIDE_DEG either side. +1 is where
+#: :func:`vertex_aim` aims first; −1 puts a roll's far end a quarter roll past VERTEX_SIDE_DEG,
+#: still within the centres vertex_aim tries. One pad rolls over 42–61° of a parabola's tangent
+#: turn from one placement (roll centres; the other pad meets only its concave side), so the
+#: widest region (59° of centres) is out of every pad's reach for some parabolas wherever they
+#: lie: random P parabola 72 of ``bench_explore --finite 20 --anywhere --seed 157`` (a 10.4 mm)
+#: had no move up to 90° and 20 mm for it, refused naming none; ±25° is reached turned 30° and
+#: moved 20 mm, and followed so it is answered right (15.9 s; ±20.5°'s move, 12 mm: 19.7 s)
+VERTEX_GOAL_QUARTERS = (1, 0, -1)
 
 
 @dataclass(frozen=True)
@@ -104,6 +116,16 @@ class Aim:
     def point(self) -> tuple[float, float]:
         return self.x, self.y
 
+
+#: how a touch aimed beyond a parabola's vertex fell off the curved part (:func:`next_aim`'s
+#: ``vertex_missed``): it pivoted about a corner or its approach met nothing, so the object ends
+#: there, and no move helps; or it ran off elsewhere, or could not be made, at the edge of its
+#: pad's reach, and the vertex move is named — random P parabola 62 of ``bench_explore --finite
+#: 20 --anywhere --seed 157`` calibrated against config/jaw-p-truth.yaml: a roll centred 19° past
+#: the vertex, where the left pad reaches centres up to 19°, gave pad lines no smooth curve has,
+#: 37° short of the object's end (uncalibrated, the same roll was used); P parabola 66 of seed
+#: 127: the roll's first line outside the joint limits. Both were refused naming no move.
+VERTEX_ENDS, VERTEX_OFF = "ends", "off"
 
 #: the run-log events that carry a :class:`Stop`: stopped for want of reach, or the budget spent undecided
 STOP_EVENTS = ("stopped_early", "budget_spent")
@@ -219,7 +241,7 @@ def _where(x: float, y: float, phi: float) -> str:
 
 
 def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, fingers: Sequence,
-             aimed_at: Sequence[tuple[float, float]], vertex_missed: bool = False,
+             aimed_at: Sequence[tuple[float, float]], vertex_missed: str | None = None,
              empty_at: Sequence[tuple[float, float]] = (),
              anywhere: Callable[[], dict | None] | None = None,
              also: Sequence[tuple[float, float, float]] = ()) -> tuple[Aim | None, Stop | None]:
@@ -227,7 +249,9 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     can help, or None) for an answer that is not decisive because of ``why`` (module
     docstring). ``touched``: the usable touches' sample positions (x, y); ``aimed_at``: the
     points touches were aimed at so far; ``vertex_missed``: a touch aimed beyond the vertex
-    fell off the curved part; ``empty_at``: points aimed at where the touch met nothing;
+    fell off the curved part, ``VERTEX_ENDS`` when it pivoted about a corner or met nothing (the
+    object ends there), ``VERTEX_OFF`` when it ran off the curved part elsewhere or could not be
+    made; ``empty_at``: points aimed at where the touch met nothing;
     ``anywhere``: the recognizer's ``next_touch`` anywhere in the workspace (called only
     when none is within the pads' reach, for the reason to say where it would be); ``also``:
     places a move to that touch should bring within a pad's roll too (:func:`_goal_stop`)."""
@@ -237,14 +261,20 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
             return aim, None
         if not vertex_missed:  # every centre a pad reaches was aimed at already: the recognizer's touch
             aim = vertex_aim(recognition, touched, reach, fingers)
-        if vertex_missed:  # the richer rival always fits at least as well: only that side decides
+        if vertex_missed == VERTEX_ENDS:  # the richer rival always fits at least as well: only that side decides
             return None, Stop("no touch within the pads' reach can decide: the touch aimed beyond the vertex fell off "
                               "the curved part (the object ends there): move or turn the object so that more of its "
                               "curved part faces a finger")
+        if vertex_missed:  # no corner there: the roll ran off at the edge of its pad's reach (module docstring)
+            return None, _goal_stop("no touch within the pads' reach can decide: the touch aimed beyond the vertex "
+                                    f"(near {_where(*vertex_place(recognition, touched))}) could not be made, or ran "
+                                    "off the curved part without pivoting about a corner: it lies at the edge of the "
+                                    "pads' reach",
+                                    vertex_goals(recognition, touched, reach), reach)
         if aim is None:
             return None, _goal_stop("no touch within the pads' reach can decide: no pad can roll beyond the vertex "
                                     f"on that side (near {_where(*vertex_place(recognition, touched))})",
-                                    vertex_goal(recognition, touched, reach), reach)
+                                    vertex_goals(recognition, touched, reach), reach)
     suggested = recognition.next_touch
     if suggested is not None:
         f = reach.finger(suggested["x"], suggested["y"], suggested["phi"], fingers)
@@ -293,7 +323,7 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
         if reach.finger(x, y, phi) is None:
             return _goal_stop(f"{spent} and no pad can roll beyond the parabola's vertex on the side felt less than "
                               f"{VERTEX_SIDE_DEG:g} deg (near {_where(x, y, phi)})",
-                              vertex_goal(recognition, touched, reach), reach)
+                              vertex_goals(recognition, touched, reach), reach)
     wanted = anywhere() if anywhere is not None else None
     if wanted is None:
         return Stop(f"{spent}: a profile with more touches (--profile accurate) may decide")
@@ -323,16 +353,17 @@ def place_goal(x: float, y: float, phi: float, touched=None) -> Goal:
     return Goal(((x, y, phi),), keep, (x, y), "there")
 
 
-def vertex_goal(recognition: Recognition, touched, reach: JawReach) -> Goal:
+def vertex_goal(recognition: Recognition, touched, reach: JawReach, quarters: int = 1) -> Goal:
     """The goal of a parabola answer felt on one side of its vertex: a pad rolling across the
     whole vertex region — roll centres at ``VERTEX_GOAL_PLACES`` places evenly from
-    VERTEX_SIDE_DEG + a quarter roll of tangent turn on one side to the same on the other
-    (each roll reaches a quarter roll past VERTEX_SIDE_DEG, as :func:`vertex_aim` aims), not
-    only the short side's place: a move that brings the short side within reach can take
-    the long side out of it —, turning about the vertex; kept clear of the opened jaw: the
-    felt samples and the answered parabola out to a roll beyond that region."""
+    VERTEX_SIDE_DEG + ``quarters`` quarter rolls of tangent turn on one side to the same on the
+    other (with 1, each roll's centre a quarter roll past VERTEX_SIDE_DEG, as :func:`vertex_aim`
+    aims first; with −1, its far end), not only the short side's place: a move that brings the
+    short side within reach can take the long side out of it —, turning about the vertex; kept
+    clear of the opened jaw: the felt samples and the answered parabola out to a roll beyond
+    that region."""
     half = 0.5 * math.degrees(reach.settings.roll_span_rad)
-    edge = VERTEX_SIDE_DEG + 0.5 * half
+    edge = VERTEX_SIDE_DEG + 0.5 * half * quarters
     places = tuple(_parabola_place(recognition, math.tan(math.radians(c)))
                    for c in np.linspace(-edge, edge, VERTEX_GOAL_PLACES))
     t = np.tan(np.radians(np.linspace(-edge - half, edge + half, 9)))
@@ -341,6 +372,12 @@ def vertex_goal(recognition: Recognition, touched, reach: JawReach) -> Goal:
     keep = arc if touched is None else np.hstack([arc, _thinned(touched)])
     vx, vy, _ = _parabola_place(recognition, 0.0)
     return Goal(places, keep, (vx, vy), f"across its vertex, {edge:.0f} deg either side (the vertex near ({vx:.0f}, {vy:.0f}) mm)")
+
+
+def vertex_goals(recognition: Recognition, touched, reach: JawReach) -> tuple[Goal, ...]:
+    """The vertex regions a move is sought for, widest first (``VERTEX_GOAL_QUARTERS``,
+    :func:`vertex_goal`): :func:`_goal_stop` names the move for the first one a move reaches."""
+    return tuple(vertex_goal(recognition, touched, reach, q) for q in VERTEX_GOAL_QUARTERS)
 
 
 def _thinned(touched, most: int = 24) -> np.ndarray:
@@ -358,18 +395,27 @@ def _wanted_stop(head: str, wanted: dict, reach: JawReach, touched=None, also=()
                       place_goal(x, y, phi, touched), reach, also)
 
 
-def _goal_stop(message: str, goal: Goal, reach: JawReach, also: Sequence[tuple[float, float, float]] = ()) -> Stop:
+def _goal_stop(message: str, goal: Goal | Sequence[Goal], reach: JawReach,
+               also: Sequence[tuple[float, float, float]] = ()) -> Stop:
     """The stop ``message``, then the move of the object that reaches ``goal`` (:func:`move_advice`)
     and with it the places ``also`` (x, y, φ), where a finger that never rolled met the object,
     when a move reaches them all (:func:`with_places`), else ``goal``'s. (A move for ``also``'s
     places alone was tried: random X-series ellipse 46 of bench_explore --finite 20 --anywhere
-    --seed 127, turned 30° and moved 4 mm so, gave no usable roll at all.)"""
-    if also:
-        advice, move = move_advice(reach, with_places(goal, also))
-        if move is not None:
+    --seed 127, turned 30° and moved 4 mm so, gave no usable roll at all.) Several goals
+    (:func:`vertex_goals`, widest first): the advice for the first one a move reaches, or a pad
+    already reaches (``WITHIN_REACH``); when none is, the first's."""
+    goals = (goal,) if isinstance(goal, Goal) else tuple(goal)
+    first = None
+    for g in goals:
+        if also:
+            advice, move = move_advice(reach, with_places(g, also))
+            if move is not None:
+                return Stop(f"{message}: {advice}", move)
+        advice, move = move_advice(reach, g)
+        if move is not None or advice == WITHIN_REACH:
             return Stop(f"{message}: {advice}", move)
-    advice, move = move_advice(reach, goal)
-    return Stop(f"{message}: {advice}", move)
+        first = advice if first is None else first
+    return Stop(f"{message}: {first}", None)
 
 
 def with_places(goal: Goal, also: Sequence[tuple[float, float, float]]) -> Goal:
@@ -457,7 +503,7 @@ def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None) ->
                 f"{MOVE_TURN_MAX_DEG:g} deg inside the workspace: place the object so that more of its curved part "
                 f"faces a finger"), None
     if move == (0.0, 0.0, 0.0):  # within reach, yet its finger gave up there (corners, closing segments)
-        return "move or turn the object so that more of its curved part faces a finger", None
+        return WITHIN_REACH, None
     dx, dy, a = move
     grow = (math.hypot(dx, dy) + MOVE_MARGIN_MM) / max(math.hypot(dx, dy), 1e-9)
     if (dx or dy) and _reaches(reach, goal, grow * dx, grow * dy, a, fingers):

@@ -34,7 +34,7 @@ from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
 from recognizer.curves import CURVES
 from tactile_common.errors import InputError
-from tactile_jaw.choose import Aim, JawReach, budget_advice, next_aim
+from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import DECISIVE_CHI2, RecognizeTouches, decide, final_answer, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
@@ -411,7 +411,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     #: the touches rolled WIDER_SPAN times wider where a corner was in doubt (their indices: not
     #: rolled wider again; a usable one drops that corner, tactile_jaw.pipeline.measured_there)
     wider: set[int] = set()
-    vertex_missed = False  # a touch aimed beyond a parabola's vertex fell off the curved part
+    vertex_missed = None  # how a touch aimed beyond a parabola's vertex fell off the curved part (choose.VERTEX_ENDS)
     empty_at: list[tuple[float, float]] = []  # points aimed at where the touch met nothing
     cleared = _clear_of_corners(cfg, out, settings, emit, say)
 
@@ -570,10 +570,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(f"touch {len(out.touches)} ({_spent(out)}/{settings.touches} of the budget): {name} at psi {math.degrees(touch.psi_center):.1f} deg, "
                 f"{len(touch.samples)} samples, {'used' if problem is None else 'not used: ' + problem}")
             if aimed is not None and name == aimed.finger and problem is not None:
-                # the object ends there only when the roll fell off the curved part or met nothing;
-                # one that ran off the pad's face (P parabola 78 of bench_explore --finite 20
-                # --anywhere --seed 107: 28.8..51.4 mm along a 52 mm pad) goes to the next centre
-                vertex_missed |= aimed.kind == "vertex" and (felt.off_curve or not touch.samples)
+                # the object ends there only when the roll pivoted about a corner or its approach met
+                # nothing; one that ran off the curved part elsewhere, or could not be made (outside the
+                # joint limits: P parabola 66 of bench_explore --finite 20 --anywhere --seed 127), stops
+                # naming a move (tactile_jaw.choose.VERTEX_OFF); one that ran off the pad's face (P
+                # parabola 78 of --seed 107: 28.8..51.4 mm along a 52 mm pad) goes to the next centre
+                if aimed.kind == "vertex" and (felt.off_curve or not touch.samples) and vertex_missed != VERTEX_ENDS:
+                    ends = felt.corner is not None or (not touch.samples and touch.outcome == "no_contact")
+                    vertex_missed = VERTEX_ENDS if ends else VERTEX_OFF
                 if not touch.samples:
                     empty_at.append(aimed.point)  # the object is not where the answered curve goes on
         if probing:

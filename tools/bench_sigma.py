@@ -1,16 +1,22 @@
 """Do the stated σ's mean what they say at every scale? σ coverage per class, region and
 scale decade (not a test).
 
-    python -m tools.bench_sigma [--trials 6] [--seed 1] [--scales -4:5] [--kind samples|contacts|both] [--jobs 1]
+    python -m tools.bench_sigma [--trials 6] [--seed 1] [--scales -4:5] [--kind samples|contacts|both] [--fresh] [--jobs 1]
 
 Each trial draws a shape of one class and a region of it (``REGIONS``: the ordinary ones
 and the extremes of issue 21: near an inflection or a cusp, a steep cubical, far out on a
 branch or an arm), scales it so that the touched region spans L = 10^k mm for every k of
-``--scales`` (the same shape and noise draw at every scale, in units of L), and recognizes
-three touches of it with every class allowed:
+``--scales`` (the same shape and noise draw at every scale, in units of L: a figure that
+differs between decades is the numerics', not the draw's; with ``--fresh`` each decade draws
+its own shape and noise, so that a decade's figure and a class's over the decades count
+independent values: without it ``--trials 3`` holds 6 values of a two-parameter class's
+region, each counted once per decade), and recognizes three touches of it with every class
+allowed:
 
 - ``samples``: 3 touches × 9 samples 2 % of L apart, standard noise (tangent angle
-  1.5 mrad, positions 0.1 % of L), the balanced profile (refinement, profile σ's);
+  1.5 mrad, positions 0.1 % of L), the balanced profile (refinement, profile σ's); a
+  semicubical's touches moved out along their branches until none reaches across the cusp
+  (``clear_of_cusp``);
 - ``contacts``: 3 contacts with Gaussian noise at their stated deviations (positions
   0.1 % of L, φ 1.5 mrad, κ ± (1 %·|κ| + 1 %/L), κ_s ± 5 %·(|κ_s| + |κ|/L + 1/L²)), the
   contact stage alone (the invariants and the contact fit, as a contacts-only request is
@@ -79,9 +85,11 @@ def _draw(cls: str, region: str, rs: np.random.Generator) -> dict:
     return {}
 
 
-def draw_case(cls: str, region: str, i: int, seed: int):
-    """(shape at L = 1 mm, its 3 contacts' t, traversal direction, noise draws' rng seed)."""
-    rs = np.random.default_rng([seed, CLASSES.index(cls), list(REGIONS[cls]).index(region), i, 41])
+def draw_case(cls: str, region: str, i: int, seed: int, decade: int | None = None):
+    """(shape at L = 1 mm, its 3 contacts' t, traversal direction, noise draws' rng seed);
+    ``decade`` given (``--fresh``): that decade's own draw."""
+    key = [seed, CLASSES.index(cls), list(REGIONS[cls]).index(region), i, 41]
+    rs = np.random.default_rng(key if decade is None else key + [1000 + decade])
     params = _draw(cls, region, rs)
     span = REGIONS[cls][region]
     if span == "short":
@@ -125,15 +133,18 @@ def _contacts(cls, params, ts, pose, direction, L, rs):
 
 
 def run_trial(task) -> list[dict]:
-    cls, region, i, seed, scales, kinds = task
-    params1, ts1, pose1, direction, noise_seed = draw_case(cls, region, i, seed)
+    cls, region, i, seed, scales, kinds, *fresh = task
+    fresh = bool(fresh and fresh[0])
     out = []
     for kind in kinds:
         for k in scales:
+            params1, ts1, pose1, direction, noise_seed = draw_case(cls, region, i, seed, k if fresh else None)
             L = 10.0 ** k
             params, ts, pose = scaled(cls, params1, ts1, pose1, L)
             rs = np.random.default_rng(noise_seed)  # the same draws, in units of L, at every scale
             if kind == "samples":
+                if cls == "semicubical_parabola":
+                    ts = clear_of_cusp(CURVES[cls](params), ts, synth.touch_reach(SAMPLES, SPACING * L))
                 shape = synth.Shape(cls, params, pose, L, (float(ts.min()), float(ts.max())), CURVES[cls](params))
                 noise = synth.SynthNoise(SPEC_PHI, SPEC_POS_FRAC * L)
                 touches, _ = synth.sample_shape(shape, ts, SAMPLES, SPACING * L, direction, noise, rs, with_s=False)
@@ -165,6 +176,18 @@ def run_trial(task) -> list[dict]:
             out.append({"cls": cls, "region": region, "trial": i, "kind": kind, "decade": k, "answer": answer,
                         "z": zs, "zi": zis, "rel": rels, "cpu": cpu, "error": err})
     return out
+
+
+def clear_of_cusp(curve, ts: np.ndarray, reach: float) -> np.ndarray:
+    """A semicubical's contacts moved out along their branches, all by the same Δ|t| (their
+    spacing kept), until a touch reaching ``reach`` either side of its contact stays on its
+    branch, as bench_wide's do: a pad cannot roll through the cusp. Near the cusp and even
+    on the far branch (t 3–10 of a region spanning both branches) a 9-sample touch 2 % of L
+    apart reached across it (before session 17: noise-free samples of those regions
+    unclassified, a touch's samples on both branches)."""
+    clear = synth._clear_of_cusp(curve, 1.02 * reach, max(float(np.max(np.abs(ts))), 1e-9))
+    shift = max(clear - float(np.min(np.abs(ts))), 0.0)
+    return np.sign(ts) * (np.abs(ts) + shift)
 
 
 def interval_z(rec, name: str, truth: float) -> float:
@@ -249,11 +272,13 @@ def main(argv=None) -> int:
     ap.add_argument("--scales", default="-4:5", help="decades k of L = 10^k mm, lo:hi inclusive")
     ap.add_argument("--kind", choices=("samples", "contacts", "both"), default="both")
     ap.add_argument("--classes", nargs="*", default=list(CLASSES))
+    ap.add_argument("--fresh", action="store_true",
+                    help="each decade its own shape and noise draw (independent values per decade)")
     ap.add_argument("--jobs", type=int, default=1)
     args = ap.parse_args(argv)
     lo, hi = (int(v) for v in args.scales.split(":"))
     kinds = ("samples", "contacts") if args.kind == "both" else (args.kind,)
-    tasks = [(c, g, i, args.seed, list(range(lo, hi + 1)), kinds) for c in args.classes for g in REGIONS[c]
+    tasks = [(c, g, i, args.seed, list(range(lo, hi + 1)), kinds, args.fresh) for c in args.classes for g in REGIONS[c]
              for i in range(args.trials)]
     t0 = time.perf_counter()
     if args.jobs > 1:
@@ -263,7 +288,7 @@ def main(argv=None) -> int:
         results = [run_trial(t) for t in tasks]
     recs = [r for rs in results for r in rs]
     print(f"python -m tools.bench_sigma --trials {args.trials} --seed {args.seed} --scales {args.scales} "
-          f"--kind {args.kind}: {len(recs)} recognitions, {time.perf_counter() - t0:.0f} s wall\n")
+          f"--kind {args.kind}{' --fresh' if args.fresh else ''}: {len(recs)} recognitions, {time.perf_counter() - t0:.0f} s wall\n")
     print(report(recs))
     sys.stdout.flush()
     return 0

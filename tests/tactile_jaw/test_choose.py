@@ -4,6 +4,7 @@ stopping with a reason when nothing within reach can help."""
 
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -13,8 +14,8 @@ from recognizer.curves import CURVES, Pose
 from recognizer.classify import NONE_TESTED_FITS, recognize
 from recognizer.result import Ranked, Recognition
 from recognizer.touches import parse_request
-from tactile_jaw.choose import (MOVE_CLEAR_MM, MOVE_MAX_MM, MOVE_TURN_MAX_DEG, JawReach, Stop, budget_advice, move_advice,
-                                move_for, next_aim, place_goal, vertex_aim, vertex_goal)
+from tactile_jaw.choose import (MOVE_CLEAR_MM, MOVE_MAX_MM, MOVE_TURN_MAX_DEG, VERTEX_ENDS, VERTEX_OFF, JawReach, Stop,
+                                budget_advice, move_advice, move_for, next_aim, place_goal, vertex_aim, vertex_goal)
 from tactile_jaw.decide import NO_CLASS_FITS, VERTEX_SIDE_DEG, Why, refusal_kind, vertex_sides
 from tactile_jaw.plan import ObjectModel, feasible
 from tactile_jaw.settings import ExploreSettings
@@ -93,8 +94,8 @@ def test_next_aim_follows_the_reason_and_stops_when_nothing_within_reach_helps()
         assert aim is None and what in stop and "move or turn the object" in stop
     # the vertex side once missed (the object ends there) or out of every pad's reach: only that
     # side decides (the richer rival always fits at least as well), so exploration stops, saying so
-    aim, stop = next_aim(suggesting, _why("vertex"), touched, REACH, fingers, [], vertex_missed=True)
-    assert aim is None and "fell off the curved part" in stop
+    aim, stop = next_aim(suggesting, _why("vertex"), touched, REACH, fingers, [], vertex_missed=VERTEX_ENDS)
+    assert aim is None and "fell off the curved part" in stop and stop.move is None
     aim, stop = next_aim(suggesting, _why("vertex"), touched, REACH, [CONFIG.fingers[1]], [])
     assert aim is None and "no pad can roll beyond the vertex" in stop and "move or turn the object" in stop
 
@@ -291,3 +292,45 @@ def test_a_move_to_the_telling_touch_also_brings_the_side_an_unrolled_finger_met
     # no move reaches both: the telling touch's alone
     far = (60.0, -30.0, 1.62295 - math.pi / 2)
     assert budget_advice(ellipse, _why("rival"), None, REACH, 8, anywhere=lambda: wanted, also=[far]).move == alone.move
+
+
+def _reached(reach, rec, move, edge_deg):
+    """Whether, the parabola answer ``rec`` moved so, a pad of ``reach`` rolls centred at every
+    tangent turn within ±edge_deg of its vertex (every 2.5°)."""
+    curve = CURVES["parabola"](rec.params)
+    for c in np.arange(-edge_deg, edge_deg + 1e-9, 2.5):
+        t = np.array([math.tan(math.radians(c))])
+        x, y = _moved(move, *rec.pose.apply(*curve.point(t)))
+        phi = float(curve.tangent_angle(t)[0]) + rec.pose.theta - math.pi + math.radians(move["turn_deg"])
+        if reach.finger(float(np.ravel(x)[0]), float(np.ravel(y)[0]), phi) is None:
+            return False
+    return True
+
+
+def test_a_vertex_region_no_move_reaches_whole_is_narrowed_so_the_refusal_still_names_a_move():
+    # random P parabola 72 of bench_explore --finite 20 --anywhere --seed 157, as its touches fitted it: felt
+    # 52° on one side of the vertex, 0° on the other; one pad reaches about 45° of its tangent turn from
+    # any placement, so no move up to 20 mm and 30° lets a pad roll centred 29.5° either side (refused
+    # naming no move); the region a quarter roll narrower each side is reached after a move
+    p_reach = JawReach(load_config(ROOT / "config" / "jaw-p.yaml"), SETTINGS)
+    rec = Recognition("parabola", {"a": 10.347}, pose=Pose(-2.1108, 130.480, 9.358), uncertainty={"a": 0.01},
+                      ranking=PARABOLA.ranking)
+    touched = rec.pose.apply(*CURVES["parabola"](rec.params).point(np.tan(np.radians(np.linspace(-52.0, 0.0, 30)))))
+    assert vertex_aim(rec, touched, p_reach) is None
+    assert move_for(p_reach, vertex_goal(rec, touched, p_reach)) is None
+    aim, stop = next_aim(rec, _why("vertex"), touched, p_reach, list(p_reach.config.fingers), [])
+    assert aim is None and stop.move is not None and "no pad can roll beyond the vertex" in stop
+    half = 0.5 * math.degrees(SETTINGS.roll_span_rad)
+    narrow = float(re.search(r"across its vertex, (\d+) deg either side", stop).group(1))
+    # narrower than the widest region, no narrower than each roll's far end a quarter roll past VERTEX_SIDE_DEG
+    assert VERTEX_SIDE_DEG - 0.5 * half - 0.5 <= narrow < VERTEX_SIDE_DEG + 0.5 * half - 0.5
+    assert not _reached(p_reach, rec, {"dx": 0.0, "dy": 0.0, "turn_deg": 0.0, "about": [0.0, 0.0]}, narrow)
+    assert _reached(p_reach, rec, stop.move, narrow)
+    # a roll aimed beyond the vertex that ran off the curved part without pivoting about a corner
+    # (at the edge of its pad's reach) names the move too; one that pivoted (the object ends there) does not
+    aim, off = next_aim(rec, _why("vertex"), touched, p_reach, list(p_reach.config.fingers), [],
+                        vertex_missed=VERTEX_OFF)
+    assert aim is None and off.move == stop.move and "without pivoting about a corner" in off
+    aim, ends = next_aim(rec, _why("vertex"), touched, p_reach, list(p_reach.config.fingers), [],
+                         vertex_missed=VERTEX_ENDS)
+    assert aim is None and ends.move is None and "the object ends there" in ends
