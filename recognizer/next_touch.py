@@ -31,6 +31,14 @@ parameters' uncertainty: a semicubical parabola's branch far from its cusp and a
 through the same touches bend differently along a roll (bench_wide: modelled as one point,
 the suggested touches left the far branch 76.9 % right).
 
+A pad reaches a place only from the free side: a touch is sent as the place and its
+tangent, and the pad comes in along its normal from away from the solid (the side the
+touches curve toward: ``Contacts.dominant_kappa``). Places are kept where such a pad,
+``PAD_ROLLS`` rolls either side of its middle and starting the touches' extent out, first
+meets the leader's curve there (``_landed``: no stretch concave toward it, no other branch
+in the way); a rival's separation counts, when the rival is true, only where the pad lands
+on the rival's curve too.
+
 Greedy, one touch at a time (adaptive-submodular selection, so greedy is near-optimal):
 while some place resolves at least ``CLASS_GAIN_MIN`` nats of class entropy, the place of
 largest class gain, else of largest gain. A touch is ``roll`` long: no place within
@@ -74,6 +82,8 @@ UNDETERMINED = 1e3
 N_PLACES = 160
 N_DENSE = 400
 MIN_WEIGHT = 1e-3
+PAD_ROLLS = 1.0
+"""a pad's half length in rolls: a pad twice as long as the request's touches roll."""
 SEPARATION_MIN = 0.1
 """an expected χ² separation below this (1.2 % of a pair's entropy) is not checked the other way round."""
 
@@ -134,6 +144,17 @@ def _t_span(c: Candidate, widen: float = 1.0, n: int = N_PLACES) -> np.ndarray:
     return np.linspace(lo - widen * w, hi + widen * w, n)
 
 
+def _pad_span(c: Candidate, n: int = N_DENSE) -> np.ndarray:
+    """Dense t's of a candidate's curve where a pad might meet it: twice the touched span
+    each side (a semicubical parabola's both branches through the cusp; a closed curve all
+    round)."""
+    t = _t_span(c, 2.0, n)
+    if CURVES[c.cls].t_period is None and c.cls == "semicubical_parabola":
+        far = float(np.max(np.abs(t)))
+        return np.linspace(-far, far, 2 * n)
+    return t
+
+
 def _closest(curve, pose: Pose, t_dense: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
     """t of the curve's point closest to each hand-frame (px, py): the nearest dense
     sample, then three Newton steps (``Curve.project``)."""
@@ -152,6 +173,24 @@ def _measure(cls: str, vec: np.ndarray, t: np.ndarray, px, py, nx, ny, lead_phi)
     along = np.where(np.cos(ang - lead_phi) >= 0.0, 1.0, -1.0)
     return np.stack([(qx - px) * nx + (qy - py) * ny, _wrap_half(ang - lead_phi),
                      along * np.asarray(curve.kappa(t), float), np.asarray(curve.kappa_s(t), float)], axis=-1)
+
+
+def _landed(curve, pose: Pose, t_dense: np.ndarray, px, py, phi, left: bool, window: float, standoff: float) -> np.ndarray:
+    """Whether a pad sent to each place (px, py) with orientation ``phi`` (the direction of
+    travel), coming in along its normal from the free side (the solid on the ``left`` of
+    travel or not) from ``standoff`` out, first meets this posed curve there: no point of
+    the curve at ``t_dense`` within ``window`` of the place along the pad lies farther out
+    (a stretch concave toward the pad is only bridged; another branch or a far stretch in
+    the way is met first)."""
+    ux, uy = np.cos(phi), np.sin(phi)
+    sgn = -1.0 if left else 1.0
+    nx, ny = -sgn * uy, sgn * ux
+    cx, cy = pose.apply(*curve.point(t_dense))
+    dx, dy = cx[None, :] - px[:, None], cy[None, :] - py[:, None]
+    h = dx * nx[:, None] + dy * ny[:, None]
+    v = dx * ux[:, None] + dy * uy[:, None]
+    tol = 1e-9 * standoff
+    return ~np.any((np.abs(v) <= window) & (h > tol) & (h <= standoff), axis=1)
 
 
 def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
@@ -251,10 +290,19 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     lead_i = next(i for i, c in enumerate(cands) if c is leader)
     others = [(c, w[i]) for i, c in enumerate(cands) if i != lead_i and w[i] > MIN_WEIGHT]
     w_lead = max(float(w[lead_i]), MIN_WEIGHT)
-    # places on the leader's curve
+    turn = d.dominant_kappa()
+    padded = roll > 0 and turn != 0  # a pad's approach modelled: the solid's side is known
+
+    def lands(c: Candidate, px, py, travel) -> np.ndarray:
+        """Whether a pad sent to each place lands there on c's curve (``_landed``)."""
+        if not padded:
+            return np.ones(px.size, bool)
+        return _landed(c.curve(), c.pose, _pad_span(c), px, py, travel, turn > 0, PAD_ROLLS * roll, d.scale)
+
+    # places on the leader's curve (a semicubical's other branch too, as far from the cusp)
     curve = leader.curve()
     t = _t_span(leader)
-    if curve.name == "semicubical_parabola":  # and its other branch, as far from the cusp
+    if curve.name == "semicubical_parabola":
         t = np.concatenate((t, -t))
     px, py = leader.pose.apply(*curve.point(t))
     phi = np.asarray(curve.tangent_angle(t), float) + leader.pose.theta
@@ -262,13 +310,15 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     if curve.t_period is None:
         near = np.min(np.hypot(px[:, None] - d.x[None, :], py[:, None] - d.y[None, :]), axis=1)
         keep &= near <= d.scale
-    direction = travel_direction(curve, leader.pose, leader.t, d.phi)
+    flip = np.pi if travel_direction(curve, leader.pose, leader.t, d.phi) < 0 else 0.0  # to the direction of travel
     if reach is not None:  # the place's tangent in the touches' direction of travel: a robot's reach may depend on it
-        keep &= reach.contains(px, py, phi + (np.pi if direction < 0 else 0.0))
+        keep &= reach.contains(px, py, phi + flip)
     keep &= _touchable(curve, t, roll)
+    if keep.any():  # where a pad sent there lands on the leader's curve
+        keep[keep] = lands(leader, px[keep], py[keep], phi[keep] + flip)
     if not keep.any():
         return None
-    t, px, py, phi = t[keep], px[keep], py[keep], phi[keep]
+    px, py, phi = px[keep], py[keep], phi[keep]
     nx, ny = -np.sin(phi), np.cos(phi)
     W = _whitener(noise, samples, roll_cov(d))
     span_lead = _t_span(leader, 1.0, N_DENSE)
@@ -280,7 +330,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     ig_param = 0.5 * np.linalg.slogdet(eye + P_lead)[1]
     C = _cov(leader, d.scale)
     k = len(CURVES[leader.cls].param_names)
-    shrink = np.ones(t.size)
+    shrink = np.ones(px.size)
     rel_now = 0.0
     if k:
         vals = np.abs(leader.vector()[:k])
@@ -292,7 +342,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         var_after = C[i_max, i_max] - np.einsum("mb,mb->m", K[:, i_max, :], CG[:, i_max, :])
         shrink = math.sqrt(max(C[i_max, i_max], 0.0)) / np.sqrt(np.clip(var_after, 1e-300, None))
     # classes
-    ig_class = np.zeros(t.size)
+    ig_class = np.zeros(px.size)
     best_sep = {}
     for c, wc in others:
         mean_c, P_c, _, ok_c, posed_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, d.scale, roll)
@@ -309,7 +359,10 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
             chi2_b = np.einsum("ma,mab,mb->m", delta, _inv(eye + P_b + P_c[sep]), delta)
             chi2[sep] = np.minimum(chi2[sep], np.where(np.isfinite(chi2_b), chi2_b, np.inf))
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
-        ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0))
+        # c true, a pad that does not land on c's curve tells nothing: the pair is resolved
+        # when the leader is true, and when c is and the pad lands
+        landed = (w_lead + wc * lands(c, px, py, phi + flip)) / (w_lead + wc)
+        ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0)) * landed
         best_sep[c.cls] = chi2
     gain = ig_class + w_lead * np.where(np.isfinite(ig_param), ig_param, 0.0)
     helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
@@ -320,7 +373,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     score = ig_class if float(np.max(ig_class)) >= CLASS_GAIN_MIN else gain
     j = int(np.argmax(np.where(helps, score, -np.inf)))
     why = _why(leader, best_sep, j, ig_class[j], shrink[j], rel_now)
-    return {"x": float(px[j]), "y": float(py[j]), "phi": float(wrap_angle(phi[j] + (np.pi if direction < 0 else 0.0))),
+    return {"x": float(px[j]), "y": float(py[j]), "phi": float(wrap_angle(phi[j] + flip)),
             "gain": float(gain[j]), "why": why}
 
 

@@ -403,7 +403,11 @@ def _goal_stop(message: str, goal: Goal | Sequence[Goal], reach: JawReach,
     places alone was tried: random X-series ellipse 46 of bench_explore --finite 20 --anywhere
     --seed 127, turned 30° and moved 4 mm so, gave no usable roll at all.) Several goals
     (:func:`vertex_goals`, widest first): the advice for the first one a move reaches, or a pad
-    already reaches (``WITHIN_REACH``); when none is, the first's."""
+    already reaches (``WITHIN_REACH``); when none is, the move for ``also``'s places alone
+    (:func:`side_goal`) stands in: a closed object's other side decides what one side leaves
+    (random X-series ellipse 50 of seed 157: the touch wanted lay at the far end of the major
+    axis, which no pad reaches however the object lies; moved as the left pad's place asks,
+    turned 5° and moved 3 mm, it is answered ellipse, a −0.31 %); else the first goal's advice."""
     goals = (goal,) if isinstance(goal, Goal) else tuple(goal)
     first = None
     for g in goals:
@@ -415,7 +419,22 @@ def _goal_stop(message: str, goal: Goal | Sequence[Goal], reach: JawReach,
         if move is not None or advice == WITHIN_REACH:
             return Stop(f"{message}: {advice}", move)
         first = advice if first is None else first
+    if also:
+        side, side_move = move_advice(reach, side_goal(goals[0], also))
+        if side_move is not None:
+            return Stop(f"{message}: no pad reaches that touch with the object moved up to {MOVE_MAX_MM:g} mm and "
+                        f"turned up to {MOVE_TURN_MAX_DEG:g} deg; {side}", side_move)
     return Stop(f"{message}: {first}", None)
+
+
+def side_goal(goal: Goal, also: Sequence[tuple[float, float, float]]) -> Goal:
+    """The goal of the places ``also`` alone (x, y, φ: where a finger that never rolled met the
+    object, tactile_jaw.explore.unrolled_places), turning about the first, ``goal``'s known
+    boundary kept clear of the opened jaw."""
+    xy = np.array([(x, y) for x, y, _ in also], float).T
+    where = " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y, _ in also)
+    return Goal(tuple(also), np.hstack([np.asarray(goal.keep, float), xy]), (float(xy[0, 0]), float(xy[1, 0])),
+                f"through the side of the object near {where}, which the other finger met but has not rolled on")
 
 
 def with_places(goal: Goal, also: Sequence[tuple[float, float, float]]) -> Goal:

@@ -29,7 +29,8 @@ from typing import Any, Callable, Container
 
 import numpy as np
 
-from hand_driver.cycle import Jaw, run_together
+from hand_driver import kinematics as kin
+from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
 from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
 from recognizer.curves import CURVES
@@ -41,7 +42,7 @@ from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, cl
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
                                   on_corner, too_few_clear)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
-                             predicted_tangent, retreat_offset, within_curve)
+                             feasible, nominal_psi, predicted_tangent, retreat_offset, within_curve)
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
 from tactile_jaw.separation import jaw_ticks_per_rev
@@ -236,6 +237,64 @@ def unrolled_places(cfg, out: Exploration, recognition) -> list[tuple[float, flo
     return out_places
 
 
+#: a closed answer's curve is searched for a roll of a finger that has none every this many
+#: degrees of pad normal, within ``SIDE_SPREAD_DEG`` of the finger's zero-angle normal, the
+#: predicted contact ``SIDE_PAD_MARGIN`` of the pad's length from its ends (the planner keeps
+#: tactile_jaw.plan.PLAN_PAD_MARGIN, 0.1: X-series ellipse 50 below rolls usably only 46–50 mm
+#: along its 52 mm pad) (:func:`other_side_aim`)
+SIDE_STEP_DEG = 1.0
+SIDE_SPREAD_DEG = 60.0
+SIDE_PAD_MARGIN = 0.05
+
+
+def other_side_aim(recognition, finger, reach: JawReach) -> Aim | None:
+    """Where ``finger``, with no usable roll and no orientation the planner predicts a roll
+    at from the lines felt (its probes met the object at a pad end, or not at all), rolls on
+    a closed answer (``CLOSED``: the leading ``recognition``, undecided only for its parameters:
+    while an open class fits too, that side may not exist, and a roll aimed there spends the
+    budget on nothing — P-series semicubical 126 of seed 157, ellipse and semicubical fitting,
+    was refused so): of the pad normals within ``SIDE_SPREAD_DEG`` of the finger's zero-angle
+    normal at which the planner could
+    roll on the answer's curve (tactile_jaw.plan.feasible on the answer's support lines, the
+    contact ``SIDE_PAD_MARGIN`` of the pad's length from its ends), the one whose contact
+    lies deepest inside the pad. One finger's rolls on one side of an ellipse leave its axes
+    uncertain by ±25 % at 4,096 ticks per turn; a roll on the other side states them within
+    0.3 % (random X-series ellipse 50 of bench_explore --finite 20 --anywhere --seed 157: the
+    left pad rolls usably only at pad normals −98…−92°, its contact 46–50 mm along a 52 mm
+    pad; its probes at −90° and −110° met the object off its face, and it never rolled).
+    None when there is none."""
+    if recognition is None or recognition.cls not in CLOSED or recognition.pose is None:
+        return None
+    curve = CURVES[recognition.cls](recognition.params)
+    if curve.t_period is None:
+        return None
+    points = np.stack(recognition.pose.apply(*curve.point(np.linspace(*curve.t_period, 4 * 360, endpoint=False))),
+                      axis=-1)
+    ws = reach.config.workspace
+    model = ObjectModel(ws.center_mm, ws.radius_mm)  # the answer's support lines, every SIDE_STEP_DEG
+    psis = np.radians(np.arange(-180.0, 180.0, SIDE_STEP_DEG))
+    model.add(psis, [float(np.min(points @ kin.unit(float(a)))) for a in psis])
+    length = finger.pad.length_mm
+    best = None
+    for off in np.radians(np.arange(-SIDE_SPREAD_DEG, SIDE_SPREAD_DEG + SIDE_STEP_DEG / 2, SIDE_STEP_DEG)):
+        psi = nominal_psi(finger) + float(off)
+        predicted = predicted_tangent(model, psi)
+        if predicted is None or not feasible(finger, model, psi, reach.settings, pad_margin=SIDE_PAD_MARGIN):
+            continue
+        d, p = predicted
+        depth = max((min(u, length - u) for q in kin.ik_line_solutions(finger, psi, d)
+                     if kin.within_limits(finger.joints, q, LIMIT_MARGIN_RAD)
+                     for u in [float(kin.finger_pad_line(finger, q).pad_coordinate(p))]), default=None)
+        if depth is not None and (best is None or depth > best[0]):
+            best = (depth, float(p[0]), float(p[1]), psi)
+    if best is None:
+        return None
+    _, x, y, psi = best
+    return Aim(x, y, float(math.remainder(psi - math.pi / 2, 2 * math.pi)), finger.name,
+               f"where it can roll on the {recognition.cls} the other finger's rolls answer, its contact deepest on "
+               f"the pad: the other side of a closed object decides what one side leaves", kind="side")
+
+
 def _follow_hint(hint: Aim, finger: str, from_hint: set[str], aimed_at: list, say) -> tuple[float, tuple, float | None]:
     """A finger's next roll where its last one points (``hint``: a stretch of the curved part,
     or a corner in doubt): (ψ, the point aimed at, the span in roll spans or None), said."""
@@ -420,6 +479,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
 
     deferred: set[str] = set()  # fingers a stop for want of reach waited for (unrolled_finger), once each
     no_curve: set[int] = set()  # presses whose scans rolled on no curved part (their id; scanned_curve)
+    sided: set[str] = set()  # fingers sent to a closed answer's other side once (other_side_aim)
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
     #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
     #: round, so a press from the second round on (early_press) counts them with the touches
@@ -432,8 +492,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(message)
             break
         if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
-                h.kind in ("corner", "scan") for h in hints.values()):  # unless a finger rolls again beside a
-            # corner or where a press's scan felt the curve
+                h.kind in ("corner", "scan") or (h.kind == "wider" and out.used) for h in hints.values()):
+            # unless a finger rolls again beside a corner, where a press's scan felt the curve, or wider where
+            # a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157: its tight ends)
             rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
             say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
                 f"within reach of the pads")
@@ -490,6 +551,16 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                     wider.add(index + len(plans))
                 else:
                     psi = choose_psi(f, model, settings, used[f.name], limits(f.name))
+                    side = None
+                    if (psi is None and undecided is not None and undecided[1].kind == "imprecise"
+                            and f.name not in sided and not any(t.finger == f.name for t in out.used)):
+                        sided.add(f.name)
+                        side = other_side_aim(undecided[0], f, reach)
+                    if side is not None:
+                        psi, point = side.psi, side.point
+                        aimed_at.append(point)
+                        say(f"{f.name}: next touch at ({side.x:.1f}, {side.y:.1f}) mm, pad normal "
+                            f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, {side.why}")
             if psi is None:
                 message = (f"{f.name}: no untouched pad orientation left for which the felt lines predict a "
                            f"{math.degrees(settings.roll_span_rad):g} deg roll on the pad's face")

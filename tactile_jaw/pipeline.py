@@ -466,6 +466,8 @@ def clears_around(fit: EnvelopeFit) -> bool:
     corner kept a sample 0.2–0.6 mm off the curve and no class fitted: bench_explore --finite
     20 --anywhere --seed 107 --config config/jaw-p.yaml, cubical 116). A hump measured
     coarsely (ρ 6.5 ± 3.6 mm) passes neither."""
+    if fit.rho < -(CORNER_RADIUS_MM + CORNER_SIGMAS * fit.sigma_rho):
+        return False
     return bool(fit.rho < CLEARANCE_SIGMAS * fit.sigma_rho
                 or fit.rho + CLEARANCE_SIGMAS * fit.sigma_rho < CORNER_RADIUS_MM)
 

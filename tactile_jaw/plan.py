@@ -188,11 +188,13 @@ def clear_offset(finger, model: ObjectModel, psi: float, d: float | None) -> flo
     return predicted[0] - APPROACH_MARGIN_MM
 
 
-def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings, aim=None) -> bool:
+def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings, aim=None,
+             pad_margin: float = PLAN_PAD_MARGIN) -> bool:
     """Every roll orientation around ψ has a predicted tangent (:func:`predicted_tangent`)
     that puts the pad on it, with the predicted contact on the pad, inside the joint
     limits, and also ``PLAN_OVERSHOOT_MM`` beyond it; a line to retreat to is reachable
-    (:func:`retreat_offset`)."""
+    (:func:`retreat_offset`). The predicted contact keeps ``pad_margin`` of the pad's length
+    from either end."""
     length = finger.pad.length_mm
     for a in roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]:
         predicted = predicted_tangent(model, float(a), aim)
@@ -209,7 +211,7 @@ def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings, 
         u = [float(kin.finger_pad_line(finger, q).pad_coordinate(p))
              for q in kin.ik_line_solutions(finger, float(a), d)
              if kin.within_limits(finger.joints, q, LIMIT_MARGIN_RAD)]
-        if not any(PLAN_PAD_MARGIN * length <= v <= (1 - PLAN_PAD_MARGIN) * length for v in u):
+        if not any(pad_margin * length <= v <= (1 - pad_margin) * length for v in u):
             return False
     return True
 

@@ -2,7 +2,7 @@
 with an oracle for every wrong answer, suggested against random extra touches, and the
 honesty of the stated σ's (not a test).
 
-    python -m tools.bench_wide [--set wide|hand] [--trials 40] [--seed 1] [--jobs 2] [--out FILE.md] [--records FILE.json]
+    python -m tools.bench_wide [--set wide|hand] [--aim approach|nearest] [--trials 40] [--seed 1] [--jobs 2] [--out FILE.md] [--records FILE.json]
     python -m tools.bench_wide --coverage-only [--first 40] [--trials 80]   (σ coverage alone)
     tactile bench --wide-trials N        (writes OUT/bench_wide.md beside the other results)
 
@@ -31,10 +31,14 @@ positions 0.1 % of L), the balanced profile, every class allowed. Rows:
   itself, passes its consistency test.
 - ``3 + 2 random``: two more touches at random places of the region.
 - ``3 + ≤2 suggested``: up to two more touches where ``next_touch`` says, stopping when it
-  says null. The object is the whole curve around the region: a suggestion is touched at
-  the true curve's point closest to it on either side of the vertex, cusp or inflection
-  (a semicubical's other branch too, clear of the cusp); ``aim miss`` is how far that
-  point lies from the suggested one.
+  says null. The object is the whole curve around the region (both sides of the vertex,
+  cusp or inflection, a semicubical's other branch). ``--aim approach`` (the default): every
+  extra touch is sent as a place and a pad orientation (a random one: the region's random
+  point as the 3-touch answer places it, with its tangent) and lands where a pad coming in
+  along its normal first meets the object (tools.pad_approach), or is lost; a lost
+  suggested touch ends the suggestions. ``--aim nearest``: a suggestion is touched at the
+  true curve's point closest to it (a semicubical's clear of the cusp), a random touch where
+  drawn. ``aim miss`` is how far the landing lies from the place sent to.
 - coverage: on right answers of ``3 touches``, the fraction of shape parameters within
   1.96 stated σ and the RMS of (p̂ − p)/σ. ``--coverage-only`` runs the 3-touch
   recognitions alone (trials ``--first`` … ``--first + --trials − 1``) and gives each
@@ -56,7 +60,7 @@ import numpy as np
 from recognizer import synth
 from recognizer.class_limits import LIMIT_OF
 from recognizer.classify import MODEL_ALPHA, RIVAL_BIC, chi2_limit, recognize
-from recognizer.curves import CURVES, Pose
+from recognizer.curves import CURVES, Pose, travel_direction
 from recognizer.localize import N_SHAPE
 from recognizer.profiles import PROFILES
 from recognizer.refine import refine_one
@@ -64,6 +68,7 @@ from recognizer.result import Candidate, RecognizeOptions
 from recognizer.touches import NoiseModel, Request, SamplesTouch
 from tools.bench import _pool, rel_error
 from tools.bench_sigma import interval_z
+from tools.pad_approach import Landing, land, solid_left
 
 CLASSES = tuple(CURVES)
 SPEC_PHI, SPEC_POS_FRAC, SPACING, SAMPLES = 1.5e-3, 1e-3, 0.02, 9
@@ -115,6 +120,10 @@ WIDE_REGIONS = {
 }
 WIDE_L_MM = (1.0, 1500.0)
 SETS = ("wide", "hand")
+AIMS = ("approach", "nearest")
+PAD_ROLLS = 1.0
+"""``--aim approach``: half the pad's length in rolls (a pad twice as long as a roll: a contact
+up to half a roll from the pad's middle leaves room for the roll on the pad)."""
 
 
 def _rng(seed: int, *keys: int) -> np.random.Generator:
@@ -243,20 +252,72 @@ def _extra_touch(shape, t, rs, direction):
     return touches[0]
 
 
-def _closest_t(shape, x, y, lo, hi, clear):
-    """The true curve's parameter closest to a suggested point: the object is the whole
-    curve around the region, both sides of the vertex, cusp or inflection (|t| up to twice
-    the region's farthest plus its span; a semicubical touch kept clear of the cusp: a pad
-    cannot roll through it)."""
-    span = hi - lo
-    t = np.linspace(0.0, 2.0 * max(abs(lo), abs(hi)) + span, 8000)
-    if shape.cls == "semicubical_parabola":
-        t = np.maximum(t, clear)
-    t = np.concatenate((-t[::-1], t))
+def _object_range(shape, lo, hi):
+    """The object's extent in t: the whole curve around the region, both sides of the
+    vertex, cusp or inflection (|t| up to twice the region's farthest plus its span; a
+    closed curve all round: None)."""
     if shape.curve.t_period is not None:
+        return None
+    far = 2.0 * max(abs(lo), abs(hi)) + (hi - lo)
+    return (-far, far)
+
+
+def _closest_t(shape, x, y, lo, hi, clear):
+    """The true curve's parameter closest to a suggested point (``--aim nearest``): the
+    object is the whole curve around the region (``_object_range``; a semicubical touch
+    kept clear of the cusp: a pad cannot roll through it)."""
+    rng = _object_range(shape, lo, hi)
+    if rng is None:
         t = np.linspace(-np.pi, np.pi, 4000)
+    else:
+        t = np.linspace(0.0, rng[1], 8000)
+        if shape.cls == "semicubical_parabola":
+            t = np.maximum(t, clear)
+        t = np.concatenate((-t[::-1], t))
     px, py = shape.pose.apply(*shape.curve.point(t))
     return float(t[int(np.argmin(np.hypot(px - x, py - y)))])
+
+
+def _send(shape, x, y, phi, lo, hi, clear, aim, left, direction) -> Landing:
+    """Where a touch sent to (x, y) with pad orientation ``phi`` lands: ``approach``, a pad
+    coming in along its normal (tools.pad_approach: lost where it meets no smooth stretch
+    with room for its roll); ``nearest``, the true curve's point nearest the place."""
+    if aim == "nearest":
+        t = _closest_t(shape, x, y, lo, hi, clear)
+        qx, qy = shape.pose.apply(*shape.curve.point(t))
+        return Landing(t, "", float(math.hypot(float(qx) - x, float(qy) - y)))
+    ds = SPACING * shape.size
+    return land(shape.curve, shape.pose, _object_range(shape, lo, hi), x, y, phi, left, direction,
+                PAD_ROLLS * (SAMPLES - 1) * ds, synth.touch_reach(SAMPLES, ds), shape.size)
+
+
+def _aim_at(shape, t, direction):
+    """(x, y, pad orientation) of the true curve's point t."""
+    x, y = shape.pose.apply(*shape.curve.point(np.array([t])))
+    phi = float(np.asarray(shape.curve.tangent_angle(np.array([t])), float)[0]) + shape.pose.theta
+    return float(x[0]), float(y[0]), phi + (math.pi if direction < 0 else 0.0)
+
+
+def _random_aim(shape, t, direction, rec, touches):
+    """Where a hand sends a random touch at the region's point t (``--aim approach``): the
+    place as the hand knows it, the 3-touch answer's curve at its point nearest the true
+    one, with that curve's tangent in the direction of travel (the true point and tangent
+    when the answer is ``unclassified``: the hand has no curve)."""
+    x, y, phi = _aim_at(shape, t, direction)
+    if rec.cls == "unclassified" or rec.pose is None:
+        return x, y, phi
+    curve = CURVES[rec.cls](rec.params)
+    tc = np.array([c["t"] for c in rec.contacts], float)
+    if curve.t_period is not None:
+        dense = np.linspace(-np.pi, np.pi, 4000, endpoint=False)
+    else:
+        w = max(float(np.ptp(tc)), 1e-9)
+        dense = np.linspace(tc.min() - 2.0 * w, tc.max() + 2.0 * w, 4000)
+    cx, cy = rec.pose.apply(*curve.point(dense))
+    k = int(np.nanargmin(np.hypot(cx - x, cy - y)))
+    ang = float(np.asarray(curve.tangent_angle(dense[k:k + 1]), float)[0]) + rec.pose.theta
+    way = travel_direction(curve, rec.pose, tc, [tt.phi[len(tt.phi) // 2] for tt in touches])
+    return float(cx[k]), float(cy[k]), ang + (math.pi if way < 0 else 0.0)
 
 
 def _exact(shape, ts, direction) -> dict:
@@ -272,6 +333,7 @@ def run_trial(task) -> dict:
     cls, i, seed, *rest = task
     coverage_only = bool(rest and rest[0])
     dist = rest[1] if len(rest) > 1 else "hand"
+    aim = rest[2] if len(rest) > 2 else "approach"
     region, shape, ts, (lo, hi, sign, both, clear), rs = draw_case(cls, i, seed, dist)
     direction = int(rs.choice([-1, 1]))
     out = {"cls": cls, "region": region, "i": i, "L": float(shape.size), "repeated": bool(len(ts) > 3)}
@@ -290,31 +352,43 @@ def run_trial(task) -> dict:
         return out
     if rec.cls != cls:
         out["oracle"] = _oracle(shape, ts, direction, rec, req, nm)
-    # two random extra touches in the region
+    # two random extra touches in the region, sent as a hand sends any touch (``aim``:
+    # ``approach``, to the region's point as the 3-touch answer places it, with its tangent)
+    left = solid_left(shape.curve, ts, direction)
+
     def draw_t():
         t = rs.uniform(lo, hi)
         if cls == "semicubical_parabola":
             t = max(abs(t), clear) * (rs.choice([-1.0, 1.0]) if both else sign)
         return t
-    extra = [_extra_touch(shape, draw_t(), rs, direction) for _ in range(2)]
+    extra = []
+    for _ in range(2):
+        t = draw_t()
+        if aim == "nearest":  # touched where drawn
+            landing = Landing(t, "", 0.0)
+        else:
+            landing = _send(shape, *_random_aim(shape, t, direction, rec, touches), lo, hi, clear, aim, left, direction)
+        out.setdefault("random", []).append({"t": landing.t, "lost": landing.why})
+        if landing.t is not None:
+            extra.append(_extra_touch(shape, landing.t, rs, direction))
     rec5, _, _ = _recognize(list(touches) + extra, nm)
     out.update(rank5=_ranking(rec5), got5=rec5.cls, err5=rel_error(shape.params, rec5.params) if rec5.cls == cls else math.nan)
-    # up to two suggested touches
+    # up to two suggested touches; a lost one ends them (the same touches, the same suggestion)
     cur, tl, used = rec, list(touches), 0
     for _ in range(2):
         nt = cur.next_touch
         if nt is None:
             break
-        t = _closest_t(shape, nt["x"], nt["y"], lo, hi, clear)
-        qx, qy = shape.pose.apply(*shape.curve.point(t))
-        out.setdefault("suggested", []).append({"t": t, "why": nt["why"], "leader": cur.cls,
-                                                "ms": cur.timing.get("next_touch_cpu_ms"),
-                                                "miss_mm": float(math.hypot(float(qx) - nt["x"], float(qy) - nt["y"]))})
-        tl.append(_extra_touch(shape, t, rs, direction))
+        landing = _send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, aim, left, direction)
+        out.setdefault("suggested", []).append({"t": landing.t, "why": nt["why"], "leader": cur.cls, "lost": landing.why,
+                                                "ms": cur.timing.get("next_touch_cpu_ms"), "miss_mm": landing.miss_mm})
+        if landing.t is None:
+            break
+        tl.append(_extra_touch(shape, landing.t, rs, direction))
         used += 1
         cur, _, reqS = _recognize(tl, nm)
     if cur.cls != cls and used:
-        out["oracleS"] = _oracle(shape, ts, direction, cur, reqS, nm, [s["t"] for s in out["suggested"]])
+        out["oracleS"] = _oracle(shape, ts, direction, cur, reqS, nm, [s["t"] for s in out["suggested"] if s["t"] is not None])
     out.update(rivalS=_rival(cur), namedS=_named(cur), rankS=_ranking(cur), t3=[float(v) for v in ts], span=[float(lo), float(hi)],
                params=dict(shape.params), gotS=cur.cls, errS=rel_error(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
     return out
@@ -334,9 +408,9 @@ def report(recs: list[dict]) -> str:
     groups = [("all", recs)] + [(c, [r for r in recs if r["cls"] == c]) for c in CLASSES]
     lines += ["| class | trials | 3 touches: right % | median err % | search misses % | data-limited % | "
               "3+2 random: right % | median err % | 3+≤2 suggested: right % | median err % | suggested used | "
-              "suggested aim miss mm (median / max) | σ coverage (1.96σ) % | RMS z | compute ms | "
+              "suggested aim miss mm (median / max) | touches lost (random / suggested) | σ coverage (1.96σ) % | RMS z | compute ms | "
               "next_touch ms (mean / max) | noise-free exact % |",
-              "|---|" + "---|" * 16]
+              "|---|" + "---|" * 17]
     for name, rs in groups:
         if not rs:
             continue
@@ -345,14 +419,16 @@ def report(recs: list[dict]) -> str:
         rms = f"{math.sqrt(float(np.mean(z ** 2))):.2f}" if z.size else "–"
         nt = np.array([r["nt_ms"] for r in rs], float)
         nt = nt[np.isfinite(nt)]
-        miss = [s["miss_mm"] for r in rs for s in r.get("suggested", ())]
+        miss = [s["miss_mm"] for r in rs for s in r.get("suggested", ()) if s.get("t") is not None]
+        lost = (f"{sum(bool(x.get('lost')) for r in rs for x in r.get('random', ()))} of {sum(len(r.get('random', ())) for r in rs)} / "
+                f"{sum(bool(x.get('lost')) for r in rs for x in r.get('suggested', ()))} of {sum(len(r.get('suggested', ())) for r in rs)}")
         lines.append(
             f"| {name} | {len(rs)} | {_pct([r['got3'] == r['cls'] for r in rs])} | {_med([r['err3'] for r in rs])} | "
             f"{_pct([r.get('oracle') == 'search miss' for r in rs])} | {_pct([r.get('oracle') == 'data-limited' for r in rs])} | "
             f"{_pct([r['got5'] == r['cls'] for r in rs])} | {_med([r['err5'] for r in rs])} | "
             f"{_pct([r['gotS'] == r['cls'] for r in rs])} | {_med([r['errS'] for r in rs])} | "
             f"{np.mean([r['used'] for r in rs]):.2f} | "
-            f"{(f'{np.median(miss):.2g} / {np.max(miss):.2g}') if miss else '–'} | {cov} | {rms} | {np.mean([r['ms'] for r in rs]):.0f} | "
+            f"{(f'{np.median(miss):.2g} / {np.max(miss):.2g}') if miss else '–'} | {lost} | {cov} | {rms} | {np.mean([r['ms'] for r in rs]):.0f} | "
             f"{(f'{nt.mean():.0f} / {nt.max():.0f}') if nt.size else '–'} | {_exact_pct(rs)} |")
     lines += ["", "Per region (3 touches / 3 + 2 random / 3 + ≤2 suggested, right class %):", "",
               "| class | region | trials | 3 | 3+2 random | 3+≤2 suggested | search misses (3 / suggested) | wrong answers (3) | noise-free exact % |",
@@ -434,12 +510,12 @@ def coverage_report(recs: list[dict]) -> str:
 
 
 def run_wide(classes, trials: int, seed: int, jobs: int, progress, first: int = 0,
-             coverage_only: bool = False, dist: str = "wide") -> list[dict]:
+             coverage_only: bool = False, dist: str = "wide", aim: str = "approach") -> list[dict]:
     """Every trial's record (``trials`` per class from trial ``first``), in ``jobs``
     processes; ``coverage_only``: the 3-touch recognition alone; ``dist``: the trials'
-    distribution (``SETS``)."""
+    distribution (``SETS``); ``aim``: where a sent touch lands (``AIMS``)."""
 
-    tasks = [(c, i, seed, coverage_only, dist) for c in classes for i in range(first, first + trials)]
+    tasks = [(c, i, seed, coverage_only, dist, aim) for c in classes for i in range(first, first + trials)]
     recs = []
     t0 = time.perf_counter()
     pool = _pool(jobs) if jobs > 1 else None
@@ -473,6 +549,10 @@ def main(argv=None) -> int:
     ap.add_argument("--set", choices=SETS, default="wide",
                     help="wide: the widened distributions (L 1-1500 mm, far stretches, thin ellipses' sharp ends, "
                          "small shapes, repeated touches; noise-free exactness); hand: the earlier regions, L 30-120 mm")
+    ap.add_argument("--aim", choices=AIMS, default="approach",
+                    help="approach: a sent touch lands where a pad with its orientation, coming in along its normal, "
+                         "first meets the object, or is lost; nearest: at the true curve's point nearest the place "
+                         "(the rule before session 17, an upper bound)")
     args = ap.parse_args(argv)
     if args.trials < 1 or args.first < 0:
         raise SystemExit("bench_wide: --trials must be >= 1 and --first >= 0")
@@ -482,14 +562,14 @@ def main(argv=None) -> int:
         sys.stderr.write(f"\r[bench_wide] {msg}   " + ("\n" if final else ""))
         sys.stderr.flush()
 
-    recs = run_wide(args.classes, args.trials, args.seed, args.jobs, progress, args.first, args.coverage_only, args.set)
+    recs = run_wide(args.classes, args.trials, args.seed, args.jobs, progress, args.first, args.coverage_only, args.set, args.aim)
     if args.coverage_only:
         text = (f"Generated by `python -m tools.bench_wide --coverage-only --first {args.first} --trials {args.trials} "
                 f"--seed {args.seed} --set {args.set}` ({len(recs)} trials, {time.perf_counter() - t0:.0f} s wall).\n\n"
                 + coverage_report(recs))
     else:
         text = markdown(recs, f"python -m tools.bench_wide --set {args.set} --trials {args.trials} --seed {args.seed}"
-                              + (f" --first {args.first}" if args.first else ""),
+                              + (f" --first {args.first}" if args.first else "") + f" --aim {args.aim}",
                         time.perf_counter() - t0, args.jobs)
     print(text)
     if args.out:

@@ -213,3 +213,24 @@ def test_a_semicubical_leader_suggests_its_other_branch():
     after, _, _ = bw._recognize(touches + [bw._extra_touch(shape, t, rs, direction)], nm)
     assert after.cls == "semicubical_parabola"
     assert after.ranking[1].bic - after.ranking[0].bic > 100
+
+
+@pytest.mark.parametrize("i", [0, 3])
+def test_a_cubical_suggestion_is_a_place_a_pad_lands_on(i):
+    """bench_wide --set wide seed 5 (development), cubical trials 0 and 3, one side of the
+    inflection, answered cubical: the suggestion lay across the inflection, on the stretch
+    concave toward the pad, which a flat pad sent there only bridges (tools.pad_approach:
+    its end meets the boundary, the touch is lost). Now only places where a pad coming in
+    along its normal first meets the leader's curve are suggested, and the pad lands."""
+    from tools import bench_wide as bw
+    from tools.pad_approach import solid_left
+
+    region, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("cubical_parabola", i, 5, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    rec, _, _ = bw._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert region == "one side of inflection" and rec.cls == "cubical_parabola" and rec.next_touch
+    nt = rec.next_touch
+    got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
+                   solid_left(shape.curve, ts, direction), direction)
+    assert got.why == "" and got.miss_mm < 0.01 * shape.size, got

@@ -38,8 +38,10 @@ def test_far_branch_semicubical_is_right_after_the_suggested_touches():
     """Seed 1, semicubical trial 22: three touches on one branch far from the cusp are
     answered parabola (every rival fits as well: data-limited). The suggestion lies at the
     parabola's end nearest the cusp; the object's nearest point there is on the other
-    branch, and that touch tells them apart (before: touched on the same branch, parabola)."""
-    out = B.run_trial(("semicubical_parabola", 22, 1))
+    branch, and that touch tells them apart (before: touched on the same branch, parabola).
+    Touched where the curve is nearest the suggestion (``--aim nearest``): a pad sent there
+    along its normal meets the other branch with its end (``--aim approach``: lost)."""
+    out = B.run_trial(("semicubical_parabola", 22, 1, False, "hand", "nearest"))
     assert out["got3"] == "parabola" and out["gotS"] == "semicubical_parabola", out["suggested"]
     assert any(np.sign(s["t"]) != np.sign(out["t3"][0]) for s in out["suggested"])
 
