@@ -104,6 +104,8 @@ class Probes:
         #: its last probe met the object at a pad end (:func:`toward_middle`)
         self.nudge: dict[str, float] = {}
         self.refined = False
+        #: per finger: the ψ of every probe it made
+        self.tried: dict[str, list[float]] = {f.name: [] for f in config.fingers}
 
     def _enough(self, name: str) -> bool:
         return bool(self.faces[name]) and np.ptp(self.faces[name]) >= math.radians(PROBE_ENOUGH_DEG) - 1e-9
@@ -111,10 +113,15 @@ class Probes:
     def next(self) -> dict[str, float]:
         """Each finger's next probe orientation (fingers with none left are absent); once
         every queue is empty, one more pass around a finger's only face contact,
-        ``PROBE_REFINE_DEG`` either side (then nothing)."""
+        ``PROBE_REFINE_DEG`` either side where the finger has not probed already (then
+        nothing): a probe turned toward the pad's middle that found the face probes there
+        first (:meth:`record`), and the pass made both again (P-series block 8 of
+        bench_explore --finite 20 --anywhere --seed 157: 100° and 120° twice each, 4 rounds of
+        ~2.5 s while the other finger pressed beside them)."""
         if not any(self.queues.values()) and not self.refined:
             self.refined = True
-            self.queues = {name: [faces[0] + math.radians(sign * PROBE_REFINE_DEG) for sign in (-1, 1)]
+            self.queues = {name: [a for a in (faces[0] + math.radians(sign * PROBE_REFINE_DEG) for sign in (-1, 1))
+                                  if not any(abs(math.remainder(a - t, 2 * math.pi)) < 1e-6 for t in self.tried[name])]
                            if len(faces) == 1 else [] for name, faces in self.faces.items()}
         return {name: queue[0] for name, queue in self.queues.items() if queue}
 
@@ -128,6 +135,7 @@ class Probes:
         stops probing."""
         name, probe = felt.finger, felt.touch
         out.probes.append(felt)
+        self.tried[name].append(probe.psi_center)
         u = probe_face_contact(self.config, felt)
         at = pad_contact(felt)
         if at is not None:
