@@ -847,6 +847,17 @@ def too_few_clear(usable: Sequence[FeltTouch], used: int, exc: Exception) -> Rec
                                               f"corners other touches pivoted about: {exc}")
 
 
+def logged_samples(config, finger: str, ticks, psi, readings=None) -> list[Sample]:
+    """A touch's samples rebuilt from its logged joint ticks (one row per reading) and
+    commanded pad orientations ``psi``: pad lines by the config's kinematics, in one pass;
+    ``readings`` their indices in the log (default 0, 1, …)."""
+    ticks = np.asarray(ticks, dtype=float)
+    lines = kin.finger_pad_line_from_ticks(config, finger, ticks)
+    readings = range(len(ticks)) if readings is None else readings
+    return [Sample(reading=i, psi=float(p), ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0)
+            for k, (i, p) in enumerate(zip(readings, psi))]
+
+
 def logged_felt(config, contents, settings: ExploreSettings) -> tuple[list[FeltTouch], list[FeltTouch]]:
     """A run log's touches rebuilt from its readings, each felt with the checks the
     exploration applied: (the usable ones, every one), in the log's order."""
@@ -855,11 +866,9 @@ def logged_felt(config, contents, settings: ExploreSettings) -> tuple[list[FeltT
     for logged in contents.touches:
         samples = []
         if logged.readings:
-            ticks = np.array([np.asarray(contents.readings[i]["ticks"], dtype=float)[slices[logged.finger]]
-                              for i in logged.readings])
-            lines = kin.finger_pad_line_from_ticks(config, logged.finger, ticks)  # one pass over the touch
-            samples = [Sample(reading=i, psi=psi, ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0)
-                       for k, (i, psi) in enumerate(zip(logged.readings, logged.psi))]
+            ticks = [np.asarray(contents.readings[i]["ticks"], dtype=float)[slices[logged.finger]]
+                     for i in logged.readings]
+            samples = logged_samples(config, logged.finger, ticks, logged.psi, logged.readings)
         if logged.kind == "flat":
             touch = FlatResult(logged.finger, logged.touch, logged.psi_center or 0.0, samples,
                                outcome=logged.outcome or "interrupted", roles=list(logged.roles))

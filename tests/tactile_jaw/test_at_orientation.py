@@ -12,7 +12,7 @@ from hand_driver import kinematics as kin
 from hand_driver.config import load_config
 from hand_driver.motion import Sample, TouchResult
 from recognizer.curves import CURVES, Pose
-from tactile_jaw.pipeline import ORIENTATION_STEP_SHARE, at_orientation, feel
+from tactile_jaw.pipeline import ORIENTATION_STEP_SHARE, at_orientation, feel, logged_samples
 
 DATA = Path(__file__).parent / "data" / "p_cubical_first_sample_off.json"
 #: random cubical 115 of bench_explore --finite 20 --anywhere --seed 139 --config config/jaw-p.yaml
@@ -24,11 +24,9 @@ TRUTH = ("cubical_parabola", {"a": 0.0005522150849600728, "c": -0.5},
 def _logged_roll(commanded_as_measured: bool = False):
     raw = json.loads(DATA.read_text())
     config = load_config("config/jaw-p.yaml")
-    ticks = np.array(raw["ticks"], dtype=float)
-    lines = kin.finger_pad_line_from_ticks(config, raw["finger"], ticks)
-    psis = lines.psi if commanded_as_measured else raw["psi"]
-    samples = [Sample(reading=k, psi=float(psi), ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0)
-               for k, psi in enumerate(psis)]
+    psis = (kin.finger_pad_line_from_ticks(config, raw["finger"], np.array(raw["ticks"], dtype=float)).psi
+            if commanded_as_measured else raw["psi"])
+    samples = logged_samples(config, raw["finger"], raw["ticks"], psis)
     return config, TouchResult(raw["finger"], 4, raw["psi_center"], samples, outcome="ok")
 
 

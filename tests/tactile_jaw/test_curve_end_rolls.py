@@ -13,12 +13,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hand_driver import kinematics as kin
 from hand_driver.config import load_config
-from hand_driver.motion import Sample, TouchResult
+from hand_driver.motion import TouchResult
 from recognizer.curves import CURVES, Pose
 from tactile_jaw.curvature_pool import pooled
-from tactile_jaw.pipeline import clear_of_corners, curve_ends, feel, make_recognizer
+from tactile_jaw.pipeline import clear_of_corners, curve_ends, feel, logged_samples, make_recognizer
 from tactile_jaw.settings import ExploreSettings
 
 DATA = Path(__file__).parent / "data" / "p_cubical_105_rolls.json"
@@ -34,10 +33,7 @@ def felt():
     config = load_config("config/jaw-p.yaml")
     out = {}
     for t in RAW["touches"]:
-        ticks = np.array(t["ticks"], dtype=float)
-        lines = kin.finger_pad_line_from_ticks(config, t["finger"], ticks)
-        samples = [Sample(reading=k, psi=psi, ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0)
-                   for k, psi in enumerate(t["psi"])]
+        samples = logged_samples(config, t["finger"], t["ticks"], t["psi"])
         out[t["touch"]] = feel(config, TouchResult(t["finger"], t["touch"], t["psi_center"], samples, outcome="ok"), 9)
     return config, out
 

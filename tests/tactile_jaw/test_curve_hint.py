@@ -8,11 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hand_driver import kinematics as kin
 from hand_driver.config import load_config
-from hand_driver.motion import Sample, TouchResult
+from hand_driver.motion import TouchResult
 from recognizer.curves import CURVES, Pose
-from tactile_jaw.pipeline import CURVE_HINT_SAMPLES, feel
+from tactile_jaw.pipeline import CURVE_HINT_SAMPLES, feel, logged_samples
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH
 
 DATA = Path(__file__).parent / "data" / "p_cubical_roll_to_corner.json"
@@ -23,10 +22,7 @@ TRUTH = ("cubical_parabola", {"a": 0.0009383107856381567, "c": -0.5}, Pose(0.310
 def _logged_roll(data=DATA):
     raw = json.loads(data.read_text())
     config = load_config("config/jaw-p.yaml")
-    ticks = np.array(raw["ticks"], dtype=float)
-    lines = kin.finger_pad_line_from_ticks(config, raw["finger"], ticks)
-    samples = [Sample(reading=k, psi=psi, ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0)
-               for k, psi in enumerate(raw["psi"])]
+    samples = logged_samples(config, raw["finger"], raw["ticks"], raw["psi"])
     return config, TouchResult(raw["finger"], 4, raw["psi_center"], samples, outcome="ok")
 
 

@@ -8,14 +8,12 @@ corner, and trimmed the left pad's two usable rolls; the object was refused."""
 import json
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-from hand_driver import kinematics as kin
 from hand_driver.config import load_config
-from hand_driver.motion import Sample, TouchResult
+from hand_driver.motion import TouchResult
 from tactile_jaw.pipeline import (CORNER_RADIUS_MM, CORNER_SIGMAS, clear_of_corners, clearing_corners, clears_around,
-                                  feel, on_corner)
+                                  feel, logged_samples, on_corner)
 
 DATA = Path(__file__).parent / "data" / "x_ellipse57_end_rolls.json"
 CONFIG = load_config("config/jaw.yaml")
@@ -23,10 +21,7 @@ CONFIG = load_config("config/jaw.yaml")
 
 def _roll(key: str) -> TouchResult:
     raw = json.loads(DATA.read_text())["rolls"][key]
-    ticks = np.array(raw["ticks"], dtype=float)
-    lines = kin.finger_pad_line_from_ticks(CONFIG, raw["finger"], ticks)
-    samples = [Sample(reading=k, psi=psi, ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0)
-               for k, psi in enumerate(raw["psi"])]
+    samples = logged_samples(CONFIG, raw["finger"], raw["ticks"], raw["psi"])
     return TouchResult(raw["finger"], int(key), raw["psi_center"], samples, outcome="ok")
 
 

@@ -9,14 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hand_driver import kinematics as kin
 from hand_driver.config import load_config
-from hand_driver.motion import Sample, TouchResult
+from hand_driver.motion import TouchResult
 from recognizer.curves import CURVES, Pose
 from tactile_jaw.choose import JawReach
 from tactile_jaw.explore import wider_again
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, clear_of_corners, corner_in_doubt, feel,
-                                  measured_there, on_corner)
+                                  logged_samples, measured_there, on_corner)
 from tactile_jaw.settings import ExploreSettings
 
 DATA = Path(__file__).parent / "data" / "x_ellipse_end_rolls.json"
@@ -27,10 +26,7 @@ CONFIG = load_config("config/jaw.yaml")
 
 def _roll(key: str) -> TouchResult:
     raw = json.loads(DATA.read_text())["rolls"][key]
-    ticks = np.array(raw["ticks"], dtype=float)
-    lines = kin.finger_pad_line_from_ticks(CONFIG, raw["finger"], ticks)
-    samples = [Sample(reading=k, psi=psi, ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0)
-               for k, psi in enumerate(raw["psi"])]
+    samples = logged_samples(CONFIG, raw["finger"], raw["ticks"], raw["psi"])
     return TouchResult(raw["finger"], int(key), raw["psi_center"], samples, outcome="ok")
 
 
