@@ -326,26 +326,27 @@ def curve_hint(config, touch: TouchResult,
     config/jaw-p.yaml, cubical 30); the exploration aims its finger's next roll there
     (tactile_jaw.explore) instead of counting the roll as off the curved part. Returns (that
     hint, the stretch's ``FeltTouch.curve_span``), each None when no run passes."""
-    for head, tail, felt in _felt_run(config, touch):
-        c = felt.contacts
-        psi = np.sort([s.psi for s in touch.samples])
-        step = float(np.median(np.diff(psi)))
-        way = (1 if tail else 0) - (1 if head else 0)
-        end = -1 if way > 0 else 0
-        span = (float(c.psi[end]), float(c.x[end]), float(c.y[end]), way) if way else None
-        if head and not tail:
-            return _roll_beside(felt, np.arange(c.x.size), 0, 1.0, step * (samples - 1), samples), span
-        if tail and not head:
-            return _roll_beside(felt, np.arange(c.x.size), c.x.size - 1, -1.0, step * (samples - 1), samples), span
-        m = c.x.size // 2
-        return (float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2), span
-    return None, None
+    found = _felt_run(config, touch)
+    if found is None:
+        return None, None
+    head, tail, felt = found
+    c = felt.contacts
+    psi = np.sort([s.psi for s in touch.samples])
+    step = float(np.median(np.diff(psi)))
+    way = (1 if tail else 0) - (1 if head else 0)
+    end = -1 if way > 0 else 0
+    span = (float(c.psi[end]), float(c.x[end]), float(c.y[end]), way) if way else None
+    if head and not tail:
+        return _roll_beside(felt, np.arange(c.x.size), 0, 1.0, step * (samples - 1), samples), span
+    if tail and not head:
+        return _roll_beside(felt, np.arange(c.x.size), c.x.size - 1, -1.0, step * (samples - 1), samples), span
+    m = c.x.size // 2
+    return (float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2), span
 
 
-def _felt_run(config, touch: TouchResult):
+def _felt_run(config, touch: TouchResult) -> tuple[int, int, FeltTouch] | None:
     """(samples dropped at the start, at the end, the run felt) of the stretch of a roll that
-    failed the smoothness test on which it still rolled on the curved part, as a list of one,
-    or empty: of the runs of at least ``CURVE_HINT_SAMPLES`` consecutive samples (ψ order)
+    failed the smoothness test on which it still rolled on the curved part, or None: of the runs of at least ``CURVE_HINT_SAMPLES`` consecutive samples (ψ order)
     that pass every check with the fewest dropped (:func:`_passing_runs`), one at an end of
     the roll when such a run keeps that end and none keeps the other: the roll left the
     curved part at the other end alone, and the curve goes on past the kept end, where the
@@ -362,12 +363,12 @@ def _felt_run(config, touch: TouchResult):
         drop = head + tail
         runs.append((head, tail, run))
     if not runs:
-        return []
+        return None
     for end in (0, 1):  # a run keeps the low-ψ end (0: nothing dropped at the start) and none the other
         kept = [r for r in runs if r[end] == 0]
         if kept and not any(r[1 - end] == 0 for r in runs):
-            return kept[:1]
-    return runs[:1]
+            return kept[0]
+    return runs[0]
 
 
 def _passing_runs(config, touch: TouchResult, least: int, margin: int = 0):
@@ -757,9 +758,8 @@ def curved_stretch(config, felt: FeltTouch) -> FeltTouch | None:
     aims there), or None. A touch the exploration marked ``rejected`` is felt as taken
     (``ok``: only a touch taken whole is marked so)."""
     touch = replace(felt.touch, outcome="ok") if felt.touch.outcome == "rejected" else felt.touch
-    for _, _, run in _felt_run(config, touch):
-        return run
-    return None
+    found = _felt_run(config, touch)
+    return None if found is None else found[2]
 
 
 def curve_refusal(curve: FeltTouch) -> Recognition:

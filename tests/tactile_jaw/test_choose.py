@@ -109,15 +109,15 @@ def _moved(move, x, y):
     return ax + c * x - s * y + move["dx"], ay + s * x + c * y + move["dy"]
 
 
-def _vertex_region_reached(rec, move, edge_deg):
-    """Whether, the parabola answer ``rec`` moved so, a pad rolls centred at every tangent turn
-    within ±edge_deg of its vertex (every 2.5°: more places than the search asked)."""
+def _vertex_region_reached(rec, move, edge_deg, reach=REACH):
+    """Whether, the parabola answer ``rec`` moved so, a pad of ``reach`` rolls centred at every
+    tangent turn within ±edge_deg of its vertex (every 2.5°: more places than the search asked)."""
     curve = CURVES["parabola"](rec.params)
     for c in np.arange(-edge_deg, edge_deg + 1e-9, 2.5):
         t = np.array([math.tan(math.radians(c))])
         x, y = _moved(move, *rec.pose.apply(*curve.point(t)))
         phi = float(curve.tangent_angle(t)[0]) + rec.pose.theta - math.pi + math.radians(move["turn_deg"])
-        if REACH.finger(float(np.ravel(x)[0]), float(np.ravel(y)[0]), phi) is None:
+        if reach.finger(float(np.ravel(x)[0]), float(np.ravel(y)[0]), phi) is None:
             return False
     return True
 
@@ -294,19 +294,6 @@ def test_a_move_to_the_telling_touch_also_brings_the_side_an_unrolled_finger_met
     assert budget_advice(ellipse, _why("rival"), None, REACH, 8, anywhere=lambda: wanted, also=[far]).move == alone.move
 
 
-def _reached(reach, rec, move, edge_deg):
-    """Whether, the parabola answer ``rec`` moved so, a pad of ``reach`` rolls centred at every
-    tangent turn within ±edge_deg of its vertex (every 2.5°)."""
-    curve = CURVES["parabola"](rec.params)
-    for c in np.arange(-edge_deg, edge_deg + 1e-9, 2.5):
-        t = np.array([math.tan(math.radians(c))])
-        x, y = _moved(move, *rec.pose.apply(*curve.point(t)))
-        phi = float(curve.tangent_angle(t)[0]) + rec.pose.theta - math.pi + math.radians(move["turn_deg"])
-        if reach.finger(float(np.ravel(x)[0]), float(np.ravel(y)[0]), phi) is None:
-            return False
-    return True
-
-
 def test_a_vertex_region_no_move_reaches_whole_is_narrowed_so_the_refusal_still_names_a_move():
     # random P parabola 72 of bench_explore --finite 20 --anywhere --seed 157, as its touches fitted it: felt
     # 52° on one side of the vertex, 0° on the other; one pad reaches about 45° of its tangent turn from
@@ -324,8 +311,9 @@ def test_a_vertex_region_no_move_reaches_whole_is_narrowed_so_the_refusal_still_
     narrow = float(re.search(r"across its vertex, (\d+) deg either side", stop).group(1))
     # narrower than the widest region, no narrower than each roll's far end a quarter roll past VERTEX_SIDE_DEG
     assert VERTEX_SIDE_DEG - 0.5 * half - 0.5 <= narrow < VERTEX_SIDE_DEG + 0.5 * half - 0.5
-    assert not _reached(p_reach, rec, {"dx": 0.0, "dy": 0.0, "turn_deg": 0.0, "about": [0.0, 0.0]}, narrow)
-    assert _reached(p_reach, rec, stop.move, narrow)
+    still = {"dx": 0.0, "dy": 0.0, "turn_deg": 0.0, "about": [0.0, 0.0]}
+    assert not _vertex_region_reached(rec, still, narrow, p_reach)
+    assert _vertex_region_reached(rec, stop.move, narrow, p_reach)
     # a roll aimed beyond the vertex that ran off the curved part without pivoting about a corner
     # (at the edge of its pad's reach) names the move too; one that pivoted (the object ends there) does not
     aim, off = next_aim(rec, _why("vertex"), touched, p_reach, list(p_reach.config.fingers), [],
