@@ -318,7 +318,6 @@ def profiled(cand: Candidate, data: Contacts) -> Candidate:
     return ProfiledCandidate(**fields, fit=(_ContactProblem(model, data.n), z, cov, list(range(o))))
 
 
-
 def line_correlation(cand: Candidate, data: Contacts) -> float:
     """The correlation of a line answer's θ and its offset across itself at the foot of
     the perpendicular from the origin (the touches' middle, in recognizer.scale_free's
