@@ -735,7 +735,7 @@ def _cubical_scan_cost(data: tuple, th: np.ndarray):
         rphi = (np.arctan(lam_t) - psi) / sig_phi
         rk = k - 6.0 * a[:, None] * t / q**1.5
         rks = ks - (6.0 * a[:, None] * q - 108.0 * a[:, None] ** 2 * t * t * lam_t) / q**3
-        cost = (w_pos * rv * rv).sum(-1) + (rphi * rphi).sum(-1) + _curvature_chi2(W, rk, rks)
+        cost = (w_pos * rv * rv / q).sum(-1) + (rphi * rphi).sum(-1) + _curvature_chi2(W, rk, rks)
         cost = np.where(good & (a != 0) & np.isfinite(cost), cost, np.inf)
     return cost, a, c, t
 

@@ -147,3 +147,45 @@ def test_far_side_cubical_scan_weighs_curvature_and_positions_with_the_slopes():
     unit = Unit.of(req)
     d = contacts_of(unit.request(req), unit.options(opts), unit.noise(opts.noise))
     assert min(f.chi2 for f in fit_class_every_start("cubical_parabola", d)) < 7.6  # 8.31 before
+
+
+def test_cubical_scan_weighs_positions_across_the_curve_not_across_the_frame():
+    """starts._cubical_scan_cost at the true frame of a steep stretch far on one side (λ −8 … −19),
+    each touch moved 3 σ along its normal: a position's error across the curve shows across the
+    frame's axis √(1 + λ²) times larger, so its χ² term is the offset² / (1 + λ²); unweighted it
+    scored 4,261 where the positions' own χ² is 27, and the scan passed over the truth's frame."""
+    import math
+
+    from recognizer.contacts import Contacts
+    from recognizer.curves import CURVES
+    from recognizer.starts import _cubical_scan_cost, _cubical_scan_data
+
+    x, y, phi, k, ks = CURVES["cubical_parabola"]({"a": -2.0, "c": 0.5}).frame(np.array([1.2, 1.5, 1.8]))
+    sig = 1e-3
+    off = np.array([3.0, -3.0, 3.0]) * sig
+    x, y = x - np.sin(phi) * off, y + np.cos(phi) * off
+    cov = np.zeros((3, 2, 2))
+    cov[:, 0, 0] = (0.01 * k) ** 2
+    cov[:, 1, 1] = (0.05 * ks) ** 2
+    d = Contacts(x, y, phi, k, ks, cov, np.full(3, sig), np.full(3, 1.5e-3))
+    cost, a, c, _ = _cubical_scan_cost(_cubical_scan_data(d), np.array([0.0]))
+    assert math.isfinite(cost[0]) and cost[0] < 2.0 * 27.0, cost  # 4261 before
+    assert a[0] == pytest.approx(-2.0, rel=0.05) and c[0] == pytest.approx(0.5, abs=0.05)
+
+
+def test_far_side_cubical_scan_reaches_the_truth_valley_on_steep_slopes():
+    """tools.bench_sigma seed 181 (development since session 18), cubical far on one side, trial
+    26, L = 1 mm (λ −5 … −19): every start ended at a > 0 (a 36.5 ± 5.5, c −7.8 for a truth of
+    −269, −0.49: z 55.3), while the truth's valley (a −274, c −0.76) lies Δχ² 2.8 higher; the
+    scan, scoring the positions across the frame's axis unweighted by 1/(1 + λ²), had its only
+    minimum in the answer's valley. Now it reaches both, and the answer's σ's span them."""
+    params, req, opts = _case("cubical_parabola", "far one side", 26, L=1.0, seed=181)
+    rec = recognize(req, opts)
+    assert rec.cls == "cubical_parabola", rec.reason
+    for k, v in params.items():
+        assert abs(rec.params[k] - v) <= 1.96 * rec.uncertainty[k], (k, rec.params[k], v, rec.uncertainty[k])
+    unit = Unit.of(req)
+    d = contacts_of(unit.request(req), unit.options(opts), unit.noise(opts.noise))
+    fits = fit_class_every_start("cubical_parabola", d)
+    low = min(f.chi2 for f in fits)
+    assert any(f.chi2 < low + 3.84 and f.params["a"] < 0 for f in fits), [(f.chi2, f.params) for f in fits]
