@@ -757,7 +757,10 @@ def cubical_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
     the slopes alone, exact for three touches, the noise of three steep slopes went into
     a, c, u₀ whole: far on one side the scan missed the lowest valley, tools.bench_sigma
     seed 113 trial 15, z −5.4 in a valley Δχ² 0.7 above it); each point
-    is scored by the χ² of the tangent angles, the positions across the frame's axis and
+    is scored by the χ² of the tangent angles, the positions (an offset across the frame's
+    axis is √(1 + λ²) times the offset across the curve, so its square is divided by 1 + λ²,
+    as the linear rows weigh it: unweighted, steep touches scored up to 360× their χ² and
+    the truth's frame was passed over, tools.bench_sigma seed 181 trial 26, z 55) and
     κ = 6at/(1 + λ²)^{3/2}, κ_s (eq. 13) under their stated deviations. The ``n_best``
     lowest local minima over θ, each narrowed (``SCAN_ZOOMS``), are returned, t = uᵢ − u₀.
     Needs three places: through two, every frame fits."""
