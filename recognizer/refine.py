@@ -216,6 +216,7 @@ class _Problem:
         self.n_res = self.n_raw if self.whiten is None else (
             sum(idx.size if w is None else w.shape[0] for idx, w in self.whiten) + 2 * len(data.contact_rows))
         self._memo: tuple[bytes, tuple] | None = None
+        self._res_memo: tuple[bytes, np.ndarray] | None = None
         self._jac_memo: tuple[bytes, np.ndarray] | None = None
         self._t_flat: tuple | None = None
         self._const: np.ndarray | None = None
@@ -307,22 +308,28 @@ class _Problem:
 
     # -- model -----------------------------------------------------------------------------
     def _model(self, params: dict, pose: Pose, t: np.ndarray):
+        """The curve and its hand-frame x, y, φ (κ, κ_s at contact rows) at the unknowns
+        (errstate: the caller's, ``residuals`` or ``jacobian``: one context per evaluation)."""
         curve = CURVES[self.cls](params)
-        with np.errstate(all="ignore"):
-            px, py = curve.point(t)
-            hx, hy = pose.apply(px, py)
-            phi = np.asarray(curve.tangent_angle(t), float) + pose.theta + (np.pi if self.direction < 0 else 0.0)
-            extra = None
-            if self.data.contact_rows:
-                tc = t[self.data.contact_rows]
-                sign = 1.0 if self.direction > 0 else -1.0
-                extra = (sign * np.asarray(curve.kappa(tc), float), np.asarray(curve.kappa_s(tc), float))
+        px, py = curve.point(t)
+        hx, hy = pose.apply(px, py)
+        phi = np.asarray(curve.tangent_angle(t), float) + pose.theta + (np.pi if self.direction < 0 else 0.0)
+        extra = None
+        if self.data.contact_rows:
+            tc = t[self.data.contact_rows]
+            sign = 1.0 if self.direction > 0 else -1.0
+            extra = (sign * np.asarray(curve.kappa(tc), float), np.asarray(curve.kappa_s(tc), float))
         return curve, np.asarray(hx, float), np.asarray(hy, float), phi, extra
 
     def residuals(self, z: np.ndarray) -> np.ndarray:
-        _, _, _, _, hx, hy, phi, extra = self._model_at(z)
+        """The whitened residuals at z, memoized for the last z (leastsq evaluates its start
+        twice, once to check shapes): a fresh array each call."""
+        key = z.tobytes()
+        if self._res_memo is not None and self._res_memo[0] == key:
+            return self._res_memo[1].copy()
         d = self.data
         with np.errstate(all="ignore"):
+            _, _, _, _, hx, hy, phi, extra = self._model_at(z)
             parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, wrap_angle(d.phi - phi) / self.sig_phi]
             if extra is not None:
                 parts += [(d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s]
@@ -333,6 +340,7 @@ class _Problem:
         r.clip(-RESIDUAL_CAP, RESIDUAL_CAP, out=r)
         if bad.any():
             r[bad] = 1e8
+        self._res_memo = (key, r.copy())
         return r
 
     def _across_along(self, a: np.ndarray) -> None:

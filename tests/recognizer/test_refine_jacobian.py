@@ -74,6 +74,25 @@ def test_memo_follows_z():
     assert np.array_equal(problem.residuals(z), r3)
 
 
+def test_residuals_memo_at_the_same_z():
+    """leastsq evaluates its start twice (a shape check, then MINPACK): the second call at the
+    same z is the memo's, a fresh array equal to the first to the bit, and a caller that
+    writes into the array it got does not change what the next call returns."""
+    problem, z = _problem("semicubical_parabola", 5, 1)
+    r0 = problem.residuals(z)
+    calls = []
+    inner = problem._model_at
+    problem._model_at = lambda zz: calls.append(1) or inner(zz)
+    r1 = problem.residuals(z.copy())
+    assert calls == [] and r1 is not r0 and r1.tobytes() == r0.tobytes()
+    r1[:] = 0.0
+    assert problem.residuals(z).tobytes() == r0.tobytes()
+    z2 = z.copy()
+    z2[0] += 1e-3
+    problem.residuals(z2)
+    assert calls == [1]
+
+
 @pytest.mark.parametrize("cls", ["ellipse", "cubical_parabola"])
 def test_jacobian_across_and_along(cls):
     """With a position deviation along the tangent (``pos_along``) different from across it,
