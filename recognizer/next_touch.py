@@ -36,8 +36,17 @@ tangent, and the pad comes in along its normal from away from the solid (the sid
 touches curve toward: ``Contacts.dominant_kappa``). Places are kept where such a pad,
 ``PAD_ROLLS`` rolls either side of its middle and starting the touches' extent out, first
 meets the leader's curve there (``_landed``: no stretch concave toward it, no other branch
-in the way); a rival's separation counts, when the rival is true, only where the pad lands
-on the rival's curve too.
+in the way). A touch lost tells nothing whichever candidate is true, so the class gain is
+weighted by the chance the pad lands and seats: Σ w_c·p_c over the leader and the rivals
+(normalized), p_c = 0 where the pad does not first meet c's curve there, else the chance
+that c's tangent, in c's own direction of travel, lies within the pad's tolerance of the
+pad's orientation (``_seats``: c's predicted tilt and its σ_φ; a tilt δφ puts the contact
+δφ/|κ| along the pad, which must leave room for the roll, and a pad turns ``PAD_SEAT_RAD``
+to seat). The leader's parameter gain counts with the leader's own p. Before (session 17),
+a rival counted only in its own pair and only where the pad landed on its curve at its
+mean: places where the rivals' tangents were tilted from the leader's, or unknown (a
+circle leader's far side, 9e3 rad for the ellipse rival), were suggested and the touch lost
+(bench_wide seeds 179 and 5, ellipse short stretches).
 
 Greedy, one touch at a time (adaptive-submodular selection, so greedy is near-optimal):
 while some place resolves at least ``CLASS_GAIN_MIN`` nats of class entropy, the place of
@@ -61,6 +70,7 @@ import math
 from typing import Sequence
 
 import numpy as np
+from scipy import special
 
 from recognizer.contacts import Contacts
 from recognizer.curves import CURVES, Pose, travel_direction
@@ -84,6 +94,9 @@ N_DENSE = 400
 MIN_WEIGHT = 1e-3
 PAD_ROLLS = 1.0
 """a pad's half length in rolls: a pad twice as long as the request's touches roll."""
+PAD_SEAT_RAD = 0.05
+"""how far a pad that meets the boundary with its end turns to seat on it (rad): the least
+tilt between the pad and the boundary's tangent it absorbs."""
 SEPARATION_MIN = 0.1
 """an expected χ² separation below this (1.2 % of a pair's entropy) is not checked the other way round."""
 
@@ -227,6 +240,34 @@ def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, 
     return mean, np.einsum("mai,ij,mbj->mab", G, C, G), G, _touchable(curve, t, roll), (curve, pose, t)
 
 
+def _seats(tilt: np.ndarray, mean: np.ndarray, P: np.ndarray, W: np.ndarray, roll: float) -> np.ndarray:
+    """Probability that a pad sent with a place's tangent (the leader's, in the direction of
+    travel) meets a candidate's curve with its face, the candidate true: the curve's tangent
+    there in its own direction of travel is tilted from the pad's by δφ ~ N(``tilt``, σ_φ²)
+    (σ_φ the predicted tangent angle's σ, from the whitened prediction ``mean``, ``P``; W
+    whitens R). A pad tilted by δφ meets a curve of curvature κ where the tangent has turned
+    by δφ, δφ/|κ| along the pad, which leaves room for the roll while that is at most
+    (``PAD_ROLLS`` − ½)·roll, and a pad that meets it with its end turns ``PAD_SEAT_RAD`` to
+    seat; a tilt beyond π/2 comes in from the solid's side. So P(|δφ| ≤ tol): where the
+    candidate's tangent differs from the leader's, or is unknown (a stretch extrapolated far
+    from the touches), the touch is likely lost if that candidate is true."""
+    kappa = np.abs(np.linalg.solve(W[2:, 2:], mean[:, 2:].T)[0])
+    tol = np.clip(kappa * roll * (PAD_ROLLS - 0.5), PAD_SEAT_RAD, np.pi / 2)
+    s_phi = np.sqrt(np.clip(P[:, 1, 1], 0.0, None)) / W[1, 1]
+    s_phi = np.maximum(s_phi, 1e-12 * tol)  # an exact prediction: the tilt is the mean's
+    p = special.ndtr((tol - tilt) / s_phi) - special.ndtr((-tol - tilt) / s_phi)
+    return np.where(np.isfinite(p), p, 0.0)
+
+
+def _tilt(c: Candidate, d: Contacts, posed, travel: np.ndarray) -> np.ndarray:
+    """The angle from a pad's orientation ``travel`` to candidate c's tangent, in c's own
+    direction of travel (the touches' on c), at c's points ``posed`` (``_prediction``): near
+    π where c's curve runs the other way (the pad comes in from c's solid side)."""
+    curve, pose, t = posed
+    way = np.pi if travel_direction(c.curve(), c.pose, c.t, d.phi) < 0 else 0.0
+    return wrap_angle(np.asarray(curve.tangent_angle(t), float) + pose.theta + way - travel)
+
+
 def _contact(posed, lead_phi):
     """(x, y, tangent angle within π/2 of ``lead_phi``) of a candidate's points t: where a
     pad aimed at the places would touch that candidate's curve."""
@@ -328,6 +369,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     eye = np.eye(4)[None]
     P_lead = np.where(np.isfinite(P_lead), P_lead, 0.0)
     ig_param = 0.5 * np.linalg.slogdet(eye + P_lead)[1]
+    seat_lead = _seats(np.zeros(px.size), mean_lead, P_lead, W, roll) if padded else np.ones(px.size)
     C = _cov(leader, d.scale)
     k = len(CURVES[leader.cls].param_names)
     shrink = np.ones(px.size)
@@ -344,6 +386,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     # classes
     ig_class = np.zeros(px.size)
     best_sep = {}
+    landed = w_lead * seat_lead
     for c, wc in others:
         mean_c, P_c, _, ok_c, posed_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, d.scale, roll)
         delta = mean_c - mean_lead
@@ -359,12 +402,17 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
             chi2_b = np.einsum("ma,mab,mb->m", delta, _inv(eye + P_b + P_c[sep]), delta)
             chi2[sep] = np.minimum(chi2[sep], np.where(np.isfinite(chi2_b), chi2_b, np.inf))
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
-        # c true, a pad that does not land on c's curve tells nothing: the pair is resolved
-        # when the leader is true, and when c is and the pad lands
-        landed = (w_lead + wc * lands(c, px, py, phi + flip)) / (w_lead + wc)
-        ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0)) * landed
+        # c true, the pad lands on c's curve and seats there, or the touch is lost
+        if padded:
+            landed += wc * lands(c, px, py, phi + flip) * _seats(_tilt(c, d, posed_c, phi + flip), mean_c, P_c, W, roll)
+        else:
+            landed += wc
+        ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0))
         best_sep[c.cls] = chi2
-    gain = ig_class + w_lead * np.where(np.isfinite(ig_param), ig_param, 0.0)
+    # a lost touch tells nothing, whichever candidate is true: every pair's resolution
+    # counts in proportion to the chance the pad lands and seats
+    ig_class *= landed / (w_lead + sum(wc for _, wc in others))
+    gain = ig_class + w_lead * seat_lead * np.where(np.isfinite(ig_param), ig_param, 0.0)
     helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
     if not helps.any():
         return None

@@ -234,3 +234,50 @@ def test_a_cubical_suggestion_is_a_place_a_pad_lands_on(i):
     got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
                    solid_left(shape.curve, ts, direction), direction)
     assert got.why == "" and got.miss_mm < 0.01 * shape.size, got
+
+
+@pytest.mark.parametrize("cls, i, seed", [("ellipse", 12, 179), ("ellipse", 6, 5)])
+def test_a_suggestion_lands_where_the_rivals_tangent_is_uncertain_or_tilted(cls, i, seed):
+    """bench_wide --set wide, development seeds: an ellipse's short stretch answered circle
+    (seed 179 trial 12, 686 mm) or semicubical (seed 5 trial 6, 3.3 mm). The suggestion lay
+    where the leader's curve is sure of its tangent and the rivals' are not (the ellipse
+    rival's predicted tangent 9e3 rad uncertain on the circle's far side) or tilted from it
+    (0.17 rad): the true ellipse met the pad with its end or too far along it for the roll,
+    and the touch was lost. Now each candidate's chance that the pad lands and seats (its
+    predicted tilt and its σ against the pad's tolerance) weighs the place: the pad lands."""
+    from tools import bench_wide as bw
+    from tools.pad_approach import solid_left
+
+    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case(cls, i, seed, "wide")
+    direction = int(rs.choice([-1, 1]))
+    bw._exact(shape, ts, direction)  # (the bench's draws before the noisy touches)
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    rec, _, _ = bw._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert rec.cls != cls and rec.next_touch
+    nt = rec.next_touch
+    got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
+                   solid_left(shape.curve, ts, direction), direction)
+    assert got.why == "", got
+
+
+def test_a_pad_seats_within_its_tolerance_of_the_predicted_tilt():
+    """``_seats``: P(|δφ| ≤ tol) for δφ ~ N(tilt, σ_φ²), tol = max(κ·roll·(PAD_ROLLS − ½),
+    PAD_SEAT_RAD) at most π/2, checked against the normal distribution's closed form."""
+    from scipy.stats import norm
+
+    from recognizer.next_touch import PAD_SEAT_RAD, _seats
+
+    W = np.diag([1.0, 2.0, 4.0, 8.0])  # σ_pos, σ_φ, the roll's κ, κ_s: 1, 0.5, 0.25, 0.125
+    roll, kappa = 2.0, 0.3  # tol = 0.3 · 2 · 0.5 = 0.3 rad
+    mean = np.array([[0.0, 0.0, 4.0 * kappa, 0.0]] * 4)
+    P = np.zeros((4, 4, 4))
+    P[:, 1, 1] = 4.0 * np.array([0.1, 0.1, 1e-30, 1e-30]) ** 2  # σ_φ 0.1, 0.1, ~0, ~0
+    tilt = np.array([0.0, 0.25, 0.29, 0.31])
+    got = _seats(tilt, mean, P, W, roll)
+    want = [norm.cdf(0.3, 0.0, 0.1) - norm.cdf(-0.3, 0.0, 0.1), norm.cdf(0.3, 0.25, 0.1) - norm.cdf(-0.3, 0.25, 0.1), 1.0, 0.0]
+    assert got == pytest.approx(want, abs=1e-12)
+    flat = mean.copy()
+    flat[:, 2] = 0.0  # κ 0: the seat's own tolerance
+    assert _seats(np.array([0.0, 0.0, 0.9 * PAD_SEAT_RAD, 1.1 * PAD_SEAT_RAD]), flat, P, W, roll)[2:] == pytest.approx([1.0, 0.0])
+    back = _seats(np.full(4, np.pi), mean * 1e6, P, W, roll)  # a tolerance of π/2 at most: reversed never seats
+    assert back == pytest.approx(np.zeros(4), abs=1e-12)
