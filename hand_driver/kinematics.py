@@ -314,6 +314,33 @@ def default_degree(n: int) -> int:
     return 3 if n >= 6 else max(1, n - 2)
 
 
+def determined_degree(psi) -> int:
+    """The highest degree of d(ψ) whose least-squares fit the pad angles ``psi`` (≥ 1, any
+    order) determine: its design matrix in :func:`touch_from_pad_lines`'s abscissae, columns
+    scaled to unit norm as numpy's fit scales them, has full rank at the tolerance numpy's
+    fit uses (len · ε of the largest singular value). A higher degree is fitted rank-deficient
+    (numpy's RankWarning): its coefficients are not the readings' but the solver's choice
+    (a flat press's scan of 30 lines over 58°, P-series line 16 of bench_explore --finite 20
+    --anywhere --seed 173: degrees 25 and 26)."""
+    psi = np.sort(np.unwrap(np.asarray(psi, dtype=float)))
+    x, _ = _abscissae(psi)
+    vander = np.polynomial.polynomial.polyvander(x, psi.size - 1)
+    tol = psi.size * np.finfo(float).eps
+    for deg in range(1, psi.size):
+        cols = vander[:, : deg + 1]
+        sv = np.linalg.svd(cols / np.linalg.norm(cols, axis=0), compute_uv=False)
+        if sv[-1] <= tol * sv[0]:
+            return deg - 1
+    return psi.size - 1
+
+
+def _abscissae(psi: np.ndarray) -> tuple[np.ndarray, float]:
+    """The fit's abscissae x ∈ [−1, 1] of ascending pad angles ``psi``, and the half range (rad)
+    they are scaled by."""
+    scale = max(0.5 * (psi[-1] - psi[0]), 1e-12)
+    return (psi - 0.5 * (psi[0] + psi[-1])) / scale, scale
+
+
 #: a pass whose radius of curvature at the middle sample is beyond this (mm) or not finite
 #: keeps its own origin: a boundary this flat has its centre of curvature too far out to fit about
 FLAT_RHO_MM = 1e4
@@ -339,9 +366,7 @@ def touch_from_pad_lines(psi, d, origin=None, degree: int | None = None) -> Touc
     deg = default_degree(psi.size) if degree is None else degree
     if not 1 <= deg <= psi.size - 1:
         raise InputError(f"polynomial degree {deg} out of range [1, {psi.size - 1}] for {psi.size} readings")
-    c0 = 0.5 * (psi[0] + psi[-1])
-    scale = max(0.5 * (psi[-1] - psi[0]), 1e-12)
-    x = (psi - c0) / scale
+    x, scale = _abscissae(psi)
     n = _e(psi)
     nperp = np.stack([-n[:, 1], n[:, 0]], axis=-1)
     m = psi.size // 2

@@ -173,8 +173,9 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
         return fits[k]
 
     capped = degree is None  # the order rule's cap: the next degree's truncation is stated
-    base, factor = choose_degree(fit_of, weighed, capped)
-    curved, curved_factor = curvature_degree(fit_of, weighed, base.degree, capped)
+    top = kin.determined_degree(lines.psi)  # no degree the readings do not determine
+    base, factor = choose_degree(fit_of, weighed, capped, top)
+    curved, curved_factor = curvature_degree(fit_of, weighed, base.degree, capped, top)
     lowest = fit_of(weighed.start)[1]  # the corner test's ρ: the most precise one
     n = q.shape[0]
     m = n // 2
@@ -210,35 +211,40 @@ ORDER_ALPHA = 1e-2
 TRUNCATION_ALPHA = 0.05
 
 
-def choose_degree(fit_of, weighed: range, capped: bool = False):
+def choose_degree(fit_of, weighed: range, capped: bool = False, top: int | None = None):
     """The order rule: from the lowest degree ``weighed``, step up to a richer one (one or two
     degrees up: d(ψ)'s truncation may be even or odd) while it changes the contacts
     significantly (:func:`truncation`: the χ² of the difference above its limit at
     ``ORDER_ALPHA``); the chosen degree's noise factor also holds the truncation estimated
     against the next degree, also at the top of ``weighed`` when ``capped`` (the rule chose:
     the readings still fit one degree more, and a far arm's truncation at the cap made "no
-    class fits" on the P-series hyperbola example). ``fit_of(k)`` is :func:`_propagate` at
-    degree k; returns the chosen (contacts, factor)."""
+    class fits" on the P-series hyperbola example). No degree above ``top`` is fitted: the
+    readings do not determine it (kinematics.determined_degree). ``fit_of(k)`` is
+    :func:`_propagate` at degree k; returns the chosen (contacts, factor)."""
     k = weighed.start
+    top = fit_of(k)[0].x.size - 1 if top is None else top
     while True:
-        richer = range(k + 1, min(k + 2, weighed.stop - 1) + 1)
+        richer = range(k + 1, min(k + 2, weighed.stop - 1, top) + 1)
         steps = [j for j in richer if _significant(*truncation(fit_of(k), fit_of(j)))]
         if not steps:
-            beyond = capped and k + 2 < fit_of(k)[0].x.size  # at the cap, the next degree still fits
+            beyond = capped and k + 2 < fit_of(k)[0].x.size and k + 1 <= top  # at the cap, the next degree still fits
             return _with_truncation(fit_of(k), fit_of(k + 1)) if richer or beyond else fit_of(k)
         k = steps[0]
 
 
-def curvature_degree(fit_of, weighed: range, k: int, capped: bool = False):
+def curvature_degree(fit_of, weighed: range, k: int, capped: bool = False, top: int | None = None):
     """The degree κ and κ_s at the contact come from: from the contacts' degree ``k`` (:func:`choose_degree`)
     step up while the next degree states them with less expected squared error
     (:func:`_less_error`). Fine encoders make a low degree's κ precise but biased while its
     contacts pass the position test (the P-series cubical example's cubic: κ 1 % off, σ 0.1 %;
     the quartic's −0.1 %, σ 0.5 %); the contacts keep their own degree, whose arc length a
     noisier one could fold. Returns (contacts, factor) of that degree, its truncation against
-    the next one stated as in :func:`choose_degree`."""
-    while k + 1 < weighed.stop and _less_error(fit_of(k), fit_of(k + 1)):
+    the next one stated as in :func:`choose_degree`; none above ``top`` (as there)."""
+    top = fit_of(k)[0].x.size - 1 if top is None else top
+    while k + 1 < min(weighed.stop, top + 1) and _less_error(fit_of(k), fit_of(k + 1)):
         k += 1
+    if k + 1 > top:
+        return fit_of(k)
     if k + 1 < weighed.stop:
         return _with_truncation(fit_of(k), fit_of(k + 1))
     if capped and len(weighed) == 1 and k + 1 < fit_of(k)[0].x.size:

@@ -412,8 +412,14 @@ def sliding_face(rolls: Sequence[FeltTouch], length_mm: float,
     139: within 0.03 mm over 10.6 mm, off the object). Random block 8 of bench_explore --finite 20 --anywhere
     --seed 139 (P-series, near the palm): no press seated, the right pad's proximal end slid
     12.5 mm along a face 69° from its nominal normal over three rolls (tactile_jaw.pipeline
-    .pad_end_slid), while the move named came from a press's scan that split at two points
-    5.7 mm apart inside the block."""
+    .slid_end), while the move named came from a press's scan that split at two points
+    5.7 mm apart inside the block. A roll whose end's points lie on one line within the pad
+    lines' own deviations (``slid``, tactile_jaw.pipeline.slid_end: fine encoders only, µm, where
+    a roll on a circle bends the end's path by 18–280 µm and an end turning about a corner under
+    the pad by its sagitta) counts whatever its envelope and pivots: P-series line 16 of --seed
+    173, near the palm, whose left pad's proximal end slid 1–3 mm along a face in two rolls
+    (envelope radius +14.3, +3.0 mm, their lines within 1 mm of points other rolls' lines pass
+    through, beside the face's corner), was refused naming no move."""
     best = None
     lines = [t.lines for t in rolls]
     pivots = [_pivot(ln, tol_mm) if np.asarray(ln.psi).size >= 3 else None for ln in lines]
@@ -422,10 +428,11 @@ def sliding_face(rolls: Sequence[FeltTouch], length_mm: float,
         every = [np.asarray(getattr(ln, end), dtype=float).reshape(-1, 2) for ln in lines]
         pool = np.concatenate(every) if every else np.empty((0, 2))
         for i, (pts, ln) in enumerate(zip(every, lines)):
-            if len(pts) < 3 or not concave[i] or (pivots[i] is not None and any(
-                    o is not None and j != i and np.linalg.norm(o - pivots[i]) <= PIVOT_AGAIN_MM
-                    for j, o in enumerate(pivots))):
-                continue  # its lines pass through a point another roll's pass through: a corner
+            pivoted = pivots[i] is not None and any(
+                o is not None and j != i and np.linalg.norm(o - pivots[i]) <= PIVOT_AGAIN_MM for j, o in enumerate(pivots))
+            if len(pts) < 3 or not ((concave[i] and not pivoted) or rolls[i].slid == end):
+                continue  # its lines pass through a point another roll's pass through (a corner), and its
+                # end's path is straight only within the tolerance
             centre = pts.mean(axis=0)
             along, across = np.linalg.svd(pts - centre)[2]
             if float(np.max(np.abs((pts - centre) @ across))) > tol_mm or float(np.ptp((pts - centre) @ along)) \

@@ -54,7 +54,7 @@ SMOOTH_ALPHA = 1e-3
 SMOOTH_DEGREE = 2
 #: a rolling touch whose pad end points (the pad's proximal or distal end at each reading) lie
 #: on one straight line within their noise (χ² at SMOOTH_ALPHA) is a pad end sliding along a
-#: straight face, not a roll (:func:`pad_end_slid`), when its pad lines' deviations are at
+#: straight face, not a roll (:func:`slid_end`), when its pad lines' deviations are at
 #: most this (mm): a roll bends the ends' paths too, but little — exact 18° rolls of the
 #: P-series left pad on circles of radius 10–100 mm bent the straighter end's path by
 #: 0.018–0.28 mm (≥ 60 of its deviations, 0.0002–0.0003 mm), the X-series pad's on a circle of
@@ -116,6 +116,8 @@ class FeltTouch:
     #: and that stretch's end (ψ rad, x, y mm of its contact) on the side where the roll alone left the
     #: curved part, with that side: +1 its high ψ, −1 its low ψ (:func:`_felt_run`); None if both or neither
     curve_span: tuple[float, float, float, int] | None = None
+    #: the pad end ("proximal", "distal") that slid along a straight face (:func:`slid_end`), when that rejected it
+    slid: str | None = None
 
     @property
     def finger(self) -> str:
@@ -160,13 +162,13 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     lines = kin.PadLine.stack([s.line for s in touch.samples]) if touch.samples else None
 
     def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False, corner=None, curve_at=None,
-            curve_span=None):
+            curve_span=None, slid=None):
         samples_touch = None
         if problem is None and fit is not None:
             samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
                                          curvature=(fit.kappa, fit.kappa_s, fit.cov), noise_factor=fit.noise_factor)
         return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve, corner=corner,
-                         curve_at=curve_at, curve_span=curve_span)
+                         curve_at=curve_at, curve_span=curve_span, slid=slid)
 
     cut_short = touch.outcome in CUT_SHORT
     if touch.outcome != "ok" and not cut_short:
@@ -206,9 +208,12 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
                        corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint, curve_span=span)
     if curve_checks:
-        slid = pad_end_slid(lines, fit)
+        slid = slid_end(lines, fit)
         if slid is not None:
-            return out(f"{finger}: {slid}", c, u, fit, off_curve=True)
+            end, chi2, dof = slid
+            return out(f"{finger}: off the curved part: the pad's {end} end slid along a straight face (its points "
+                       f"within their noise of one line, chi2 {chi2:.3g} on {dof} dof), a pad end, not the pad's face, "
+                       f"touched", c, u, fit, off_curve=True, slid=end)
     if fit is not None and np.any(np.diff(c.s) <= 0.0):
         # the cubic's ρ(ψ) = −(d + d'') is linear in ψ and its slope is mostly noise over a
         # short roll (σ_ρ ≈ 4 mm over 18°): at the roll's ends it can dip below 0 on a
@@ -657,13 +662,14 @@ def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float, lines: kin.Pad
     return rough(fit)
 
 
-def pad_end_slid(lines: kin.PadLine, fit: EnvelopeFit) -> str | None:
-    """Why a rolling touch is a pad end sliding along a straight face, or None: one pad end's
-    points over the readings lie on a straight line within the pad lines' deviations (χ² of
-    their distances from the line fitted to them within its limit at ``SMOOTH_ALPHA``), the
-    deviations at most ``SLIDE_MAX_SIGMA_MM``. The pad lines of such a slide have a smooth
-    envelope a few mm inside the pad (random block 2 of ``bench_explore --finite 10
-    --anywhere --classes line --config config/jaw-p.yaml --seed 11``: ρ 13.5 ± 0.014 and
+def slid_end(lines: kin.PadLine, fit: EnvelopeFit) -> tuple[str, float, int] | None:
+    """Whether a rolling touch is a pad end sliding along a straight face: the pad end
+    ("proximal" or "distal") whose points over the readings lie on a straight line within the
+    pad lines' deviations (χ² of their distances from the line fitted to them within its limit
+    at ``SMOOTH_ALPHA``), with that χ² and its dof; None when neither does or the deviations
+    exceed ``SLIDE_MAX_SIGMA_MM`` (coarse encoders cannot tell). The pad lines of such a slide
+    have a smooth envelope a few mm inside the pad (random block 2 of ``bench_explore --finite
+    10 --anywhere --classes line --config config/jaw-p.yaml --seed 11``: ρ 13.5 ± 0.014 and
     20.3 ± 0.014 mm, the proximal end on one line within 0.2 µm), which was taken for two
     touches of a curve: no class fit them, and no flat press followed."""
     sigma = np.asarray(fit.line_sigma, dtype=float)
@@ -677,8 +683,7 @@ def pad_end_slid(lines: kin.PadLine, fit: EnvelopeFit) -> str | None:
         across = np.linalg.svd(points - centre)[2][1]
         chi2 = float(np.sum(((points - centre) @ across / sigma) ** 2))
         if chi2 <= chi2_limit(SMOOTH_ALPHA, n - 2):
-            return (f"off the curved part: the pad's {name} end slid along a straight face (its points within "
-                    f"their noise of one line, chi2 {chi2:.3g} on {n - 2} dof), a pad end, not the pad's face, touched")
+            return name, chi2, n - 2
     return None
 
 

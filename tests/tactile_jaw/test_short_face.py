@@ -71,8 +71,9 @@ def test_a_face_a_pad_end_slid_along():
     from the proximal end and a single roll's 4.5 mm show none."""
     from hand_driver import kinematics as kin
     from tactile_jaw.flat_phase import sliding_face
-    def roll(lines, rho=-30.0):  # a felt roll: its pad lines and its envelope's radius of curvature
-        return SimpleNamespace(lines=kin.PadLine.stack(lines), fit=SimpleNamespace(rho=rho, sigma_rho=0.01))
+    def roll(lines, rho=-30.0, slid=None):  # a felt roll: its pad lines, its envelope's radius of curvature, and
+        # the pad end feel found on one line within the lines' deviations (fine encoders)
+        return SimpleNamespace(lines=kin.PadLine.stack(lines), fit=SimpleNamespace(rho=rho, sigma_rho=0.01), slid=slid)
 
     slides = [[_pad((x0 + 0.5 * k, 0.0), math.radians(20.0 + 2.0 * k)) for k in range(10)] for x0 in (0.0, 4.5, 9.0)]
     rolls = [roll(lines) for lines in slides]
@@ -87,3 +88,17 @@ def test_a_face_a_pad_end_slid_along():
     about = [roll([_pad(corner - 10.0 * np.array([math.cos(a), math.sin(a)]), a)
                    for a in np.radians(a0 + 2.0 * np.arange(10))], rho=0.0) for a0 in (0.0, 18.0, 36.0)]
     assert sliding_face(about, 52.0) is None
+    # the ends of the convex rolls on one line within the lines' own deviations (tactile_jaw.pipeline.slid_end):
+    # a slide whatever the envelope (P-series line 16 of bench_explore --finite 20 --anywhere --seed 173:
+    # ρ +14.3 and +3.0 mm, refused naming no move before)
+    convex_slides = [roll(lines, rho=25.0, slid="proximal") for lines in slides]
+    got = sliding_face(convex_slides, 52.0)
+    assert got is not None and got[0] == pytest.approx(13.5, abs=1e-6)
+    assert sliding_face([roll(lines, rho=25.0, slid="distal") for lines in slides], 52.0) is None  # the other end
+    # ... and whatever the points their lines pass through: the same slides, each turning only 2 deg about
+    # a point within 1 mm of the others' (a slide of 0.5 mm a roll beside the face's corner)
+    short = [[_pad((x0 + 0.5 * k, 0.0), math.radians(20.0 + 0.2 * k)) for k in range(10)]
+             for x0 in (0.0, 0.5, 1.0, 9.0, 9.5)]
+    got = sliding_face([roll(lines, rho=25.0, slid="proximal") for lines in short], 52.0)
+    assert got is not None and got[0] == pytest.approx(14.0, abs=1e-6)
+    assert sliding_face([roll(lines, rho=-30.0) for lines in short], 52.0) is None  # unflagged: pivots
