@@ -11,7 +11,10 @@ A profile says how much to touch and how hard to compute:
 - ``refine``: least squares over every sample after the invariants (recognizer.refine);
 - ``alpha``: false-rejection rate of each χ² consistency test;
 - ``decisive_rel_sigma``: an exploration answers only once every shape parameter's standard
-  deviation is at most this fraction of its magnitude (tactile_jaw.decide.imprecision).
+  deviation is at most this fraction of its magnitude (tactile_jaw.decide.imprecision);
+- ``target_rel_sigma``: a decisive exploration still touches on, within its touch budget,
+  while a shape parameter's standard deviation exceeds this fraction of its magnitude, and
+  answers at ``decisive_rel_sigma`` once no touch is left (tactile_jaw.explore).
 
 The numbers come from ``tactile bench`` (docs/bench/bench.md): see docs/estimation.md
 ("Profiles") for which to pick.
@@ -47,6 +50,7 @@ class Profile:
     refine: bool
     alpha: float = 1e-3
     decisive_rel_sigma: float = 0.02
+    target_rel_sigma: float = 0.01
 
     def __post_init__(self) -> None:
         where = f"profile {self.name!r}"
@@ -62,6 +66,9 @@ class Profile:
             raise InputError(f"{where}: alpha must be in (0, 0.5), got {self.alpha}")
         if not 0.0 < self.decisive_rel_sigma <= 0.5:
             raise InputError(f"{where}: decisive_rel_sigma must be in (0, 0.5], got {self.decisive_rel_sigma}")
+        if not 0.0 < self.target_rel_sigma <= self.decisive_rel_sigma:
+            raise InputError(f"{where}: target_rel_sigma must be in (0, decisive_rel_sigma = "
+                             f"{self.decisive_rel_sigma}], got {self.target_rel_sigma}")
 
     @property
     def step_rad(self) -> float:
@@ -118,7 +125,7 @@ PROFILES: dict[str, Profile] = {
     p.name: p
     for p in (
         Profile("fast", touches=3, samples_per_touch=5, roll_span_deg=12.0, estimator="auto", refine=False,
-                decisive_rel_sigma=0.05),
+                decisive_rel_sigma=0.05, target_rel_sigma=0.05),
         Profile("balanced", touches=3, samples_per_touch=9, roll_span_deg=18.0, estimator="auto", refine=True),
         Profile("accurate", touches=5, samples_per_touch=15, roll_span_deg=24.0, estimator="auto", refine=True),
     )

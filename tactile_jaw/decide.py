@@ -161,16 +161,19 @@ def vertex_sides(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray
     return max(-float(turn.min()), 0.0), max(float(turn.max()), 0.0)
 
 
-def imprecision(recognition: Recognition, profile: str | None = None, ticks_per_rev: int | None = None) -> Why | None:
+def imprecision(recognition: Recognition, profile: str | None = None, ticks_per_rev: int | None = None,
+                target: bool = False) -> Why | None:
     """Why the answer's shape parameters are not yet determined (a standard deviation above
-    the profile's ``decisive_rel_sigma`` of the parameter's magnitude), or None. Touches that all see one
+    the profile's ``decisive_rel_sigma`` of the parameter's magnitude; with ``target``, above
+    its ``target_rel_sigma``, which only keeps a decisive exploration touching), or None. Touches that all see one
     short arc fit one class decisively yet leave its parameters loose (an ellipse from 30°
     of its boundary: a ±4 %, b ±9 %), and their errors along the pad are correlated, so such
     an answer can be off by far more than its stated deviation: explore on instead. With the
     jaw's ``ticks_per_rev``, the reason says at which resolution the same touches would
     state them within the limit (every σ is the ticks' quantization, so it shrinks as one
     tick; a jaw with ≥ N ticks per turn, 3 significant digits)."""
-    rel = PROFILES.get(profile or DEFAULT_PROFILE, PROFILES[DEFAULT_PROFILE]).decisive_rel_sigma
+    chosen = PROFILES.get(profile or DEFAULT_PROFILE, PROFILES[DEFAULT_PROFILE])
+    rel = chosen.target_rel_sigma if target else chosen.decisive_rel_sigma
     loose, worst = [], 0.0
     for name, value in recognition.params.items():
         sd = recognition.uncertainty.get(name)

@@ -36,7 +36,7 @@ from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling
 from recognizer.curves import CURVES
 from tactile_common.errors import InputError
 from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, next_aim
-from tactile_jaw.decide import DECISIVE_CHI2, RecognizeTouches, decide, final_answer, sample_positions
+from tactile_jaw.decide import DECISIVE_CHI2, RecognizeTouches, decide, final_answer, imprecision, sample_positions
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
@@ -667,7 +667,20 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(f"after {len(usable)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
             if why is None:
                 undecided = None
-                break
+                loose = imprecision(recognition, settings.profile, target=True)
+                if loose is None or _spent(out) >= settings.touches:
+                    break
+                # decisive, but a parameter looser than the profile's target: touch on where the recognizer
+                # says that σ shrinks most, and answer as decided once it names no new place within reach
+                # or the budget is spent (P cubical 108 of bench_explore --finite 20 --anywhere --seed 173)
+                aim, stop = next_aim(recognition, loose, sample_positions(usable), reach,
+                                     [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE], aimed_at)
+                if stop is not None or aim is None:
+                    break
+                message = f"{recognition.cls} is decisive; touching on: {loose}"
+                emit({"type": "event", "kind": "touching_on", "message": message})
+                say(message)
+                continue
             undecided = (recognition, why, usable)
             active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
             aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,

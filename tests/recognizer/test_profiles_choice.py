@@ -35,7 +35,9 @@ def test_robot_time_model_by_hand():
 @pytest.mark.parametrize("kw,msg", [({"touches": 1}, "touches"), ({"samples_per_touch": 2}, "samples"),
                                     ({"roll_span_deg": 0.0}, "roll_span"), ({"estimator": "spline"}, "estimator"),
                                     ({"alpha": 0.7}, "alpha"), ({"decisive_rel_sigma": 0.0}, "decisive_rel_sigma"),
-                                    ({"decisive_rel_sigma": 0.6}, "decisive_rel_sigma")])
+                                    ({"decisive_rel_sigma": 0.6}, "decisive_rel_sigma"),
+                                    ({"target_rel_sigma": 0.0}, "target_rel_sigma"),
+                                    ({"target_rel_sigma": 0.03}, "target_rel_sigma")])
 def test_profile_validation(kw, msg):
     base = dict(name="x", touches=3, samples_per_touch=9, roll_span_deg=18.0, estimator="auto", refine=True)
     base.update(kw)
