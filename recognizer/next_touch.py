@@ -84,6 +84,10 @@ N_DENSE = 400
 MIN_WEIGHT = 1e-3
 PAD_ROLLS = 1.0
 """a pad's half length in rolls: a pad twice as long as the request's touches roll."""
+SEAT_RAD = 0.05
+"""how far a pad that meets the boundary with its end turns to seat on it (rad; tools.pad_approach)."""
+LAND_WEIGHT_MIN = 0.01
+"""a candidate at least this likely must be landed on too, where some helpful place is."""
 SEPARATION_MIN = 0.1
 """an expected χ² separation below this (1.2 % of a pair's entropy) is not checked the other way round."""
 
@@ -175,22 +179,47 @@ def _measure(cls: str, vec: np.ndarray, t: np.ndarray, px, py, nx, ny, lead_phi)
                      along * np.asarray(curve.kappa(t), float), np.asarray(curve.kappa_s(t), float)], axis=-1)
 
 
-def _landed(curve, pose: Pose, t_dense: np.ndarray, px, py, phi, left: bool, window: float, standoff: float) -> np.ndarray:
+def _landed(curve, pose: Pose, t_dense: np.ndarray, px, py, phi, left: bool, half_pad: float, reach: float,
+            standoff: float) -> np.ndarray:
     """Whether a pad sent to each place (px, py) with orientation ``phi`` (the direction of
     travel), coming in along its normal from the free side (the solid on the ``left`` of
-    travel or not) from ``standoff`` out, first meets this posed curve there: no point of
-    the curve at ``t_dense`` within ``window`` of the place along the pad lies farther out
-    (a stretch concave toward the pad is only bridged; another branch or a far stretch in
-    the way is met first)."""
-    ux, uy = np.cos(phi), np.sin(phi)
-    sgn = -1.0 if left else 1.0
-    nx, ny = -sgn * uy, sgn * ux
+    travel or not) from ``standoff`` out, lands on this posed curve (tools.pad_approach's
+    rule on the dense points ``t_dense``): the point farthest out among those under the pad
+    (|lateral| ≤ ``half_pad``) is met by the pad's face (its neighbours are under the pad
+    too: not a concave stretch bridged, not another branch met by the pad's end), leaves
+    ``reach`` of the pad either side for the roll, and is not within ``reach`` of a
+    semicubical parabola's cusp. A pad whose end meets the curve seats, turning up to
+    ``SEAT_RAD`` to the tangent of the curve's point nearest the place, and lands if it
+    lands so."""
     cx, cy = pose.apply(*curve.point(t_dense))
     dx, dy = cx[None, :] - px[:, None], cy[None, :] - py[:, None]
-    h = dx * nx[:, None] + dy * ny[:, None]
-    v = dx * ux[:, None] + dy * uy[:, None]
-    tol = 1e-9 * standoff
-    return ~np.any((np.abs(v) <= window) & (h > tol) & (h <= standoff), axis=1)
+    tp = np.asarray(curve.tangent_angle(t_dense), float) + pose.theta
+    j_near = np.argmin(dx * dx + dy * dy, axis=1)
+    seated = phi + _wrap_half(tp[j_near] - phi)
+    return _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff) | \
+        ((np.abs(seated - phi) <= SEAT_RAD) & _met_by_face(curve, t_dense, dx, dy, seated, left, half_pad, reach, standoff))
+
+
+def _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff) -> np.ndarray:
+    """``_landed`` without seating: (dx, dy), the dense points less each place."""
+    ux, uy = np.cos(phi)[:, None], np.sin(phi)[:, None]
+    sgn = -1.0 if left else 1.0
+    h = dx * (-sgn * uy) + dy * (sgn * ux)
+    v = dx * ux + dy * uy
+    seen = (np.abs(v) <= half_pad) & (h <= standoff) & np.isfinite(h)
+    j = np.argmax(np.where(seen, h, -np.inf), axis=1)
+    rows = np.arange(j.size)
+    n = t_dense.size
+    closed = curve.t_period is not None
+    lo, hi = (j - 1) % n, (j + 1) % n
+    ok = seen[rows, j] & seen[rows, lo] & seen[rows, hi] & (np.abs(v[rows, j]) + reach <= half_pad)
+    if not closed:  # the dense span's ends: what lies beyond is not known
+        ok &= (j > 0) & (j < n - 1)
+    if curve.name == "semicubical_parabola":
+        tj = t_dense[j]
+        ok &= (np.sign(t_dense[lo]) == np.sign(t_dense[hi])) & \
+            (np.abs(curve.arc_length(np.zeros_like(tj), tj)) >= reach)
+    return ok
 
 
 def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
@@ -297,7 +326,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         """Whether a pad sent to each place lands there on c's curve (``_landed``)."""
         if not padded:
             return np.ones(px.size, bool)
-        return _landed(c.curve(), c.pose, _pad_span(c), px, py, travel, turn > 0, PAD_ROLLS * roll, d.scale)
+        return _landed(c.curve(), c.pose, _pad_span(c), px, py, travel, turn > 0, PAD_ROLLS * roll, 0.5 * roll, d.scale)
 
     # places on the leader's curve (a semicubical's other branch too, as far from the cusp)
     curve = leader.curve()
@@ -343,6 +372,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         shrink = math.sqrt(max(C[i_max, i_max], 0.0)) / np.sqrt(np.clip(var_after, 1e-300, None))
     # classes
     ig_class = np.zeros(px.size)
+    on_all = np.ones(px.size, bool)  # the pad lands whichever likely class is true
     best_sep = {}
     for c, wc in others:
         mean_c, P_c, _, ok_c, posed_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, d.scale, roll)
@@ -361,13 +391,18 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
         # c true, a pad that does not land on c's curve tells nothing: the pair is resolved
         # when the leader is true, and when c is and the pad lands
-        landed = (w_lead + wc * lands(c, px, py, phi + flip)) / (w_lead + wc)
+        on_c = lands(c, px, py, phi + flip)
+        if wc >= LAND_WEIGHT_MIN:
+            on_all &= on_c
+        landed = (w_lead + wc * on_c) / (w_lead + wc)
         ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0)) * landed
         best_sep[c.cls] = chi2
     gain = ig_class + w_lead * np.where(np.isfinite(ig_param), ig_param, 0.0)
     helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
     if not helps.any():
         return None
+    if (helps & on_all).any():  # a lost touch tells nothing: where it lands for every likely class
+        helps &= on_all
     # while the class is in doubt, the place that tells the classes apart best; else the
     # place of largest gain (parameters)
     score = ig_class if float(np.max(ig_class)) >= CLASS_GAIN_MIN else gain
