@@ -150,12 +150,13 @@ def _t_span(c: Candidate, widen: float = 1.0, n: int = N_PLACES) -> np.ndarray:
 
 def _pad_span(c: Candidate, n: int = N_DENSE) -> np.ndarray:
     """Dense t's of a candidate's curve where a pad might meet it: twice the touched span
-    each side (a semicubical parabola's both branches through the cusp; a closed curve all
-    round)."""
+    each side (a semicubical parabola's both branches through the cusp, as densely on the
+    touched stretch and its mirror as elsewhere: touches far out on a branch span a small
+    part of their t's; a closed curve all round)."""
     t = _t_span(c, 2.0, n)
     if CURVES[c.cls].t_period is None and c.cls == "semicubical_parabola":
         far = float(np.max(np.abs(t)))
-        return np.linspace(-far, far, 2 * n)
+        return np.unique(np.concatenate((np.linspace(-far, far, n), t, -t)))
     return t
 
 
@@ -196,8 +197,10 @@ def _landed(curve, pose: Pose, t_dense: np.ndarray, px, py, phi, left: bool, hal
     tp = np.asarray(curve.tangent_angle(t_dense), float) + pose.theta
     j_near = np.argmin(dx * dx + dy * dy, axis=1)
     seated = phi + _wrap_half(tp[j_near] - phi)
-    return _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff) | \
-        ((np.abs(seated - phi) <= SEAT_RAD) & _met_by_face(curve, t_dense, dx, dy, seated, left, half_pad, reach, standoff))
+    out = _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff)
+    turn = np.flatnonzero(~out & (np.abs(seated - phi) <= SEAT_RAD))
+    out[turn] = _met_by_face(curve, t_dense, dx[turn], dy[turn], seated[turn], left, half_pad, reach, standoff)
+    return out
 
 
 def _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff) -> np.ndarray:
@@ -228,6 +231,20 @@ def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
     if curve.name != "semicubical_parabola" or roll <= 0:
         return np.ones(np.shape(t), bool)
     return np.abs(curve.arc_length(np.zeros_like(t), t)) >= 0.5 * roll
+
+
+def _toward_cusp(c: Candidate, t: np.ndarray) -> np.ndarray:
+    """Whether each of a semicubical parabola's points t lies toward its cusp from its
+    touches, all on one branch: between them and the cusp, or past it on the other branch.
+    Far out on a branch the cusp's place is barely measured (bench_wide --set wide seed 179,
+    semicubical trials 3, 9, 11: suggestions 0.01–0.03 L from the true cusp, 0.13–0.27 L
+    beyond the last touch, were lost), so a pad sent there may meet the cusp or the other
+    branch whatever the fit says."""
+    touched = np.asarray(c.t, float)
+    side = np.sign(touched)
+    if c.cls != "semicubical_parabola" or not touched.size or np.any(side != side[0]):
+        return np.zeros(np.shape(t), bool)
+    return (np.sign(t) != side[0]) | (np.abs(t) < np.min(np.abs(touched)))
 
 
 def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, scale: float, roll: float = 0.0):
@@ -323,10 +340,18 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     padded = roll > 0 and turn != 0  # a pad's approach modelled: the solid's side is known
 
     def lands(c: Candidate, px, py, travel) -> np.ndarray:
-        """Whether a pad sent to each place lands there on c's curve (``_landed``)."""
+        """Whether a pad sent to each place lands there on c's curve (``_landed``). A
+        semicubical parabola whose other branch would have kept the pads off its own touches
+        (a cusp placed beside touches far out on a branch) says nothing about that branch:
+        its touched one only."""
         if not padded:
             return np.ones(px.size, bool)
-        return _landed(c.curve(), c.pose, _pad_span(c), px, py, travel, turn > 0, PAD_ROLLS * roll, 0.5 * roll, d.scale)
+        curve, t_pad = c.curve(), _pad_span(c)
+        args = (turn > 0, PAD_ROLLS * roll, 0.5 * roll, d.scale)
+        if c.cls == "semicubical_parabola" and not _landed(curve, c.pose, t_pad, d.x, d.y, d.phi, *args).all():
+            side = np.sign(np.median(c.t))
+            t_pad = t_pad[np.sign(t_pad) == side] if side else t_pad
+        return _landed(curve, c.pose, t_pad, px, py, travel, *args)
 
     # places on the leader's curve (a semicubical's other branch too, as far from the cusp)
     curve = leader.curve()
@@ -391,7 +416,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
         # c true, a pad that does not land on c's curve tells nothing: the pair is resolved
         # when the leader is true, and when c is and the pad lands
-        on_c = lands(c, px, py, phi + flip)
+        on_c = lands(c, px, py, phi + flip) & ~_toward_cusp(c, posed_c[2])
         if wc >= LAND_WEIGHT_MIN:
             on_all &= on_c
         landed = (w_lead + wc * on_c) / (w_lead + wc)
