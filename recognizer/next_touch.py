@@ -194,12 +194,14 @@ def _landed(curve, pose: Pose, t_dense: np.ndarray, px, py, phi, left: bool, hal
     lands so."""
     cx, cy = pose.apply(*curve.point(t_dense))
     dx, dy = cx[None, :] - px[:, None], cy[None, :] - py[:, None]
-    tp = np.asarray(curve.tangent_angle(t_dense), float) + pose.theta
-    j_near = np.argmin(dx * dx + dy * dy, axis=1)
-    seated = phi + _wrap_half(tp[j_near] - phi)
     out = _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff)
-    turn = np.flatnonzero(~out & (np.abs(seated - phi) <= SEAT_RAD))
-    out[turn] = _met_by_face(curve, t_dense, dx[turn], dy[turn], seated[turn], left, half_pad, reach, standoff)
+    lost = np.flatnonzero(~out)
+    if lost.size:
+        near = t_dense[np.argmin(dx[lost] ** 2 + dy[lost] ** 2, axis=1)]
+        seated = phi[lost] + _wrap_half(np.asarray(curve.tangent_angle(near), float) + pose.theta - phi[lost])
+        turn = np.abs(seated - phi[lost]) <= SEAT_RAD
+        k = lost[turn]
+        out[k] = _met_by_face(curve, t_dense, dx[k], dy[k], seated[turn], left, half_pad, reach, standoff)
     return out
 
 
