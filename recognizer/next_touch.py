@@ -343,14 +343,15 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
 
     def lands(c: Candidate, px, py, travel) -> np.ndarray:
         """Whether a pad sent to each place lands there on c's curve (``_landed``). A
-        semicubical parabola whose other branch would have kept the pads off its own touches
-        (a cusp placed beside touches far out on a branch) says nothing about that branch:
-        its touched one only."""
+        semicubical rival whose other branch would have kept the pads off all its own
+        touches (a cusp placed beside touches far out on a branch) says nothing about that
+        branch: its touched one only."""
         if not padded:
             return np.ones(px.size, bool)
         curve, t_pad = c.curve(), _pad_span(c)
         args = (turn > 0, PAD_ROLLS * roll, 0.5 * roll, d.scale)
-        if c.cls == "semicubical_parabola" and not _landed(curve, c.pose, t_pad, d.x, d.y, d.phi, *args).all():
+        if c is not leader and c.cls == "semicubical_parabola" and \
+                not _landed(curve, c.pose, t_pad, d.x, d.y, d.phi, *args).any():
             side = np.sign(np.median(c.t))
             t_pad = t_pad[np.sign(t_pad) == side] if side else t_pad
         return _landed(curve, c.pose, t_pad, px, py, travel, *args)
@@ -428,7 +429,11 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
     if not helps.any():
         return None
-    if (helps & on_all).any():  # a lost touch tells nothing: where it lands for every likely class
+    # a lost touch tells nothing: where it lands for every likely class, but on a semicubical
+    # leader's other branch, which no rival has (the pair's landed share above still counts)
+    if curve.name == "semicubical_parabola":
+        on_all |= np.sign(t[keep]) != np.sign(np.median(leader.t))
+    if (helps & on_all).any():
         helps &= on_all
     # while the class is in doubt, the place that tells the classes apart best; else the
     # place of largest gain (parameters)
