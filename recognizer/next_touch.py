@@ -33,11 +33,18 @@ the suggested touches left the far branch 76.9 % right).
 
 A pad reaches a place only from the free side: a touch is sent as the place and its
 tangent, and the pad comes in along its normal from away from the solid (the side the
-touches curve toward: ``Contacts.dominant_kappa``). Places are kept where such a pad,
-``PAD_ROLLS`` rolls either side of its middle and starting the touches' extent out, first
-meets the leader's curve there (``_landed``: no stretch concave toward it, no other branch
-in the way); a rival's separation counts, when the rival is true, only where the pad lands
-on the rival's curve too.
+touches curve toward: ``Contacts.dominant_kappa``). A pad, ``PAD_ROLLS`` rolls either side
+of its middle and starting the touches' extent out, lands on a candidate's curve where
+tools.pad_approach says it does (``_landed``: the point farthest out under the pad is met by
+its face, with room for the roll, clear of a cusp; a pad meeting it with its end seats up to
+``SEAT_RAD``). Places are kept where it lands on the leader's curve; a rival's separation
+counts, when the rival is true, only where it lands on the rival's curve too, and on a
+semicubical rival never toward its cusp from its touches (``_toward_cusp``: far out on a
+branch the cusp's place is barely measured). Where some helpful place lands for every
+candidate at least ``LAND_WEIGHT_MIN`` likely, only such places are chosen (a lost touch
+tells nothing; bench_wide seed 179: suggested touches far out on a semicubical's branch,
+answered parabola, were lost beside its true cusp), a semicubical leader's other branch,
+which no rival has, excepted.
 
 Greedy, one touch at a time (adaptive-submodular selection, so greedy is near-optimal):
 while some place resolves at least ``CLASS_GAIN_MIN`` nats of class entropy, the place of
