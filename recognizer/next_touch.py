@@ -33,20 +33,27 @@ the suggested touches left the far branch 76.9 % right).
 
 A pad reaches a place only from the free side: a touch is sent as the place and its
 tangent, and the pad comes in along its normal from away from the solid (the side the
-touches curve toward: ``Contacts.dominant_kappa``). Places are kept where such a pad,
-``PAD_ROLLS`` rolls either side of its middle and starting the touches' extent out, first
-meets the leader's curve there (``_landed``: no stretch concave toward it, no other branch
-in the way). A touch lost tells nothing whichever candidate is true, so the class gain is
-weighted by the chance the pad lands and seats: Σ w_c·p_c over the leader and the rivals
-(normalized), p_c = 0 where the pad does not first meet c's curve there, else the chance
-that c's tangent, in c's own direction of travel, lies within the pad's tolerance of the
-pad's orientation (``_seats``: c's predicted tilt and its σ_φ; a tilt δφ puts the contact
-δφ/|κ| along the pad, which must leave room for the roll, and a pad turns ``PAD_SEAT_RAD``
-to seat). The leader's parameter gain counts with the leader's own p. Before (session 17),
-a rival counted only in its own pair and only where the pad landed on its curve at its
-mean: places where the rivals' tangents were tilted from the leader's, or unknown (a
-circle leader's far side, 9e3 rad for the ellipse rival), were suggested and the touch lost
-(bench_wide seeds 179 and 5, ellipse short stretches).
+touches curve toward: ``Contacts.dominant_kappa``). A pad, ``PAD_ROLLS`` rolls either side
+of its middle and starting the touches' extent out, lands on a candidate's curve where
+tools.pad_approach says it does (``_landed``: the point farthest out under the pad is met by
+its face, with room for the roll, clear of a cusp; a pad meeting it with its end seats up to
+``SEAT_RAD``). Places are kept where it lands on the leader's curve. A touch lost tells
+nothing whichever candidate is true, so the class gain is weighted by the chance the pad
+lands and seats: Σ w_c·p_c over the leader and the rivals (normalized), p_c = 0 where the
+pad does not land on c's curve there, or, on a semicubical rival, where the place lies toward
+its cusp from its touches (``_toward_cusp``: far out on a branch the cusp's place is barely
+measured), else the chance that c's tangent, in c's own direction of travel, lies within the
+pad's tolerance of the pad's orientation (``_seats``: c's predicted tilt and its σ_φ; a tilt
+δφ puts the contact δφ/|κ| along the pad, which must leave room for the roll, and a pad
+turns ``SEAT_RAD`` to seat). The leader's parameter gain counts with the leader's own p.
+Where some helpful place lands for every candidate at least ``LAND_WEIGHT_MIN`` likely, only
+such places are chosen, a semicubical leader's other branch, which no rival has, excepted.
+Before (session 17), a rival counted only in its own pair and only where the pad landed on
+its curve at its mean: places where the rivals' tangents were tilted from the leader's, or
+unknown (a circle leader's far side, 9e3 rad for the ellipse rival), were suggested and the
+touch lost (bench_wide seeds 179 and 5, ellipse short stretches), and far out on a
+semicubical's branch, answered parabola, suggested touches were lost beside its true cusp
+(seed 179).
 
 Greedy, one touch at a time (adaptive-submodular selection, so greedy is near-optimal):
 while some place resolves at least ``CLASS_GAIN_MIN`` nats of class entropy, the place of
@@ -94,9 +101,10 @@ N_DENSE = 400
 MIN_WEIGHT = 1e-3
 PAD_ROLLS = 1.0
 """a pad's half length in rolls: a pad twice as long as the request's touches roll."""
-PAD_SEAT_RAD = 0.05
-"""how far a pad that meets the boundary with its end turns to seat on it (rad): the least
-tilt between the pad and the boundary's tangent it absorbs."""
+SEAT_RAD = 0.05
+"""how far a pad that meets the boundary with its end turns to seat on it (rad; tools.pad_approach)."""
+LAND_WEIGHT_MIN = 0.01
+"""a candidate at least this likely must be landed on too, where some helpful place is."""
 SEPARATION_MIN = 0.1
 """an expected χ² separation below this (1.2 % of a pair's entropy) is not checked the other way round."""
 
@@ -159,12 +167,13 @@ def _t_span(c: Candidate, widen: float = 1.0, n: int = N_PLACES) -> np.ndarray:
 
 def _pad_span(c: Candidate, n: int = N_DENSE) -> np.ndarray:
     """Dense t's of a candidate's curve where a pad might meet it: twice the touched span
-    each side (a semicubical parabola's both branches through the cusp; a closed curve all
-    round)."""
+    each side (a semicubical parabola's both branches through the cusp, as densely on the
+    touched stretch and its mirror as elsewhere: touches far out on a branch span a small
+    part of their t's; a closed curve all round)."""
     t = _t_span(c, 2.0, n)
     if CURVES[c.cls].t_period is None and c.cls == "semicubical_parabola":
         far = float(np.max(np.abs(t)))
-        return np.linspace(-far, far, 2 * n)
+        return np.unique(np.concatenate((np.linspace(-far, far, n), t, -t)))
     return t
 
 
@@ -188,22 +197,51 @@ def _measure(cls: str, vec: np.ndarray, t: np.ndarray, px, py, nx, ny, lead_phi)
                      along * np.asarray(curve.kappa(t), float), np.asarray(curve.kappa_s(t), float)], axis=-1)
 
 
-def _landed(curve, pose: Pose, t_dense: np.ndarray, px, py, phi, left: bool, window: float, standoff: float) -> np.ndarray:
+def _landed(curve, pose: Pose, t_dense: np.ndarray, px, py, phi, left: bool, half_pad: float, reach: float,
+            standoff: float) -> np.ndarray:
     """Whether a pad sent to each place (px, py) with orientation ``phi`` (the direction of
     travel), coming in along its normal from the free side (the solid on the ``left`` of
-    travel or not) from ``standoff`` out, first meets this posed curve there: no point of
-    the curve at ``t_dense`` within ``window`` of the place along the pad lies farther out
-    (a stretch concave toward the pad is only bridged; another branch or a far stretch in
-    the way is met first)."""
-    ux, uy = np.cos(phi), np.sin(phi)
-    sgn = -1.0 if left else 1.0
-    nx, ny = -sgn * uy, sgn * ux
+    travel or not) from ``standoff`` out, lands on this posed curve (tools.pad_approach's
+    rule on the dense points ``t_dense``): the point farthest out among those under the pad
+    (|lateral| ≤ ``half_pad``) is met by the pad's face (its neighbours are under the pad
+    too: not a concave stretch bridged, not another branch met by the pad's end), leaves
+    ``reach`` of the pad either side for the roll, and is not within ``reach`` of a
+    semicubical parabola's cusp. A pad whose end meets the curve seats, turning up to
+    ``SEAT_RAD`` to the tangent of the curve's point nearest the place, and lands if it
+    lands so."""
     cx, cy = pose.apply(*curve.point(t_dense))
     dx, dy = cx[None, :] - px[:, None], cy[None, :] - py[:, None]
-    h = dx * nx[:, None] + dy * ny[:, None]
-    v = dx * ux[:, None] + dy * uy[:, None]
-    tol = 1e-9 * standoff
-    return ~np.any((np.abs(v) <= window) & (h > tol) & (h <= standoff), axis=1)
+    out = _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff)
+    lost = np.flatnonzero(~out)
+    if lost.size:
+        near = t_dense[np.argmin(dx[lost] ** 2 + dy[lost] ** 2, axis=1)]
+        seated = phi[lost] + _wrap_half(np.asarray(curve.tangent_angle(near), float) + pose.theta - phi[lost])
+        turn = np.abs(seated - phi[lost]) <= SEAT_RAD
+        k = lost[turn]
+        out[k] = _met_by_face(curve, t_dense, dx[k], dy[k], seated[turn], left, half_pad, reach, standoff)
+    return out
+
+
+def _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff) -> np.ndarray:
+    """``_landed`` without seating: (dx, dy), the dense points less each place."""
+    ux, uy = np.cos(phi)[:, None], np.sin(phi)[:, None]
+    sgn = -1.0 if left else 1.0
+    h = dx * (-sgn * uy) + dy * (sgn * ux)
+    v = dx * ux + dy * uy
+    seen = (np.abs(v) <= half_pad) & (h <= standoff) & np.isfinite(h)
+    j = np.argmax(np.where(seen, h, -np.inf), axis=1)
+    rows = np.arange(j.size)
+    n = t_dense.size
+    closed = curve.t_period is not None
+    lo, hi = (j - 1) % n, (j + 1) % n
+    ok = seen[rows, j] & seen[rows, lo] & seen[rows, hi] & (np.abs(v[rows, j]) + reach <= half_pad)
+    if not closed:  # the dense span's ends: what lies beyond is not known
+        ok &= (j > 0) & (j < n - 1)
+    if curve.name == "semicubical_parabola":
+        tj = t_dense[j]
+        ok &= (np.sign(t_dense[lo]) == np.sign(t_dense[hi])) & \
+            (np.abs(curve.arc_length(np.zeros_like(tj), tj)) >= reach)
+    return ok
 
 
 def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
@@ -212,6 +250,20 @@ def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
     if curve.name != "semicubical_parabola" or roll <= 0:
         return np.ones(np.shape(t), bool)
     return np.abs(curve.arc_length(np.zeros_like(t), t)) >= 0.5 * roll
+
+
+def _toward_cusp(c: Candidate, t: np.ndarray) -> np.ndarray:
+    """Whether each of a semicubical parabola's points t lies toward its cusp from its
+    touches, all on one branch: between them and the cusp, or past it on the other branch.
+    Far out on a branch the cusp's place is barely measured (bench_wide --set wide seed 179,
+    semicubical trials 3, 9, 11: suggestions 0.01–0.03 L from the true cusp, 0.13–0.27 L
+    beyond the last touch, were lost), so a pad sent there may meet the cusp or the other
+    branch whatever the fit says."""
+    touched = np.asarray(c.t, float)
+    side = np.sign(touched)
+    if c.cls != "semicubical_parabola" or not touched.size or np.any(side != side[0]):
+        return np.zeros(np.shape(t), bool)
+    return (np.sign(t) != side[0]) | (np.abs(t) < np.min(np.abs(touched)))
 
 
 def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, scale: float, roll: float = 0.0):
@@ -247,12 +299,12 @@ def _seats(tilt: np.ndarray, mean: np.ndarray, P: np.ndarray, W: np.ndarray, rol
     (σ_φ the predicted tangent angle's σ, from the whitened prediction ``mean``, ``P``; W
     whitens R). A pad tilted by δφ meets a curve of curvature κ where the tangent has turned
     by δφ, δφ/|κ| along the pad, which leaves room for the roll while that is at most
-    (``PAD_ROLLS`` − ½)·roll, and a pad that meets it with its end turns ``PAD_SEAT_RAD`` to
+    (``PAD_ROLLS`` − ½)·roll, and a pad that meets it with its end turns ``SEAT_RAD`` to
     seat; a tilt beyond π/2 comes in from the solid's side. So P(|δφ| ≤ tol): where the
     candidate's tangent differs from the leader's, or is unknown (a stretch extrapolated far
     from the touches), the touch is likely lost if that candidate is true."""
     kappa = np.abs(np.linalg.solve(W[2:, 2:], mean[:, 2:].T)[0])
-    tol = np.clip(kappa * roll * (PAD_ROLLS - 0.5), PAD_SEAT_RAD, np.pi / 2)
+    tol = np.clip(kappa * roll * (PAD_ROLLS - 0.5), SEAT_RAD, np.pi / 2)
     s_phi = np.sqrt(np.clip(P[:, 1, 1], 0.0, None)) / W[1, 1]
     s_phi = np.maximum(s_phi, 1e-12 * tol)  # an exact prediction: the tilt is the mean's
     p = special.ndtr((tol - tilt) / s_phi) - special.ndtr((-tol - tilt) / s_phi)
@@ -335,10 +387,19 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     padded = roll > 0 and turn != 0  # a pad's approach modelled: the solid's side is known
 
     def lands(c: Candidate, px, py, travel) -> np.ndarray:
-        """Whether a pad sent to each place lands there on c's curve (``_landed``)."""
+        """Whether a pad sent to each place lands there on c's curve (``_landed``). A
+        semicubical rival whose other branch would have kept the pads off all its own
+        touches (a cusp placed beside touches far out on a branch) says nothing about that
+        branch: its touched one only."""
         if not padded:
             return np.ones(px.size, bool)
-        return _landed(c.curve(), c.pose, _pad_span(c), px, py, travel, turn > 0, PAD_ROLLS * roll, d.scale)
+        curve, t_pad = c.curve(), _pad_span(c)
+        args = (turn > 0, PAD_ROLLS * roll, 0.5 * roll, d.scale)
+        if c is not leader and c.cls == "semicubical_parabola" and \
+                not _landed(curve, c.pose, t_pad, d.x, d.y, d.phi, *args).any():
+            side = np.sign(np.median(c.t))
+            t_pad = t_pad[np.sign(t_pad) == side] if side else t_pad
+        return _landed(curve, c.pose, t_pad, px, py, travel, *args)
 
     # places on the leader's curve (a semicubical's other branch too, as far from the cusp)
     curve = leader.curve()
@@ -385,6 +446,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         shrink = math.sqrt(max(C[i_max, i_max], 0.0)) / np.sqrt(np.clip(var_after, 1e-300, None))
     # classes
     ig_class = np.zeros(px.size)
+    on_all = np.ones(px.size, bool)  # the pad lands whichever likely class is true
     best_sep = {}
     landed = w_lead * seat_lead
     for c, wc in others:
@@ -402,11 +464,15 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
             chi2_b = np.einsum("ma,mab,mb->m", delta, _inv(eye + P_b + P_c[sep]), delta)
             chi2[sep] = np.minimum(chi2[sep], np.where(np.isfinite(chi2_b), chi2_b, np.inf))
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
-        # c true, the pad lands on c's curve and seats there, or the touch is lost
+        # c true: the pad lands on c's curve, never toward a semicubical rival's cusp from its
+        # touches, and seats there, or the touch is lost
+        on_c = ~_toward_cusp(c, posed_c[2])
         if padded:
-            landed += wc * lands(c, px, py, phi + flip) * _seats(_tilt(c, d, posed_c, phi + flip), mean_c, P_c, W, roll)
-        else:
-            landed += wc
+            on_c &= lands(c, px, py, phi + flip)
+        if wc >= LAND_WEIGHT_MIN:
+            on_all &= on_c
+        seats = _seats(_tilt(c, d, posed_c, phi + flip), mean_c, P_c, W, roll) if padded else 1.0
+        landed += wc * on_c * seats
         ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0))
         best_sep[c.cls] = chi2
     # a lost touch tells nothing, whichever candidate is true: every pair's resolution
@@ -416,6 +482,12 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
     if not helps.any():
         return None
+    # a lost touch tells nothing: where it lands for every likely class, but on a semicubical
+    # leader's other branch, which no rival has
+    if curve.name == "semicubical_parabola":
+        on_all |= np.sign(t[keep]) != np.sign(np.median(leader.t))
+    if (helps & on_all).any():
+        helps &= on_all
     # while the class is in doubt, the place that tells the classes apart best; else the
     # place of largest gain (parameters)
     score = ig_class if float(np.max(ig_class)) >= CLASS_GAIN_MIN else gain

@@ -32,12 +32,11 @@ import numpy as np
 from scipy import optimize
 
 from recognizer.curves import DEFAULT_SIDE, Curve, Pose
+from recognizer.next_touch import SEAT_RAD
 
 __all__ = ["Landing", "land", "solid_left"]
 
 N_DENSE = 20001
-SEAT_RAD = 0.05
-"""how far a pad that meets the boundary with its end turns to seat on it (rad)."""
 PAD_END = "the pad's end meets the boundary, not its face"
 OFF_PAD = "the roll runs off the pad"
 

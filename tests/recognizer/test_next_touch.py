@@ -262,10 +262,10 @@ def test_a_suggestion_lands_where_the_rivals_tangent_is_uncertain_or_tilted(cls,
 
 def test_a_pad_seats_within_its_tolerance_of_the_predicted_tilt():
     """``_seats``: P(|δφ| ≤ tol) for δφ ~ N(tilt, σ_φ²), tol = max(κ·roll·(PAD_ROLLS − ½),
-    PAD_SEAT_RAD) at most π/2, checked against the normal distribution's closed form."""
+    SEAT_RAD) at most π/2, checked against the normal distribution's closed form."""
     from scipy.stats import norm
 
-    from recognizer.next_touch import PAD_SEAT_RAD, _seats
+    from recognizer.next_touch import SEAT_RAD, _seats
 
     W = np.diag([1.0, 2.0, 4.0, 8.0])  # σ_pos, σ_φ, the roll's κ, κ_s: 1, 0.5, 0.25, 0.125
     roll, kappa = 2.0, 0.3  # tol = 0.3 · 2 · 0.5 = 0.3 rad
@@ -278,6 +278,52 @@ def test_a_pad_seats_within_its_tolerance_of_the_predicted_tilt():
     assert got == pytest.approx(want, abs=1e-12)
     flat = mean.copy()
     flat[:, 2] = 0.0  # κ 0: the seat's own tolerance
-    assert _seats(np.array([0.0, 0.0, 0.9 * PAD_SEAT_RAD, 1.1 * PAD_SEAT_RAD]), flat, P, W, roll)[2:] == pytest.approx([1.0, 0.0])
+    assert _seats(np.array([0.0, 0.0, 0.9 * SEAT_RAD, 1.1 * SEAT_RAD]), flat, P, W, roll)[2:] == pytest.approx([1.0, 0.0])
     back = _seats(np.full(4, np.pi), mean * 1e6, P, W, roll)  # a tolerance of π/2 at most: reversed never seats
     assert back == pytest.approx(np.zeros(4), abs=1e-12)
+
+
+@pytest.mark.parametrize("i", [9, 15])
+def test_a_suggestion_lands_on_a_semicubical_answered_parabola(i):
+    """bench_wide --set wide seed 179 (development), semicubical trials 9 (one branch far)
+    and 15 (far out on a branch), answered parabola: the suggestion was lost on the approach
+    (the pad's end met the boundary: sent 0.07 L from the true curve, beside its cusp, or
+    where the semicubical rival's other branch lies over the place). Now a place must land
+    for every likely class, a semicubical rival's never toward its cusp from its touches,
+    and the pad lands on the true curve."""
+    from tools import bench_wide as bw
+    from tools.pad_approach import solid_left
+
+    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("semicubical_parabola", i, 179, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    rec, _, _ = bw._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert rec.cls == "parabola" and rec.next_touch
+    nt = rec.next_touch
+    got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
+                   solid_left(shape.curve, ts, direction), direction)
+    assert got.why == "" and got.miss_mm < 0.01 * shape.size, got
+
+
+def test_a_pad_lands_where_pad_approach_says():
+    """``_landed`` against tools.pad_approach.land on a semicubical parabola far out on a
+    branch (bench_wide seed 179, trial 3): a pad sent along the true tangent lands on the
+    branch away from the cusp and is lost within about a pad of it (the cusp or the other
+    branch), the same places for both."""
+    from recognizer import synth
+    from recognizer.next_touch import _landed
+    from tools import bench_wide as bw
+    from tools.pad_approach import solid_left
+
+    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("semicubical_parabola", 3, 179, "wide")
+    direction = int(rs.choice([-1, 1]))
+    left = solid_left(shape.curve, ts, direction)
+    ds = bw.SPACING * shape.size
+    half, reach = bw.PAD_ROLLS * (bw.SAMPLES - 1) * ds, synth.touch_reach(bw.SAMPLES, ds)
+    t = np.linspace(-1.3, 0.0, 25)
+    x, y = shape.pose.apply(*shape.curve.point(t))
+    phi = np.asarray(shape.curve.tangent_angle(t)) + shape.pose.theta + (np.pi if direction < 0 else 0.0)
+    mine = _landed(shape.curve, shape.pose, np.linspace(-2.0, 2.0, 1600), x, y, phi, left, half, reach, shape.size)
+    truth = [bw._send(shape, a, b, c, lo, hi, clear, "approach", left, direction).why == "" for a, b, c in zip(x, y, phi)]
+    assert mine.tolist() == truth
+    assert 5 < int(mine.sum()) < 20
