@@ -704,7 +704,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                     break
                 futile = futile_roll(aim, out.touches, settings.roll_span_rad, clearing_corners(out.touches))
                 if futile is not None:  # it would measure nothing: answered as decided
-                    message = f"{recognition.cls} is decisive; not touching on at ({aim.x:.1f}, {aim.y:.1f}) mm: {futile}"
+                    message = (f"{recognition.cls} is decisive; not touching on at ({aim.x:.1f}, {aim.y:.1f}) mm: "
+                               f"{futile}")
                     emit({"type": "event", "kind": "touching_on_skipped", "message": message})
                     say(message)
                     break
