@@ -355,6 +355,33 @@ def scanned_curve(cfg, felt: FeltTouch, reach: JawReach, no_curve: set[int]) -> 
                                       f"{roll.fit.rho:.1f} mm)", kind="scan")
 
 
+def at_corner(x: float, y: float, corners) -> bool:
+    """Whether the point (x, y) lies within ``CORNER_CLEARANCE_MM`` of one of the ``corners``
+    ((k, 2): those a roll pivoted about, tactile_jaw.pipeline.clearing_corners), where a roll
+    keeps none of its samples (tactile_jaw.pipeline.clear_of_corners)."""
+    corners = np.asarray(corners, float).reshape(-1, 2)
+    return bool(len(corners)) and float(np.min(np.hypot(corners[:, 0] - x, corners[:, 1] - y))) < CORNER_CLEARANCE_MM
+
+
+def futile_roll(aim: Aim, touches: list[FeltTouch], span: float, corners) -> str | None:
+    """Why a roll of ``span`` (rad) about ``aim`` would measure nothing, or None: its place lies
+    at a corner a roll pivoted about (:func:`at_corner`); or an earlier
+    roll of its finger (of ``touches``, felt) ran onto a pad end at an orientation this roll
+    passes: with its two joints a finger at a given pad normal meets a convex object at one
+    place on its pad, so the roll meets that pad end again. Such rolls cost the P cubicals
+    touching on for their σ's 3-4 s each (seed 191: 112, a roll at ψ 82.0° where one at 82.5°
+    had met the pad's proximal end)."""
+    if at_corner(aim.x, aim.y, corners):
+        return f"it lies within {CORNER_CLEARANCE_MM:g} mm of a corner a roll pivoted about"
+    for t in touches:
+        if (t.finger == aim.finger and not isinstance(t.touch, FlatResult) and t.touch.outcome == "edge"
+                and t.touch.samples and abs(math.remainder(t.touch.samples[-1].psi - aim.psi, 2 * math.pi))
+                <= 0.5 * span):
+            return (f"the {aim.finger} pad's roll {t.touch.touch} met its pad end at pad normal "
+                    f"{math.degrees(math.remainder(t.touch.samples[-1].psi, 2 * math.pi)):.1f} deg, within this roll")
+    return None
+
+
 #: how far past the felt stretch's other end :func:`past_felt_end` places a touch, in
 #: lengths of that stretch (of the answer's curve parameter t): far enough that it is not
 #: the stretch felt again, near enough to lie on the object's curved part
@@ -378,7 +405,6 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
     there keeps none of its samples near that corner (tactile_jaw.pipeline.clear_of_corners)
     and runs onto it (P cubical 104 of seed 139: the place named lay 0.8 mm from the corner
     where the left pad's rolls left the curve, and more touches were advised)."""
-    corners = np.asarray(corners, float).reshape(-1, 2)
 
     def run() -> dict | None:
         place = wanted()
@@ -386,9 +412,8 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
             return place
         x, y, phi = float(place["x"]), float(place["y"]), float(place["phi"])
         finger = reach.finger(x, y, phi)
-        at_corner = bool(len(corners)) and float(np.min(np.hypot(corners[:, 0] - x, corners[:, 1] - y))) \
-            < CORNER_CLEARANCE_MM
-        if finger is None or (not at_corner and within_curve(phi + math.pi / 2, span, limits(finger.name))):
+        if finger is None or (not at_corner(x, y, corners) and within_curve(phi + math.pi / 2, span,
+                                                                            limits(finger.name))):
             return place
         curve, pose = CURVES[recognition.cls](recognition.params), recognition.pose
         cx, cy, t = np.array([(float(c["x"]), float(c["y"]), float(c["t"])) for c in recognition.contacts]).T
@@ -676,6 +701,13 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 aim, stop = next_aim(recognition, loose, sample_positions(usable), reach,
                                      [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE], aimed_at)
                 if stop is not None or aim is None:
+                    break
+                futile = futile_roll(aim, out.touches, settings.roll_span_rad, clearing_corners(out.touches))
+                if futile is not None:  # it would measure nothing: answered as decided
+                    message = (f"{recognition.cls} is decisive; not touching on at ({aim.x:.1f}, {aim.y:.1f}) mm: "
+                               f"{futile}")
+                    emit({"type": "event", "kind": "touching_on_skipped", "message": message})
+                    say(message)
                     break
                 message = f"{recognition.cls} is decisive; touching on: {loose}"
                 emit({"type": "event", "kind": "touching_on", "message": message})
