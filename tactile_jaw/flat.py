@@ -49,6 +49,14 @@ FLAT_NOISE = {"phi": 3.0e-3, "pos": 0.1}
 #: (mm) to the other's line
 SAME_FACE_RAD = 0.01
 SAME_FACE_MM = 1.0
+#: this many flat presses of one finger whose seats stopped, on average, more than
+#: SEAT_TOL_MM short of the line through their supports (a bulge toward the pad) show a
+#: curved part (:func:`bulged_presses`): on seed 191's logs
+#: (bench_explore --finite 20) the line blocks' presses stopped −0.08…+0.09 mm short on
+#: average (X-series, 62 presses) and −0.01…+0.07 (P-series, 70); the one 0.22 mm of a face
+#: seen (the line example moved 3 mm, X-series, FLAT_TRIES) was one press whose retry
+#: seated; P hyperbola 93's left pad, on its curved part, +0.26 and +0.27 mm
+BULGED_PRESSES = 2
 #: the presses of one face must have stopped, on average over all of them, at most this
 #: far (mm) short of their supports: each press's own mean (3 seated stops) is held to
 #: ±SEAT_TOL_MM, the rounding of its 9 stops; over a face's presses the bias a flat face
@@ -181,9 +189,10 @@ def feel_flat(config, touch: FlatResult) -> tuple[kin.PadLine | None, str | None
     p, q = seat_supports(lines, roles, supports, length)
     miss = np.array([float(min(lines.normal[i] @ p, lines.normal[i] @ q) - lines.d[i]) for i in seats])
     if abs(float(np.mean(miss))) > SEAT_TOL_MM or np.max(np.abs(miss)) > 2.0 * SEAT_TOL_MM:
+        # the miss kept with the supports: two such bulges on one face are a curved part (:func:`bulged_presses`)
         return out(f"{finger}: the pad did not lie flat: its seated presses stopped {float(np.mean(miss)):+.2f} mm "
                    f"(mean; at most {SEAT_TOL_MM:g}) from the line through both supports: a curved boundary, "
-                   f"not a face", supports)
+                   f"not a face", replace(supports, miss=float(np.mean(miss))))
     face = replace(fit_face(lines, roles), miss=float(np.mean(miss)))
     return out(None, face)
 
@@ -221,6 +230,26 @@ def curved_faces(usable: Sequence) -> list[tuple[int, float]]:
     groups = face_groups([t for t in usable if is_flat(t)])
     means = [float(np.mean([t.face.miss for t in g])) for g in groups]
     return [(len(g), m) for g, m in zip(groups, means) if m > FACE_MISS_MM]
+
+
+def bulged(felt) -> bool:
+    """Did a flat press's seat stop more than SEAT_TOL_MM short of the line through its
+    supports, on average (:func:`feel_flat`: an arc between them meets the pad first)?"""
+    return is_flat(felt) and felt.problem is not None and felt.face is not None and felt.face.miss > SEAT_TOL_MM
+
+
+def bulged_presses(felt: Sequence) -> list | None:
+    """The first ``BULGED_PRESSES`` presses of one finger whose seats stopped short of
+    their supports (:func:`bulged`), or None: the boundary bulges between the supports, a
+    curved part — so a finite object's straight faces are its closing segments, no line
+    (tactile_jaw.pipeline.curved_part). Not required on one face (:func:`same_face`): on a
+    curve the supports move with where the pad turned from (P hyperbola 93: 1.0° and 1.2 mm
+    apart between its two presses)."""
+    for finger in dict.fromkeys(t.finger for t in felt):
+        presses = [t for t in felt if t.finger == finger and bulged(t)]
+        if len(presses) >= BULGED_PRESSES:
+            return presses[:BULGED_PRESSES]
+    return None
 
 
 def recognized_touches(usable: Sequence, fewest: int = 1, curved: bool = False) -> list:

@@ -7,7 +7,7 @@ flat touches (tactile_jaw.flat) is decisive.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Sequence
 
 import numpy as np
@@ -18,8 +18,8 @@ from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_STEP_DEG, SEAT_TOL_M
                                      face_normal, flat_press, seat_split)
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from tactile_jaw.decide import RecognizeTouches, decide
-from tactile_jaw.choose import Goal, JawReach, Stop, move_advice
-from tactile_jaw.flat import FACE_MISS_MM, curved_faces, recognized_touches
+from tactile_jaw.choose import WITHIN_REACH, Goal, JawReach, Stop, move_advice, place_goal
+from tactile_jaw.flat import FACE_MISS_MM, bulged, curved_faces, recognized_touches
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
@@ -155,7 +155,8 @@ def _curve_felt(cfg, settings: ExploreSettings, out: Exploration, emit, say, che
     (``out.stopped``, :func:`curve_stop`). ``checked``: the touches (their ``id``) found no
     curve before, not felt again (a press's scan of 30 lines is felt on every run of its
     lines: seconds of CPU a round); updated."""
-    new = [t for t in out.touches if id(t) not in checked]
+    # a bulged press is felt again: it shows a curved part only with another (flat.bulged_presses)
+    new = [t for t in out.touches if id(t) not in checked or bulged(t)]
     curve = curved_part(cfg, new)
     if curve is None:
         checked.update(id(t) for t in new)
@@ -175,7 +176,15 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
     object after which a pad rolls on from the stretch's other end through a roll's span of
     tangent (a roll centred half a span past that end, placed ρ·span/2 on along the
     stretch's direction of travel), away from the corner (tactile_jaw.choose.move_advice);
-    else (a press's scan, or a stretch cut on both sides) a pad clear of the corners there."""
+    else (a press's scan, or a stretch cut on both sides) a pad clear of the corners there;
+    for presses whose seats bulged (tactile_jaw.flat.bulged_presses), the move after which a
+    pad rolls across the middle of their supports with the seat's tangent."""
+    if isinstance(curve.touch, FlatResult):
+        x, y = (float(v) for v in curve.face.middle)
+        where = f"the curved part the {curve.finger} pad pressed near ({x:.1f}, {y:.1f}) mm"
+        goal = place_goal(x, y, curve.face.psi - math.pi / 2, np.stack([curve.face.p, curve.face.q], axis=1))
+        advice, move = move_advice(JawReach(cfg, settings), replace(goal, where=where), [cfg.finger(curve.finger)])
+        return Stop(f"{advice} ({where}; the rolls there met its corners)" if advice == WITHIN_REACH else advice, move)
     c, m = curve.contacts, len(curve.contacts.x) // 2
     psi = np.asarray(c.psi, dtype=float)
     whole = np.array([smp.psi for smp in felt.touch.samples] if not isinstance(felt.touch, FlatResult) else [])

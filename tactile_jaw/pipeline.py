@@ -18,7 +18,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from hand_driver import kinematics as kin
-from hand_driver.flat_press import FlatResult
+from hand_driver.flat_press import SEAT_TOL_MM, FlatResult
 from hand_driver.motion import EDGE_MARGIN_MM, Sample, TouchResult
 from recognizer.classify import chi2_limit, recognize
 from recognizer.estimate import no_advance
@@ -28,7 +28,7 @@ from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, Samples
 from tactile_common.errors import InputError
 from tactile_jaw.curvature_pool import pooled
 from tactile_jaw.envelope import MIN_DEGREE, EnvelopeFit, fit_envelope, joint_noise
-from tactile_jaw.flat import FLAT_NOISE, Face, feel_flat, recognized_touches
+from tactile_jaw.flat import FLAT_NOISE, Face, bulged_presses, feel_flat, recognized_touches
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
 
 #: a touch whose radius of curvature at the contact is below this (mm), or below
@@ -739,7 +739,11 @@ def curved_part(config, felt: Sequence[FeltTouch]) -> FeltTouch | None:
     the corners it crossed are a finite curved object's, and its straight faces are closing
     segments (P cubical 116 of bench_explore --finite 20 --anywhere --seed 139: the left pad's
     two rolls kept 5 smooth samples of 9, ρ 43.9 ± 0.07 mm, beside the curve's end corner,
-    and the right pad's presses on a closing segment were answered line)."""
+    and the right pad's presses on a closing segment were answered line). So do one finger's
+    presses whose seats stopped short of their supports by a bulge, twice on one face
+    (tactile_jaw.flat.bulged_presses), as the last of them: P hyperbola 93 of --seed 191, the
+    left pad's presses +0.26 mm on its curved part, its rolls on the corners, the right pad's
+    presses on the closing segment answered line."""
     for t in felt:
         if not isinstance(t.touch, FlatResult):  # a usable roll beside a corner can be a pivot at 4,096 ticks
             stretch = curved_stretch(config, t) if t.curve_at is not None else None
@@ -753,7 +757,8 @@ def curved_part(config, felt: Sequence[FeltTouch]) -> FeltTouch | None:
                                         outcome="ok"), len(scans))
         if roll.problem is None:
             return roll
-    return None
+    presses = bulged_presses(felt)
+    return None if presses is None else presses[-1]
 
 
 def curved_stretch(config, felt: FeltTouch) -> FeltTouch | None:
@@ -769,13 +774,19 @@ def curved_stretch(config, felt: FeltTouch) -> FeltTouch | None:
 
 def curve_refusal(curve: FeltTouch) -> Recognition:
     """The refusal of a line from flat presses after ``curve`` (:func:`curved_part`) rolled on
-    a curved part: the faces pressed are closing segments."""
-    c, m = curve.contacts, len(curve.contacts.x) // 2
+    a curved part, or pressed one (a press whose seat bulged): the faces pressed are closing
+    segments."""
+    if isinstance(curve.touch, FlatResult):
+        x, y = curve.face.middle
+        felt = (f"pressed a curved part of the boundary: its seats stopped {curve.face.miss:+.2f} mm short of the line "
+                f"through their supports near ({x:.1f}, {y:.1f}) mm, twice (at most {SEAT_TOL_MM:g})")
+    else:
+        c, m = curve.contacts, len(curve.contacts.x) // 2
+        felt = (f"rolled on a curved part of the boundary (radius of curvature {curve.fit.rho:.1f} ± "
+                f"{curve.fit.sigma_rho:.2g} mm near ({c.x[m]:.1f}, {c.y[m]:.1f}) mm)")
     return Recognition("unclassified", reason=(
-        f"{curve.finger}: touch {curve.touch.touch} rolled on a curved part of the boundary (radius of curvature "
-        f"{curve.fit.rho:.1f} ± {curve.fit.sigma_rho:.2g} mm near ({c.x[m]:.1f}, {c.y[m]:.1f}) mm) but no rolling "
-        f"touch on it was usable clear of the corners: the straight faces the pads pressed are the object's closing "
-        f"segments, not a line"))
+        f"{curve.finger}: touch {curve.touch.touch} {felt} but no rolling touch on it was usable clear of the "
+        f"corners: the straight faces the pads pressed are the object's closing segments, not a line"))
 
 
 def stated_noise(touches: Sequence[FeltTouch]) -> NoiseModel:

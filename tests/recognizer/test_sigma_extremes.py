@@ -174,6 +174,31 @@ def test_a_straight_place_pressed_again_and_again_is_a_line():
     req = exact_request("line", {}, np.array([5.0]), POSE, False)
     rec = recognize(parse_request({"touches": req["touches"] * 3, "noise": {"pos": 0.1, "phi": 3e-3}}))
     assert rec.cls == "line" and "circle" in rec.untested and rec.uncertainty["pose_offset"] > 0
+    # refined as the jaw's exploration asks (profile balanced): no untested class is fitted
+    refined = recognize(parse_request({"touches": req["touches"] * 3, "noise": {"pos": 0.1, "phi": 3e-3},
+                                       "options": {"profile": "balanced", "refine": True}}))
+    assert refined.cls == "line" and [r.cls for r in refined.ranking] == ["line"]
+    assert refined.to_json()["also_fits"] == []
+
+
+#: the three flat presses P hyperbola 93 of bench_explore --finite 20 --anywhere --seed 191
+#: answered line from (its closing segment; tactile replay --touches), at two places
+PRESSES_93 = [(103.76648343678593, 23.5714940922229, -2.345763177810806, 5.606826170547235e-07, 5.4537789136209576e-09),
+              (102.38344761257662, 22.125915652186244, -2.3472736554199223, 9.093234479458991e-07, 1.1264177249454805e-08),
+              (102.22036105120836, 21.937246962592265, -2.3483201040219486, 9.693506528164897e-07, 1.2397760757951524e-08)]
+
+
+def test_a_class_too_few_places_test_is_neither_ranked_nor_said_to_fit():
+    """Main 9a777b8: the hyperbola, untested (3 places needed, 2 touched), was fitted from its
+    far-arm starts anyway and listed in the ranking and in also_fits beside the line."""
+    touches = [{"contact": {"x": x, "y": y, "phi": phi, "kappa": 0.0, "kappa_s": 0.0, "cov": [[vk, 0.0], [0.0, vks]]}}
+               for x, y, phi, vk, vks in PRESSES_93]
+    rec = recognize(parse_request({"touches": touches, "noise": {"phi": 3e-3, "pos": 0.1},
+                                   "options": {"profile": "balanced", "refine": True}}))
+    assert rec.cls == "line" and rec.uncertainty["pose_theta"] > 0 and rec.uncertainty["pose_offset"] > 0
+    assert "distinct places, got 2" in rec.untested["hyperbola"] and "circle" not in rec.untested
+    assert not {r.cls for r in rec.ranking} & set(rec.untested)
+    assert not {a["class"] for a in rec.to_json()["also_fits"]} & set(rec.untested)
 
 
 def test_copies_with_a_stated_kappa_sigma_give_no_circle():
