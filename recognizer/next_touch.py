@@ -41,12 +41,11 @@ its face, with room for the roll, clear of a cusp; a pad meeting it with its end
 nothing whichever candidate is true, so the class gain is weighted by the chance the pad
 lands and seats: Σ w_c·p_c over the leader and the rivals (normalized), p_c = 0 where the
 pad does not land on c's curve there, or, on a semicubical rival, where the place lies toward
-its cusp from its touches or where the leader bends more sharply than at any touch
-(``_toward_cusp``: far out on a branch the cusp's place is barely measured), else the
-chance that c's tangent, in c's own direction of travel, lies within the pad's tolerance of
-the pad's orientation (``_seats``: c's predicted tilt and its σ_φ; a tilt δφ puts the
-contact δφ/|κ| along the pad, which must leave room for the roll, and a pad turns
-``SEAT_RAD`` to seat). The leader's parameter gain counts with the leader's own p.
+its cusp from its touches (``_toward_cusp``: far out on a branch the cusp's place is barely
+measured), else the chance that c's tangent, in c's own direction of travel, lies within the
+pad's tolerance of the pad's orientation (``_seats``: c's predicted tilt and its σ_φ; a tilt
+δφ puts the contact δφ/|κ| along the pad, which must leave room for the roll, and a pad
+turns ``SEAT_RAD`` to seat). The leader's parameter gain counts with the leader's own p.
 Only the helpful places that miss the least weight of candidates at least
 ``LAND_WEIGHT_MIN`` likely (the pad lands on none of their curves there) are chosen: where
 some lands for every one, only such places (a semicubical leader's other branch, which no
@@ -257,24 +256,18 @@ def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
     return np.abs(curve.arc_length(np.zeros_like(t), t)) >= 0.5 * roll
 
 
-def _toward_cusp(c: Candidate, t: np.ndarray, sharper: np.ndarray) -> np.ndarray:
+def _toward_cusp(c: Candidate, t: np.ndarray) -> np.ndarray:
     """Whether each of a semicubical parabola's points t lies toward its cusp from its
-    touches, all on one branch: between them and the cusp, or past it on the other branch,
-    or at a place where the leader bends more sharply than at any of its touches
-    (``sharper``, per place). Far out on a branch the cusp's place is barely measured
-    (bench_wide --set wide seed 179, semicubical trials 3, 9, 11: suggestions 0.01–0.03 L
-    from the true cusp, 0.13–0.27 L beyond the last touch, were lost), so a pad sent there
-    may meet the cusp or the other branch whatever the fit says; and the fitted cusp may
-    sit anywhere (seed 193, trials 6, 8, 9, 11, 15, answered parabola: the rival's cusp
-    beside or among its touches, the true one 0.01–0.25 L from the place, which lay toward
-    the parabola's vertex). A semicubical's κ = 6a/(|t|(4 + u²)^{3/2}) grows without bound
-    toward its cusp, so wherever the leader's grows past its touches' is where the true cusp
-    may be."""
+    touches, all on one branch: between them and the cusp, or past it on the other branch.
+    Far out on a branch the cusp's place is barely measured (bench_wide --set wide seed 179,
+    semicubical trials 3, 9, 11: suggestions 0.01–0.03 L from the true cusp, 0.13–0.27 L
+    beyond the last touch, were lost), so a pad sent there may meet the cusp or the other
+    branch whatever the fit says."""
     touched = np.asarray(c.t, float)
     side = np.sign(touched)
     if c.cls != "semicubical_parabola" or not touched.size or np.any(side != side[0]):
         return np.zeros(np.shape(t), bool)
-    return (np.sign(t) != side[0]) | (np.abs(t) < np.min(np.abs(touched))) | sharper
+    return (np.sign(t) != side[0]) | (np.abs(t) < np.min(np.abs(touched)))
 
 
 def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, scale: float, roll: float = 0.0):
@@ -437,8 +430,6 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     span_lead = _t_span(leader, 1.0, N_DENSE)
     mean_lead, P_lead, G_lead, _, _ = _prediction(leader, span_lead, px, py, nx, ny, phi, W, d.scale)
     own = np.all(np.isfinite(mean_lead), axis=1)  # the leader's κ, κ_s defined there
-    # where the leader bends more sharply than at any touch: toward a semicubical's cusp
-    sharper = np.abs(curve.kappa(t[keep])) > np.max(np.abs(curve.kappa(np.asarray(leader.t, float))))
     # parameters: entropy lost, and the shrink of the largest relative σ (whitened: R = I)
     eye = np.eye(4)[None]
     P_lead = np.where(np.isfinite(P_lead), P_lead, 0.0)
@@ -479,7 +470,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
         # c true: the pad lands on c's curve, never toward a semicubical rival's cusp from its
         # touches, and seats there, or the touch is lost
-        on_c = ~_toward_cusp(c, posed_c[2], sharper)
+        on_c = ~_toward_cusp(c, posed_c[2])
         if padded:
             on_c &= lands(c, px, py, phi + flip)
         if wc >= LAND_WEIGHT_MIN:
