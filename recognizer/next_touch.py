@@ -46,12 +46,8 @@ measured), else the chance that c's tangent, in c's own direction of travel, lie
 pad's tolerance of the pad's orientation (``_seats``: c's predicted tilt and its σ_φ; a tilt
 δφ puts the contact δφ/|κ| along the pad, which must leave room for the roll, and a pad
 turns ``SEAT_RAD`` to seat). The leader's parameter gain counts with the leader's own p.
-Only the helpful places that miss the least weight of candidates at least
-``LAND_WEIGHT_MIN`` likely (the pad lands on none of their curves there) are chosen: where
-some lands for every one, only such places (a semicubical leader's other branch, which no
-rival has, excepted). Session 18 dropped the rule where no helpful place landed for every
-one (bench_wide seed 193, semicubical trials 9 and 15, answered parabola: an ellipse rival
-met almost nowhere, the touch sent toward the true cusp and lost).
+Where some helpful place lands for every candidate at least ``LAND_WEIGHT_MIN`` likely, only
+such places are chosen, a semicubical leader's other branch, which no rival has, excepted.
 Before (session 17), a rival counted only in its own pair and only where the pad landed on
 its curve at its mean: places where the rivals' tangents were tilted from the leader's, or
 unknown (a circle leader's far side, 9e3 rad for the ellipse rival), were suggested and the
@@ -108,7 +104,7 @@ PAD_ROLLS = 1.0
 SEAT_RAD = 0.05
 """how far a pad that meets the boundary with its end turns to seat on it (rad; tools.pad_approach)."""
 LAND_WEIGHT_MIN = 0.01
-"""a candidate at least this likely must be landed on too, where some helpful place is (else the least weight of them missed)."""
+"""a candidate at least this likely must be landed on too, where some helpful place is."""
 SEPARATION_MIN = 0.1
 """an expected χ² separation below this (1.2 % of a pair's entropy) is not checked the other way round."""
 
@@ -450,7 +446,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         shrink = math.sqrt(max(C[i_max, i_max], 0.0)) / np.sqrt(np.clip(var_after, 1e-300, None))
     # classes
     ig_class = np.zeros(px.size)
-    missed = np.zeros(px.size)  # the weight of the likely classes on whose curve the pad would not land
+    on_all = np.ones(px.size, bool)  # the pad lands whichever likely class is true
     best_sep = {}
     landed = w_lead * seat_lead
     for c, wc in others:
@@ -474,7 +470,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         if padded:
             on_c &= lands(c, px, py, phi + flip)
         if wc >= LAND_WEIGHT_MIN:
-            missed += wc * ~on_c
+            on_all &= on_c
         seats = _seats(_tilt(c, d, posed_c, phi + flip), mean_c, P_c, W, roll) if padded else 1.0
         landed += wc * on_c * seats
         ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0))
@@ -486,12 +482,12 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
     if not helps.any():
         return None
-    # a lost touch tells nothing: where it lands for the likely classes of least weight
-    # missed, every one where it can (but on a semicubical leader's other branch, which no
-    # rival has)
+    # a lost touch tells nothing: where it lands for every likely class, but on a semicubical
+    # leader's other branch, which no rival has
     if curve.name == "semicubical_parabola":
-        missed[np.sign(t[keep]) != np.sign(np.median(leader.t))] = 0.0
-    helps &= missed <= np.min(np.where(helps, missed, np.inf)) * (1.0 + 1e-9)
+        on_all |= np.sign(t[keep]) != np.sign(np.median(leader.t))
+    if (helps & on_all).any():
+        helps &= on_all
     # while the class is in doubt, the place that tells the classes apart best; else the
     # place of largest gain (parameters)
     score = ig_class if float(np.max(ig_class)) >= CLASS_GAIN_MIN else gain
