@@ -327,3 +327,35 @@ def test_a_pad_lands_where_pad_approach_says():
     truth = [bw._send(shape, a, b, c, lo, hi, clear, "approach", left, direction).why == "" for a, b, c in zip(x, y, phi)]
     assert mine.tolist() == truth
     assert 5 < int(mine.sum()) < 20
+
+
+def test_a_parabolas_suggestion_across_its_vertex_is_kept():
+    """bench_wide --set wide seed 179 (development), parabola trial 6 (one side, L 146 mm,
+    touches at t 0.58–1.82): after the first suggested touch, the second lies across the
+    vertex, toward where the semicubical rival's cusp would be, and tells the two apart
+    (expected χ² 4.76); the answer is parabola. Session 19 tried keeping such places out
+    where the semicubical rival would not land there (docs/benchmarks.md, session 19): the
+    touch went far out (χ² 1.01) and the answer turned semicubical."""
+    from tools import bench_wide as bw
+    from tools.pad_approach import solid_left
+
+    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("parabola", 6, 179, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    nm = NoiseModel(noise.phi, noise.pos)
+    rec, _, _ = bw._recognize(touches, nm)
+    left = solid_left(shape.curve, ts, direction)
+    for _ in range(2):  # the random touches draw from rs first, as in the bench
+        got = bw._send(shape, *bw._random_aim(shape, rs.uniform(lo, hi), direction, rec, touches), lo, hi, clear,
+                       "approach", left, direction)
+        if got.t is not None:
+            bw._extra_touch(shape, got.t, rs, direction)
+    landed, tl = [], list(touches)
+    for _ in range(2):
+        nt = rec.next_touch
+        got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach", left, direction)
+        assert got.t is not None, got
+        landed.append(got.t)
+        tl.append(bw._extra_touch(shape, got.t, rs, direction))
+        rec, _, _ = bw._recognize(tl, nm)
+    assert landed[1] < 0.0 < min(ts) and rec.cls == "parabola", (landed, rec.cls)
