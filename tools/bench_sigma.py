@@ -41,6 +41,7 @@ import time
 from collections import defaultdict
 
 import numpy as np
+from scipy import stats
 
 from recognizer import synth
 from recognizer.classify import recognize
@@ -48,8 +49,6 @@ from recognizer.curves import CURVES, Pose
 from recognizer.profiles import PROFILES
 from recognizer.result import RecognizeOptions
 from recognizer.touches import ContactTouch, NoiseModel, Request
-from scipy import stats
-
 from tools.bench import _pool
 
 CLASSES = tuple(CURVES)
