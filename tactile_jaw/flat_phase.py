@@ -155,9 +155,10 @@ def _curve_felt(cfg, settings: ExploreSettings, out: Exploration, emit, say, che
     (``out.stopped``, :func:`curve_stop`). ``checked``: the touches (their ``id``) found no
     curve before, not felt again (a press's scan of 30 lines is felt on every run of its
     lines: seconds of CPU a round); updated."""
-    # a bulged press is felt again: it shows a curved part only with another (flat.bulged_presses)
+    # a bulged press is counted again, its scan not felt again: it shows a curved part only
+    # with another (flat.bulged_presses)
     new = [t for t in out.touches if id(t) not in checked or bulged(t)]
-    curve = curved_part(cfg, new)
+    curve = curved_part(cfg, new, checked)
     if curve is None:
         checked.update(id(t) for t in new)
         return False

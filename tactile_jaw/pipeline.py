@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Any, Callable, Sequence
+from typing import Any, Callable, Collection, Sequence
 
 import numpy as np
 
@@ -722,7 +722,7 @@ def workspace_reach(config) -> Reach:
     return Reach(float(x), float(y), float(radius))
 
 
-def curved_part(config, felt: Sequence[FeltTouch]) -> FeltTouch | None:
+def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = frozenset()) -> FeltTouch | None:
     """The first of the ``felt`` touches that rolled on a curved part of the boundary, or
     None: a flat press whose scan (the pad turning toward a seat, 20 lines over up to 60°)
     :func:`feel` accepts as a roll (its pad lines a smooth curve's tangents, its radius of
@@ -743,8 +743,12 @@ def curved_part(config, felt: Sequence[FeltTouch]) -> FeltTouch | None:
     presses whose seats stopped short of their supports by a bulge, twice on one face
     (tactile_jaw.flat.bulged_presses), as the last of them: P hyperbola 93 of --seed 191, the
     left pad's presses +0.26 mm on its curved part, its rolls on the corners, the right pad's
-    presses on the closing segment answered line."""
+    presses on the closing segment answered line. ``checked``: the touches (their ``id``)
+    found no curve before, not felt again (deterministic; a press's scan costs seconds of
+    CPU), still counted among the bulged presses."""
     for t in felt:
+        if id(t) in checked:
+            continue
         if not isinstance(t.touch, FlatResult):  # a usable roll beside a corner can be a pivot at 4,096 ticks
             stretch = curved_stretch(config, t) if t.curve_at is not None else None
             if stretch is not None:
