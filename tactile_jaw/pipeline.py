@@ -22,6 +22,7 @@ from hand_driver.flat_press import SEAT_TOL_MM, FlatResult
 from hand_driver.motion import EDGE_MARGIN_MM, Sample, TouchResult
 from recognizer.classify import chi2_limit, recognize
 from recognizer.estimate import no_advance
+from recognizer.profiles import PROFILES
 from recognizer.result import Recognition, RecognizeOptions
 from recognizer.scene import ALL_CLASSES, load_scene
 from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, SamplesTouch, check_touch_count, parse_noise
@@ -313,6 +314,14 @@ def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None
 #: lowest degree (``MIN_DEGREE``, its MIN_DEGREE + 1 coefficients) and one degree of freedom
 #: left for the pad lines' χ² about it (tactile_jaw.envelope)
 CURVE_HINT_SAMPLES = MIN_DEGREE + 2
+#: the most runs :func:`_passing_runs` feels for one touch: every run of at least
+#: ``CURVE_HINT_SAMPLES`` of the longest roll any profile plans (its (R − m)(R − m + 3)/2
+#: runs dropping 1 … R − m samples, R its samples, m CURVE_HINT_SAMPLES: 65 for the accurate
+#: profile's 15), so no roll's search is cut short; a flat press's scan (33 lines, ~430 runs,
+#: each an envelope fit of its lines: 18 min of CPU on P line 4 of finite seed 199 of
+#: session 19) is searched as far as a roll is, over its runs dropping the fewest lines
+MAX_RUN_FITS = max((r - CURVE_HINT_SAMPLES) * (r - CURVE_HINT_SAMPLES + 3) // 2
+                   for r in (p.samples_per_touch for p in PROFILES.values()))
 
 
 def curve_hint(config, touch: TouchResult,
@@ -380,14 +389,19 @@ def _passing_runs(config, touch: TouchResult, least: int, margin: int = 0):
     """(samples dropped at the start, at the end, the run felt) of every run of consecutive
     samples (ψ order) that passes every check of :func:`feel` untrimmed, the fewest dropped
     first; each keeps at least ``least`` samples, also with ``margin`` more dropped beside
-    each cut."""
+    each cut. At most ``MAX_RUN_FITS`` runs are felt: a roll's are all, a flat press's
+    33-line scan's only those dropping the fewest lines (its runs are ~430 envelope fits)."""
     order = np.argsort([s.psi for s in touch.samples], kind="stable")
     n = order.size
+    fits = 0
     for drop in range(1, n - least + 1):
         for head in range(drop + 1):
             tail = drop - head
             if n - tail - margin * (tail > 0) - (head + margin * (head > 0)) < least:
                 continue
+            if fits == MAX_RUN_FITS:
+                return
+            fits += 1
             felt = feel(config, _subset(touch, order[head : n - tail]), n - drop, trim=False)
             if felt.problem is None:
                 yield head, tail, felt

@@ -7,6 +7,7 @@ the curve past the felt stretch (tactile_jaw.explore.past_felt_end)."""
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -100,3 +101,27 @@ def test_a_finger_that_felt_the_curve_rolls_on_within_where_it_left_it():
     assert rolls_on_within("right", felt, math.radians(95.0))
     assert not rolls_on_within("right", felt, None)
     assert not rolls_on_within("left", felt, math.radians(95.0))
+
+
+
+@pytest.mark.parametrize("lines, felt", [(33, 65), (15, 65), (9, 14)])
+def test_the_search_for_a_passing_run_is_bounded(monkeypatch, lines, felt):
+    """A scan whose runs all fail (tactile_jaw.pipeline._passing_runs, as smooth_stretch and
+    curve_hint search them): a flat press's 33-line scan feels ``MAX_RUN_FITS`` runs, those
+    dropping the fewest lines (≤ 10), not all 434 (P line 4 of finite seed 199: 18 min of
+    CPU); a roll of the accurate profile's 15 samples or the balanced one's 9 feels all of
+    its runs of at least ``CURVE_HINT_SAMPLES``."""
+    from hand_driver.motion import Sample
+    from tactile_jaw import pipeline
+
+    calls = []
+
+    def failing(config, touch, samples, **kwargs):
+        calls.append(len(touch.samples))
+        return SimpleNamespace(problem="off the curved part")
+
+    monkeypatch.setattr(pipeline, "feel", failing)
+    scan = TouchResult("left", 8, 0.0, [Sample(k, 0.01 * k, None, None, None, 0.0) for k in range(lines)], outcome="ok")
+    assert list(pipeline._passing_runs(None, scan, pipeline.CURVE_HINT_SAMPLES)) == []
+    assert len(calls) == felt and pipeline.MAX_RUN_FITS == 65
+    assert min(calls) == max(lines - 10, pipeline.CURVE_HINT_SAMPLES)
