@@ -50,7 +50,6 @@ def test_a_budget_refusal_names_the_curve_past_the_reach_not_a_place_past_its_en
     telling touch lay there, "within a pad's reach". The refusal names instead the branch as
     far past the felt stretch's other end (t 4.0), which no pad reaches: a move brings it
     within a roll. With no limit where the touch lies, the recognizer's touch stands."""
-    from types import SimpleNamespace
 
     from recognizer.curves import CURVES, Pose
     from recognizer.result import Recognition
