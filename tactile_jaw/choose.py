@@ -297,7 +297,7 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
 
 def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, budget: int,
                   anywhere: Callable[[], dict | None] | None = None,
-                  also: Sequence[tuple[float, float, float]] = ()) -> Stop:
+                  also: Sequence[tuple[float, float, float]] = (), one_side: bool = False) -> Stop:
     """What a person can do when the touch budget is spent and the answer is not decisive:
     when the classes tested fail and others were not tested for too few usable touches, another
     placement or more touches; when no class fits (``why.kind`` 'unclassified'), no move (the touches disagree with every
@@ -307,8 +307,16 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     :func:`move_advice`); else where the recognizer's ``next_touch`` anywhere in the
     workspace would go, with the move that brings it within a pad's roll, or, when a pad
     already reaches it, a larger budget (the ``accurate`` profile); a move to that touch
-    brings ``also``'s places within a pad's roll too where it can (:func:`_goal_stop`)."""
+    brings ``also``'s places within a pad's roll too where it can (:func:`_goal_stop`). With
+    ``one_side`` (tactile_jaw.decide.beyond_resolution: the touches where they were cannot tell
+    the answer from its rival at this jaw's resolution, however many), the move that brings
+    ``also``'s places, the object's other side, within a pad's roll comes first
+    (:func:`other_side_stop`)."""
     spent = f"the touch budget of {budget} is spent"
+    if one_side and also and touched is not None:
+        stop = other_side_stop(spent, touched, reach, also)
+        if stop is not None:
+            return stop
     if why.kind == "unclassified" and recognition.untested:
         # the classes tested failed, the others need more usable touches than the budget gave:
         # the touches met corners or pad ends, so another placement, or more touches, may decide
@@ -425,6 +433,23 @@ def _goal_stop(message: str, goal: Goal | Sequence[Goal], reach: JawReach,
             return Stop(f"{message}: no pad reaches that touch with the object moved up to {MOVE_MAX_MM:g} mm and "
                         f"turned up to {MOVE_TURN_MAX_DEG:g} deg; {side}", side_move)
     return Stop(f"{message}: {first}", None)
+
+
+def other_side_stop(head: str, touched, reach: JawReach, also: Sequence[tuple[float, float, float]]) -> Stop | None:
+    """``head``, then the move after which a pad rolls through ``also``'s places (where a finger
+    that never rolled met the object: its other side, :func:`side_goal`), the felt samples
+    ``touched`` kept clear of the opened jaw; None when no move reaches them. For an answer the
+    rolls of one side cannot tell from its rival at this jaw's resolution: a move to the most
+    telling touch brings the same side's rolls again (random X-series ellipse 55 of
+    bench_explore --finite 20 --anywhere --seed 199: moved 3 mm and turned 15° for it, refused
+    again, ellipse and semicubical within 0.1 in χ²; turned 10° about the left pad's place
+    instead, the left pad rolls there and it is answered ellipse, a −0.07 %)."""
+    keep = Goal((), _thinned(touched), (0.0, 0.0), "")
+    advice, move = move_advice(reach, side_goal(keep, also))
+    if move is None:
+        return None
+    return Stop(f"{head}; the rolls on this side cannot tell the classes apart at this jaw's angle resolution, "
+                f"the object's other side can: {advice}", move)
 
 
 def side_goal(goal: Goal, also: Sequence[tuple[float, float, float]]) -> Goal:
