@@ -244,7 +244,8 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
              aimed_at: Sequence[tuple[float, float]], vertex_missed: str | None = None,
              empty_at: Sequence[tuple[float, float]] = (),
              anywhere: Callable[[], dict | None] | None = None,
-             also: Sequence[tuple[float, float, float]] = ()) -> tuple[Aim | None, Stop | None]:
+             also: Sequence[tuple[float, float, float]] = (),
+             one_side: Callable[[], bool] | None = None) -> tuple[Aim | None, Stop | None]:
     """(the next touch's aim, or None for the planner's own choice; why no touch within reach
     can help, or None) for an answer that is not decisive because of ``why`` (module
     docstring). ``touched``: the usable touches' sample positions (x, y); ``aimed_at``: the
@@ -254,7 +255,10 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     made; ``empty_at``: points aimed at where the touch met nothing;
     ``anywhere``: the recognizer's ``next_touch`` anywhere in the workspace (called only
     when none is within the pads' reach, for the reason to say where it would be); ``also``:
-    places a move to that touch should bring within a pad's roll too (:func:`_goal_stop`)."""
+    places a move to that touch should bring within a pad's roll too (:func:`_goal_stop`);
+    ``one_side``: whether the rival is beyond the jaw's resolution on the side felt (asked only
+    when a stop names a move: then the move for ``also``'s places comes first,
+    :func:`other_side_stop`)."""
     if why.kind == "vertex" and touched is not None:
         aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers, aimed_at)
         if aim is not None:
@@ -283,11 +287,15 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
                       f"where the recognizer points: {suggested.get('why', '')}")
             skip = _aimed_near(aim.point, aimed_at) or _aimed_near(aim.point, empty_at, EMPTY_AIM_MM)
             return (None if skip else aim), None
-    if why.kind == "resolution":  # more touches of this jaw cannot tell them apart (tactile_jaw.decide.inseparable)
-        return None, Stop("more touches of this jaw are not expected to tell them apart")
     if why.kind in ("unstable", "unclassified"):
         return None, None  # one more touch anywhere: the planner's
     what = ("narrow the parameters" if why.kind == "imprecise" else "tell the classes apart")
+    if also and touched is not None and one_side is not None and one_side():
+        side = other_side_stop(f"no touch within the pads' reach is expected to {what}", touched, reach, also)
+        if side is not None:
+            return None, side
+    if why.kind == "resolution":  # more touches of this jaw cannot tell them apart (tactile_jaw.decide.inseparable)
+        return None, Stop("more touches of this jaw are not expected to tell them apart")
     wanted = anywhere() if anywhere is not None else None
     if wanted is None:
         return None, Stop(f"no touch within the pads' reach is expected to {what}: move or turn the object so that "

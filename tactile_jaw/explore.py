@@ -718,7 +718,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
             aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,
                                         vertex_missed, empty_at, anywhere(usable),
-                                        unrolled_places(cfg, out, recognition))
+                                        unrolled_places(cfg, out, recognition),
+                                        lambda: beyond_resolution(recognize_touches, recognition, why, usable,
+                                                                  settings.touches))
             other = None if out.stopped is None else unrolled_finger(
                 active, out, probes, deferred, lambda f: choose_psi(f, model, settings, used[f.name], limits(f.name)))
             if other is not None:  # its side of the object first: rolls on one side alone leave the rivals

@@ -14,7 +14,7 @@ from hand_driver.config import load_config
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Ranked, Recognition
 from tactile_jaw import decide
-from tactile_jaw.choose import JawReach, budget_advice
+from tactile_jaw.choose import JawReach, budget_advice, next_aim
 from tactile_jaw.decide import Why, beyond_resolution
 from tactile_jaw.settings import ExploreSettings
 
@@ -82,3 +82,19 @@ def test_beyond_resolution_scales_the_expected_gap_to_the_budget(monkeypatch):
     assert beyond_resolution(None, ELLIPSE, Why("r", "resolution", "parabola"), touches, 8)
     assert not beyond_resolution(None, ELLIPSE, Why("u", "unstable"), touches, 8)
     assert not beyond_resolution(None, ELLIPSE, Why("i", "imprecise"), touches, 8)
+
+
+def test_a_stop_for_a_rival_beyond_the_resolution_names_the_other_sides_move():
+    """Stopped before the budget (no touch within reach tells them apart, or kind ``resolution``:
+    before, "more touches of this jaw are not expected to tell them apart", naming no move)."""
+    x, y, _, _ = _places(46.0, 106.0)
+    ux, uy, uphi, _ = _places(-91.0, -89.0)
+    left = (float(ux[0]), float(uy[0]), float(uphi[0]))
+    for kind in ("resolution", "rival"):
+        why = Why("ellipse and semicubical_parabola both fit", kind, "semicubical_parabola")
+        aim, stop = next_aim(ELLIPSE, why, (x, y), REACH, list(CONFIG.fingers), [], anywhere=lambda: WANTED,
+                             also=[left], one_side=lambda: True)
+        assert aim is None and stop.move is not None and "the object's other side can" in stop
+        _, plain = next_aim(ELLIPSE, why, (x, y), REACH, list(CONFIG.fingers), [], anywhere=lambda: WANTED,
+                            also=[left], one_side=lambda: False)
+        assert "the object's other side can" not in plain
