@@ -17,6 +17,7 @@ from tactile_jaw import decide
 from tactile_jaw.choose import JawReach, budget_advice, next_aim
 from tactile_jaw.decide import Why, beyond_resolution
 from tactile_jaw.settings import ExploreSettings
+from tests.tactile_jaw.test_choose import _moved
 
 CONFIG = load_config("config/jaw.yaml")
 REACH = JawReach(CONFIG, ExploreSettings.from_profile("balanced"))
@@ -38,13 +39,6 @@ def _places(lo: float, hi: float):
     psi = np.degrees(np.remainder(phi + math.pi / 2 + math.pi, 2 * math.pi) - math.pi)
     keep = (psi >= lo) & (psi <= hi)
     return x[keep], y[keep], phi[keep], psi[keep]
-
-
-def _moved(move, x, y):
-    a = math.radians(move["turn_deg"])
-    ax, ay = move["about"]
-    c, s = math.cos(a), math.sin(a)
-    return ax + c * (x - ax) - s * (y - ay) + move["dx"], ay + s * (x - ax) + c * (y - ay) + move["dy"]
 
 
 def test_the_move_for_a_rival_beyond_the_resolution_brings_the_other_side_within_reach():
