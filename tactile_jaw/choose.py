@@ -244,7 +244,8 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
              aimed_at: Sequence[tuple[float, float]], vertex_missed: str | None = None,
              empty_at: Sequence[tuple[float, float]] = (),
              anywhere: Callable[[], dict | None] | None = None,
-             also: Sequence[tuple[float, float, float]] = ()) -> tuple[Aim | None, Stop | None]:
+             also: Sequence[tuple[float, float, float]] = (),
+             one_side: Callable[[], bool] | None = None) -> tuple[Aim | None, Stop | None]:
     """(the next touch's aim, or None for the planner's own choice; why no touch within reach
     can help, or None) for an answer that is not decisive because of ``why`` (module
     docstring). ``touched``: the usable touches' sample positions (x, y); ``aimed_at``: the
@@ -254,7 +255,10 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     made; ``empty_at``: points aimed at where the touch met nothing;
     ``anywhere``: the recognizer's ``next_touch`` anywhere in the workspace (called only
     when none is within the pads' reach, for the reason to say where it would be); ``also``:
-    places a move to that touch should bring within a pad's roll too (:func:`_goal_stop`)."""
+    places a move to that touch should bring within a pad's roll too (:func:`_goal_stop`);
+    ``one_side``: whether the rival is beyond the jaw's resolution on the side felt (asked only
+    when a stop names a move: then the move for ``also``'s places comes first,
+    :func:`other_side_stop`)."""
     if why.kind == "vertex" and touched is not None:
         aim = None if vertex_missed else vertex_aim(recognition, touched, reach, fingers, aimed_at)
         if aim is not None:
@@ -283,11 +287,15 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
                       f"where the recognizer points: {suggested.get('why', '')}")
             skip = _aimed_near(aim.point, aimed_at) or _aimed_near(aim.point, empty_at, EMPTY_AIM_MM)
             return (None if skip else aim), None
-    if why.kind == "resolution":  # more touches of this jaw cannot tell them apart (tactile_jaw.decide.inseparable)
-        return None, Stop("more touches of this jaw are not expected to tell them apart")
     if why.kind in ("unstable", "unclassified"):
         return None, None  # one more touch anywhere: the planner's
     what = ("narrow the parameters" if why.kind == "imprecise" else "tell the classes apart")
+    if also and touched is not None and one_side is not None and one_side():
+        side = other_side_stop(f"no touch within the pads' reach is expected to {what}", touched, reach, also)
+        if side is not None:
+            return None, side
+    if why.kind == "resolution":  # more touches of this jaw cannot tell them apart (tactile_jaw.decide.inseparable)
+        return None, Stop("more touches of this jaw are not expected to tell them apart")
     wanted = anywhere() if anywhere is not None else None
     if wanted is None:
         return None, Stop(f"no touch within the pads' reach is expected to {what}: move or turn the object so that "
@@ -297,7 +305,7 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
 
 def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, budget: int,
                   anywhere: Callable[[], dict | None] | None = None,
-                  also: Sequence[tuple[float, float, float]] = ()) -> Stop:
+                  also: Sequence[tuple[float, float, float]] = (), one_side: bool = False) -> Stop:
     """What a person can do when the touch budget is spent and the answer is not decisive:
     when the classes tested fail and others were not tested for too few usable touches, another
     placement or more touches; when no class fits (``why.kind`` 'unclassified'), no move (the touches disagree with every
@@ -307,8 +315,16 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     :func:`move_advice`); else where the recognizer's ``next_touch`` anywhere in the
     workspace would go, with the move that brings it within a pad's roll, or, when a pad
     already reaches it, a larger budget (the ``accurate`` profile); a move to that touch
-    brings ``also``'s places within a pad's roll too where it can (:func:`_goal_stop`)."""
+    brings ``also``'s places within a pad's roll too where it can (:func:`_goal_stop`). With
+    ``one_side`` (tactile_jaw.decide.beyond_resolution: the touches where they were cannot tell
+    the answer from its rival at this jaw's resolution, however many), the move that brings
+    ``also``'s places, the object's other side, within a pad's roll comes first
+    (:func:`other_side_stop`)."""
     spent = f"the touch budget of {budget} is spent"
+    if one_side and also and touched is not None:
+        stop = other_side_stop(spent, touched, reach, also)
+        if stop is not None:
+            return stop
     if why.kind == "unclassified" and recognition.untested:
         # the classes tested failed, the others need more usable touches than the budget gave:
         # the touches met corners or pad ends, so another placement, or more touches, may decide
@@ -425,6 +441,23 @@ def _goal_stop(message: str, goal: Goal | Sequence[Goal], reach: JawReach,
             return Stop(f"{message}: no pad reaches that touch with the object moved up to {MOVE_MAX_MM:g} mm and "
                         f"turned up to {MOVE_TURN_MAX_DEG:g} deg; {side}", side_move)
     return Stop(f"{message}: {first}", None)
+
+
+def other_side_stop(head: str, touched, reach: JawReach, also: Sequence[tuple[float, float, float]]) -> Stop | None:
+    """``head``, then the move after which a pad rolls through ``also``'s places (where a finger
+    that never rolled met the object: its other side, :func:`side_goal`), the felt samples
+    ``touched`` kept clear of the opened jaw; None when no move reaches them. For an answer the
+    rolls of one side cannot tell from its rival at this jaw's resolution: a move to the most
+    telling touch brings the same side's rolls again (random X-series ellipse 55 of
+    bench_explore --finite 20 --anywhere --seed 199: moved 3 mm and turned 15° for it, refused
+    again, ellipse and semicubical within 0.1 in χ²; turned 10° about the left pad's place
+    instead, the left pad rolls there and it is answered ellipse, a −0.07 %)."""
+    keep = Goal((), _thinned(touched), (0.0, 0.0), "")
+    advice, move = move_advice(reach, side_goal(keep, also))
+    if move is None:
+        return None
+    return Stop(f"{head}; the rolls on this side cannot tell the classes apart at this jaw's angle resolution, "
+                f"the object's other side can: {advice}", move)
 
 
 def side_goal(goal: Goal, also: Sequence[tuple[float, float, float]]) -> Goal:

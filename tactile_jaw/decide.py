@@ -338,6 +338,24 @@ def rivals_gap(recognize_touches: RecognizeTouches, recognition: Recognition, to
     return min(gaps)
 
 
+def beyond_resolution(recognize_touches: RecognizeTouches, recognition: Recognition, why: Why,
+                      touches: Sequence[Any], budget: int) -> bool:
+    """Whether the rival that keeps the answer from being decisive (``why``) is one the
+    touches where they were cannot tell apart however many the ``budget`` allows: kind
+    ``resolution`` (:func:`inseparable`), or a ``rival`` whose expected Δχ² on these touches
+    (:func:`rivals_gap`), each touch up to the budget adding its share, stays below
+    ``DECISIVE_CHI2`` (random X-series ellipses 45 and 55 of bench_explore --finite 20
+    --anywhere --seed 199: one finger rolled on one end, expected gaps 0.57 and 0.29 after 7
+    touches, observed χ² gaps 0.2–7.4). Then only other places, not more of the same, decide
+    (tactile_jaw.choose.other_side_stop)."""
+    if why.kind == "resolution":
+        return True
+    if why.kind != "rival" or why.rival is None or not touches:
+        return False
+    gap = rivals_gap(recognize_touches, recognition, touches, why.rival)
+    return gap is not None and gap * max(budget, len(touches)) / len(touches) < DECISIVE_CHI2
+
+
 def finer_advice(gap: float, ticks_per_rev: int | None) -> str:
     """The clause naming the encoder resolution at which an expected Δχ² ``gap`` reaches
     ``DECISIVE_CHI2`` (tactile_jaw.separation.finer_ticks), or '' without the jaw's."""

@@ -36,7 +36,8 @@ from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling
 from recognizer.curves import CURVES
 from tactile_common.errors import InputError
 from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, next_aim
-from tactile_jaw.decide import DECISIVE_CHI2, RecognizeTouches, decide, final_answer, imprecision, sample_positions
+from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
+                                 sample_positions)
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
@@ -717,7 +718,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
             aim, out.stopped = next_aim(recognition, why, sample_positions(usable), reach, active, aimed_at,
                                         vertex_missed, empty_at, anywhere(usable),
-                                        unrolled_places(cfg, out, recognition))
+                                        unrolled_places(cfg, out, recognition),
+                                        lambda: beyond_resolution(recognize_touches, recognition, why, usable,
+                                                                  settings.touches))
             other = None if out.stopped is None else unrolled_finger(
                 active, out, probes, deferred, lambda f: choose_psi(f, model, settings, used[f.name], limits(f.name)))
             if other is not None:  # its side of the object first: rolls on one side alone leave the rivals
@@ -738,8 +741,10 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         if wanted is not None:  # a place past where the rolls left the curved part is no place to touch
             wanted = past_felt_end(recognition, usable, wanted, reach, settings.roll_span_rad, limits,
                                    clearing_corners(out.touches))
+        also = unrolled_places(cfg, out, recognition)
+        one_side = bool(also) and beyond_resolution(recognize_touches, recognition, why, usable, settings.touches)
         out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
-                                    wanted, unrolled_places(cfg, out, recognition))
+                                    wanted, also, one_side)
         emit(out.stopped.event("budget_spent"))
         say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
