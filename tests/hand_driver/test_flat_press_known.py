@@ -11,13 +11,8 @@ import numpy as np
 import pytest
 
 from hand_driver import kinematics as kin
-from hand_driver.bus import JointBus
-from hand_driver.config import load_config
-from hand_driver.cycle import Jaw, LockstepClock, run_together
-from hand_driver.flat_press import FLAT_STEP_DEG, KNOWN_TOL_MM, face_normal, flat_press, past_known
-from hand_driver.motion import move_line
+from hand_driver.flat_press import FLAT_STEP_DEG, KNOWN_TOL_MM, face_normal, past_known
 from hand_driver.sim.physics import ContactWorld
-from hand_driver.sim.server import EmulatedBus
 from tests.hand_driver.test_flat_press import CONFIG, _block_turned, _stop, _walk
 
 STEP = math.radians(FLAT_STEP_DEG)
@@ -87,36 +82,3 @@ def test_tangents_of_a_circle_are_no_pivot():
     walk = [tangent(-90.0 + 3.0 * k) for k in (0, 1, 2)]
     known = [tangent(a) for a in (-83.0, -81.0, -79.0, -77.0)]
     assert past_known(3.0, [0.0, 1.0, 2.0], walk, known, psi0, lambda k: True) == (3.0, None)
-
-
-
-def test_the_emulated_press_turns_about_the_corner_and_seats():
-    """On the emulated P-series jaw (the X-series jaw's three lines 3° apart fix their common
-    point along the pad only to ~2 mm, and no known line is taken through it), the left pad's
-    press from −90° on the block turned 25°, given a probe's exact lines at −83…−77° (through
-    the corner it pivots about): it turns about that corner past −81° without an approach
-    there, never wedges (it seats, no timeout), and seats where the press without them does."""
-    config = load_config("config/jaw-p.yaml")
-    scene = _block_turned(25.0)
-    finger = config.finger("left")
-    known = _probe_lines(ContactWorld(config, scene.object), finger, -80.0)
-    psi0 = -math.pi / 2
-    ws = config.workspace
-    edge = math.cos(psi0) * ws.center_mm[0] + math.sin(psi0) * ws.center_mm[1] - ws.radius_mm
-    results = []
-    for lines in ((), known):
-        with EmulatedBus(config, scene, time_scale=0.0) as sim:
-            with JointBus(sim.port, config.bus.baudrate, config, retries=config.bus.retries, timeout_s=1.0) as bus:
-                bus.set_profile_raw(config.motion.profile_velocity, config.motion.profile_acceleration)
-                jaw = Jaw(bus, config, None, clock=LockstepClock(sim))
-                run_together(jaw, {"left": move_line(jaw, "left", psi0, edge)})
-                results.append(run_together(jaw, {"left": flat_press(jaw, "left", 0, psi0, 1, edge, 45.0,
-                                                                     known=lines)})["left"])
-    plain, skipped = results
-    assert plain.outcome == skipped.outcome == "ok"
-    assert len(skipped.samples) == len(plain.samples) - 1
-    assert not any(abs(math.degrees(s.psi) + 81.0) < 0.5 for s in skipped.samples)
-    seat = [math.degrees(s.psi) for s, r in zip(skipped.samples, skipped.roles) if r == "seat"]
-    assert seat[0] == pytest.approx(-65.0, abs=0.3)
-    assert seat == pytest.approx([math.degrees(s.psi) for s, r in zip(plain.samples, plain.roles) if r == "seat"],
-                                 abs=1e-3)
