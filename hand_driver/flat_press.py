@@ -319,37 +319,36 @@ def _slid_past(seq: list[kin.PadLine], b: int, tol_mm: float) -> bool:
 
 
 def past_known(k: float, ks: list[float], lines: list[kin.PadLine], known: list[kin.PadLine], psi_start: float,
-               allowed: Callable[[float], bool], tol_mm: float = KNOWN_TOL_MM) -> tuple[float, np.ndarray | None]:
+               allowed: Callable[[float], bool], tol_mm: float = KNOWN_TOL_MM) -> float:
     """The step to take instead of ``k`` (:func:`next_step`, given the steps ``ks`` taken,
     increasing, and their pad lines): where ``k`` grows the turned range at an end whose last
     ``SUPPORT_LINES`` lines pass through one point X within ``tol_mm`` (the pad pivots about X)
     and ``known`` pad lines (the finger's earlier contacts: probes, rolls) at orientations
     farther that way pass within ``tol_mm`` of X, X lying on their pads (not beyond an end),
-    the farthest whole step not past the farthest of them that ``allowed`` permits, with X
-    (else ``k`` and None): the pad turns there about X (:func:`_press`). A pad that touches
+    the whole step just past the farthest of them that ``allowed`` permits. A pad that touches
     a convex boundary at a point of its face lies on a support line there, and a boundary
     point's normal cone is an arc: X is the support point at every pad normal between two at
     which it is, so every approach in between pivots about X again (random block 3 of bench_explore --finite 20 --anywhere --seed 199, P-series: 16
     approaches about one corner, 89° to 137°, where a probe's lines had met it at 107–113°)."""
     if len(ks) < SUPPORT_LINES or ks[0] <= k <= ks[-1]:
-        return k, None
+        return k
     way = 1 if k > ks[-1] else -1
     end = len(lines) - 1 if way > 0 else 0
     n, x, _ = _run(lines, end, -way, tol_mm, SUPPORT_LINES)
     if n < SUPPORT_LINES:
-        return k, None
+        return k
     step = math.radians(FLAT_STEP_DEG)
     beyond = [way * math.remainder(float(ln.psi) - psi_start, 2 * math.pi) / step for ln in known
               if abs(float(ln.normal @ x - ln.d)) <= tol_mm
               and tol_mm <= float(ln.pad_coordinate(x)) <= float(np.linalg.norm(ln.distal - ln.proximal)) - tol_mm]
     far = max(beyond, default=-math.inf)
-    if far < way * k + 1.0:
-        return k, None
-    target = k + way * math.floor(far - way * k + 1e-9)  # the lattice's last step within the known lines
+    if far <= way * k:
+        return k
+    target = k + way * math.floor(far - way * k + 1.0)  # the lattice's first step past the farthest line
     for j in np.arange(target, k, -way):
         if allowed(float(j)):
-            return float(j), x
-    return k, None
+            return float(j)
+    return k
 
 
 def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first_turn: int,
@@ -457,10 +456,10 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
                 result.message = (f"{finger}: turned {math.degrees(step * (max(steps) - min(steps))):.0f} deg about "
                                   f"psi={math.degrees(psi_start):.1f} deg without the pad seating: no flat face there")
                 return result
-            k, pivot = past_known(k, sorted(steps), lines, list(known), psi_start, allowed)
+            k = past_known(k, sorted(steps), lines, list(known), psi_start, allowed)
             psi = psi_start + k * step
             try:
-                approach = yield from _unless(_press(jaw, finger, psi, pivot), interrupt)
+                approach = yield from _unless(_press(jaw, finger, psi), interrupt)
             except kin.Unreachable:
                 side = 1 if k > 0 else -1
                 blocked[side] = min(abs(k), abs(blocked.get(side, math.inf))) * side
@@ -535,24 +534,12 @@ def _unless(motion: Motion, interrupt: Callable[[], str | None] | None) -> Motio
             return stop.value
 
 
-def _press(jaw: Jaw, finger: str, psi: float, pivot: np.ndarray | None = None) -> Motion:
+def _press(jaw: Jaw, finger: str, psi: float) -> Motion:
     """From the pad's last contact, in one move, off the object by ROLL_CLEARANCE_MM plus
     what turning to ψ about the pad's middle can sweep (the pad line is interpolated, so
-    the end the turn lowers stays clear all the way), then a guarded approach; with a
-    ``pivot`` (:func:`past_known`: the support point at every normal of the turn), through
-    the lines ROLL_CLEARANCE_MM off it every FLAT_STEP_DEG instead: each clears the object by
-    that much (a turn of 30° about the pad's middle, into what no approach had felt, wedged
-    the X-series pad of random block 9 of bench_explore --seed 199 for 10 s)."""
+    the end the turn lowers stays clear all the way), then a guarded approach."""
     m = jaw.config.motion
     here = jaw.pad_line(jaw.last_state, finger)
-    if pivot is not None:
-        turn = math.remainder(psi - float(here.psi), 2 * math.pi)
-        parts = max(1, math.ceil(abs(turn) / math.radians(FLAT_STEP_DEG) - 1e-9))
-        path = [(a, float(kin.unit(a) @ pivot) - ROLL_CLEARANCE_MM)
-                for a in (float(here.psi) + turn * i / parts for i in range(1, parts + 1))]
-        if (yield from move_line(jaw, finger, *path[-1], via=path[:-1])):
-            return (yield from guarded_approach(jaw, finger, psi, path[-1][1], 3.0 * ROLL_CLEARANCE_MM + m.backoff_mm))
-        here = jaw.pad_line(jaw.last_state, finger)  # blocked on the way: about the pad's middle from here
     turn = abs(math.remainder(psi - float(here.psi), 2 * math.pi))
     middle = 0.5 * (here.proximal + here.distal)
     clearance = ROLL_CLEARANCE_MM + 0.5 * jaw.config.finger(finger).pad.length_mm * turn

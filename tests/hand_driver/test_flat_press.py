@@ -22,7 +22,6 @@ from hand_driver.flat_press import (
     flat_press,
     lowering_turn,
     next_step,
-    past_known,
     seat_split,
 )
 from hand_driver.motion import move_line
@@ -167,11 +166,10 @@ def _stop(world: ContactWorld, finger, psi: float) -> kin.PadLine | None:
     return kin.finger_pad_line(finger, kin.ik_line(finger, psi, lo))
 
 
-def _walk(world: ContactWorld, finger, psi0: float, known=()):
-    """The press's decisions (next_step, past_known with the ``known`` lines, seat_split) on
-    exact stops from ψ0, as flat_press takes them: a turn the joints cannot make blocks that
-    side from there on (part steps short of it stay allowed). Returns (seat_split's answer or
-    None, the lines by step)."""
+def _walk(world: ContactWorld, finger, psi0: float):
+    """The press's decisions (next_step, seat_split) on exact stops from ψ0, as flat_press
+    takes them: a turn the joints cannot make blocks that side from there on (part steps
+    short of it stay allowed). Returns (seat_split's answer or None, the lines by step)."""
     step = math.radians(FLAT_STEP_DEG)
     most = round(FLAT_MAX_TURN_DEG / FLAT_STEP_DEG)
     lines = {0.0: _stop(world, finger, psi0)}
@@ -181,14 +179,11 @@ def _walk(world: ContactWorld, finger, psi0: float, known=()):
         found = seat_split([lines[k] for k in ks], finger.pad.length_mm)
         if found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * finger.pad.length_mm:
             return found, lines
-        def allowed(k):
-            return abs(k) <= most and abs(k) < blocked.get(int(np.sign(k)), math.inf) and k not in lines
-
-        k = next_step(ks, [lines[k] for k in ks], finger.pad.length_mm, 1, allowed,
+        k = next_step(ks, [lines[k] for k in ks], finger.pad.length_mm, 1,
+                      lambda k: abs(k) <= most and abs(k) < blocked.get(int(np.sign(k)), math.inf) and k not in lines,
                       toward=np.array(CONFIG.workspace.center_mm))
         if k is None:
             return None, lines
-        k = past_known(k, ks, [lines[k] for k in ks], list(known), psi0, allowed)[0]
         line = _stop(world, finger, psi0 + k * step)
         if line is None:
             blocked[int(np.sign(k))] = min(abs(k), blocked.get(int(np.sign(k)), math.inf))
