@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
+from typing import Callable
 
 import numpy as np
 
@@ -111,10 +111,6 @@ END_SUPPORT_MM = 4.0
 #: the seated presses, at the seat's orientation ψ_f plus these (deg): re-pressing at a
 #: slightly different goal reads the same seat through different encoder roundings
 SEAT_PRESSES_DEG = (0.0, -0.1, 0.1)
-#: an earlier contact's pad line passes through the support a press pivots about when within
-#: this (mm) of it (:func:`past_known`): half SEAT_TOL_MM, so a line of boundary bent
-#: beside a corner (ρδ²/2 from it) rarely passes for one through the corner
-KNOWN_TOL_MM = 0.1
 
 
 @dataclass
@@ -318,39 +314,6 @@ def _slid_past(seq: list[kin.PadLine], b: int, tol_mm: float) -> bool:
             or (b >= 3 and _run(seq, b - 1, -1, tol_mm)[0] < 3))
 
 
-def past_known(k: float, ks: list[float], lines: list[kin.PadLine], known: list[kin.PadLine], psi_start: float,
-               allowed: Callable[[float], bool], tol_mm: float = KNOWN_TOL_MM) -> float:
-    """The step to take instead of ``k`` (:func:`next_step`, given the steps ``ks`` taken,
-    increasing, and their pad lines): where ``k`` grows the turned range at an end whose last
-    ``SUPPORT_LINES`` lines pass through one point X within ``tol_mm`` (the pad pivots about X)
-    and ``known`` pad lines (the finger's earlier contacts: probes, rolls) at orientations
-    farther that way pass within ``tol_mm`` of X, X lying on their pads (not beyond an end),
-    the whole step just past the farthest of them that ``allowed`` permits. A pad that touches
-    a convex boundary at a point of its face lies on a support line there, and a boundary
-    point's normal cone is an arc: X is the support point at every pad normal between two at
-    which it is, so every approach in between pivots about X again (random block 3 of bench_explore --finite 20 --anywhere --seed 199, P-series: 16
-    approaches about one corner, 89° to 137°, where a probe's lines had met it at 107–113°)."""
-    if len(ks) < SUPPORT_LINES or ks[0] <= k <= ks[-1]:
-        return k
-    way = 1 if k > ks[-1] else -1
-    end = len(lines) - 1 if way > 0 else 0
-    n, x, _ = _run(lines, end, -way, tol_mm, SUPPORT_LINES)
-    if n < SUPPORT_LINES:
-        return k
-    step = math.radians(FLAT_STEP_DEG)
-    beyond = [way * math.remainder(float(ln.psi) - psi_start, 2 * math.pi) / step for ln in known
-              if abs(float(ln.normal @ x - ln.d)) <= tol_mm
-              and tol_mm <= float(ln.pad_coordinate(x)) <= float(np.linalg.norm(ln.distal - ln.proximal)) - tol_mm]
-    far = max(beyond, default=-math.inf)
-    if far <= way * k:
-        return k
-    target = k + way * math.floor(far - way * k + 1.0)  # the lattice's first step past the farthest line
-    for j in np.arange(target, k, -way):
-        if allowed(float(j)):
-            return float(j)
-    return k
-
-
 def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first_turn: int,
               allowed: Callable[[float], bool], toward: np.ndarray | None = None,
               tol_mm: float = SEAT_TOL_MM) -> float | None:
@@ -394,7 +357,7 @@ def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first
 def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: int, d_start: float,
                travel_mm: float, toward=None, on_event: Callable[[dict], None] | None = None,
                give_up: Callable[[], str | None] | None = None,
-               interrupt: Callable[[], str | None] | None = None, known: Sequence[kin.PadLine] = ()) -> Motion:
+               interrupt: Callable[[], str | None] | None = None) -> Motion:
     """Seat the pad flat on the face of the object before it and press it there (module
     docstring): a guarded approach at ``psi_start`` from ``d_start`` (at most
     ``travel_mm``), the pad turned in FLAT_STEP_DEG steps toward the seat (the first one by
@@ -404,9 +367,7 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
     FLAT_MAX_TURN_DEG either way (or to its joint limits) without seating; ``stopped`` when
     ``give_up()`` (asked before each turn while no seat is found) returns a reason, or
     ``interrupt()`` (asked every cycle of those turns and approaches), such as another pad
-    having seated in the same cycles. ``known``: the finger's earlier pad lines in contact;
-    the turn skips the approaches they show would pivot about the same support
-    (:func:`past_known`)."""
+    having seated in the same cycles."""
     m = jaw.config.motion
     emit = on_event or (lambda rec: None)
     length = jaw.config.finger(finger).pad.length_mm
@@ -456,7 +417,6 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
                 result.message = (f"{finger}: turned {math.degrees(step * (max(steps) - min(steps))):.0f} deg about "
                                   f"psi={math.degrees(psi_start):.1f} deg without the pad seating: no flat face there")
                 return result
-            k = past_known(k, sorted(steps), lines, list(known), psi_start, allowed)
             psi = psi_start + k * step
             try:
                 approach = yield from _unless(_press(jaw, finger, psi), interrupt)

@@ -52,16 +52,11 @@ FLAT_MAX_S = 12.0
 PIVOT_AGAIN_MM = 1.0
 
 
-def _finger_samples(out: Exploration, finger: str) -> list:
-    """Every in-contact sample of ``finger``'s probes and touches so far (presses too)."""
-    return [s for t in (*out.probes, *out.touches) if t.touch.finger == finger for s in t.touch.samples]
-
-
 def _felt_stop(out: Exploration, finger: str, psi: float) -> tuple[float, float] | None:
     """(ψ, d) of the in-contact sample of ``finger`` (probes and rolling touches so far)
     whose orientation is nearest ``psi``, or None: a guarded approach at that ψ stops there
     again, so a flat press can start from just outside it instead of the workspace edge."""
-    samples = _finger_samples(out, finger)
+    samples = [s for t in (*out.probes, *out.touches) if t.touch.finger == finger for s in t.touch.samples]
     if not samples:
         return None
     s = min(samples, key=lambda s: abs(math.remainder(s.psi - psi, 2 * math.pi)))
@@ -77,7 +72,7 @@ def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> t
     pivoted about both corners of one face), the pad lies flat at the normal of the two.
     The press starts there as a later press starts at its face: the walk to the seat from
     the pad's nominal normal (up to 60°, 3° a step) is left out."""
-    samples = _finger_samples(out, finger)
+    samples = [s for t in (*out.probes, *out.touches) if t.touch.finger == finger for s in t.touch.samples]
     samples.sort(key=lambda s: math.remainder(float(s.line.psi) - psi, 2 * math.pi))
     lines = [s.line for s in samples]
     found = seat_split(lines, length_mm) if len(lines) >= 6 else None
@@ -90,7 +85,7 @@ def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> t
 
 def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, touch_index: int, emit,
                spent: dict[str, float], felt: tuple[float, float] | None = None, seated: set[str] | None = None,
-               seat: tuple[float, np.ndarray, np.ndarray] | None = None, side: int = 1, known: Sequence = ()):
+               seat: tuple[float, np.ndarray, np.ndarray] | None = None, side: int = 1):
     """One flat press of ``finger``: the first at the pad's nominal normal (after a transit)
     from the workspace edge, or — ``felt``, an earlier stop (ψ, d) near that normal — at that
     ψ from FLAT_RESTART_MM outside that stop (1.4 s less of guarded approach on the line
@@ -102,9 +97,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     it seeks its seat it gives up once another finger's press of the same round is added to
     ``seated`` (pressed at its seat), in the cycle it is added, mid-turn or mid-approach:
     one face's touches make the answer, or after
-    ``FLAT_MAX_S`` of robot time without a seat. A first press's turn toward its seat skips
-    the approaches the finger's ``known`` pad lines show would pivot about one support again
-    (hand_driver.flat_press.past_known). Returns the
+    ``FLAT_MAX_S`` of robot time without a seat. Returns the
     FlatResult (or a TouchResult if the transit could not go on)."""
     step = math.radians(FLAT_STEP_DEG)
     f = jaw.config.finger(finger)
@@ -149,7 +142,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
 
     result = yield from flat_press(jaw, finger, touch_index, start, side if face is not None else 1, d_start, travel,
                                    toward=model.workspace_center, on_event=emit, give_up=give_up,
-                                   interrupt=seated_other, known=known if face is None else ())
+                                   interrupt=seated_other)
     if result.outcome == "ok":
         seated.add(finger)
     return result
@@ -232,8 +225,7 @@ def early_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, tou
     seat = _felt_seat(out, finger, f.pad.length_mm, nominal_psi(f))
     if seat is None:
         return None
-    return _flat_plan(jaw, finger, model, None, 0, touch_index, emit, spent, None, set(), seat,
-                      known=[smp.line for smp in _finger_samples(out, finger)])
+    return _flat_plan(jaw, finger, model, None, 0, touch_index, emit, spent, None, set(), seat)
 
 
 def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pressed: Sequence[FeltTouch],
@@ -264,8 +256,7 @@ def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pr
     if state.faces[finger] is None and (state.misses[finger] or (seat_only and seat is None)):
         return None  # a retry is the flat phase's, which stops it once another pad seats
     return _flat_plan(jaw, finger, model, state.faces[finger], state.misses[finger], touch_index, emit, spent,
-                      _felt_stop(out, finger, nominal_psi(f)), set(), seat, state.sides[finger],
-                      [smp.line for smp in _finger_samples(out, finger)])
+                      _felt_stop(out, finger, nominal_psi(f)), set(), seat, state.sides[finger])
 
 
 def _booked(cfg, pressed: Sequence[FeltTouch], emit=None, say=None) -> "_Faces":
@@ -344,7 +335,7 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
         plans = {name: _flat_plan(jaw, name, model, state.faces[name], state.misses[name], index + k, emit, spent,
                                   _felt_stop(out, name, nominal_psi(cfg.finger(name))), seated,
                                   _felt_seat(out, name, cfg.finger(name).pad.length_mm, nominal_psi(cfg.finger(name))),
-                                  state.sides[name], [smp.line for smp in _finger_samples(out, name)])
+                                  state.sides[name])
                  for k, name in enumerate(state.active)}
         index += len(plans)
         out.rounds += 1
