@@ -20,22 +20,15 @@ errors are correlated, rank degree + 1 + n). docs/exploration.md#the-stated-nois
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from scipy import linalg, stats
 
 from hand_driver import kinematics as kin
 from hand_driver.units import rad_per_tick
-from tactile_common.angles import wrap_angle
 from tactile_common.blas import one_blas_thread
 from tactile_common.errors import InputError
-
-#: central-difference step (rad) of the joint-angle Jacobians
-STEP_RAD = 1e-7
-#: and (mm) of the derivatives in a link length or pad offset
-STEP_MM = 1e-4
-
 
 @dataclass(frozen=True)
 class JointNoise:
@@ -372,44 +365,94 @@ def _propagate(finger, q, origin, degree: int, noise: JointNoise) -> tuple[kin.T
     """The envelope of degree ``degree`` about ``origin`` and its noise factor F: rows κ, κ_s,
     ρ at the middle sample, then x…, y…, ψ… of the samples (contacts' order); columns unit
     draws: each reading's joints quantized (σ tick/√12, independent), then each joint's
-    offset over the touch (``noise.offset_rad``, where declared). The Jacobian by central
-    differences in every joint angle of every reading, the origin held."""
+    offset over the touch (``noise.offset_rad``, where declared), then each link length's and
+    the pad offset's error (where declared). The Jacobian is analytic, the origin held: the
+    fit's in its pad lines (:func:`_envelope_jacobian`) times the lines' in the joint angles
+    and the geometry (:func:`_line_jacobian`)."""
     lines = kin.finger_pad_line(finger, q)
     base = kin.touch_from_pad_lines(lines.psi, lines.d, origin=origin, degree=degree)
     n = q.shape[0]
-    m = n // 2
-
-    def outputs(qq, f=finger):
-        line = kin.finger_pad_line(f, qq)
-        c = kin.touch_from_pad_lines(line.psi, line.d, origin=origin, degree=degree)
-        rho = c.rho[m]
-        return np.concatenate(([1.0 / rho, -c.rho_psi[m] / rho**3, rho], c.x, c.y, c.psi))
-
-    jac = np.empty((3 + 3 * n, q.size))
-    for j in range(q.size):
-        dq = np.zeros(q.size)
-        dq[j] = STEP_RAD
-        dq = dq.reshape(q.shape)
-        jac[:, j] = (outputs(q + dq) - outputs(q - dq)) / (2.0 * STEP_RAD)
+    by_psi, by_d = _envelope_jacobian(base)
+    dpsi, dd = _line_jacobian(finger, q)
+    # the contacts' i-th line is reading order[i]'s: it moves with that reading's two joints
+    jac = np.empty((3 + 3 * n, n, 2))
+    jac[:, base.order, :] = by_psi[:, :, None] * dpsi[base.order][None] + by_d[:, :, None] * dd["q"][base.order][None]
+    jac = jac.reshape(3 + 3 * n, 2 * n)
     factor = jac * np.tile(noise.quantization, n)
     offsets = np.asarray(noise.offset_rad, dtype=float)
     if np.any(offsets > 0.0):
         shared = jac.reshape(jac.shape[0], n, 2).sum(axis=1) * offsets
         factor = np.hstack([factor, shared[:, offsets > 0.0]])
-    geometry = [(sigma, lambda f, h, k=k: _with_link(f, k, h)) for k, sigma in enumerate(noise.link_mm)]
-    geometry.append((noise.pad_mm, lambda f, h: replace(f, pad=replace(f.pad, offset_mm=f.pad.offset_mm + h))))
-    for sigma, moved in geometry:
-        if sigma > 0.0:  # the same error over every reading: one column
-            column = (outputs(q, moved(finger, STEP_MM)) - outputs(q, moved(finger, -STEP_MM))) / (2.0 * STEP_MM)
-            factor = np.hstack([factor, sigma * column[:, None]])
+    geometry = [(sigma, dd["link"][:, k]) for k, sigma in enumerate(noise.link_mm)] + [(noise.pad_mm, dd["pad"])]
+    for sigma, moves in geometry:
+        if sigma > 0.0:  # the same error over every reading: one column (ψ does not move with it)
+            factor = np.hstack([factor, sigma * (by_d @ moves[base.order])[:, None]])
     return base, factor
 
 
-def _with_link(finger, k: int, h: float):
-    """``finger`` with joint k's link ``h`` mm longer."""
-    joints = list(finger.joints)
-    joints[k] = replace(joints[k], link_mm=joints[k].link_mm + h)
-    return replace(finger, joints=tuple(joints))
+def _line_jacobian(finger, q) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """How each reading's pad line n(ψ)·p = d moves, readings' order: ∂ψ/∂q (n, 2), and under
+    ``"q"`` ∂d/∂q (n, 2), ``"link"`` ∂d/∂L (n, 2) of the link lengths, ``"pad"`` ∂d/∂(pad
+    offset) (n,). ψ is the distal link's angle plus a constant, so ∂ψ/∂q_k = 1; a line turned
+    about a point P keeps its distance to P, so ∂d = n⊥·P per radian about P (the base for
+    q1, the distal joint J2 for q2); a longer proximal link moves the line along its direction
+    e1 (∂d = n·e1); the distal link runs along the pad (n·e2 = 0); the pad offset moves it along n."""
+    lines = kin.finger_pad_line(finger, q)
+    nperp = np.stack([-lines.normal[..., 1], lines.normal[..., 0]], axis=-1)
+    a1 = finger.base.angle + q[:, 0]
+    e1 = np.stack([np.cos(a1), np.sin(a1)], axis=-1)
+    base = np.array([finger.base.x, finger.base.y])
+    dd_q = np.stack([nperp @ base, np.sum(nperp * lines.joint2, axis=-1)], axis=-1)
+    dd_link = np.stack([np.sum(lines.normal * e1, axis=-1), np.zeros(q.shape[0])], axis=-1)
+    return np.ones_like(q), {"q": dd_q, "link": dd_link, "pad": np.ones(q.shape[0])}
+
+
+def _envelope_jacobian(c: kin.TouchEnvelope) -> tuple[np.ndarray, np.ndarray]:
+    """∂/∂ψ_i and ∂/∂d_i (each (3 + 3n, n), contacts' order) of :func:`_propagate`'s outputs
+    (κ, κ_s, ρ at the middle sample, then x…, y…, ψ…) of the envelope ``c``, its origin o
+    held. The fit is the least-squares polynomial g(ψ) of the support values d_i − n(ψ_i)·o
+    (kinematics.touch_from_pad_lines; the same polynomial in any basis of its degree): A its
+    design, a_i its rows, b'_i their ψ derivatives, r_i the residuals, ∂coef/∂d_i =
+    (AᵀA)⁻¹a_i and ∂coef/∂ψ_i = (AᵀA)⁻¹(b'_i r_i − a_i n⊥_i·p_i) (g'_i + n⊥_i·o = n⊥_i·p_i).
+    Each output also moves with its own ψ: the contact p = o + g n + g' n⊥ by −ρ n⊥,
+    ρ = −(g + g'') by dρ/dψ, dρ/dψ = −(g' + g''') by −(g'' + g⁗)."""
+    n, k = c.x.size, c.degree
+    m = n // 2
+    scale = max(0.5 * (c.psi[-1] - c.psi[0]), 1e-12)
+    x = (c.psi - 0.5 * (c.psi[0] + c.psi[-1])) / scale
+
+    def basis(order: int, rows=slice(None)) -> np.ndarray:
+        """The Legendre basis' order-th ψ derivative at x[rows] (well conditioned at any degree)."""
+        if order > k:
+            return np.zeros((x[rows].size, k + 1))
+        coef = np.polynomial.legendre.legder(np.eye(k + 1), order, axis=0)
+        return np.polynomial.legendre.legvander(x[rows], k - order) @ coef / scale**order
+
+    design, d1 = basis(0), basis(1)
+    q_a, r_a = np.linalg.qr(design)
+    pinv = linalg.solve_triangular(r_a, q_a.T)  # (AᵀA)⁻¹Aᵀ
+    gram_d1 = linalg.solve_triangular(r_a, linalg.solve_triangular(r_a, d1.T, trans="T"))  # (AᵀA)⁻¹b'_i
+    normal = np.stack([np.cos(c.psi), np.sin(c.psi)], axis=-1)
+    nperp = np.stack([-normal[:, 1], normal[:, 0]], axis=-1)
+    points = np.stack([c.x, c.y], axis=-1)
+    coefficients = pinv @ (np.sum(normal * (points - c.origin), axis=-1) + c.residual)
+    mid = slice(m, m + 1)
+    rho_row = -(basis(0, mid) + basis(2, mid))[0]
+    slope_row = -(basis(1, mid) + basis(3, mid))[0]
+    rho, slope = c.rho[m], c.rho_psi[m]
+    rows_x = normal[:, :1] * design + nperp[:, :1] * d1
+    rows_y = normal[:, 1:] * design + nperp[:, 1:] * d1
+    out = []
+    for coef, own in ((gram_d1 * c.residual - pinv * np.sum(nperp * points, axis=-1), True), (pinv, False)):
+        j_rho, j_slope, j_x, j_y = rho_row @ coef, slope_row @ coef, rows_x @ coef, rows_y @ coef
+        if own:
+            j_rho[m] += slope
+            j_slope[m] -= float((basis(2, mid) + basis(4, mid))[0] @ coefficients)
+            j_x[np.arange(n), np.arange(n)] -= c.rho * nperp[:, 0]
+            j_y[np.arange(n), np.arange(n)] -= c.rho * nperp[:, 1]
+        out.append(np.vstack([-j_rho / rho**2, -j_slope / rho**3 + 3.0 * slope * j_rho / rho**4, j_rho, j_x, j_y,
+                              np.eye(n) if own else np.zeros((n, n))]))
+    return out[0], out[1]
 
 
 def _line_sigma(finger, q, base: kin.TouchEnvelope, sq: np.ndarray) -> np.ndarray:
@@ -417,14 +460,6 @@ def _line_sigma(finger, q, base: kin.TouchEnvelope, sq: np.ndarray) -> np.ndarra
     d_i − d(ψ_i) with the fit held moves as ∂r_i/∂q = ∂d_i/∂q − d'(ψ_i)·∂ψ_i/∂q, d'(ψ_i)
     the contact's coordinate along the line (each line depends on its own reading's two
     joints, each quantized with σ ``sq``)."""
-    qs = q[base.order]
-    grads = []
-    for k in range(qs.shape[1]):
-        dq = np.zeros(qs.shape)
-        dq[:, k] = STEP_RAD
-        plus, minus = kin.finger_pad_line(finger, qs + dq), kin.finger_pad_line(finger, qs - dq)
-        dpsi = np.asarray(wrap_angle(plus.psi - minus.psi), dtype=float) / (2.0 * STEP_RAD)
-        dd = (np.asarray(plus.d) - np.asarray(minus.d)) / (2.0 * STEP_RAD)
-        slope = -np.sin(base.psi) * base.x + np.cos(base.psi) * base.y  # d'(ψ) = p·n⊥
-        grads.append((dd - slope * dpsi) * sq[k])
-    return np.sqrt(np.sum(np.square(grads), axis=0))
+    dpsi, dd = _line_jacobian(finger, q[base.order])
+    slope = -np.sin(base.psi) * base.x + np.cos(base.psi) * base.y  # d'(ψ) = p·n⊥
+    return np.sqrt(np.sum(((dd["q"] - slope[:, None] * dpsi) * sq) ** 2, axis=1))
