@@ -87,7 +87,8 @@ Jacobian and states the covariance by blocks (``least_squares``, ``_unknowns_cov
 (bench_wide's and the standard bench's requests, 12 touches × 15 samples)."""
 FACTOR_RCOND = 1e-6
 """a noise factor's singular values below this fraction of its largest are its null space (the
-jaw's, by central differences, has its rank's smallest at ~2e-4 and the null ones at ~1e-11)."""
+jaw's has its rank's smallest at ~2e-4; its null ones were ~1e-11 by central differences,
+rounding since tactile_jaw.envelope states it in closed form)."""
 
 
 def _across_along(x, y, c, s, ratio):

@@ -7,8 +7,8 @@ the radius of curvature ρ = −(d + d'') and dρ/dψ. :func:`fit_envelope` runs
 on the touch's pad lines and adds what the recognizer and the checks need from it: at the
 contact (the middle sample) κ = 1/ρ and κ_s = dκ/ds = −ρ'/ρ³; the deviation of κ, κ_s, ρ
 and of every sample's position across and along its pad line, to first order in every
-joint angle of every reading quantized to a tick (uniform: σ = tick/√12; the Jacobian by
-central differences with the fit's origin held); and the χ² of the pad lines about the
+joint angle of every reading quantized to a tick (uniform: σ = tick/√12; the Jacobian in
+closed form with the fit's origin held, :func:`_propagate`); and the χ² of the pad lines about the
 fitted curve, each line by its own quantization deviation. tactile_jaw.pipeline.feel uses
 ρ to tell a corner (the contact fixed while the pad turns: ρ ≈ 0), the χ² to tell a roll
 across a corner or a closing segment (the lines are no smooth curve's tangents), and
