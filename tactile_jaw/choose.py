@@ -158,14 +158,10 @@ def last_stop(events) -> dict | None:
 class JawReach:
     """Where the jaw's pads can roll (module docstring); the recognizer's ``options.reach``."""
 
-    def __init__(self, config, settings: ExploreSettings, felt: np.ndarray | None = None):
+    def __init__(self, config, settings: ExploreSettings):
         ws = config.workspace
         self.config = config
         self.settings = settings
-        #: what the pads showed of the object's extent: the in-contact pad lines (ψ rad, d mm:
-        #: 2 × n, :func:`felt_lines`), each touching the object somewhere along it; a move keeps
-        #: them clear of the opened jaw (:func:`_lines_clear`)
-        self.felt = np.zeros((2, 0)) if felt is None else np.asarray(felt, float)
         self.disk = Reach(float(ws.center_mm[0]), float(ws.center_mm[1]), float(ws.radius_mm))
         self._model = ObjectModel(ws.center_mm, ws.radius_mm)  # nothing felt: only its workspace edge is used
 
@@ -496,42 +492,6 @@ def _moved(goal: Goal, turn: float, shift: np.ndarray) -> tuple[np.ndarray, np.n
     return tuple(t[None, :, :] + shift[:, None, :] for t in turned)
 
 
-def felt_lines(touches, most: int = 48) -> np.ndarray:
-    """The in-contact pad lines (ψ rad, d mm: 2 × n, at most ``most``, evenly by index) of the
-    felt ``touches`` (tactile_jaw.pipeline.FeltTouch: probes, rolls, presses' scans): the
-    object touches each somewhere along it and lies on its normal's side (n·p ≥ d)."""
-    rows = [np.vstack([np.ravel(np.asarray(t.lines.psi, float)), np.ravel(np.asarray(t.lines.d, float))])
-            for t in touches if t.lines is not None and np.asarray(t.lines.psi).size]
-    if not rows:
-        return np.zeros((2, 0))
-    lines = np.hstack(rows)
-    return lines[:, np.unique(np.linspace(0, lines.shape[1] - 1, min(most, lines.shape[1])).astype(int))]
-
-
-def _lines_clear(reach: JawReach, about, turn: float, shift: np.ndarray) -> np.ndarray:
-    """For each shift (k × 2) after turning by ``turn`` about ``about``: does every felt pad
-    line (``reach.felt``) stay ``MOVE_CLEAR_MM`` inside the workspace disk's tangent of the
-    same normal, or no farther out than it was? The opened jaw's pads and every transit lie
-    on those tangents (tactile_jaw.plan.open_pose), and the object reaches each felt line: a
-    line moved past its tangent puts the object across a pad there, wherever along the line
-    it touched (calibrated random block 1 of bench_explore --finite 10 --anywhere --seed 239,
-    P-series: turned 10° about the face its left pad met and moved 7 mm, its far corner —
-    felt only as the right pad's lines — lay across the opened right pad; its felt points
-    stayed inside the disk)."""
-    psi, d = reach.felt
-    if not psi.size:
-        return np.ones(len(shift), bool)
-    centre, radius = np.array([reach.disk.x, reach.disk.y]), reach.disk.radius
-    n = np.stack([np.cos(psi), np.sin(psi)], axis=1)
-    margin = d - (n @ centre - radius)  # how far inside its tangent each line lies (mm)
-    moved = np.stack([np.cos(psi + turn), np.sin(psi + turn)], axis=1)
-    c = np.asarray(about, float)
-    # n'·p' = n·(p − c) + n'·(c + s) for p' = R(p − c) + c + s, n' = R n
-    d_new = (d - n @ c + moved @ c)[None, :] + shift @ moved.T
-    margin_new = d_new - (moved @ centre - radius)[None, :]
-    return np.all(margin_new >= np.minimum(MOVE_CLEAR_MM, margin)[None, :] - 1e-9, axis=1)
-
-
 def move_for(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tuple[float, float, float] | None:
     """The smallest move (dx mm, dy mm, turn rad: the turn about ``goal.about`` first) of
     the object after which a pad can roll through every place of ``goal`` (the place turns
@@ -553,7 +513,6 @@ def move_for(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tu
         places, keep = _moved(goal, float(turn), shift)
         every = np.concatenate([places, keep], axis=1)
         clear = np.all(np.hypot(every[..., 0] - cx, every[..., 1] - cy) <= allowed[None, :] + 1e-9, axis=1)
-        clear &= _lines_clear(reach, goal.about, float(turn), shift)
         travel = np.max(np.hypot(*(every - here[None]).transpose(2, 0, 1)), axis=1)
         cands += [(float(travel[i]), abs(float(turn)), float(turn), i, places[i]) for i in np.flatnonzero(clear)]
     cands.sort(key=lambda c: c[:2])
@@ -579,8 +538,7 @@ def _reaches(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float, fin
     places, keep = _moved(goal, turn, np.array([[dx, dy]]))
     here = np.asarray(goal.keep, float).T
     allowed = np.maximum(radius - MOVE_CLEAR_MM, np.hypot(here[:, 0] - cx, here[:, 1] - cy))
-    if np.any(np.hypot(keep[0, :, 0] - cx, keep[0, :, 1] - cy) > allowed + 1e-9) \
-            or not _lines_clear(reach, goal.about, turn, np.array([[dx, dy]]))[0]:
+    if np.any(np.hypot(keep[0, :, 0] - cx, keep[0, :, 1] - cy) > allowed + 1e-9):
         return False
     return all(reach.finger(float(p[0]), float(p[1]), goal.places[j][2] + turn, fingers) is not None
                for j, p in enumerate(places[0]))

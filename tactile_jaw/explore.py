@@ -35,7 +35,7 @@ from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
 from recognizer.curves import CURVES
 from tactile_common.errors import InputError
-from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, felt_lines, next_aim
+from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
                                  sample_positions)
 from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
@@ -682,7 +682,6 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         if probing:
             probes.done(say)
         usable = cleared()
-        reach.felt = felt_lines(out.probes + out.touches)  # what a move must keep clear of the opened jaw
         for name, side in beside_corners(out, usable, cornered, settings):
             if name not in hints and off_curve[name] < OFF_CURVE_RETIRE and reach.finger(*side, [cfg.finger(name)]) is not None:
                 hints[name] = Aim(*side, name, "beside its earlier roll's stretch clear of the corner it ran onto",
