@@ -38,7 +38,7 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
                                  sample_positions)
-from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
+from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses, unusable_refusal
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
                                   on_corner, too_few_clear)
@@ -773,5 +773,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             if len(usable) < len(out.used):  # an earlier round's answer was on touches since cleared
                 out.recognition = too_few_clear(usable, len(out.used), exc)
         out.used = usable
+    if out.recognition is None:  # no touch was usable: say what they met, and what would help or why no move is named
+        stopped = out.stopped
+        out.recognition, out.stopped = unusable_refusal(out)
+        if stopped is None:
+            emit(out.stopped.event("stopped_early"))
+        say(f"{out.recognition.reason}; {out.stopped}")
     out.robot_time_s = jaw.robot_time() - t0
     return out

@@ -17,6 +17,7 @@ from hand_driver.cycle import Jaw
 from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_STEP_DEG, SEAT_TOL_MM, SPLIT_APART, FlatResult, _run,
                                      face_normal, flat_press, seat_split)
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
+from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.choose import WITHIN_REACH, Goal, JawReach, Stop, move_advice, place_goal
 from tactile_jaw.flat import FACE_MISS_MM, bulged, curved_faces, recognized_touches
@@ -481,3 +482,42 @@ def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings,
     say(f"after {len(out.used)} flat touches of one face: {recognition.cls}"
         + ("" if why is None else f", not decisive: {why}"))
     return why is None
+
+
+def unusable_refusal(out: Exploration) -> tuple[Recognition, Stop]:
+    """The refusal of an exploration with too few usable touches to ask the recognizer
+    (``out.used`` of ``out.touches``, rolled or pressed) and no curved part felt: what the touches met — the corners rolls
+    pivoted about (``PIVOT_AGAIN_MM`` apart), presses that found no seat, approaches that met
+    nothing — and what would help: ``out.stopped`` when a face's move was named
+    (:func:`short_face_stop`), else why no move is named: no touch felt a curved part or a face
+    to aim one at, only the corners, between which the boundary that was not felt lies.
+    Random P semicubical 134 of bench_explore --finite 20 --anywhere --seed 227 (6 touches:
+    rolls about corners at (109, 44) and (95, 14) mm, two presses without a seat) ended with
+    no recognition, no reason and no move."""
+    corners: list[tuple[float, float]] = []
+    for t in out.touches:
+        if t.corner is not None and all(math.hypot(t.corner[0] - x, t.corner[1] - y) > PIVOT_AGAIN_MM
+                                        for x, y in corners):
+            corners.append((float(t.corner[0]), float(t.corner[1])))
+    unseated = sum(isinstance(t.touch, FlatResult) for t in out.touches)
+    empty = sum(not t.touch.samples for t in out.touches)
+    met = [f"rolls pivoted about corner{'s' if len(corners) > 1 else ''} at "
+           + " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y in corners)] if corners else []
+    met += [f"{unseated} flat press{'es' if unseated > 1 else ''} found no seat"] if unseated else []
+    met += [f"{empty} took no contact sample (out of the joints' reach, or nothing met)"] if empty else []
+    used = len(out.used)  # usable, yet fewer than any class needs
+    head = f"only {used} usable of {len(out.touches)} touches, too few to recognize" if used else \
+        f"no usable touch of {len(out.touches)}"
+    reason = (head + (f": {'; '.join(met)}" if met else "")
+              + " (the log's touch_rejected events say why each)")
+    if out.stopped is not None:
+        return Recognition("unclassified", reason=reason), out.stopped
+    if corners:
+        between = " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y in corners)
+        stop = Stop(f"no move is named: no touch felt a curved part or a face to aim one at, only corners; place "
+                    f"the object so that its boundary {'between' if len(corners) > 1 else 'beside'} {between}, "
+                    f"clear of {'them' if len(corners) > 1 else 'it'}, faces a finger")
+    else:
+        stop = Stop("no move is named: no touch felt a curved part, a face or a corner to aim one at; place the "
+                    "object so that its boundary faces a finger inside the workspace")
+    return Recognition("unclassified", reason=reason), stop
