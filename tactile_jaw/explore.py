@@ -735,6 +735,18 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 emit(out.stopped.event("stopped_early"))
                 say(f"stopping after {len(usable)} usable touches: {out.stopped}")
                 break
+    ended = None  # why the rolls ended undecided, when not for the budget
+    if undecided is None and out.stopped is None and cleared():
+        # the rolls ended (no orientation left, fingers retired) with fewer usable touches than the answer is
+        # asked on in the rounds: what would help is sought as for a spent budget (X-series block 17 of
+        # bench_explore --finite 20 --anywhere --seed 227: 2 usable rolls, parabola and circle, no move named)
+        try:
+            recognition, why = decide(recognize_touches, cleared(), settings, ticks)
+        except InputError:  # too few for any class: the final answer says so
+            why = None
+        if why is not None:
+            undecided = (recognition, why, cleared())
+            ended = f"no finger has a roll left to make after {len(cleared())} usable touches"
     if undecided is not None and out.stopped is None and cleared():  # the budget ran out undecided: what to do
         recognition, why, usable = undecided
         wanted = anywhere(usable)
@@ -744,8 +756,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         also = unrolled_places(cfg, out, recognition)
         one_side = bool(also) and beyond_resolution(recognize_touches, recognition, why, usable, settings.touches)
         out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
-                                    wanted, also, one_side)
-        emit(out.stopped.event("budget_spent"))
+                                    wanted, also, one_side, ended)
+        emit(out.stopped.event("budget_spent" if ended is None else "stopped_early"))
         say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
         before = dict(out.time_s)

@@ -19,7 +19,8 @@ from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_STEP_DEG, SEAT_TOL_M
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
-from tactile_jaw.choose import WITHIN_REACH, Goal, JawReach, Stop, move_advice, place_goal
+from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, WITHIN_REACH, Goal, JawReach, Stop, facing_move, move_advice,
+                                place_goal)
 from tactile_jaw.flat import FACE_MISS_MM, bulged, curved_faces, recognized_touches
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
@@ -193,9 +194,20 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
     low = int(np.sum(whole < float(np.min(psi)) - 1e-6))  # samples left out below the stretch's ψ range
     high = int(np.sum(whole > float(np.max(psi)) + 1e-6))
     near = f"felt near ({c.x[m]:.1f}, {c.y[m]:.1f}) mm"
-    if low == high:
-        return Stop(f"move or turn the object so that its curved part, {near}, faces a pad clear of the object's "
-                    f"corners")
+    if low == high:  # a roll centred on the stretch, the pad through its middle with its tangent
+        finger = cfg.finger(felt.finger)
+        goal = replace(place_goal(float(c.x[m]), float(c.y[m]), float(psi[m]) - math.pi / 2, (c.x, c.y)),
+                       where=f"on its curved part, {near}")
+        reach = JawReach(cfg, settings)
+        advice, move = move_advice(reach, goal, [finger])
+        if move is None and advice == WITHIN_REACH:  # reached there, yet its rolls met the corners
+            facing = facing_move(reach, goal, finger)
+            if facing is not None:
+                return Stop(f"{facing[0]}, facing the {felt.finger} pad's first rolls", facing[1])
+            return Stop(f"the {felt.finger} pad reaches its curved part, {near}, and no turn up to "
+                        f"{MOVE_TURN_MAX_DEG:g} deg makes it face that pad's first rolls: move or turn the object so "
+                        f"that more of its curved part, clear of its corners, faces a finger")
+        return Stop(advice, move)
     end = -1 if low > high else 0  # on past the end away from where the roll left the curved part
     way = 1.0 if low > high else -1.0  # ψ (and the tangent) grow toward the contacts' last
     back = end - int(way)  # the contact before the end, toward the stretch's other end
@@ -499,7 +511,7 @@ def unusable_refusal(out: Exploration) -> tuple[Recognition, Stop]:
         if t.corner is not None and all(math.hypot(t.corner[0] - x, t.corner[1] - y) > PIVOT_AGAIN_MM
                                         for x, y in corners):
             corners.append((float(t.corner[0]), float(t.corner[1])))
-    unseated = sum(isinstance(t.touch, FlatResult) for t in out.touches)
+    unseated = sum(isinstance(t.touch, FlatResult) and t.face is None for t in out.touches)
     empty = sum(not t.touch.samples for t in out.touches)
     met = [f"rolls pivoted about corner{'s' if len(corners) > 1 else ''} at "
            + " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y in corners)] if corners else []
