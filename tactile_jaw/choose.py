@@ -305,7 +305,8 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
 
 def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, budget: int,
                   anywhere: Callable[[], dict | None] | None = None,
-                  also: Sequence[tuple[float, float, float]] = (), one_side: bool = False) -> Stop:
+                  also: Sequence[tuple[float, float, float]] = (), one_side: bool = False,
+                  ended: str | None = None) -> Stop:
     """What a person can do when the touch budget is spent and the answer is not decisive:
     when the classes tested fail and others were not tested for too few usable touches, another
     placement or more touches; when no class fits (``why.kind`` 'unclassified'), no move (the touches disagree with every
@@ -319,8 +320,9 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     ``one_side`` (tactile_jaw.decide.beyond_resolution: the touches where they were cannot tell
     the answer from its rival at this jaw's resolution, however many), the move that brings
     ``also``'s places, the object's other side, within a pad's roll comes first
-    (:func:`other_side_stop`)."""
-    spent = f"the touch budget of {budget} is spent"
+    (:func:`other_side_stop`). ``ended``: why the rolls ended instead, when the budget was not spent
+    (no finger has a roll left to make)."""
+    spent = f"the touch budget of {budget} is spent" if ended is None else ended
     if one_side and also and touched is not None:
         stop = other_side_stop(spent, touched, reach, also)
         if stop is not None:
@@ -560,6 +562,30 @@ def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None) ->
     grow = (math.hypot(dx, dy) + MOVE_MARGIN_MM) / max(math.hypot(dx, dy), 1e-9)
     if (dx or dy) and _reaches(reach, goal, grow * dx, grow * dy, a, fingers):
         dx, dy = grow * dx, grow * dy  # clear of the reach's edge, which a fitted curve knows only so well
+    return _move_words(goal, dx, dy, a)
+
+
+def facing_move(reach: JawReach, goal: Goal, finger) -> tuple[str, dict] | None:
+    """For a place of ``goal`` a pad of ``finger`` already rolls through, yet whose rolls there
+    pivoted about the object's corners: the turn about it (every ``MOVE_TURN_STEP_DEG``, up to
+    ``MOVE_TURN_MAX_DEG``) after which the place's normal is the finger's nominal one, where
+    its first rolls go (tactile_jaw.plan.nominal_psi), with the pad still rolling through it
+    and the known boundary clear of the opened jaw; None when no such turn is (or it is 0).
+    Calibrated random parabola 30 of bench_explore --finite 10 --anywhere --seed 239 (P-series):
+    the left press's scan rolled over ψ −84…−42° of the curved part while the left rolls at
+    −90° and −110° pivoted about its end corner; refused naming no move."""
+    x, y, phi = goal.places[0]
+    step, most = math.radians(MOVE_TURN_STEP_DEG), math.radians(MOVE_TURN_MAX_DEG)
+    turn = math.remainder(nominal_psi(finger) - (phi + math.pi / 2), 2 * math.pi)
+    turn = max(-most, min(most, step * round(turn / step)))
+    if abs(turn) < 1e-9 or not _reaches(reach, goal, 0.0, 0.0, turn, [finger]):
+        return None
+    return _move_words(goal, 0.0, 0.0, turn)
+
+
+def _move_words(goal: Goal, dx: float, dy: float, a: float) -> tuple[str, dict]:
+    """The move (dx, dy mm after turning ``a`` rad about ``goal.about``) in the hand frame's
+    words, and as :class:`Stop`'s ``move``."""
     parts = [f"{abs(v):.0f} mm {(pos if v > 0 else neg)}" for v, pos, neg in
              ((dx, "away from the palm (+x)", "toward the palm (-x)"),
               (dy, "toward the left finger (+y)", "toward the right finger (-y)")) if abs(v) >= 0.5]

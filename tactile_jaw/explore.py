@@ -38,7 +38,7 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
                                  sample_positions)
-from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses
+from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses, unusable_refusal
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
                                   on_corner, too_few_clear)
@@ -735,6 +735,18 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 emit(out.stopped.event("stopped_early"))
                 say(f"stopping after {len(usable)} usable touches: {out.stopped}")
                 break
+    ended = None  # why the rolls ended undecided, when not for the budget
+    if undecided is None and out.stopped is None and cleared():
+        # the rolls ended (no orientation left, fingers retired) with fewer usable touches than the answer is
+        # asked on in the rounds: what would help is sought as for a spent budget (X-series block 17 of
+        # bench_explore --finite 20 --anywhere --seed 227: 2 usable rolls, parabola and circle, no move named)
+        try:
+            recognition, why = decide(recognize_touches, cleared(), settings, ticks)
+        except InputError:  # too few for any class: the final answer says so
+            why = None
+        if why is not None:
+            undecided = (recognition, why, cleared())
+            ended = f"no finger has a roll left to make after {len(cleared())} usable touches"
     if undecided is not None and out.stopped is None and cleared():  # the budget ran out undecided: what to do
         recognition, why, usable = undecided
         wanted = anywhere(usable)
@@ -744,8 +756,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         also = unrolled_places(cfg, out, recognition)
         one_side = bool(also) and beyond_resolution(recognize_touches, recognition, why, usable, settings.touches)
         out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
-                                    wanted, also, one_side)
-        emit(out.stopped.event("budget_spent"))
+                                    wanted, also, one_side, ended)
+        emit(out.stopped.event("budget_spent" if ended is None else "stopped_early"))
         say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
         before = dict(out.time_s)
@@ -773,5 +785,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             if len(usable) < len(out.used):  # an earlier round's answer was on touches since cleared
                 out.recognition = too_few_clear(usable, len(out.used), exc)
         out.used = usable
+    if out.recognition is None:  # no touch was usable: say what they met, and what would help or why no move is named
+        stopped = out.stopped
+        out.recognition, out.stopped = unusable_refusal(out)
+        if stopped is None:
+            emit(out.stopped.event("stopped_early"))
+        say(f"{out.recognition.reason}; {out.stopped}")
     out.robot_time_s = jaw.robot_time() - t0
     return out

@@ -17,8 +17,10 @@ from hand_driver.cycle import Jaw
 from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_STEP_DEG, SEAT_TOL_MM, SPLIT_APART, FlatResult, _run,
                                      face_normal, flat_press, seat_split)
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
+from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
-from tactile_jaw.choose import WITHIN_REACH, Goal, JawReach, Stop, move_advice, place_goal
+from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, WITHIN_REACH, Goal, JawReach, Stop, facing_move, move_advice,
+                                place_goal)
 from tactile_jaw.flat import FACE_MISS_MM, bulged, curved_faces, recognized_touches
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
@@ -192,9 +194,20 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
     low = int(np.sum(whole < float(np.min(psi)) - 1e-6))  # samples left out below the stretch's ψ range
     high = int(np.sum(whole > float(np.max(psi)) + 1e-6))
     near = f"felt near ({c.x[m]:.1f}, {c.y[m]:.1f}) mm"
-    if low == high:
-        return Stop(f"move or turn the object so that its curved part, {near}, faces a pad clear of the object's "
-                    f"corners")
+    if low == high:  # a roll centred on the stretch, the pad through its middle with its tangent
+        finger = cfg.finger(felt.finger)
+        goal = replace(place_goal(float(c.x[m]), float(c.y[m]), float(psi[m]) - math.pi / 2, (c.x, c.y)),
+                       where=f"on its curved part, {near}")
+        reach = JawReach(cfg, settings)
+        advice, move = move_advice(reach, goal, [finger])
+        if move is None and advice == WITHIN_REACH:  # reached there, yet its rolls met the corners
+            facing = facing_move(reach, goal, finger)
+            if facing is not None:
+                return Stop(f"{facing[0]}, facing the {felt.finger} pad's first rolls", facing[1])
+            return Stop(f"the {felt.finger} pad reaches its curved part, {near}, and no turn up to "
+                        f"{MOVE_TURN_MAX_DEG:g} deg makes it face that pad's first rolls: move or turn the object so "
+                        f"that more of its curved part, clear of its corners, faces a finger")
+        return Stop(advice, move)
     end = -1 if low > high else 0  # on past the end away from where the roll left the curved part
     way = 1.0 if low > high else -1.0  # ψ (and the tangent) grow toward the contacts' last
     back = end - int(way)  # the contact before the end, toward the stretch's other end
@@ -481,3 +494,42 @@ def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings,
     say(f"after {len(out.used)} flat touches of one face: {recognition.cls}"
         + ("" if why is None else f", not decisive: {why}"))
     return why is None
+
+
+def unusable_refusal(out: Exploration) -> tuple[Recognition, Stop]:
+    """The refusal of an exploration with too few usable touches to ask the recognizer
+    (``out.used`` of ``out.touches``, rolled or pressed) and no curved part felt: what the touches met — the corners rolls
+    pivoted about (``PIVOT_AGAIN_MM`` apart), presses that found no seat, approaches that met
+    nothing — and what would help: ``out.stopped`` when a face's move was named
+    (:func:`short_face_stop`), else why no move is named: no touch felt a curved part or a face
+    to aim one at, only the corners, between which the boundary that was not felt lies.
+    Random P semicubical 134 of bench_explore --finite 20 --anywhere --seed 227 (6 touches:
+    rolls about corners at (109, 44) and (95, 14) mm, two presses without a seat) ended with
+    no recognition, no reason and no move."""
+    corners: list[tuple[float, float]] = []
+    for t in out.touches:
+        if t.corner is not None and all(math.hypot(t.corner[0] - x, t.corner[1] - y) > PIVOT_AGAIN_MM
+                                        for x, y in corners):
+            corners.append((float(t.corner[0]), float(t.corner[1])))
+    unseated = sum(isinstance(t.touch, FlatResult) and t.face is None for t in out.touches)
+    empty = sum(not t.touch.samples for t in out.touches)
+    met = [f"rolls pivoted about corner{'s' if len(corners) > 1 else ''} at "
+           + " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y in corners)] if corners else []
+    met += [f"{unseated} flat press{'es' if unseated > 1 else ''} found no seat"] if unseated else []
+    met += [f"{empty} took no contact sample (out of the joints' reach, or nothing met)"] if empty else []
+    used = len(out.used)  # usable, yet fewer than any class needs
+    head = f"only {used} usable of {len(out.touches)} touches, too few to recognize" if used else \
+        f"no usable touch of {len(out.touches)}"
+    reason = (head + (f": {'; '.join(met)}" if met else "")
+              + " (the log's touch_rejected events say why each)")
+    if out.stopped is not None:
+        return Recognition("unclassified", reason=reason), out.stopped
+    if corners:
+        between = " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y in corners)
+        stop = Stop(f"no move is named: no touch felt a curved part or a face to aim one at, only corners; place "
+                    f"the object so that its boundary {'between' if len(corners) > 1 else 'beside'} {between}, "
+                    f"clear of {'them' if len(corners) > 1 else 'it'}, faces a finger")
+    else:
+        stop = Stop("no move is named: no touch felt a curved part, a face or a corner to aim one at; place the "
+                    "object so that its boundary faces a finger inside the workspace")
+    return Recognition("unclassified", reason=reason), stop
