@@ -15,8 +15,9 @@ prediction in the shape parameters and the pose). Everything is whitened by R fi
 (W·R·Wᵀ = I), so that a millimetre offset and a κ_s in 1/mm² are compared in σ's.
 
 Expected information gain (nats) of a place:
-- classes: for each other candidate c, χ²_c = Δᵀ(R + P_ℓ + P_c)⁻¹Δ is the expected
-  separation of the two predictions (Δ = c's − the leader's); the pair's class entropy (w_ℓ + w_c)·H(w_ℓ/(w_ℓ + w_c))
+- classes: for each other candidate c, χ²_c = Δᵀ(R + P_ℓ + P_c)⁻¹Δ + 8·D_cov is the expected
+  separation of the two predictions (Δ = c's − the leader's; D_cov the Bhattacharyya
+  distance's covariance term, ``_separation``); the pair's class entropy (w_ℓ + w_c)·H(w_ℓ/(w_ℓ + w_c))
   is resolved in proportion 1 − exp(−χ²_c/8) (the Bhattacharyya bound on the error of
   telling two Gaussians apart). Both ways round, the smaller counting: c true, the pad
   touches c's closest point q to the place, and the leader explains that touch by its own
