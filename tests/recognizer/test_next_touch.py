@@ -359,3 +359,51 @@ def test_a_parabolas_suggestion_across_its_vertex_is_kept():
         tl.append(bw._extra_touch(shape, got.t, rs, direction))
         rec, _, _ = bw._recognize(tl, nm)
     assert landed[1] < 0.0 < min(ts) and rec.cls == "parabola", (landed, rec.cls)
+
+
+def test_a_loose_rival_is_told_apart_where_its_prediction_spreads():
+    """Two candidates predicting the same mean at a place, one tightly and one loosely
+    (whitened covariances 0 and 400 I): a touch there tells them apart (the Bhattacharyya
+    distance's covariance term, 8 × (½ ln 201 − ¼ ln 401) × 4 dims ≈ 35.8 in χ² units);
+    the same two predicting alike with alike covariances are not told apart, and a mean
+    gap alone counts as before (Δᵀ(I + P_a + P_b)⁻¹Δ)."""
+    from recognizer.next_touch import _separation
+
+    zero, tight, loose = np.zeros((1, 4)), np.zeros((1, 4, 4)), 400.0 * np.eye(4)[None]
+    got = _separation(zero, tight, loose)
+    assert got[0] == pytest.approx(8 * 4 * (0.5 * math.log(201.0) - 0.25 * math.log(401.0)), rel=1e-9)
+    assert _separation(zero, loose, loose)[0] == pytest.approx(0.0, abs=1e-9)
+    gap = np.array([[3.0, 0.0, 0.0, 0.0]])
+    assert _separation(gap, tight, tight)[0] == pytest.approx(9.0, rel=1e-9)
+
+
+def test_a_parabolas_suggestions_across_its_vertex_keep_it_parabola():
+    """bench_wide --set wide seed 229 (development since session 21), parabola trial 4
+    (across the vertex, L 24.5 mm): answered parabola from 3 touches, the cubical rival
+    almost as likely. The suggestions weighed only the rivals' mean predictions (expected
+    χ² 0.49 and 1.7 beside the vertex) and the answer turned cubical_parabola. Counting
+    where a rival predicts loosely and the leader tightly (``_separation``), both land at
+    the vertex and the answer stays parabola."""
+    from tools import bench_wide as bw
+    from tools.pad_approach import solid_left
+
+    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("parabola", 4, 229, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    nm = NoiseModel(noise.phi, noise.pos)
+    rec, _, _ = bw._recognize(touches, nm)
+    assert rec.cls == "parabola"
+    left = solid_left(shape.curve, ts, direction)
+    for _ in range(2):  # the random touches draw from rs first, as in the bench
+        got = bw._send(shape, *bw._random_aim(shape, rs.uniform(lo, hi), direction, rec, touches), lo, hi, clear,
+                       "approach", left, direction)
+        if got.t is not None:
+            bw._extra_touch(shape, got.t, rs, direction)
+    tl = list(touches)
+    for _ in range(2):
+        nt = rec.next_touch
+        got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach", left, direction)
+        assert got.t is not None, got
+        tl.append(bw._extra_touch(shape, got.t, rs, direction))
+        rec, _, _ = bw._recognize(tl, nm)
+    assert rec.cls == "parabola", rec.cls
