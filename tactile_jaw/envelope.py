@@ -128,7 +128,7 @@ class CurvatureLadder:
 
 #: the lowest degree of d(ψ) the order rule gives a roll: κ_s = −ρ'/ρ³ at the contact
 #: needs ρ(ψ) = −(d + d'') to vary, and degree 2 holds it constant
-MIN_DEGREE = 4
+MIN_DEGREE = 3
 #: degrees of freedom the order rule leaves the pad lines' χ² about the fit (the smoothness
 #: test, tactile_jaw.pipeline.off_curve_reason): a polynomial with fewer left follows a kink
 DEGREE_DOF = 3
@@ -137,7 +137,7 @@ DEGREE_DOF = 3
 def degrees(n: int) -> range:
     """The degrees of d(ψ) the order rule weighs for n readings: ``MIN_DEGREE`` to
     n − 1 − ``DEGREE_DOF`` (just kinematics.default_degree when fewer readings leave no choice)."""
-    lo = MIN_DEGREE if n - 1 - DEGREE_DOF >= MIN_DEGREE else min(MIN_DEGREE, kin.default_degree(n))
+    lo = min(MIN_DEGREE, kin.default_degree(n))
     return range(lo, max(lo, n - 1 - DEGREE_DOF) + 1)
 
 
