@@ -203,7 +203,7 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
 #: per turn a quartic's radius of curvature is uncertain by ±12 mm where the cubic's is by
 #: ±4: the corner test then refuses good rolls); what the test leaves undetected is stated
 #: as noise (:func:`_with_truncation`)
-ORDER_ALPHA = 0.2
+ORDER_ALPHA = 1e-2
 
 
 #: the truncation a richer degree shows at this level, not at ``ORDER_ALPHA``, is stated as
