@@ -360,7 +360,7 @@ def _with_truncation(fit, richer):
     its expectation under noise alone (none when it is within: :func:`truncation`)."""
     (c, f), (c_hi, _) = fit, richer
     chi2, rank = truncation(fit, richer)
-    if rank == 0 or chi2 <= rank:
+    if rank == 0 or chi2 <= stats.chi2.isf(TRUNCATION_ALPHA, rank):
         return fit
     n, m = c.x.size, c.x.size // 2
     diff = np.concatenate([_at_contact(c) - _at_contact(c_hi), [c.rho[m] - c_hi.rho[m]],
