@@ -204,6 +204,21 @@ def unrolled_finger(active, out: Exploration, probes, deferred: set[str], roll_a
     return None
 
 
+def unrolled_before_flat(cfg, out: Exploration, probes, off_curve: dict[str, int], roll_at) -> str | None:
+    """The finger the flat presses wait for (:func:`unrolled_finger`): not retired
+    (``OFF_CURVE_RETIRE``), its probes met the object on its pad's face, it has made no rolling
+    touch at all and the planner has one for it (``roll_at``). The other finger's rolls all fell
+    on corners or a closing segment, which on a finite curved object is the side facing that
+    finger; the side this one probed may be the curved part (P semicubical 126 of bench_explore
+    --finite 20 --anywhere --seed 227: the right pad's 4 rolls on the cusp-side corner and the
+    closing segment while the left only probed, meeting the curve at ψ −100…−120°; the flat
+    presses found no seat, and the move named turned the closing segment further toward the
+    right pad). None when every such finger rolled: then a block's presses start as before."""
+    rolled = {t.finger for t in out.touches if not isinstance(t.touch, FlatResult)}
+    active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
+    return unrolled_finger(active, out, probes, rolled, roll_at)
+
+
 def unrolled_places(cfg, out: Exploration, recognition) -> list[tuple[float, float, float]]:
     """While a closed class (``CLOSED``) fits within ``DECISIVE_CHI2`` of the best consistent
     class (``recognition``'s ranking), for every finger without a usable roll whose probes met
@@ -523,10 +538,17 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 h.kind in ("corner", "scan") or (h.kind == "wider" and out.used) for h in hints.values()):
             # unless a finger rolls again beside a corner, where a press's scan felt the curve, or wider where
             # a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157: its tight ends)
-            rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
-            say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
-                f"within reach of the pads")
-            break
+            waiting = unrolled_before_flat(cfg, out, probes, off_curve,
+                                           lambda f: choose_psi(f, model, settings, used[f.name], limits(f.name)))
+            if waiting is None:
+                say(f"none of {sum(not isinstance(t.touch, FlatResult) for t in out.touches)} rolling touches was "
+                    f"usable clear of the corners: no curved part within reach of the pads")
+                break
+            probes.queues[waiting] = []  # it rolls now, its probes left undone
+            message = (f"{waiting}: its probes met the object's face and it has not rolled yet: it rolls there "
+                       f"before the pads press flat")
+            emit({"type": "event", "kind": "flat_deferred", "message": message})
+            say(message)
         plans, spent, aimed, pressing, from_hint, idle, again = {}, {}, None, None, set(), set(), {}
         if aim is not None and aim.kind != "vertex" and not within_curve(aim.psi, settings.roll_span_rad,
                                                                          limits(aim.finger)):
