@@ -404,6 +404,50 @@ def futile_roll(aim: Aim, touches: list[FeltTouch], span: float, corners) -> str
 PAST_END_FRACTION = 1.0
 
 
+#: how far either side of the felt stretch (times its length in t) :func:`beyond_felt_end` looks
+#: for the parameter of a place on the answer's curve, and at how many points
+END_SEARCH_SPANS = 4.0
+END_SEARCH_POINTS = 4001
+
+
+def beyond_felt_end(recognition, x: float, y: float, corners) -> bool:
+    """Whether the place (x, y) on an open answer's curve lies past a corner a roll pivoted
+    about (``corners``, tactile_jaw.pipeline.clearing_corners) that itself lies past the felt
+    stretch (the ``recognition``'s contacts' parameters t) on that side: the curved part ends at
+    that corner, and the fitted curve's continuation is not on the object. P semicubical 123 of
+    bench_explore --finite 20 --anywhere --seed 199 --config config/jaw-p.yaml: the touch named
+    lay at (135, 37) mm on the fitted curve's other branch, past the cusp-side corner the left
+    pad pivoted about, and the move to it ("20 mm toward the palm") left only the closing
+    segment within the pads' reach: answered `line` after it. Places and corners are placed on
+    the curve by its nearest of ``END_SEARCH_POINTS`` points; one farther from it than
+    ``CORNER_CLEARANCE_MM`` is not judged (False), nor is a closed class's (no ends)."""
+    curve = CURVES[recognition.cls](recognition.params)
+    corners = np.asarray(corners, float).reshape(-1, 2)
+    if curve.t_period is not None or recognition.pose is None or not recognition.contacts or not len(corners):
+        return False
+    felt = np.array([float(c["t"]) for c in recognition.contacts])
+    lo, hi = float(np.min(felt)), float(np.max(felt))
+    reach = END_SEARCH_SPANS * max(hi - lo, 1.0)
+    t = np.linspace(lo - reach, hi + reach, END_SEARCH_POINTS)
+    px, py = recognition.pose.apply(*curve.point(t))
+
+    def on_curve(qx: float, qy: float) -> float | None:
+        gap = np.hypot(px - qx, py - qy)
+        k = int(np.argmin(gap))
+        return float(t[k]) if gap[k] <= CORNER_CLEARANCE_MM else None
+
+    at = on_curve(x, y)
+    if at is None or lo <= at <= hi:
+        return False
+    side = 1.0 if at > hi else -1.0
+    edge = hi if side > 0 else lo
+    for cx, cy in corners:
+        end = on_curve(float(cx), float(cy))
+        if end is not None and side * (end - edge) > 0 and side * (at - end) >= 0:
+            return True
+    return False
+
+
 def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], dict | None], reach: JawReach,
                   span: float, limits: Callable[[str], list], corners=()) -> Callable[[], dict | None]:
     """The touch a budget-spent refusal names (tactile_jaw.choose.budget_advice): the
@@ -420,13 +464,16 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
     corner a roll pivoted about (``corners``, tactile_jaw.pipeline.clearing_corners): a roll
     there keeps none of its samples near that corner (tactile_jaw.pipeline.clear_of_corners)
     and runs onto it (P cubical 104 of seed 139: the place named lay 0.8 mm from the corner
-    where the left pad's rolls left the curve, and more touches were advised)."""
+    where the left pad's rolls left the curve, and more touches were advised). None when the
+    place lies past a corner beyond the felt stretch (:func:`beyond_felt_end`): not on the object."""
 
     def run() -> dict | None:
         place = wanted()
         if place is None or recognition.pose is None or not recognition.contacts:
             return place
         x, y, phi = float(place["x"]), float(place["y"]), float(place["phi"])
+        if beyond_felt_end(recognition, x, y, corners):
+            return None  # no move brings a place the object does not have within reach
         finger = reach.finger(x, y, phi)
         if finger is None or (not at_corner(x, y, corners) and within_curve(phi + math.pi / 2, span,
                                                                             limits(finger.name))):
