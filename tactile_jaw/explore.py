@@ -411,16 +411,20 @@ END_SEARCH_POINTS = 4001
 
 
 def beyond_felt_end(recognition, x: float, y: float, corners) -> bool:
-    """Whether the place (x, y) on an open answer's curve lies past a corner a roll pivoted
-    about (``corners``, tactile_jaw.pipeline.clearing_corners) that itself lies past the felt
-    stretch (the ``recognition``'s contacts' parameters t) on that side: the curved part ends at
-    that corner, and the fitted curve's continuation is not on the object. P semicubical 123 of
+    """Whether the place (x, y) is not on the object as felt, for an open answer's curve
+    (``recognition``: its contacts' parameters t are the felt stretch) and the corners rolls
+    pivoted about (``corners``, tactile_jaw.pipeline.clearing_corners) that lie on that curve
+    past the felt stretch: on the curve, past such a corner on its side (the curved part ends
+    there, the fitted curve's continuation is not the object's); off the curve, when such
+    corners close the felt stretch at both ends (the object is that curve between them and its
+    closing segments: a rival's place elsewhere is on neither). P semicubical 123 of
     bench_explore --finite 20 --anywhere --seed 199 --config config/jaw-p.yaml: the touch named
-    lay at (135, 37) mm on the fitted curve's other branch, past the cusp-side corner the left
-    pad pivoted about, and the move to it ("20 mm toward the palm") left only the closing
-    segment within the pads' reach: answered `line` after it. Places and corners are placed on
-    the curve by its nearest of ``END_SEARCH_POINTS`` points; one farther from it than
-    ``CORNER_CLEARANCE_MM`` is not judged (False), nor is a closed class's (no ends)."""
+    when the budget ran out lay at (135, 37) mm, on the far side of the ellipse fitted to all
+    the touches (the recognizer's next_touch anywhere), 52 mm from the semicubical answered,
+    whose ends both pads had pivoted about; the move to it ("20 mm toward the palm") left the
+    pads only the cusp-side corner and the closing segment, and it was answered `line` after
+    it. Places and corners are placed on the curve by its nearest of ``END_SEARCH_POINTS``
+    points, within ``CORNER_CLEARANCE_MM``; a closed class has no ends (False)."""
     curve = CURVES[recognition.cls](recognition.params)
     corners = np.asarray(corners, float).reshape(-1, 2)
     if curve.t_period is not None or recognition.pose is None or not recognition.contacts or not len(corners):
@@ -436,16 +440,12 @@ def beyond_felt_end(recognition, x: float, y: float, corners) -> bool:
         k = int(np.argmin(gap))
         return float(t[k]) if gap[k] <= CORNER_CLEARANCE_MM else None
 
+    ends = [e for e in (on_curve(float(cx), float(cy)) for cx, cy in corners) if e is not None]
+    below, above = [e for e in ends if e < lo], [e for e in ends if e > hi]
     at = on_curve(x, y)
-    if at is None or lo <= at <= hi:
-        return False
-    side = 1.0 if at > hi else -1.0
-    edge = hi if side > 0 else lo
-    for cx, cy in corners:
-        end = on_curve(float(cx), float(cy))
-        if end is not None and side * (end - edge) > 0 and side * (at - end) >= 0:
-            return True
-    return False
+    if at is None:
+        return bool(below and above)
+    return (at < lo and any(at <= e for e in below)) or (at > hi and any(at >= e for e in above))
 
 
 def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], dict | None], reach: JawReach,

@@ -1,5 +1,5 @@
-"""A place on the answer's curve past a corner the rolls pivoted about is not on the object: no move
-is advised to it (tactile_jaw.explore.beyond_felt_end; docs/exploration.md)."""
+"""A place on the answer's curve past a corner the rolls pivoted about, or off it when such corners
+close both ends, is not on the object: no move is advised to it (tactile_jaw.explore.beyond_felt_end; docs/exploration.md)."""
 
 from __future__ import annotations
 
@@ -34,8 +34,9 @@ def test_a_place_past_a_pivoted_end_corner_is_off_the_object():
     assert not beyond_felt_end(answer, *_at(1.5), corners)  # past the felt stretch, short of the corner: on the object
     assert not beyond_felt_end(answer, *_at(-2.0), [_at(T1)])  # that end not felt: the object may go on
     assert not beyond_felt_end(answer, *_at(-2.0), [])
-    x, y = _at(-2.0)
-    assert not beyond_felt_end(answer, x + 5.0, y, corners)  # not on the curve: not judged
+    x, y = _at(3.3)
+    assert beyond_felt_end(answer, x + 40.0, y + 50.0, corners)  # a rival's place: both ends felt, not the object
+    assert not beyond_felt_end(answer, x + 40.0, y + 50.0, [_at(T1)])  # one end felt: not judged
 
 
 def test_a_closed_answer_has_no_ends():
