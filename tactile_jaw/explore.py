@@ -204,6 +204,21 @@ def unrolled_finger(active, out: Exploration, probes, deferred: set[str], roll_a
     return None
 
 
+def unrolled_before_flat(cfg, out: Exploration, probes, off_curve: dict[str, int], roll_at) -> str | None:
+    """The finger the flat presses wait for (:func:`unrolled_finger`): not retired
+    (``OFF_CURVE_RETIRE``), its probes met the object on its pad's face, it has made no rolling
+    touch at all and the planner has one for it (``roll_at``). The other finger's rolls all fell
+    on corners or a closing segment, which on a finite curved object is the side facing that
+    finger; the side this one probed may be the curved part (P semicubical 126 of bench_explore
+    --finite 20 --anywhere --seed 227: the right pad's 4 rolls on the cusp-side corner and the
+    closing segment while the left only probed, meeting the curve at ψ −100…−120°; the flat
+    presses found no seat, and the move named turned the closing segment further toward the
+    right pad). None when every such finger rolled: then a block's presses start as before."""
+    rolled = {t.finger for t in out.touches if not isinstance(t.touch, FlatResult)}
+    active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
+    return unrolled_finger(active, out, probes, rolled, roll_at)
+
+
 def unrolled_places(cfg, out: Exploration, recognition) -> list[tuple[float, float, float]]:
     """While a closed class (``CLOSED``) fits within ``DECISIVE_CHI2`` of the best consistent
     class (``recognition``'s ranking), for every finger without a usable roll whose probes met
@@ -389,6 +404,50 @@ def futile_roll(aim: Aim, touches: list[FeltTouch], span: float, corners) -> str
 PAST_END_FRACTION = 1.0
 
 
+#: how far either side of the felt stretch (times its length in t) :func:`beyond_felt_end` looks
+#: for the parameter of a place on the answer's curve, and at how many points
+END_SEARCH_SPANS = 4.0
+END_SEARCH_POINTS = 4001
+
+
+def beyond_felt_end(recognition, x: float, y: float, corners) -> bool:
+    """Whether the place (x, y) is not on the object as felt, for an open answer's curve
+    (``recognition``: its contacts' parameters t are the felt stretch) and the corners rolls
+    pivoted about (``corners``, tactile_jaw.pipeline.clearing_corners) that lie on that curve
+    past the felt stretch: on the curve, past such a corner on its side (the curved part ends
+    there, the fitted curve's continuation is not the object's); off the curve, when such
+    corners close the felt stretch at both ends (the object is that curve between them and its
+    closing segments: a rival's place elsewhere is on neither). P semicubical 123 of
+    bench_explore --finite 20 --anywhere --seed 199 --config config/jaw-p.yaml: the touch named
+    when the budget ran out lay at (135, 37) mm, on the far side of the ellipse fitted to all
+    the touches (the recognizer's next_touch anywhere), 52 mm from the semicubical answered,
+    whose ends both pads had pivoted about; the move to it ("20 mm toward the palm") left the
+    pads only the cusp-side corner and the closing segment, and it was answered `line` after
+    it. Places and corners are placed on the curve by its nearest of ``END_SEARCH_POINTS``
+    points, within ``CORNER_CLEARANCE_MM``; a closed class has no ends (False)."""
+    curve = CURVES[recognition.cls](recognition.params)
+    corners = np.asarray(corners, float).reshape(-1, 2)
+    if curve.t_period is not None or recognition.pose is None or not recognition.contacts or not len(corners):
+        return False
+    felt = np.array([float(c["t"]) for c in recognition.contacts])
+    lo, hi = float(np.min(felt)), float(np.max(felt))
+    reach = END_SEARCH_SPANS * max(hi - lo, 1.0)
+    t = np.linspace(lo - reach, hi + reach, END_SEARCH_POINTS)
+    px, py = recognition.pose.apply(*curve.point(t))
+
+    def on_curve(qx: float, qy: float) -> float | None:
+        gap = np.hypot(px - qx, py - qy)
+        k = int(np.argmin(gap))
+        return float(t[k]) if gap[k] <= CORNER_CLEARANCE_MM else None
+
+    ends = [e for e in (on_curve(float(cx), float(cy)) for cx, cy in corners) if e is not None]
+    below, above = [e for e in ends if e < lo], [e for e in ends if e > hi]
+    at = on_curve(x, y)
+    if at is None:
+        return bool(below and above)
+    return (at < lo and any(at <= e for e in below)) or (at > hi and any(at >= e for e in above))
+
+
 def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], dict | None], reach: JawReach,
                   span: float, limits: Callable[[str], list], corners=()) -> Callable[[], dict | None]:
     """The touch a budget-spent refusal names (tactile_jaw.choose.budget_advice): the
@@ -405,13 +464,16 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
     corner a roll pivoted about (``corners``, tactile_jaw.pipeline.clearing_corners): a roll
     there keeps none of its samples near that corner (tactile_jaw.pipeline.clear_of_corners)
     and runs onto it (P cubical 104 of seed 139: the place named lay 0.8 mm from the corner
-    where the left pad's rolls left the curve, and more touches were advised)."""
+    where the left pad's rolls left the curve, and more touches were advised). None when the
+    place lies past a corner beyond the felt stretch (:func:`beyond_felt_end`): not on the object."""
 
     def run() -> dict | None:
         place = wanted()
         if place is None or recognition.pose is None or not recognition.contacts:
             return place
         x, y, phi = float(place["x"]), float(place["y"]), float(place["phi"])
+        if beyond_felt_end(recognition, x, y, corners):
+            return None  # no move brings a place the object does not have within reach
         finger = reach.finger(x, y, phi)
         if finger is None or (not at_corner(x, y, corners) and within_curve(phi + math.pi / 2, span,
                                                                             limits(finger.name))):
@@ -523,10 +585,17 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 h.kind in ("corner", "scan") or (h.kind == "wider" and out.used) for h in hints.values()):
             # unless a finger rolls again beside a corner, where a press's scan felt the curve, or wider where
             # a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157: its tight ends)
-            rolls = sum(not isinstance(t.touch, FlatResult) for t in out.touches)
-            say(f"none of {rolls} rolling touches was usable clear of the corners: no curved part "
-                f"within reach of the pads")
-            break
+            waiting = unrolled_before_flat(cfg, out, probes, off_curve,
+                                           lambda f: choose_psi(f, model, settings, used[f.name], limits(f.name)))
+            if waiting is None:
+                say(f"none of {sum(not isinstance(t.touch, FlatResult) for t in out.touches)} rolling touches was "
+                    f"usable clear of the corners: no curved part within reach of the pads")
+                break
+            probes.queues[waiting] = []  # it rolls now, its probes left undone
+            message = (f"{waiting}: its probes met the object's face and it has not rolled yet: it rolls there "
+                       f"before the pads press flat")
+            emit({"type": "event", "kind": "flat_deferred", "message": message})
+            say(message)
         plans, spent, aimed, pressing, from_hint, idle, again = {}, {}, None, None, set(), set(), {}
         if aim is not None and aim.kind != "vertex" and not within_curve(aim.psi, settings.roll_span_rad,
                                                                          limits(aim.finger)):

@@ -91,6 +91,10 @@ CORNER_CLEARANCE_MM = 2.0
 #: cubical's hump of radius ≈ 10 mm (ρ 6.5 ± 3.6 mm: a point of the curve, whose clearance
 #: would drop the good touches around it)
 CLEARANCE_SIGMAS = 1.0
+#: a corner a roll across a straight closing segment pivoted about (:func:`crossed_segment`)
+#: counts when at least this many of its pad lines pass through it: two lines always meet
+#: in a point, three meeting in one within their noise are a pivot
+SEGMENT_CORNER_LINES = 3
 #: a joint whose moment arm (kinematics.moment_arms) under a touch's press stays at least this
 #: far (mm) from 0 one way has a known load: its gear rests on that side of its dead band.
 #: Nearer its line of action the press's torque on it (arm × a few N, below 0.01 N·m) is of
@@ -112,6 +116,8 @@ class FeltTouch:
     off_curve: bool = False  # it fell on a corner or across a closing segment (off_curve_reason)
     face: Face | None = None  # a flat press's face (tactile_jaw.flat)
     corner: tuple[float, float] | None = None  # the point it pivoted about, when it fell on a corner
+    #: the end corners of the straight closing segment it rolled across (:func:`crossed_segment`)
+    segment_corners: tuple[tuple[float, float], ...] = ()
     #: an unusable roll's stretch on the curved part (:func:`curve_hint`): (x, y, φ) of its middle
     curve_at: tuple[float, float, float] | None = None
     #: and that stretch's end (ψ rad, x, y mm of its contact) on the side where the roll alone left the
@@ -163,13 +169,13 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     lines = kin.PadLine.stack([s.line for s in touch.samples]) if touch.samples else None
 
     def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False, corner=None, curve_at=None,
-            curve_span=None, slid=None):
+            curve_span=None, slid=None, segment_corners=()):
         samples_touch = None
         if problem is None and fit is not None:
             samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
                                          curvature=(fit.kappa, fit.kappa_s, fit.cov), noise_factor=fit.noise_factor)
         return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve, corner=corner,
-                         curve_at=curve_at, curve_span=curve_span, slid=slid)
+                         curve_at=curve_at, curve_span=curve_span, slid=slid, segment_corners=segment_corners)
 
     cut_short = touch.outcome in CUT_SHORT
     if touch.outcome != "ok" and not cut_short:
@@ -206,8 +212,10 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
                 if shorter is not None:
                     return shorter
                 hint, span = curve_hint(config, touch, samples)
+            segment = None if on_corner(fit) else crossed_segment(fit, c, lines)  # off_curve_reason's order
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
-                       corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint, curve_span=span)
+                       corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint, curve_span=span,
+                       segment_corners=segment[2] if segment is not None else ())
     if curve_checks:
         slid = slid_end(lines, fit)
         if slid is not None:
@@ -545,11 +553,12 @@ def clearing_corners(felt: Sequence[FeltTouch]) -> np.ndarray:
     """(k, 2) the corners the ``felt`` touches pivoted about whose radius of curvature is below
     ``CLEARANCE_SIGMAS`` of its deviation, but for a corner in doubt (:func:`corner_in_doubt`)
     whose radius a usable roll measured there more finely (:func:`measured_there`: the wider
-    roll at that place), which is no corner: the corners :func:`clear_of_corners` clears
-    samples around."""
+    roll at that place), which is no corner; and the end corners of the closing segments
+    rolls crossed (``FeltTouch.segment_corners``): the corners :func:`clear_of_corners`
+    clears samples around."""
     return np.array([t.corner for t in felt if t.corner is not None and clears_around(t.fit)
-                     and not (corner_in_doubt(t.fit) and measured_there(t, felt))],
-                    dtype=float).reshape(-1, 2)
+                     and not (corner_in_doubt(t.fit) and measured_there(t, felt))]
+                    + [p for t in felt for p in t.segment_corners], dtype=float).reshape(-1, 2)
 
 
 def clears_around(fit: EnvelopeFit) -> bool:
@@ -666,14 +675,35 @@ def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float, lines: kin.Pad
     if on_corner(fit):
         return (f"corner: the contact stayed near ({contacts.x[m]:.1f}, {contacts.y[m]:.1f}) mm while the pad "
                 f"turned {np.degrees(turn_rad):.0f} deg (radius of curvature {fit.rho:.2f} ± {fit.sigma_rho:.2f} mm)")
-    n = len(contacts.x)
-    if lines is not None and contacts.degree > MIN_DEGREE and n >= 6:
-        chi2, split = pivots_chi2(lines, contacts, fit.line_sigma)
-        # two points (4 numbers and a split) against the polynomial (degree + 1): Akaike's criterion
-        if chi2 <= chi2_limit(SMOOTH_ALPHA, n - 4) and chi2 + 2 * 5 < fit.chi2 + 2 * (contacts.degree + 1):
-            return (f"off the curved part: the pad lines pass through two points within their noise (chi2 {chi2:.3g} "
-                    f"on {n - 4} dof, {split} and {n - split} lines): the roll crossed a straight closing segment")
+    segment = crossed_segment(fit, contacts, lines)
+    if segment is not None:
+        chi2, split, _ = segment
+        n = len(contacts.x)
+        return (f"off the curved part: the pad lines pass through two points within their noise (chi2 {chi2:.3g} "
+                f"on {n - 4} dof, {split} and {n - split} lines): the roll crossed a straight closing segment")
     return rough(fit)
+
+
+def crossed_segment(fit: EnvelopeFit, contacts, lines: kin.PadLine | None
+                    ) -> tuple[float, int, tuple[tuple[float, float], ...]] | None:
+    """Whether a roll crossed a straight closing segment (the order rule needed more than a
+    cubic and the pad ``lines`` pass through two points within their noise, better than the
+    polynomial by Akaike's criterion: :func:`pivots_chi2`): its χ², the first run's length,
+    and the segment's end corners the roll pivoted about, each through at least
+    ``SEGMENT_CORNER_LINES`` lines (two lines always meet). Those are the object's corners: a
+    roll of the other finger that ran onto one kept its sample there, a µm from the curve's
+    continuation's tangent, and no class fitted (P semicubical 123 of bench_explore --finite 20
+    --anywhere --seed 199 --config config/jaw-p.yaml: that touch's block of the χ² was 515 on
+    6); :func:`clearing_corners` clears the samples around them. None when it did not."""
+    n = len(contacts.x)
+    if lines is None or contacts.degree <= MIN_DEGREE or n < 6:
+        return None
+    chi2, split, points = pivots_chi2(lines, contacts, fit.line_sigma)
+    # two points (4 numbers and a split) against the polynomial (degree + 1): Akaike's criterion
+    if not (chi2 <= chi2_limit(SMOOTH_ALPHA, n - 4) and chi2 + 2 * 5 < fit.chi2 + 2 * (contacts.degree + 1)):
+        return None
+    runs = (split, n - split)
+    return chi2, split, tuple(p for p, k in zip(points, runs) if k >= SEGMENT_CORNER_LINES)
 
 
 def slid_end(lines: kin.PadLine, fit: EnvelopeFit) -> tuple[str, float, int] | None:
@@ -711,22 +741,24 @@ def rough(fit: EnvelopeFit) -> str | None:
     return None
 
 
-def pivots_chi2(lines: kin.PadLine, contacts, sigma: np.ndarray) -> tuple[float, int]:
+def pivots_chi2(lines: kin.PadLine, contacts, sigma: np.ndarray
+                ) -> tuple[float, int, tuple[tuple[float, float], ...]]:
     """How well two points explain a touch's pad lines (ψ order): the least χ², over the
     splits into a first run of ≥ 2 lines through one point and the rest through another (a
     pad rolled across a straight segment rests on one end corner, then on the other), of the
-    lines' distances from their point, each by its deviation ``sigma`` (mm, ψ order); and
-    the first run's length."""
+    lines' distances from their point, each by its deviation ``sigma`` (mm, ψ order); the
+    first run's length; and the two points (the first run's first)."""
     normal, d = np.asarray(lines.normal)[contacts.order], np.asarray(lines.d)[contacts.order]
-    best, split = math.inf, 0
+    best, split, points = math.inf, 0, ()
     for k in range(2, normal.shape[0] - 1):
-        chi2 = 0.0
+        chi2, found = 0.0, []
         for part in (slice(0, k), slice(k, None)):
             point = kin.nearest_point(normal[part] / sigma[part, None], d[part] / sigma[part])
             chi2 += float(np.sum(((normal[part] @ point - d[part]) / sigma[part]) ** 2))
+            found.append((float(point[0]), float(point[1])))
         if chi2 < best:
-            best, split = chi2, k
-    return best, split
+            best, split, points = chi2, k, tuple(found)
+    return best, split, points
 
 
 def workspace_reach(config) -> Reach:

@@ -74,3 +74,27 @@ def test_the_side_an_unrolled_finger_met_is_a_place_while_a_closed_class_fits():
     # open classes only, or the closed one ruled out by the data: no place
     assert unrolled_places(CONFIG, out, _answer(("parabola", 7.4), ("hyperbola", 7.6))) == []
     assert unrolled_places(CONFIG, out, _answer(("semicubical_parabola", 7.4), ("ellipse", 30.0))) == []
+
+
+def _roll(finger: str):
+    return SimpleNamespace(finger=finger, touch=SimpleNamespace(samples=[]))
+
+
+def test_the_flat_presses_wait_for_a_finger_that_only_probed_the_object_s_face():
+    # P semicubical 126 of bench_explore --finite 20 --anywhere --seed 227: the right pad's 4 rolls
+    # fell on the cusp-side corner and the closing segment (retired), the left only probed, on the curve
+    from tactile_jaw.explore import OFF_CURVE_RETIRE, unrolled_before_flat
+
+    out = Exploration()
+    out.touches = [_roll("right") for _ in range(4)]
+    probes = SimpleNamespace(faces={"left": [-2.1, -1.7], "right": [1.6]})
+    retired = {"left": 0, "right": OFF_CURVE_RETIRE}
+    rolls = lambda f: -1.8  # noqa: E731 - the planner has a roll for it
+    assert unrolled_before_flat(CONFIG, out, probes, retired, rolls) == "left"
+    assert unrolled_before_flat(CONFIG, out, probes, retired, lambda f: None) is None  # no roll to make
+    assert unrolled_before_flat(CONFIG, out, probes, {"left": OFF_CURVE_RETIRE, "right": OFF_CURVE_RETIRE},
+                                rolls) is None  # retired too
+    assert unrolled_before_flat(CONFIG, out, SimpleNamespace(faces={"left": [], "right": [1.6]}), retired,
+                                rolls) is None  # its probes met no face: nothing to roll on
+    out.touches.append(_roll("left"))
+    assert unrolled_before_flat(CONFIG, out, probes, retired, rolls) is None  # it rolled once: a block's presses start
