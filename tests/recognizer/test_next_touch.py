@@ -329,6 +329,27 @@ def test_a_pad_lands_where_pad_approach_says():
     assert 5 < int(mine.sum()) < 20
 
 
+def _wide_case_after_random(cls: str, trial: int, seed: int):
+    """A bench_wide --set wide trial as the bench builds it: its 3 touches, their
+    recognition, and the 2 random touches drawn from the trial's generator (so the
+    suggested touches that follow draw what the bench's do)."""
+    from tools import bench_wide as bw
+    from tools.pad_approach import solid_left
+
+    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case(cls, trial, seed, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    nm = NoiseModel(noise.phi, noise.pos)
+    rec, _, _ = bw._recognize(touches, nm)
+    left = solid_left(shape.curve, ts, direction)
+    for _ in range(2):
+        got = bw._send(shape, *bw._random_aim(shape, rs.uniform(lo, hi), direction, rec, touches), lo, hi, clear,
+                       "approach", left, direction)
+        if got.t is not None:
+            bw._extra_touch(shape, got.t, rs, direction)
+    return shape, ts, (lo, hi, clear), rs, direction, left, touches, nm, rec
+
+
 def test_a_parabolas_suggestion_across_its_vertex_is_kept():
     """bench_wide --set wide seed 179 (development), parabola trial 6 (one side, L 146 mm,
     touches at t 0.58–1.82): after the first suggested touch, the second lies across the
@@ -337,19 +358,8 @@ def test_a_parabolas_suggestion_across_its_vertex_is_kept():
     where the semicubical rival would not land there (docs/benchmarks.md, session 19): the
     touch went far out (χ² 1.01) and the answer turned semicubical."""
     from tools import bench_wide as bw
-    from tools.pad_approach import solid_left
 
-    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("parabola", 6, 179, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    nm = NoiseModel(noise.phi, noise.pos)
-    rec, _, _ = bw._recognize(touches, nm)
-    left = solid_left(shape.curve, ts, direction)
-    for _ in range(2):  # the random touches draw from rs first, as in the bench
-        got = bw._send(shape, *bw._random_aim(shape, rs.uniform(lo, hi), direction, rec, touches), lo, hi, clear,
-                       "approach", left, direction)
-        if got.t is not None:
-            bw._extra_touch(shape, got.t, rs, direction)
+    shape, ts, (lo, hi, clear), rs, direction, left, touches, nm, rec = _wide_case_after_random("parabola", 6, 179)
     landed, tl = [], list(touches)
     for _ in range(2):
         nt = rec.next_touch
@@ -385,20 +395,9 @@ def test_a_parabolas_suggestions_across_its_vertex_keep_it_parabola():
     where a rival predicts loosely and the leader tightly (``_separation``), both land at
     the vertex and the answer stays parabola."""
     from tools import bench_wide as bw
-    from tools.pad_approach import solid_left
 
-    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("parabola", 4, 229, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    nm = NoiseModel(noise.phi, noise.pos)
-    rec, _, _ = bw._recognize(touches, nm)
+    shape, ts, (lo, hi, clear), rs, direction, left, touches, nm, rec = _wide_case_after_random("parabola", 4, 229)
     assert rec.cls == "parabola"
-    left = solid_left(shape.curve, ts, direction)
-    for _ in range(2):  # the random touches draw from rs first, as in the bench
-        got = bw._send(shape, *bw._random_aim(shape, rs.uniform(lo, hi), direction, rec, touches), lo, hi, clear,
-                       "approach", left, direction)
-        if got.t is not None:
-            bw._extra_touch(shape, got.t, rs, direction)
     tl = list(touches)
     for _ in range(2):
         nt = rec.next_touch
