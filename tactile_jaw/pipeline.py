@@ -204,7 +204,8 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
         return out(f"{finger}: {exc}")
     u = _pad_u(lines, c)
     if curve_checks:
-        off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)), lines)
+        segment = None if on_corner(fit) else crossed_segment(fit, c, lines)
+        off_curve = off_curve_reason(fit, c, float(np.ptp(c.psi)), segment)
         if off_curve is not None:
             hint = span = None
             if trim and rough(fit) and off_curve == rough(fit):
@@ -212,7 +213,6 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
                 if shorter is not None:
                     return shorter
                 hint, span = curve_hint(config, touch, samples)
-            segment = None if on_corner(fit) else crossed_segment(fit, c, lines)  # off_curve_reason's order
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
                        corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint, curve_span=span,
                        segment_corners=segment[2] if segment is not None else ())
@@ -662,20 +662,20 @@ def longest_run(mask: np.ndarray) -> np.ndarray:
     return best
 
 
-def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float, lines: kin.PadLine | None = None) -> str | None:
+def off_curve_reason(fit: EnvelopeFit, contacts, turn_rad: float,
+                     segment: tuple[float, int, tuple[tuple[float, float], ...]] | None = None) -> str | None:
     """Why a touch fell off the object's curved part, or None: on a corner (the radius of
     curvature at the contact is below ``CORNER_RADIUS_MM`` or ``CORNER_SIGMAS`` of its
-    deviation: the contact stayed put while the pad turned), across a closing segment (the
-    order rule needed more than a cubic and the pad ``lines`` pass through two points, a
-    segment's end corners, within their noise: :func:`pivots_chi2`) or across a corner or
-    closing segment (the pad lines are no smooth curve's tangents: their χ² about the
-    envelope fit above its limit at ``SMOOTH_ALPHA``: a straight segment bridged between two
-    corners makes d(ψ) kink)."""
+    deviation: the contact stayed put while the pad turned), across a closing segment
+    (``segment``, :func:`crossed_segment` of the touch: the order rule needed more than a
+    cubic and the pad lines pass through two points, a segment's end corners, within their
+    noise) or across a corner or closing segment (the pad lines are no smooth curve's
+    tangents: their χ² about the envelope fit above its limit at ``SMOOTH_ALPHA``: a straight
+    segment bridged between two corners makes d(ψ) kink)."""
     m = len(contacts.x) // 2
     if on_corner(fit):
         return (f"corner: the contact stayed near ({contacts.x[m]:.1f}, {contacts.y[m]:.1f}) mm while the pad "
                 f"turned {np.degrees(turn_rad):.0f} deg (radius of curvature {fit.rho:.2f} ± {fit.sigma_rho:.2f} mm)")
-    segment = crossed_segment(fit, contacts, lines)
     if segment is not None:
         chi2, split, _ = segment
         n = len(contacts.x)
