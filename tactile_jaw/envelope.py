@@ -373,10 +373,11 @@ def _propagate(finger, q, origin, degree: int, noise: JointNoise) -> tuple[kin.T
     base = kin.touch_from_pad_lines(lines.psi, lines.d, origin=origin, degree=degree)
     n = q.shape[0]
     by_psi, by_d = _envelope_jacobian(base)
-    dpsi, dd = _line_jacobian(finger, q)
+    dd = _line_jacobian(finger, q, lines)
     # the contacts' i-th line is reading order[i]'s: it moves with that reading's two joints
+    # (∂ψ/∂q_k = 1, :func:`_line_jacobian`)
     jac = np.empty((3 + 3 * n, n, 2))
-    jac[:, base.order, :] = by_psi[:, :, None] * dpsi[base.order][None] + by_d[:, :, None] * dd["q"][base.order][None]
+    jac[:, base.order, :] = by_psi[:, :, None] + by_d[:, :, None] * dd["q"][base.order][None]
     jac = jac.reshape(3 + 3 * n, 2 * n)
     factor = jac * np.tile(noise.quantization, n)
     offsets = np.asarray(noise.offset_rad, dtype=float)
@@ -390,21 +391,21 @@ def _propagate(finger, q, origin, degree: int, noise: JointNoise) -> tuple[kin.T
     return base, factor
 
 
-def _line_jacobian(finger, q) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """How each reading's pad line n(ψ)·p = d moves, readings' order: ∂ψ/∂q (n, 2), and under
-    ``"q"`` ∂d/∂q (n, 2), ``"link"`` ∂d/∂L (n, 2) of the link lengths, ``"pad"`` ∂d/∂(pad
-    offset) (n,). ψ is the distal link's angle plus a constant, so ∂ψ/∂q_k = 1; a line turned
-    about a point P keeps its distance to P, so ∂d = n⊥·P per radian about P (the base for
-    q1, the distal joint J2 for q2); a longer proximal link moves the line along its direction
-    e1 (∂d = n·e1); the distal link runs along the pad (n·e2 = 0); the pad offset moves it along n."""
-    lines = kin.finger_pad_line(finger, q)
+def _line_jacobian(finger, q, lines: kin.PadLine) -> dict[str, np.ndarray]:
+    """How each reading's pad line n(ψ)·p = d (``lines``, kinematics.finger_pad_line of ``q``)
+    moves, readings' order: under ``"q"`` ∂d/∂q (n, 2), ``"link"`` ∂d/∂L (n, 2) of the link
+    lengths, ``"pad"`` ∂d/∂(pad offset) (n,). ψ is the distal link's angle plus a constant, so
+    ∂ψ/∂q_k = 1 (the callers' unit term); a line turned about a point P keeps its distance to
+    P, so ∂d = n⊥·P per radian about P (the base for q1, the distal joint J2 for q2); a longer
+    proximal link moves the line along its direction e1 (∂d = n·e1); the distal link runs along
+    the pad (n·e2 = 0); the pad offset moves it along n."""
     nperp = np.stack([-lines.normal[..., 1], lines.normal[..., 0]], axis=-1)
     a1 = finger.base.angle + q[:, 0]
     e1 = np.stack([np.cos(a1), np.sin(a1)], axis=-1)
     base = np.array([finger.base.x, finger.base.y])
     dd_q = np.stack([nperp @ base, np.sum(nperp * lines.joint2, axis=-1)], axis=-1)
     dd_link = np.stack([np.sum(lines.normal * e1, axis=-1), np.zeros(q.shape[0])], axis=-1)
-    return np.ones_like(q), {"q": dd_q, "link": dd_link, "pad": np.ones(q.shape[0])}
+    return {"q": dd_q, "link": dd_link, "pad": np.ones(q.shape[0])}
 
 
 def _envelope_jacobian(c: kin.TouchEnvelope) -> tuple[np.ndarray, np.ndarray]:
@@ -460,6 +461,7 @@ def _line_sigma(finger, q, base: kin.TouchEnvelope, sq: np.ndarray) -> np.ndarra
     d_i − d(ψ_i) with the fit held moves as ∂r_i/∂q = ∂d_i/∂q − d'(ψ_i)·∂ψ_i/∂q, d'(ψ_i)
     the contact's coordinate along the line (each line depends on its own reading's two
     joints, each quantized with σ ``sq``)."""
-    dpsi, dd = _line_jacobian(finger, q[base.order])
+    qs = q[base.order]
+    dd = _line_jacobian(finger, qs, kin.finger_pad_line(finger, qs))
     slope = -np.sin(base.psi) * base.x + np.cos(base.psi) * base.y  # d'(ψ) = p·n⊥
-    return np.sqrt(np.sum(((dd["q"] - slope[:, None] * dpsi) * sq) ** 2, axis=1))
+    return np.sqrt(np.sum(((dd["q"] - slope[:, None]) * sq) ** 2, axis=1))  # ∂ψ/∂q = 1
