@@ -513,8 +513,8 @@ def unusable_refusal(out: Exploration) -> tuple[Recognition, Stop]:
             corners.append((float(t.corner[0]), float(t.corner[1])))
     unseated = sum(isinstance(t.touch, FlatResult) and t.face is None for t in out.touches)
     empty = sum(not t.touch.samples for t in out.touches)
-    met = [f"rolls pivoted about corner{'s' if len(corners) > 1 else ''} at "
-           + " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y in corners)] if corners else []
+    at = " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y in corners)
+    met = [f"rolls pivoted about corner{'s' if len(corners) > 1 else ''} at {at}"] if corners else []
     met += [f"{unseated} flat press{'es' if unseated > 1 else ''} found no seat"] if unseated else []
     met += [f"{empty} took no contact sample (out of the joints' reach, or nothing met)"] if empty else []
     used = len(out.used)  # usable, yet fewer than any class needs
@@ -525,9 +525,8 @@ def unusable_refusal(out: Exploration) -> tuple[Recognition, Stop]:
     if out.stopped is not None:
         return Recognition("unclassified", reason=reason), out.stopped
     if corners:
-        between = " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y in corners)
         stop = Stop(f"no move is named: no touch felt a curved part or a face to aim one at, only corners; place "
-                    f"the object so that its boundary {'between' if len(corners) > 1 else 'beside'} {between}, "
+                    f"the object so that its boundary {'between' if len(corners) > 1 else 'beside'} {at}, "
                     f"clear of {'them' if len(corners) > 1 else 'it'}, faces a finger")
     else:
         stop = Stop("no move is named: no touch felt a curved part, a face or a corner to aim one at; place the "
