@@ -356,9 +356,13 @@ def beyond_resolution(recognize_touches: RecognizeTouches, recognition: Recognit
     return gap is not None and gap * max(budget, len(touches)) / len(touches) < DECISIVE_CHI2
 
 
-def finer_advice(gap: float, ticks_per_rev: int | None) -> str:
+def finer_advice(gap: float, ticks_per_rev: int | None, touches: int = 0) -> str:
     """The clause naming the encoder resolution at which an expected Δχ² ``gap`` reaches
-    ``DECISIVE_CHI2`` (tactile_jaw.separation.finer_ticks), or '' without the jaw's."""
+    ``DECISIVE_CHI2`` (tactile_jaw.separation.finer_ticks), or '' without the jaw's. When the
+    ``touches`` it came from are borderline — each adds its share of the gap, and at most as
+    many again would reach ``DECISIVE_CHI2`` — the clause says how many more usable touches
+    like them are expected to, before the resolution (held-out X ellipse 59 of seed 241:
+    gap 8.5 on 3 touches, "a jaw with >= 4,460 ticks per turn" beside this jaw's 4,096)."""
     if ticks_per_rev is None:
         return ""
     need = finer_ticks(gap, ticks_per_rev, DECISIVE_CHI2)
@@ -366,6 +370,11 @@ def finer_advice(gap: float, ticks_per_rev: int | None) -> str:
         return ": no encoder resolution tells them apart on these touches"
     if need <= ticks_per_rev:
         return ""  # these touches could tell them apart: more touches may
+    more = math.ceil(touches * (DECISIVE_CHI2 / gap - 1.0) - 1e-9) if touches else 0
+    if 0 < more <= touches:
+        return (f": {touches} usable touches come close (expected chi2 gap {gap:.2g} of the {DECISIVE_CHI2:g} that "
+                f"decides; each touch adds its share): about {more} more like them are expected to tell them apart, "
+                f"as {FINER} {need:,} ticks per turn would")
     return (f": both fit within this jaw's angle resolution ({ticks_per_rev:,} ticks per turn); "
             f"{FINER} {need:,} ticks per turn tells them apart")
 
@@ -394,7 +403,9 @@ def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], se
     if why.kind == "rival" and why.rival is not None and ticks_per_rev is not None:
         gap = rivals_gap(recognize_touches, recognition, touches, why.rival)
         if gap is not None:
-            why = Why(f"{why}{finer_advice(gap, ticks_per_rev)} (expected chi2 gap {gap:.2g})", why.kind, why.rival)
+            finer = finer_advice(gap, ticks_per_rev, len(touches))
+            shown = "" if "expected chi2 gap" in finer else f" (expected chi2 gap {gap:.2g})"
+            why = Why(f"{why}{finer}{shown}", why.kind, why.rival)
     reason = f"not decisive after {len(touches)} usable touches: {why}" + (f"; {stopped}" if stopped else "")
     return Recognition("unclassified", reason=reason, ranking=recognition.ranking, timing=recognition.timing,
                        next_touch=recognition.next_touch)

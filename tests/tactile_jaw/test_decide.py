@@ -10,8 +10,8 @@ from scipy import stats
 
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Ranked, Recognition
-from tactile_jaw.decide import (DECISIVE_ALPHA, DECISIVE_CHI2, VERTEX_SIDE_DEG, final_answer, imprecision, indecision,
-                               vertex_sides)
+from tactile_jaw.decide import (DECISIVE_ALPHA, DECISIVE_CHI2, FINER, VERTEX_SIDE_DEG, final_answer, finer_advice,
+                               imprecision, indecision, vertex_sides)
 from tactile_jaw.settings import ExploreSettings
 
 SETTINGS = ExploreSettings(touches=8, samples_per_touch=9, roll_span_rad=math.radians(30), min_touches=3,
@@ -214,3 +214,18 @@ def test_a_repeated_face_is_checked_with_one_press_fewer():
     assert "one touch fewer" in decide(recognize, other, SETTINGS)[1] and asked == [3]
     rolls = [SimpleNamespace(face=None) for _ in range(3)]
     assert decide(recognize, rolls, SETTINGS)[1] is not None
+
+
+def test_borderline_touches_say_how_many_more_would_tell():
+    """A rivals' gap of 8.5 on 3 touches (held-out X ellipse 59 of seed 241): each touch adds
+    its share, so one more like them is expected to reach DECISIVE_CHI2 — said before the
+    resolution (≥ 4,450 ticks at a gap of 8.5, barely above this jaw's 4,096); a gap of 3 on 3 touches (4 more
+    needed) keeps the resolution's wording, and so does a call without the touches' count."""
+    near = finer_advice(8.5, 4096, 3)
+    assert near.startswith(": 3 usable touches come close (expected chi2 gap 8.5 of the 10 that decides")
+    assert "about 1 more like them" in near and f"as {FINER} 4,450 ticks per turn would" in near
+    far = finer_advice(3.0, 4096, 3)
+    assert far.startswith(": both fit within this jaw's angle resolution (4,096 ticks per turn)") and "more like" not in far
+    assert finer_advice(8.5, 4096) == (": both fit within this jaw's angle resolution (4,096 ticks per turn); "
+                                       f"{FINER} 4,450 ticks per turn tells them apart")
+    assert math.ceil(3 * (DECISIVE_CHI2 / 5.0 - 1.0)) == 3 and "about 3 more" in finer_advice(5.0, 4096, 3)
