@@ -373,8 +373,8 @@ def finer_advice(gap: float, ticks_per_rev: int | None, touches: int = 0) -> str
     more = math.ceil(touches * (DECISIVE_CHI2 / gap - 1.0) - 1e-9) if touches else 0
     if 0 < more <= touches:
         return (f": {touches} usable touches come close (expected chi2 gap {gap:.2g} of the {DECISIVE_CHI2:g} that "
-                f"decides; each touch adds its share): about {more} more like them are expected to tell them apart, "
-                f"as {FINER} {need:,} ticks per turn would")
+                f"decides; each touch adds its share): about {more} more like them {'is' if more == 1 else 'are'} expected "
+                f"to tell them apart, as {FINER} {need:,} ticks per turn would")
     return (f": both fit within this jaw's angle resolution ({ticks_per_rev:,} ticks per turn); "
             f"{FINER} {need:,} ticks per turn tells them apart")
 
