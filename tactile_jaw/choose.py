@@ -38,7 +38,7 @@ from recognizer.curves import CURVES
 from recognizer.result import Recognition
 from recognizer.touches import Reach
 from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
-from tactile_jaw.plan import ObjectModel, feasible, free_strips, nominal_psi, opened_strips
+from tactile_jaw.plan import ObjectModel, feasible, nominal_psi
 from tactile_jaw.settings import ExploreSettings
 
 #: a suggested next touch this near (mm) one already aimed at is not aimed at again
@@ -66,10 +66,6 @@ MOVE_TURN_MAX_DEG = 30.0
 #: tactile_jaw.rounds.transit), so a boundary inside it is clear of them (seed-11 random
 #: parabola 23 of session 10, moved as a reach-only search advised, lay across the opened jaw)
 MOVE_CLEAR_MM = 3.0
-#: a place counts as swept free within this far (mm) beyond a probe's swept stretch along its
-#: pad (tactile_jaw.plan.free_strips): the probe at a pad's normal starts half a probe's span
-#: (3°) off it, and misses the opened pad's far corners by 0.3 mm (calibrated block 1 of seed 239)
-FREE_END_MM = 1.0
 #: the search asks the jaw's reach (:meth:`JawReach.finger`, ~1.6 ms) at most this many times (seed-13
 #: random parabola 18 on the P-series jaw: a turn of 30° and a (-14, -8) mm shift, found after
 #: more than 1,200 questions, 2.3 s more)
@@ -162,15 +158,10 @@ def last_stop(events) -> dict | None:
 class JawReach:
     """Where the jaw's pads can roll (module docstring); the recognizer's ``options.reach``."""
 
-    def __init__(self, config, settings: ExploreSettings, probes: Sequence = ()):
+    def __init__(self, config, settings: ExploreSettings):
         ws = config.workspace
         self.config = config
         self.settings = settings
-        #: the exploration's probes (tactile_jaw.pipeline.FeltTouch, a list that may still grow):
-        #: the free space their pads swept bounds where a move may carry the object
-        #: (:meth:`opened_clear`); none, no such bound (a replayed log's recognition)
-        self.probes = probes
-        self._free: tuple[int, np.ndarray] | None = None  # (how many probes, their free strips)
         self.disk = Reach(float(ws.center_mm[0]), float(ws.center_mm[1]), float(ws.radius_mm))
         self._model = ObjectModel(ws.center_mm, ws.radius_mm)  # nothing felt: only its workspace edge is used
 
@@ -195,49 +186,9 @@ class JawReach:
             out[i] = self.finger(float(px[i]), float(py[i]), float(phi[i])) is not None
         return out
 
-    def opened_clear(self, about, turn: float, shift: np.ndarray) -> np.ndarray:
-        """For each shift (k × 2) after turning by ``turn`` about ``about``: does every place
-        in front of an opened pad (its face and ``MOVE_CLEAR_MM`` before it,
-        tactile_jaw.plan.opened_strips) come from where the probes' pads swept free of the
-        object (tactile_jaw.plan.free_strips)? What was not swept may hold object never felt:
-        calibrated random block 1 of bench_explore --finite 10 --anywhere --seed 239 (P-series),
-        turned 10° about the face its left pad met and moved (6, −4) mm, put its far corner —
-        never felt, beyond the right pad's proximal end — across the opened right pad. True
-        for every shift when there are no probes."""
-        if not len(self.probes):
-            return np.ones(len(shift), bool)
-        if self._free is None or self._free[0] != len(self.probes):
-            # the opened pads' strips are free as the object lies now (the probe at each pad's
-            # normal swept them), and so is all behind their faces, the fingers' side
-            behind = opened_strips(self.config, MOVE_CLEAR_MM, 2.0 * self.disk.radius)
-            self._free = (len(self.probes), np.vstack([free_strips(self.config, self.probes), behind]))
-        free = self._free[1]
-        opened = opened_strips(self.config, MOVE_CLEAR_MM)
-        points = np.vstack([_strip_points(*row) for row in opened])  # m × 2
-        c, s = math.cos(turn), math.sin(turn)
-        a = np.asarray(about, float)
-        # p = R⁻¹(q − a − shift) + a: where each such place is now
-        back = (points[None, :, :] - a - np.asarray(shift, float)[:, None, :]) @ np.array([[c, -s], [s, c]]) + a
-        inside = np.zeros(back.shape[:2], bool)
-        for psi, u_lo, u_hi, d_lo, d_hi in free:
-            n, t = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
-            u, d = back @ t, back @ n
-            inside |= (u >= u_lo - FREE_END_MM) & (u <= u_hi + FREE_END_MM) & (d >= d_lo - 1e-9) & (d <= d_hi + 1e-9)
-        return np.all(inside, axis=1)
-
     def to_json(self) -> dict:
         """The workspace disk (a request file's ``options.reach`` holds only a disk)."""
         return self.disk.to_json()
-
-
-def _strip_points(psi: float, u_lo: float, u_hi: float, d_lo: float, d_hi: float) -> np.ndarray:
-    """Points (m × 2) filling a strip (tactile_jaw.plan.free_strips' rows) at most
-    ``MOVE_STEP_MM`` apart along it, at its near, middle and far lines."""
-    n, t = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
-    u = np.linspace(u_lo, u_hi, int(math.ceil((u_hi - u_lo) / MOVE_STEP_MM)) + 1)
-    d = np.linspace(d_lo, d_hi, 3)
-    uu, dd = (v.ravel() for v in np.meshgrid(u, d))
-    return uu[:, None] * t + dd[:, None] * n
 
 
 def vertex_aim(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray], reach: JawReach,
@@ -564,7 +515,6 @@ def move_for(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tu
         places, keep = _moved(goal, float(turn), shift)
         every = np.concatenate([places, keep], axis=1)
         clear = np.all(np.hypot(every[..., 0] - cx, every[..., 1] - cy) <= allowed[None, :] + 1e-9, axis=1)
-        clear &= reach.opened_clear(goal.about, float(turn), shift)
         travel = np.max(np.hypot(*(every - here[None]).transpose(2, 0, 1)), axis=1)
         cands += [(float(travel[i]), abs(float(turn)), float(turn), i, places[i]) for i in np.flatnonzero(clear)]
     cands.sort(key=lambda c: c[:2])
@@ -590,8 +540,7 @@ def _reaches(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float, fin
     places, keep = _moved(goal, turn, np.array([[dx, dy]]))
     here = np.asarray(goal.keep, float).T
     allowed = np.maximum(radius - MOVE_CLEAR_MM, np.hypot(here[:, 0] - cx, here[:, 1] - cy))
-    if np.any(np.hypot(keep[0, :, 0] - cx, keep[0, :, 1] - cy) > allowed + 1e-9) \
-            or not reach.opened_clear(goal.about, turn, np.array([[dx, dy]]))[0]:
+    if np.any(np.hypot(keep[0, :, 0] - cx, keep[0, :, 1] - cy) > allowed + 1e-9):
         return False
     return all(reach.finger(float(p[0]), float(p[1]), goal.places[j][2] + turn, fingers) is not None
                for j, p in enumerate(places[0]))
@@ -601,13 +550,8 @@ def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None) ->
     """What a person can do so that a pad rolls through every place of ``goal``: the move of
     :func:`move_for` in the hand frame's words (x away from the palm, y toward the left
     finger, turns counterclockwise positive) and as :class:`Stop`'s ``move``, or a general
-    request (and None) when none is near, saying so when moves were near but each would carry
-    unswept space in front of an opened pad (:meth:`JawReach.opened_clear`)."""
+    request (and None) when none is near."""
     move = move_for(reach, goal, fingers)
-    if move is None and len(reach.probes) and move_for(JawReach(reach.config, reach.settings), goal, fingers):
-        return (f"every move that brings a pad {goal.where} would carry what the probes did not sweep free in front "
-                f"of an opened pad, where the object's unfelt parts may lie (beyond the pads' ends): place the object "
-                f"so that more of its curved part faces a finger, clear of the opened pads"), None
     if move is None:
         return (f"no pad reaches {goal.where} with the object moved up to {MOVE_MAX_MM:g} mm and turned up to "
                 f"{MOVE_TURN_MAX_DEG:g} deg inside the workspace: place the object so that more of its curved part "

@@ -165,15 +165,13 @@ def _curve_felt(cfg, settings: ExploreSettings, out: Exploration, emit, say, che
         checked.update(id(t) for t in new)
         return False
     out.used, out.recognition = [], curve_refusal(curve)
-    out.stopped = curve_stop(cfg, settings, curve, next(t for t in new if t.touch.touch == curve.touch.touch),
-                             out.probes)
+    out.stopped = curve_stop(cfg, settings, curve, next(t for t in new if t.touch.touch == curve.touch.touch))
     emit(out.stopped.event("stopped_early"))
     say(f"{out.recognition.reason}; {out.stopped}")
     return True
 
 
-def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch,
-               probes: Sequence[FeltTouch] = ()) -> Stop:
+def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch) -> Stop:
     """What would help once ``curve`` (tactile_jaw.pipeline.curved_part), a stretch of the
     touch ``felt``, rolled on a curved part that no usable touch measured: where ``felt``
     left that part at one end of its ψ range more than at the other (a roll run onto a
@@ -183,14 +181,12 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
     stretch's direction of travel), away from the corner (tactile_jaw.choose.move_advice);
     else (a press's scan, or a stretch cut on both sides) a pad clear of the corners there;
     for presses whose seats bulged (tactile_jaw.flat.bulged_presses), the move after which a
-    pad rolls across the middle of their supports with the seat's tangent. ``probes``: the
-    exploration's, whose free space bounds every move (tactile_jaw.choose.JawReach.opened_clear)."""
-    reach = JawReach(cfg, settings, probes)
+    pad rolls across the middle of their supports with the seat's tangent."""
     if isinstance(curve.touch, FlatResult):
         x, y = (float(v) for v in curve.face.middle)
         where = f"the curved part the {curve.finger} pad pressed near ({x:.1f}, {y:.1f}) mm"
         goal = place_goal(x, y, curve.face.psi - math.pi / 2, np.stack([curve.face.p, curve.face.q], axis=1))
-        advice, move = move_advice(reach, replace(goal, where=where), [cfg.finger(curve.finger)])
+        advice, move = move_advice(JawReach(cfg, settings), replace(goal, where=where), [cfg.finger(curve.finger)])
         return Stop(f"{advice} ({where}; the rolls there met its corners)" if advice == WITHIN_REACH else advice, move)
     c, m = curve.contacts, len(curve.contacts.x) // 2
     psi = np.asarray(c.psi, dtype=float)
@@ -202,6 +198,7 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
         finger = cfg.finger(felt.finger)
         goal = replace(place_goal(float(c.x[m]), float(c.y[m]), float(psi[m]) - math.pi / 2, (c.x, c.y)),
                        where=f"on its curved part, {near}")
+        reach = JawReach(cfg, settings)
         advice, move = move_advice(reach, goal, [finger])
         if move is None and advice == WITHIN_REACH:  # reached there, yet its rolls met the corners
             facing = facing_move(reach, goal, finger)
@@ -222,7 +219,7 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
     goal = Goal(((float(x), float(y), phi),), np.array([c.x, c.y], dtype=float), (float(c.x[m]), float(c.y[m])),
                 f"on along its curved part, {near}, past the end of that stretch away from the corner "
                 f"{felt.finger} roll {felt.touch.touch} ran onto")
-    advice, move = move_advice(reach, goal)
+    advice, move = move_advice(JawReach(cfg, settings), goal)
     return Stop(advice, move)
 
 
@@ -409,7 +406,7 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
     phi = psi - math.pi / 2
     goal = Goal(tuple((float(x), float(y), phi) for x, y in (p, mid, q)), np.stack([p, q], axis=1),
                 (float(mid[0]), float(mid[1])), "across that face")
-    advice, move = move_advice(JawReach(cfg, settings, out.probes), goal, [cfg.finger(finger)])
+    advice, move = move_advice(JawReach(cfg, settings), goal, [cfg.finger(finger)])
     head = ("no flat press seated" if not seated else
             f"{seated} flat press{'es' if seated > 1 else ''} seated, fewer than the answer needs on one face")
     short = length < FACE_MIN_FRACTION * cfg.finger(finger).pad.length_mm
