@@ -21,7 +21,7 @@ from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, WITHIN_REACH, Goal, JawReach, Stop, facing_move, move_advice,
                                 place_goal)
-from tactile_jaw.flat import FACE_MISS_MM, bulged, curved_faces, recognized_touches
+from tactile_jaw.flat import FACE_MISS_MM, SAME_FACE_RAD, bulged, curved_faces, face_groups, recognized_touches
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
@@ -496,6 +496,22 @@ def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings,
     return why is None
 
 
+def _seated_apart(seated: Sequence[FeltTouch]) -> str:
+    """Why flat presses that seated made no answer: their faces (tactile_jaw.flat.face_groups)
+    are too many, each felt too few times — on a short face the pad's angles scatter more
+    than one face's presses may (``SAME_FACE_RAD``: its angle from supports L mm apart, each
+    fixed to ~0.07 mm, scatters ~0.1/L rad). Held-out X line 7 of seed 241: 4 presses seated
+    on an 11 mm face at ψ −63.4, −62.7, −63.3, −62.3°, two faces of 2, and the refusal said
+    only that 1 press found no seat."""
+    groups = face_groups(seated)
+    psi = [math.degrees(t.face.psi) for t in seated]
+    length = min(t.face.length for t in seated)
+    return (f"{len(seated)} flat press{'es' if len(seated) > 1 else ''} seated, on {len(groups)} "
+            f"face{'s' if len(groups) > 1 else ''} by their angles (pad normal {min(psi):.1f} to {max(psi):.1f} deg; "
+            f"one face's presses agree within {math.degrees(SAME_FACE_RAD):.1f} deg), none felt often enough: "
+            f"over {length:.1f} mm of the pad the seats' angles scatter more than that")
+
+
 def unusable_refusal(out: Exploration) -> tuple[Recognition, Stop]:
     """The refusal of an exploration with too few usable touches to ask the recognizer
     (``out.used`` of ``out.touches``, rolled or pressed) and no curved part felt: what the touches met — the corners rolls
@@ -515,6 +531,9 @@ def unusable_refusal(out: Exploration) -> tuple[Recognition, Stop]:
     empty = sum(not t.touch.samples for t in out.touches)
     at = " and ".join(f"({x:.0f}, {y:.0f}) mm" for x, y in corners)
     met = [f"rolls pivoted about corner{'s' if len(corners) > 1 else ''} at {at}"] if corners else []
+    seated = [t for t in out.touches if isinstance(t.touch, FlatResult) and t.problem is None and t.face is not None]
+    if seated and not out.used:
+        met.append(_seated_apart(seated))
     met += [f"{unseated} flat press{'es' if unseated > 1 else ''} found no seat"] if unseated else []
     met += [f"{empty} took no contact sample (out of the joints' reach, or nothing met)"] if empty else []
     used = len(out.used)  # usable, yet fewer than any class needs

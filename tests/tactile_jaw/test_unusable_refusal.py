@@ -47,3 +47,32 @@ def test_too_few_usable_says_so():
     assert recognition.reason.startswith("only 1 usable of 2 touches, too few to recognize: rolls pivoted about "
                                          "corner at (100, 5) mm")
     assert "beside (100, 5) mm, clear of it" in stop
+
+
+def test_seated_presses_split_by_their_angles_are_named():
+    """Held-out X line 7 of seed 241: 4 presses seated on one 11 mm face, their pad normals
+    −63.4…−62.3°, grouped as two faces (one face's presses agree within SAME_FACE_RAD), so
+    none was recognized; the refusal said only "1 flat press found no seat"."""
+    import math
+
+    import numpy as np
+
+    from tactile_jaw.flat import SAME_FACE_RAD, Face, face_groups
+
+    def seated(k: int, psi_deg: float) -> FeltTouch:
+        psi = math.radians(psi_deg)
+        t = np.array([-math.sin(psi), math.cos(psi)])
+        mid = np.array([82.5, -5.6])
+        face = Face(psi, float(np.array([math.cos(psi), math.sin(psi)]) @ mid), mid - 5.5 * t, mid + 5.5 * t)
+        return FeltTouch(FlatResult("left", k, psi, [object()] * 30, outcome="ok", roles=[]), None, None, None, None,
+                         None, face=face)
+
+    presses = [seated(13, -63.37), seated(14, -62.65), seated(15, -63.31), seated(16, -62.31)]
+    assert [len(g) for g in face_groups(presses)] == [2, 2] and math.radians(1.06) > SAME_FACE_RAD
+    out = Exploration(touches=[_felt(FlatResult("right", 11, 0.85, [object()] * 31, outcome="stopped", roles=[]))]
+                      + presses)
+    recognition, _ = unusable_refusal(out)
+    assert recognition.reason == ("no usable touch of 5: 4 flat presses seated, on 2 faces by their angles (pad normal "
+                                  "-63.4 to -62.3 deg; one face's presses agree within 0.6 deg), none felt often "
+                                  "enough: over 11.0 mm of the pad the seats' angles scatter more than that; 1 flat "
+                                  "press found no seat (the log's touch_rejected events say why each)")
