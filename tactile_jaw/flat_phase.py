@@ -504,11 +504,12 @@ def _seated_apart(seated: Sequence[FeltTouch]) -> str:
     on an 11 mm face at ψ −63.4, −62.7, −63.3, −62.3°, two faces of 2, and the refusal said
     only that 1 press found no seat."""
     groups = face_groups(seated)
+    if len(groups) == 1:
+        return f"{len(seated)} flat press{'es' if len(seated) > 1 else ''} seated on one face, too few for an answer"
     psi = [math.degrees(t.face.psi) for t in seated]
     length = min(t.face.length for t in seated)
-    return (f"{len(seated)} flat press{'es' if len(seated) > 1 else ''} seated, on {len(groups)} "
-            f"face{'s' if len(groups) > 1 else ''} by their angles (pad normal {min(psi):.1f} to {max(psi):.1f} deg; "
-            f"one face's presses agree within {math.degrees(SAME_FACE_RAD):.1f} deg), none felt often enough: "
+    return (f"{len(seated)} flat presses seated, on {len(groups)} faces by their angles (pad normal {min(psi):.1f} to "
+            f"{max(psi):.1f} deg; one face's presses agree within {math.degrees(SAME_FACE_RAD):.1f} deg), none felt often enough: "
             f"over {length:.1f} mm of the pad the seats' angles scatter more than that")
 
 

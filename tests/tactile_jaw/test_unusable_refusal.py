@@ -76,3 +76,5 @@ def test_seated_presses_split_by_their_angles_are_named():
                                   "-63.4 to -62.3 deg; one face's presses agree within 0.6 deg), none felt often "
                                   "enough: over 11.0 mm of the pad the seats' angles scatter more than that; 1 flat "
                                   "press found no seat (the log's touch_rejected events say why each)")
+    recognition, _ = unusable_refusal(Exploration(touches=presses[::2]))  # -63.37, -63.31: one face, too few
+    assert recognition.reason.startswith("no usable touch of 2: 2 flat presses seated on one face, too few for an answer")
