@@ -36,14 +36,8 @@ from tactile_jaw.settings import ExploreSettings
 #: half a step further on, other stops, other roundings), or after one that found no seat.
 #: The rolling touches give way to flat presses once FLAT_AFTER_TOUCHES of them were
 #: tried and none was usable (every one on a corner, a pad end or across a face: the line
-#: example turned −5° spent 8 rolling touches, 54 s of robot time, before). FLAT_RESTART_STEPS
-#: leaves a spare line before the face: a face found from a pad end's support (a short face)
-#: may be half a step off, and a line at its true normal passes through both supports; with
-#: only three lines before it, that line was taken as the third through P and each press's
-#: seat moved on by ~0.6° (P line 7 of --finite 20 --anywhere --seed 241: −63.1 … −61.5°, no
-#: three presses one face, refused; 2.5 steps before it walked the wrong way first, which
-#: gave it the spare line)
-FLAT_RESTART_STEPS = 3.5
+#: example turned −5° spent 8 rolling touches, 54 s of robot time, before)
+FLAT_RESTART_STEPS = 2.5
 FLAT_RESTART_MM = 3.0
 FLAT_SPARE = 2
 FLAT_TRIES = 2
