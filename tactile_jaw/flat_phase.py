@@ -43,9 +43,8 @@ FLAT_RESTART_STEPS = 2.5
 #: off, and a line at its true normal passes through both supports; with only three lines before
 #: it, that line was taken as the third through the first support and each press's seat moved on
 #: by ~0.6° (P line 7 of bench_explore --finite 20 --anywhere --seed 241: −63.1 … −61.5°, no three
-#: presses one face, refused). A first press at a seat the rolls show keeps FLAT_RESTART_STEPS:
-#: the spare step there was only tried together with turning toward that seat (P line 1 of the
-#: same run refused, its left press met nothing), not on its own
+#: presses one face, refused). Not for a first press at a seat the rolls show: one step farther
+#: out was beyond the joints' reach there (P line 1 of the same run, refused)
 FACE_SPARE_STEPS = 1.0
 FLAT_RESTART_MM = 3.0
 FLAT_SPARE = 2
