@@ -38,14 +38,6 @@ from tactile_jaw.settings import ExploreSettings
 #: tried and none was usable (every one on a corner, a pad end or across a face: the line
 #: example turned −5° spent 8 rolling touches, 54 s of robot time, before)
 FLAT_RESTART_STEPS = 2.5
-#: a later press on a face found starts this many steps more before it: a spare line through
-#: its first support. A face found from a pad end's support (a short face) may be half a step
-#: off, and a line at its true normal passes through both supports; with only three lines before
-#: it, that line was taken as the third through the first support and each press's seat moved on
-#: by ~0.6° (P line 7 of bench_explore --finite 20 --anywhere --seed 241: −63.1 … −61.5°, no three
-#: presses one face, refused). Not for a first press at a seat the rolls show: one step farther
-#: out was beyond the joints' reach there (P line 1 of the same run, refused)
-FACE_SPARE_STEPS = 1.0
 FLAT_RESTART_MM = 3.0
 FLAT_SPARE = 2
 FLAT_TRIES = 2
@@ -129,7 +121,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
             travel = felt[1] + FLAT_RESTART_MM - d_start
     else:
         spent[finger] = 0.0
-        start = face.psi - side * (FLAT_RESTART_STEPS + FACE_SPARE_STEPS + 0.5 * misses) * step
+        start = face.psi - side * (FLAT_RESTART_STEPS + 0.5 * misses) * step
         n = kin.unit(start)
         d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
         # each joint runs its own profile: from the seat the base joint's turn ends first and
