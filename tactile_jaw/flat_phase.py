@@ -142,17 +142,9 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
         return seated_other() or (f"no seat found within {FLAT_MAX_S:g} s" if jaw.robot_time() - t0 > FLAT_MAX_S
                                   else None)
 
-    # where the face is known (found, or a seat the rolls show) the press lowers the part of the pad over
-    # it about whatever point it rests on; else, about a corner under the pad's middle, the part toward
-    # the workspace centre. P line 7 of bench_explore --finite 20 --anywhere --seed 241: from 2.5 steps
-    # before its short face the left pad rested on the face's corner with the longer part beyond it,
-    # and each later press turned that part down 60 deg first, 10.7-11.0 s a press instead of 2.5 s
-    toward = model.workspace_center if face is None else face.middle
-    if face is None and seat is not None and misses == 0:
-        toward = 0.5 * (seat[1] + seat[2])
     result = yield from flat_press(jaw, finger, touch_index, start, side if face is not None else 1, d_start, travel,
-                                   toward=toward, on_event=emit, give_up=give_up, interrupt=seated_other,
-                                   on_face=toward is not model.workspace_center)
+                                   toward=model.workspace_center, on_event=emit, give_up=give_up,
+                                   interrupt=seated_other)
     if result.outcome == "ok":
         seated.add(finger)
     return result
