@@ -36,7 +36,7 @@ from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start, line_
 from recognizer.nested import NESTED_FROM, nested_candidates
 from recognizer.curves import CURVES, Pose
 from recognizer.refine import MAX_NFEV, RefinedCandidate, refine_candidates
-from recognizer.starts import clear_of_cusp, cusp_clearance, hyperbola_asymptote, pose_from, semicubical_scan
+from recognizer.starts import clear_of_cusp, conic_start, cusp_clearance, hyperbola_asymptote, pose_from, semicubical_scan
 from recognizer.starts import starts as class_starts
 from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
 from recognizer.scale_free import Unit
@@ -313,7 +313,8 @@ def _best_starts_refined(d: Contacts, request: Request, options: RecognizeOption
     weighs the estimated κ, κ_s, whose truncation error on noise-free samples exceeds
     their stated deviation, and moves an exact start away (tools.bench_wide --set wide
     seed 9, hyperbola trial 3 far on an arm: the invariants' start exact, its contact fit
-    16 % off, whose refinement stopped at χ² 6e13; from the start itself, exact)."""
+    16 % off, whose refinement stopped at χ² 6e13; from the start itself, exact). The
+    ellipse and hyperbola also start from the conic through every sample (``_samples_conic``)."""
     dof, n_obs = (cands[0].dof, cands[0].n_obs) if cands else (1, 1)
     out = []
     for cls in request.classes:
@@ -322,6 +323,7 @@ def _best_starts_refined(d: Contacts, request: Request, options: RecognizeOption
         dd = d.flipped() if sign != 0 and dom != 0 and math.copysign(1.0, dom) != sign else d
         try:
             placed = [(pose_from(cls, p, t, dd), p, t) for p, t in class_starts(cls, dd, True)]
+            placed += [(pose_from(cls, p, t, way), p, t) for way, p, t in _samples_conic(cls, d, request)]
         except (ArithmeticError, ValueError, np.linalg.LinAlgError):
             continue
         placed = [q for q in placed if math.isfinite(q[0][3])]
@@ -330,6 +332,27 @@ def _best_starts_refined(d: Contacts, request: Request, options: RecognizeOption
             out.append(Candidate(cls, dict(p), Pose(th, x, y), np.asarray(t, float), cost, dof, n_obs))
     fits = refine_candidates(out, request, options) if out else []
     return [f for f in fits if math.isfinite(f.chi2)]
+
+
+def _samples_conic(cls: str, d: Contacts, request: Request) -> list[tuple[Contacts, dict, list]]:
+    """(contacts in the direction of travel tried, params, t per touch) of the ellipse or
+    hyperbola through every sample's position and tangent (``starts.conic_start`` on the
+    samples as contacts; each touch's t its contact sample's), in both directions of travel.
+    Three contacts far out on an arm lie within rounding of a pair of lines: their conic is
+    noise (tools.bench_wide --set wide seed 251, hyperbola trial 7 at t 3.5–5.3: every start
+    crawled, refined χ² 7.7e8, unclassified); the 27 noise-free samples give the truth to
+    rounding. Only samples-touches (none: no start)."""
+    if cls not in ("ellipse", "hyperbola") or not all(isinstance(t, SamplesTouch) for t in request.touches):
+        return []
+    x, y, phi = (np.concatenate([np.asarray(getattr(t, k), float) for t in request.touches]) for k in ("x", "y", "phi"))
+    mid = np.cumsum([0] + [len(t.phi) for t in request.touches[:-1]]) + [len(t.phi) // 2 for t in request.touches]
+    zero = np.zeros_like(x)
+    out = []
+    for way, turn in ((d, 0.0), (d.flipped(), math.pi)):
+        samples = Contacts(x, y, phi + turn, zero, zero, np.zeros((x.size, 2, 2)), zero, zero)
+        samples._scale = d.scale
+        out += [(way, p, [t[int(m)] for m in mid]) for p, t in conic_start(cls, samples)]
+    return out
 
 
 #: scan starts refined directly when every semicubical contact fit puts a touch at its cusp

@@ -32,6 +32,14 @@ def test_far_arm_hyperbola_noise_free_is_exact(i):
     _assert_far_arm_exact(i, 1)
 
 
+def test_far_arm_hyperbola_found_from_the_conic_through_every_sample():
+    """Seed 251 hyperbola trial 7 (far on an arm, t 3.5–5.3, region 167 mm, b/a 1.49),
+    noise-free: every start crawled (the asymptote start's fit 1.4e10 → 7.7e8 in four rounds
+    of 40 evaluations), answered unclassified "no class fits"; the conic through every
+    sample's position and tangent is the truth to rounding."""
+    _assert_far_arm_exact(7, 251)
+
+
 def _with_suggested(cls, i, seed, suggested_t):
     """A wide-set trial's three touches, its two random ones drawn (for the same noise
     after them) and touches at ``suggested_t`` (where the bench touched its suggestions)."""
