@@ -116,8 +116,10 @@ class FeltTouch:
     off_curve: bool = False  # it fell on a corner or across a closing segment (off_curve_reason)
     face: Face | None = None  # a flat press's face (tactile_jaw.flat)
     corner: tuple[float, float] | None = None  # the point it pivoted about, when it fell on a corner
-    #: the end corners of the straight closing segment it rolled across (:func:`crossed_segment`)
-    segment_corners: tuple[tuple[float, float], ...] = ()
+    #: the corners it pivoted about, known from its own lines (each through at least
+    #: ``SEGMENT_CORNER_LINES`` of them): the end corners of the straight closing segment it rolled
+    #: across (:func:`crossed_segment`), or the corner a run of its lines turned about (:func:`pivot_run`)
+    pivot_corners: tuple[tuple[float, float], ...] = ()
     #: an unusable roll's stretch on the curved part (:func:`curve_hint`): (x, y, φ) of its middle
     curve_at: tuple[float, float, float] | None = None
     #: and that stretch's end (ψ rad, x, y mm of its contact) on the side where the roll alone left the
@@ -169,13 +171,13 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     lines = kin.PadLine.stack([s.line for s in touch.samples]) if touch.samples else None
 
     def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False, corner=None, curve_at=None,
-            curve_span=None, slid=None, segment_corners=()):
+            curve_span=None, slid=None, pivot_corners=()):
         samples_touch = None
         if problem is None and fit is not None:
             samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
                                          curvature=(fit.kappa, fit.kappa_s, fit.cov), noise_factor=fit.noise_factor)
         return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve, corner=corner,
-                         curve_at=curve_at, curve_span=curve_span, slid=slid, segment_corners=segment_corners)
+                         curve_at=curve_at, curve_span=curve_span, slid=slid, pivot_corners=pivot_corners)
 
     cut_short = touch.outcome in CUT_SHORT
     if touch.outcome != "ok" and not cut_short:
@@ -213,9 +215,10 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
                 if shorter is not None:
                     return shorter
                 hint, span = curve_hint(config, touch, samples)
+            pivot = pivot_run(lines, c, fit.line_sigma) if segment is None else None
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
                        corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint, curve_span=span,
-                       segment_corners=segment[2] if segment is not None else ())
+                       pivot_corners=segment[2] if segment is not None else (() if pivot is None else (pivot,)))
     if curve_checks:
         slid = slid_end(lines, fit)
         if slid is not None:
@@ -554,11 +557,11 @@ def clearing_corners(felt: Sequence[FeltTouch]) -> np.ndarray:
     ``CLEARANCE_SIGMAS`` of its deviation, but for a corner in doubt (:func:`corner_in_doubt`)
     whose radius a usable roll measured there more finely (:func:`measured_there`: the wider
     roll at that place), which is no corner; and the end corners of the closing segments
-    rolls crossed (``FeltTouch.segment_corners``): the corners :func:`clear_of_corners`
-    clears samples around."""
+    rolls crossed and the corners runs of a roll's lines turned about (``FeltTouch.pivot_corners``):
+    the corners :func:`clear_of_corners` clears samples around."""
     return np.array([t.corner for t in felt if t.corner is not None and clears_around(t.fit)
                      and not (corner_in_doubt(t.fit) and measured_there(t, felt))]
-                    + [p for t in felt for p in t.segment_corners], dtype=float).reshape(-1, 2)
+                    + [p for t in felt for p in t.pivot_corners], dtype=float).reshape(-1, 2)
 
 
 def clears_around(fit: EnvelopeFit) -> bool:
@@ -704,6 +707,40 @@ def crossed_segment(fit: EnvelopeFit, contacts, lines: kin.PadLine | None
         return None
     runs = (split, n - split)
     return chi2, split, tuple(p for p, k in zip(points, runs) if k >= SEGMENT_CORNER_LINES)
+
+
+def pivot_run(lines: kin.PadLine, contacts, sigma: np.ndarray) -> tuple[float, float] | None:
+    """The corner a run of a roll's pad lines turned about, or None: of the runs of at least
+    ``SEGMENT_CORNER_LINES`` consecutive lines (ψ order), the longest (the first of equals)
+    whose circle envelope d_i = n_i·c − ρ (least squares, each line by its deviation
+    ``sigma``, mm, ψ order) fits them within its limit at ``SMOOTH_ALPHA`` and whose radius
+    is a corner's at ``CORNER_SIGMAS`` of its deviation, |ρ| + CORNER_SIGMAS σ_ρ <
+    ``CORNER_RADIUS_MM`` (fine encoders only: with coarse ones three lines of any tight curve
+    meet within their noise); the point they pass nearest. A roll that ran off the curved
+    part onto its end corner is rough, but its lines there all pass through that corner:
+    calibrated P semicubical 69 of bench_explore --finite 10 --anywhere --seed 281 (run on
+    def5a72), right roll 7 (2 lines on the curve, 7 through the end corner within 2 σ, ρ of
+    the whole roll 10.5 mm) and left roll 6 (7 of 9, whole-roll ρ −51.7 mm: no corner by
+    :func:`clears_around`); their other usable roll kept its last sample 0.7° past the
+    curve's end tangent and 0.74 mm past the corner, the refined truth's χ² was 114 on 15
+    and the answer the other branch's semicubical, a +89 %, b −452 %, σ 0.1 %."""
+    normal, d = np.asarray(lines.normal)[contacts.order], np.asarray(lines.d)[contacts.order]
+    n = d.size
+    for k in range(n, SEGMENT_CORNER_LINES - 1, -1):
+        for start in range(n - k + 1):
+            part = slice(start, start + k)
+            w = 1.0 / np.asarray(sigma, dtype=float)[part]
+            a = np.column_stack((normal[part], -np.ones(k))) * w[:, None]
+            b = d[part] * w
+            coef = np.linalg.lstsq(a, b, rcond=None)[0]
+            chi2 = float(np.sum((a @ coef - b) ** 2))
+            cov = np.linalg.pinv(a.T @ a)
+            rho, sigma_rho = float(coef[2]), math.sqrt(max(float(cov[2, 2]), 0.0))
+            if (k == 3 or chi2 <= chi2_limit(SMOOTH_ALPHA, k - 3)) and \
+                    abs(rho) + CORNER_SIGMAS * sigma_rho < CORNER_RADIUS_MM:
+                p = kin.nearest_point(normal[part] * w[:, None], b)
+                return float(p[0]), float(p[1])
+    return None
 
 
 def slid_end(lines: kin.PadLine, fit: EnvelopeFit) -> tuple[str, float, int] | None:
