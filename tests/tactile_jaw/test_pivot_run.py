@@ -1,6 +1,7 @@
 """A roll that ran off the curved part onto its end corner states that corner from the run of
-its lines that turned about it (tactile_jaw.pipeline.pivot_run, FeltTouch.pivot_corners), and
-the sample another roll kept past it is cleared (clearing_corners, clear_of_corners): on the
+its lines that turned about it (tactile_jaw.pipeline.pivot_run, FeltTouch.pivot), and the
+sample another roll kept on it is cleared (on_pivots, clear_of_corners), not its samples beside
+it on the curve: on the
 P-series jaw such a roll is rough (neither a corner nor a segment crossing), so no corner was
 stated, a usable roll kept its last sample 0.74 mm past the corner, and the answer was the
 other branch's semicubical with σ's of 0.1 % (calibrated P semicubical 69 of bench_explore
@@ -13,7 +14,7 @@ import numpy as np
 import pytest
 
 from hand_driver import kinematics as kin
-from tactile_jaw.pipeline import clear_of_corners, clearing_corners, feel, pivot_run
+from tactile_jaw.pipeline import clear_of_corners, clearing_corners, feel, on_pivots, pivot_run
 
 from test_fine_corner_clearance import R, _rolls
 from test_pipeline_feel import CENTRE, CONFIG, P_CONFIG, _arc_then_corner, _p_touch, quantized_touch
@@ -33,17 +34,22 @@ def _ran_onto_end(samples: int, span_deg: float, on_arc: int):
     return ran, past, end
 
 
-@pytest.mark.parametrize("samples, span_deg, on_arc, kept", [(9, 18.0, 3, 0), (9, 18.0, 4, 0), (15, 24.0, 4, 11)])
-def test_a_roll_that_ran_onto_the_end_corner_clears_the_sample_past_it(samples, span_deg, on_arc, kept):
+@pytest.mark.parametrize("samples, span_deg, on_arc", [(9, 18.0, 3), (9, 18.0, 4), (15, 24.0, 4)])
+def test_a_roll_that_ran_onto_the_end_corner_clears_the_sample_on_it(samples, span_deg, on_arc):
     ran, past, end = _ran_onto_end(samples, span_deg, on_arc)
     assert ran.problem is not None and "no smooth curve's tangents" in ran.problem, ran.problem
     assert ran.corner is None and ran.fit.rho > 2.0  # neither a corner roll nor a segment crossing
-    assert len(ran.pivot_corners) == 1
-    assert math.hypot(ran.pivot_corners[0][0] - end[0], ran.pivot_corners[0][1] - end[1]) < 0.005  # P: µm lines
-    np.testing.assert_allclose(clearing_corners([past, ran]), [ran.pivot_corners[0]])
+    assert not clearing_corners([past, ran]).size  # nothing cleared the 2 mm around it
+    point, cov = ran.pivot
+    assert math.hypot(point[0] - end[0], point[1] - end[1]) < 0.005  # P: lines to 0.3 µm
+    assert 0.0 < math.sqrt(max(np.linalg.eigvalsh(cov))) < 0.005
+    # the usable roll's last line rests on the corner; its others touch the arc (≥ 15 µm from it)
+    np.testing.assert_array_equal(on_pivots(past, [ran.pivot]), np.arange(samples) == samples - 1)
     usable, notes = clear_of_corners(P_CONFIG, [past], [past, ran], samples)
-    assert len(notes) == 1 and "within 2 mm of the corner" in notes[0], notes
-    assert [u.contacts.x.size for u in usable] == ([kept] if kept else [])
+    assert len(notes) == 1 and "pad line through the corner" in notes[0] and "used without them" in notes[0], notes
+    assert len(usable) == 1 and usable[0].contacts.x.size == samples - 1
+    off = np.abs(np.hypot(usable[0].contacts.x - CENTRE[0], usable[0].contacts.y - CENTRE[1]) - R)
+    assert np.max(off) < 0.5e-3  # every sample left on the arc
 
 
 def test_tangents_of_a_curve_turn_about_no_point():

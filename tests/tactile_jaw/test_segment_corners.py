@@ -1,5 +1,5 @@
 """A roll across a straight closing segment states the segment's end corners
-(tactile_jaw.pipeline.crossed_segment, FeltTouch.pivot_corners), and the samples another roll
+(tactile_jaw.pipeline.crossed_segment, FeltTouch.segment_corners), and the samples another roll
 kept on one of them are cleared (clearing_corners, clear_of_corners): on the P-series jaw a roll
 that ran onto an end corner no roll had pivoted about kept its last sample there, a µm from the
 curve's continuation's tangent, and no class fitted (P semicubical 123 of bench_explore --finite
@@ -48,7 +48,7 @@ def test_a_segments_end_corner_clears_the_samples_of_a_roll_that_ran_onto_it(sam
     segment, other = _segment_roll(end, 9, 18.0, 4)
     assert segment.problem is not None and "closing segment" in segment.problem, segment.problem
     assert segment.corner is None
-    np.testing.assert_allclose(segment.pivot_corners, [end, other], atol=0.005)  # P: lines to 0.3 µm
+    np.testing.assert_allclose(segment.segment_corners, [end, other], atol=0.005)  # P: lines to 0.3 µm
     np.testing.assert_allclose(clearing_corners([past, segment]), [end, other], atol=0.005)
     usable, notes = clear_of_corners(P_CONFIG, [past], [past, segment], samples)
     assert len(notes) == 1 and "of the corner at" in notes[0], notes
@@ -64,4 +64,4 @@ def test_two_lines_through_a_point_are_no_corner():
     _, _, end = _rolls(9, 18.0)
     segment, other = _segment_roll(end, 9, 18.0, SEGMENT_CORNER_LINES - 1)
     assert segment.problem is not None and "closing segment" in segment.problem, segment.problem
-    np.testing.assert_allclose(segment.pivot_corners, [other], atol=0.005)
+    np.testing.assert_allclose(segment.segment_corners, [other], atol=0.005)
