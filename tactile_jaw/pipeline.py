@@ -118,6 +118,9 @@ class FeltTouch:
     corner: tuple[float, float] | None = None  # the point it pivoted about, when it fell on a corner
     #: the end corners of the straight closing segment it rolled across (:func:`crossed_segment`)
     segment_corners: tuple[tuple[float, float], ...] = ()
+    #: the corner a run of its lines turned about when it fell off the curved part (:func:`pivot_run`):
+    #: the point (mm) and its covariance (mm²)
+    pivot: tuple[np.ndarray, np.ndarray] | None = None
     #: an unusable roll's stretch on the curved part (:func:`curve_hint`): (x, y, φ) of its middle
     curve_at: tuple[float, float, float] | None = None
     #: and that stretch's end (ψ rad, x, y mm of its contact) on the side where the roll alone left the
@@ -169,13 +172,14 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     lines = kin.PadLine.stack([s.line for s in touch.samples]) if touch.samples else None
 
     def out(problem, contacts=None, pad_u=None, fit=None, off_curve=False, corner=None, curve_at=None,
-            curve_span=None, slid=None, segment_corners=()):
+            curve_span=None, slid=None, segment_corners=(), pivot=None):
         samples_touch = None
         if problem is None and fit is not None:
             samples_touch = SamplesTouch(contacts.phi, contacts.x, contacts.y, contacts.s,
                                          curvature=(fit.kappa, fit.kappa_s, fit.cov), noise_factor=fit.noise_factor)
         return FeltTouch(touch, lines, contacts, pad_u, problem, samples_touch, fit, off_curve, corner=corner,
-                         curve_at=curve_at, curve_span=curve_span, slid=slid, segment_corners=segment_corners)
+                         curve_at=curve_at, curve_span=curve_span, slid=slid, segment_corners=segment_corners,
+                         pivot=pivot)
 
     cut_short = touch.outcome in CUT_SHORT
     if touch.outcome != "ok" and not cut_short:
@@ -215,7 +219,8 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
                 hint, span = curve_hint(config, touch, samples)
             return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
                        corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint, curve_span=span,
-                       segment_corners=segment[2] if segment is not None else ())
+                       segment_corners=segment[2] if segment is not None else (),
+                       pivot=pivot_run(lines, c, fit.line_sigma) if segment is None else None)
     if curve_checks:
         slid = slid_end(lines, fit)
         if slid is not None:
@@ -468,7 +473,8 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
     (and flat presses) are returned as they are."""
     corners = clearing_corners(felt)
     ends = curve_ends(felt)
-    if not corners.size and not ends:
+    pivots = [t.pivot for t in felt if t.pivot is not None]
+    if not corners.size and not ends and not pivots:
         return list(usable), []
     kept, notes = [], []
     for t in usable:
@@ -479,15 +485,20 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
         gaps = corner_gaps(c, corners) if corners.size else np.full((c.x.size, 1), np.inf)
         near = gaps.min(axis=1) < CORNER_CLEARANCE_MM
         past = past_ends(c, ends.get(t.finger, []))
-        if not near.any() and not past.any():
+        on = on_pivots(t, pivots)
+        if not near.any() and not past.any() and not on.any():
             kept.append(t)
             continue
-        run = longest_run(~(near | past))  # in ψ order: the roll's stretch between the corner's samples
+        run = longest_run(~(near | past | on))  # in ψ order: the roll's stretch between the corner's samples
         name = f"{t.finger}: touch {t.touch.touch}"
         if near.any():
             where = corners[np.argmin(gaps.min(axis=0))]
             why = (f"{int(near.sum())} of its {near.size} samples within {CORNER_CLEARANCE_MM:g} mm of the corner at "
                    f"({where[0]:.1f}, {where[1]:.1f}) mm another touch pivoted about")
+        elif on.any():
+            where = min((p for p, _ in pivots), key=lambda p: float(np.min(np.hypot(c.x - p[0], c.y - p[1]))))
+            why = (f"{int(on.sum())} of its {on.size} samples with their pad line through the corner at "
+                   f"({where[0]:.1f}, {where[1]:.1f}) mm another roll's lines turned about")
         else:
             why = (f"{int(past.sum())} of its {past.size} samples past the pad orientation where another roll of its "
                    f"finger left the curved part")
@@ -496,7 +507,7 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
             again = feel(config, replace(t.touch, samples=[t.touch.samples[i] for i in taken]), samples)
             if again.problem is None:
                 kept.append(again)
-                left = near.size - int(np.sum(near | past)) - run.size
+                left = near.size - int(np.sum(near | past | on)) - run.size
                 notes.append(f"{name}: {why}: used without them" + (f" and the {left} beyond them" if left else ""))
                 continue
             why += f"; without them: {again.problem.removeprefix(t.finger + ': ')}"
@@ -522,6 +533,30 @@ def curve_ends(felt: Sequence[FeltTouch]) -> dict[str, list[tuple[float, float, 
         if t.curve_span is not None:
             ends.setdefault(t.finger, []).append(t.curve_span)
     return ends
+
+
+def on_pivots(touch: FeltTouch, pivots: Sequence[tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
+    """Which samples of a usable ``touch`` (contacts' order) rest on one of the ``pivots``
+    (:attr:`FeltTouch.pivot`: point, covariance): the contact within ``CORNER_CLEARANCE_MM`` of
+    it and the sample's pad line through it within the limit at ``SMOOTH_ALPHA`` (1 dof) of
+    the line's deviation and the point's along the line's normal. On a strictly convex
+    stretch a tangent line meets the end corner only at it; a tangent one roll step (2.25°)
+    before the end misses it by ρδ²/2, 15 µm at ρ 20 mm, 60 of a P-series line's deviations,
+    while the 2 mm clearance of a corner roll would drop good samples beside a pivot that
+    rough rolls found: P semicubicals 129 and 131 of finite seed 241 and 125 of seed 227 each
+    lost a usable roll whose samples lay on the curve (≤ 0.4 µm off) 0.4–2 mm from the
+    cusp-side corner, and were refused with 2 touches."""
+    c = touch.contacts
+    on = np.zeros(c.x.size, bool)
+    if not pivots or touch.lines is None or touch.fit is None:
+        return on
+    normal, d = np.asarray(touch.lines.normal)[c.order], np.asarray(touch.lines.d)[c.order]
+    sigma = np.asarray(touch.fit.line_sigma, dtype=float)
+    for point, cov in pivots:
+        miss = normal @ point - d
+        limit = chi2_limit(SMOOTH_ALPHA, 1) * (sigma ** 2 + np.einsum("ij,jk,ik->i", normal, cov, normal))
+        on |= (miss ** 2 <= limit) & (np.hypot(c.x - point[0], c.y - point[1]) < CORNER_CLEARANCE_MM)
+    return on
 
 
 def past_ends(c: kin.TouchEnvelope, ends: Sequence[tuple[float, float, float, int]]) -> np.ndarray:
@@ -704,6 +739,41 @@ def crossed_segment(fit: EnvelopeFit, contacts, lines: kin.PadLine | None
         return None
     runs = (split, n - split)
     return chi2, split, tuple(p for p, k in zip(points, runs) if k >= SEGMENT_CORNER_LINES)
+
+
+def pivot_run(lines: kin.PadLine, contacts, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """The corner a run of a roll's pad lines turned about, or None: of the runs of at least
+    ``SEGMENT_CORNER_LINES`` consecutive lines (ψ order), the longest (the first of equals)
+    whose circle envelope d_i = n_i·c − ρ (least squares, each line by its deviation
+    ``sigma``, mm, ψ order) fits them within its limit at ``SMOOTH_ALPHA`` and whose radius
+    is a corner's at ``CORNER_SIGMAS`` of its deviation, |ρ| + CORNER_SIGMAS σ_ρ <
+    ``CORNER_RADIUS_MM`` (fine encoders only: with coarse ones three lines of any tight curve
+    meet within their noise); the point they pass nearest and its covariance (mm, mm²),
+    which :func:`on_pivots` clears the lines through. A roll that ran off the curved
+    part onto its end corner is rough, but its lines there all pass through that corner:
+    calibrated P semicubical 69 of bench_explore --finite 10 --anywhere --seed 281 (run on
+    def5a72), right roll 7 (2 lines on the curve, 7 through the end corner within 2 σ, ρ of
+    the whole roll 10.5 mm) and left roll 6 (7 of 9, whole-roll ρ −51.7 mm: no corner by
+    :func:`clears_around`); their other usable roll kept its last sample 0.7° past the
+    curve's end tangent and 0.74 mm past the corner, the refined truth's χ² was 114 on 15
+    and the answer the other branch's semicubical, a +89 %, b −452 %, σ 0.1 %."""
+    normal, d = np.asarray(lines.normal)[contacts.order], np.asarray(lines.d)[contacts.order]
+    n = d.size
+    for k in range(n, SEGMENT_CORNER_LINES - 1, -1):
+        for start in range(n - k + 1):
+            part = slice(start, start + k)
+            w = 1.0 / np.asarray(sigma, dtype=float)[part]
+            a = np.column_stack((normal[part], -np.ones(k))) * w[:, None]
+            b = d[part] * w
+            coef = np.linalg.lstsq(a, b, rcond=None)[0]
+            chi2 = float(np.sum((a @ coef - b) ** 2))
+            cov = np.linalg.pinv(a.T @ a)
+            rho, sigma_rho = float(coef[2]), math.sqrt(max(float(cov[2, 2]), 0.0))
+            if (k == 3 or chi2 <= chi2_limit(SMOOTH_ALPHA, k - 3)) and \
+                    abs(rho) + CORNER_SIGMAS * sigma_rho < CORNER_RADIUS_MM:
+                a = normal[part] * w[:, None]
+                return kin.nearest_point(a, b), np.linalg.inv(a.T @ a)
+    return None
 
 
 def slid_end(lines: kin.PadLine, fit: EnvelopeFit) -> tuple[str, float, int] | None:
