@@ -4,9 +4,10 @@ Levenberg–Marquardt.
 Unknowns z: the shape parameters (positive ones as logarithms), the pose (θ, x, y) and
 one contact parameter t per touch. Residuals, per touch: position (x, y)/σ_pos, wrapped
 tangent angle φ/σ_φ, and (κ, κ_s) whitened by the touch's covariance
-(recognizer.contacts). Jacobian: analytic in pose and t (dp/dt = speed·(cos φ, sin φ),
-dφ/dt = κ·speed, dκ/dt = κ_s·speed, dκ_s/dt a central difference), forward differences
-in the ≤ 2 shape parameters.
+(recognizer.contacts). Jacobian: closed form in every unknown (``DERIVATIVES``: the
+kernels differentiated in their shape parameters and κ_s in t); until session 22 the
+shape columns were forward differences and dκ_s/dt a central one, ~2× the Jacobian's
+cost (each difference a further kernel evaluation per touch).
 
 Why a solver of its own and scalar closed forms beside recognizer.curves (measured on
 56 balanced requests, 8 per class, seed 1, CPU time per recognition, same machine and
@@ -32,7 +33,7 @@ from scipy.linalg.lapack import dgesdd
 from recognizer.contacts import Contacts
 from recognizer.curves import CURVES
 
-__all__ = ["ContactModel", "KERNELS", "HOPELESS_START", "svd"]
+__all__ = ["ContactModel", "KERNELS", "DERIVATIVES", "HOPELESS_START", "svd"]
 
 _LOG = {"line": (), "circle": (True,), "ellipse": (True, True), "parabola": (True,), "hyperbola": (True, True),
         "cubical_parabola": (False, False), "semicubical_parabola": (True, False)}
@@ -113,6 +114,85 @@ KERNELS = {"line": _k_line, "circle": _k_circle, "ellipse": _k_ellipse, "parabol
             "hyperbola": _k_hyperbola, "cubical_parabola": _k_cubical, "semicubical_parabola": _k_semicubical}
 
 
+# derivative(p, t) -> ∂(x, y, φ, κ, κ_s)/∂p_j for each shape parameter in turn (raw, not
+# logarithmic), then dκ_s/dt: a flat tuple of 5·len(p) + 1 floats, the closed forms of the
+# kernels above differentiated (checked against central differences of the kernels in
+# tests/recognizer/test_solver_jacobian.py).
+
+def _d_line(p, t):
+    return (0.0,)
+
+
+def _d_circle(p, t):
+    r = p[0]
+    return math.cos(t), math.sin(t), 0.0, -1.0 / (r * r), 0.0, 0.0
+
+
+def _d_ellipse(p, t):
+    a, b = p
+    s, c = math.sin(t), math.cos(t)
+    s2 = (a * s) ** 2 + (b * c) ** 2
+    k = a * b / s2**1.5
+    g = s * c / s2**3
+    ks = -3 * a * b * (a - b) * (a + b) * g
+    return (c, 0.0, b * s * c / s2, k * (1 / a - 3 * a * s * s / s2), -3 * b * (3 * a * a - b * b) * g - 6 * a * s * s * ks / s2,
+            0.0, s, -a * s * c / s2, k * (1 / b - 3 * b * c * c / s2), -3 * a * (a * a - 3 * b * b) * g - 6 * b * c * c * ks / s2,
+            -3 * a * b * (a - b) * (a + b) * ((c - s) * (c + s) / s2**3 - 6 * (a - b) * (a + b) * (s * c) ** 2 / s2**4))
+
+
+def _d_parabola(p, t):
+    a = p[0]
+    h2 = 1.0 + t * t
+    k = -1.0 / (2 * a * h2**1.5)
+    ks = 3 * t / (4 * a * a * h2**3)
+    return t * t, 2 * t, 0.0, -k / a, -2 * ks / a, 3 * (1 - 5 * t * t) / (4 * a * a * h2**4)
+
+
+def _d_hyperbola(p, t):
+    a, b = p
+    ch, sh = math.cosh(t), math.sinh(t)
+    q = (a * sh) ** 2 + (b * ch) ** 2
+    k = -a * b / q**1.5
+    g = sh * ch / q**3
+    ks = 3 * a * b * (a * a + b * b) * g
+    return (ch, 0.0, -b * sh * ch / q, k * (1 / a - 3 * a * sh * sh / q), 3 * b * (3 * a * a + b * b) * g - 6 * a * sh * sh * ks / q,
+            0.0, sh, a * sh * ch / q, k * (1 / b - 3 * b * ch * ch / q), 3 * a * (a * a + 3 * b * b) * g - 6 * b * ch * ch * ks / q,
+            3 * a * b * (a * a + b * b) * ((ch * ch + sh * sh) / q**3 - 6 * (a * a + b * b) * (sh * ch) ** 2 / q**4))
+
+
+def _d_cubical(p, t):
+    a, c = p
+    t2 = t * t
+    lam = 3 * a * t2 + c
+    q = 1.0 + lam * lam
+    n = 6 * a * q - 108 * a * a * t2 * lam
+    q3 = q**3
+    dk_dlam = -18 * a * t * lam / q**2.5
+    dn_a = 6 * q - 180 * a * t2 * lam - 324 * a * a * t2 * t2
+    dn_c = 12 * a * lam - 108 * a * a * t2
+    dq_dt = 12 * a * t * lam
+    dn_dt = -144 * a * a * t * lam - 648 * a**3 * t2 * t
+    return (0.0, t2 * t, 3 * t2 / q, 6 * t / q**1.5 + 3 * t2 * dk_dlam, (dn_a - 6 * n * lam * 3 * t2 / q) / q3,
+            0.0, t, 1.0 / q, dk_dlam, (dn_c - 6 * n * lam / q) / q3,
+            (dn_dt - 3 * n * dq_dt / q) / q3)
+
+
+def _d_semicubical(p, t):
+    a, b = p
+    u = 3 * a * t + 2 * b
+    q = 4.0 + u * u
+    k = 6 * a / (abs(t) * q**1.5)
+    m = q + 9 * a * u * t
+    f = -6 / (t**3 * q**3)
+    return (0.0, t**3, 6 * t / q, 6 / (abs(t) * q**1.5) - 9 * k * u * t / q, f * (m + a * (15 * u * t + 27 * a * t * t) - 18 * a * m * u * t / q),
+            0.0, t * t, 4 / q, -6 * k * u / q, f * a * (4 * u + 18 * a * t - 12 * m * u / q),
+            f * a * (15 * a * u + 27 * a * a * t - 3 * m / t - 18 * a * m * u / q))
+
+
+DERIVATIVES = {"line": _d_line, "circle": _d_circle, "ellipse": _d_ellipse, "parabola": _d_parabola,
+               "hyperbola": _d_hyperbola, "cubical_parabola": _d_cubical, "semicubical_parabola": _d_semicubical}
+
+
 
 class ContactModel:
     def __init__(self, cls: str, data: Contacts):
@@ -121,9 +201,8 @@ class ContactModel:
         self.log = _LOG[cls]
         self.np = len(self.names)
         self.kern = KERNELS[cls]
+        self.deriv = DERIVATIVES[cls]
         self.rows = data.rows()
-        L = data.scale
-        self.tscale = L if cls in ("line", "cubical_parabola") else math.sqrt(L) if cls == "semicubical_parabola" else 1.0
 
     def floor(self) -> float:
         """A lower bound of the cost over every parameter value: the line's κ, κ_s are 0
@@ -175,80 +254,65 @@ class ContactModel:
         return r, (cost if math.isfinite(cost) else math.inf), (p, ct, st, fr)
 
     def jac(self, z, r, parts):
-        """Jacobian (5n, m) of the residuals: forward differences in the shape parameters,
-        analytic in pose and t (dp/dt = speed·(cos φ, sin φ), dφ/dt = κ·speed,
-        dκ/dt = κ_s·speed, dκ_s/dt a central difference). Built in Python floats, one
-        NumPy conversion at the end (an element-wise NumPy fill costs more than the math)."""
+        """Jacobian (5n, m) of the residuals in closed form: shape columns from
+        ``DERIVATIVES`` (∂/∂log p = p·∂/∂p for the positive parameters), pose columns, and
+        one t column per touch (dp/dt = speed·(cos φ, sin φ), dφ/dt = κ·speed,
+        dκ/dt = κ_s·speed, dκ_s/dt from ``DERIVATIVES``). Built in Python floats, one NumPy
+        conversion at the end: at 3–5 touches the same closed forms as NumPy arrays over
+        every touch cost twice as much (NumPy's per-call cost outweighs the arithmetic).
+        ``r`` is unused (callers pass the residuals at z)."""
         p, ct, st, fr = parts
-        n = len(fr)
-        o = self.np
+        n, o = len(fr), self.np
         m = o + 3 + n
         zl = z.tolist()
-        th, X, Y = zl[o: o + 3]
-        ts = zl[o + 3:]
-        rl = r.tolist() if isinstance(r, np.ndarray) else r
-        kern, tscale, rows = self.kern, self.tscale, self.rows
-        # shape columns: the residuals at a forward step of one shape parameter (as eval)
-        shape = []
-        for j in range(o):
-            if self.log[j]:
-                h = 1e-7
-            elif self.cls == "cubical_parabola" and j == 0:  # a, 1/mm², never 0
-                h = 1e-7 * abs(zl[j])
-            else:  # dimensionless slopes c, b
-                h = 1e-7 * max(abs(zl[j]), 1.0)
-            zj = zl[j] + h
-            pj = p[:j] + (math.exp(zj) if self.log[j] else zj,) + p[j + 1:]
-            col = []
-            try:
-                for t, (x, y, phi, k, ks, sp, sf, w00, w01, w10, w11) in zip(ts, rows):
-                    f = kern(pj, t)
-                    px, py = f[0], f[1]
-                    e0, e1 = f[3] - k, f[4] - ks
-                    col += ((ct * px - st * py + X - x) / sp, (st * px + ct * py + Y - y) / sp,
-                            ((f[2] + th - phi + _PI) % _TAU - _PI) / sf, w00 * e0 + w01 * e1, w10 * e0 + w11 * e1)
-                col = [(a - b) / h for a, b in zip(col, rl)]
-            except _NUMERIC_ERRORS:
-                col = [math.nan] * (5 * n)
-            shape.append(col)
+        th = zl[o]
+        deriv, rows = self.deriv, self.rows
+        scale = [v if lg else 1.0 for v, lg in zip(p, self.log)]
         out = []
-        for i, (t, f, row) in enumerate(zip(ts, fr, rows)):
-            px, py, ph, kc, ksc, spd = f
-            sp, sf, w00, w01, w10, w11 = row[5:]
-            h = 1e-6 * max(abs(t), tscale)
-            try:
-                kss = (kern(p, t + h)[4] - kern(p, t - h)[4]) / (2 * h)
-            except _NUMERIC_ERRORS:
-                kss = math.nan
-            ang = ph + th
-            e0 = ksc * spd
-            before, after = [0.0] * i, [0.0] * (n - 1 - i)
-            b = 5 * i
-            out += [c[b] for c in shape]
-            out += ((-st * px - ct * py) / sp, 1.0 / sp, 0.0)
-            out += before
-            out.append(spd * math.cos(ang) / sp)
-            out += after
-            out += [c[b + 1] for c in shape]
-            out += ((ct * px - st * py) / sp, 0.0, 1.0 / sp)
-            out += before
-            out.append(spd * math.sin(ang) / sp)
-            out += after
-            out += [c[b + 2] for c in shape]
-            out += (1.0 / sf, 0.0, 0.0)
-            out += before
-            out.append(kc * spd / sf)
-            out += after
-            out += [c[b + 3] for c in shape]
-            out += (0.0, 0.0, 0.0)
-            out += before
-            out.append(w00 * e0 + w01 * kss)
-            out += after
-            out += [c[b + 4] for c in shape]
-            out += (0.0, 0.0, 0.0)
-            out += before
-            out.append(w10 * e0 + w11 * kss)
-            out += after
+        try:
+            for i, (t, (px, py, ph, kc, ksc, spd), row) in enumerate(zip(zl[o + 3:], fr, rows)):
+                sp, sf, w00, w01, w10, w11 = row[5:]
+                d = deriv(p, t)
+                jx, jy, jf, jk, jks = [], [], [], [], []
+                for j, g in enumerate(scale):
+                    dx, dy, df, dk, dks = d[5 * j: 5 * j + 5]
+                    if g != 1.0:
+                        dx, dy, df, dk, dks = g * dx, g * dy, g * df, g * dk, g * dks
+                    jx.append((ct * dx - st * dy) / sp)
+                    jy.append((st * dx + ct * dy) / sp)
+                    jf.append(df / sf)
+                    jk.append(w00 * dk + w01 * dks)
+                    jks.append(w10 * dk + w11 * dks)
+                ang = ph + th
+                e0, e1 = ksc * spd, d[-1]
+                before, after = [0.0] * i, [0.0] * (n - 1 - i)
+                out += jx
+                out += ((-st * px - ct * py) / sp, 1.0 / sp, 0.0)
+                out += before
+                out.append(spd * math.cos(ang) / sp)
+                out += after
+                out += jy
+                out += ((ct * px - st * py) / sp, 0.0, 1.0 / sp)
+                out += before
+                out.append(spd * math.sin(ang) / sp)
+                out += after
+                out += jf
+                out += (1.0 / sf, 0.0, 0.0)
+                out += before
+                out.append(kc * spd / sf)
+                out += after
+                out += jk
+                out += (0.0, 0.0, 0.0)
+                out += before
+                out.append(w00 * e0 + w01 * e1)
+                out += after
+                out += jks
+                out += (0.0, 0.0, 0.0)
+                out += before
+                out.append(w10 * e0 + w11 * e1)
+                out += after
+        except _NUMERIC_ERRORS:
+            return np.full((5 * n, m), math.nan)
         return np.fromiter(out, float, 5 * n * m).reshape(5 * n, m)
 
     def solve(self, z0, max_iter=40, give_up=math.inf):
