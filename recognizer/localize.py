@@ -245,7 +245,7 @@ def _finish(model: ContactModel, cls: str, d: Contacts, z, cost, r, parts, p0, s
     th, X, Y = (float(v) for v in z[model.np: model.np + 3])
     t = z[model.np + 3:]
     sigma = {}
-    J = model.jac(z, r, parts) if cost <= sigma_below else None
+    J = model.jac(z, parts) if cost <= sigma_below else None
     if J is not None and np.all(np.isfinite(J)):
         Jg, pose_names = _gauge_free(model, z, J)
         with np.errstate(over="ignore", invalid="ignore"):
@@ -285,7 +285,7 @@ class _ContactProblem:
         r, _, parts = self.model.eval(z)
         if r is None:
             return np.zeros((self.n_res, z.size))
-        J = self.model.jac(z, np.array(r), parts)
+        J = self.model.jac(z, parts)
         return np.where(np.isfinite(J), np.clip(J, -1e120, 1e120), 0.0)
 
 
@@ -302,7 +302,7 @@ def profiled(cand: Candidate, data: Contacts) -> Candidate:
     r, cost, parts = model.eval(z)
     if r is None:
         return cand
-    J = model.jac(z, np.array(r), parts)
+    J = model.jac(z, parts)
     if not np.all(np.isfinite(J)):
         return cand
     o = model.np
@@ -336,7 +336,7 @@ def line_correlation(cand: Candidate, data: Contacts) -> float:
         r, _, parts = model.eval(z)
         if r is None:
             return 0.0
-        J = model.jac(z, np.array(r), parts)
+        J = model.jac(z, parts)
         if not np.all(np.isfinite(J)):
             return 0.0
         with np.errstate(over="ignore", invalid="ignore"):

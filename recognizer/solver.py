@@ -253,14 +253,13 @@ class ContactModel:
         cost = sum([v * v for v in r])  # (a list: the same sum, in the same order, without a generator)
         return r, (cost if math.isfinite(cost) else math.inf), (p, ct, st, fr)
 
-    def jac(self, z, r, parts):
+    def jac(self, z, parts):
         """Jacobian (5n, m) of the residuals in closed form: shape columns from
         ``DERIVATIVES`` (∂/∂log p = p·∂/∂p for the positive parameters), pose columns, and
         one t column per touch (dp/dt = speed·(cos φ, sin φ), dφ/dt = κ·speed,
         dκ/dt = κ_s·speed, dκ_s/dt from ``DERIVATIVES``). Built in Python floats, one NumPy
         conversion at the end: at 3–5 touches the same closed forms as NumPy arrays over
-        every touch cost twice as much (NumPy's per-call cost outweighs the arithmetic).
-        ``r`` is unused (callers pass the residuals at z)."""
+        every touch cost twice as much (NumPy's per-call cost outweighs the arithmetic)."""
         p, ct, st, fr = parts
         n, o = len(fr), self.np
         m = o + 3 + n
@@ -336,7 +335,7 @@ class ContactModel:
         for it in range(max_iter):
             if cost < 1e-12 or (it >= GIVE_UP_AFTER and cost > give_up):
                 break
-            J = self.jac(z, r, parts)
+            J = self.jac(z, parts)
             if not np.isfinite(J).all():
                 break
             cn = np.sqrt(np.einsum("ij,ij->j", J, J))

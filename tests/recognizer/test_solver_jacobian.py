@@ -59,5 +59,5 @@ def test_jacobian_evaluates_no_kernel(cls):
     calls = []
     kern = m.kern
     m.kern = lambda p, tt: calls.append(tt) or kern(p, tt)
-    J = m.jac(z, np.array(r), parts)
+    J = m.jac(z, parts)
     assert calls == [] and J.shape == (15, len(z)) and np.all(np.isfinite(J))
