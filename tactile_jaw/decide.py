@@ -5,7 +5,7 @@ the class when decisive, else ``unclassified`` with the reason). docs/exploratio
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -314,9 +314,10 @@ def inseparable(recognize_touches: RecognizeTouches, recognition: Recognition, t
     # would bring it to gap × budget / touches so far
     reachable = gap * max(budget, len(touches)) / max(len(touches), 1)
     kind = "rival" if reachable >= DECISIVE_CHI2 else "resolution"
+    advice = finer_advice(gap, ticks_per_rev)
     return Why(f"{recognition.cls} and {rival} both fit: a {rival} with {DEPARTURE[recognition.cls, rival]} "
                f"would fit these touches as well (expected chi2 gap {gap:.2g}, less than "
-               f"{DECISIVE_CHI2:g}){finer_advice(gap, ticks_per_rev)}", kind, rival)
+               f"{DECISIVE_CHI2:g}){advice.clause() if advice else ''}", kind, rival)
 
 
 def rivals_gap(recognize_touches: RecognizeTouches, recognition: Recognition, touches: Sequence[Any],
@@ -356,27 +357,59 @@ def beyond_resolution(recognize_touches: RecognizeTouches, recognition: Recognit
     return gap is not None and gap * max(budget, len(touches)) / len(touches) < DECISIVE_CHI2
 
 
-def finer_advice(gap: float, ticks_per_rev: int | None, touches: int = 0) -> str:
-    """The clause naming the encoder resolution at which an expected Δχ² ``gap`` reaches
-    ``DECISIVE_CHI2`` (tactile_jaw.separation.finer_ticks), or '' without the jaw's. When the
-    ``touches`` it came from are borderline — each adds its share of the gap, and at most as
-    many again would reach ``DECISIVE_CHI2`` — the clause says how many more usable touches
-    like them are expected to, before the resolution (held-out X ellipse 59 of seed 241:
-    gap 8.5 on 3 touches, "a jaw with >= 4,460 ticks per turn" beside this jaw's 4,096)."""
+@dataclass(frozen=True)
+class FinerAdvice:
+    """What an expected Δχ² ``gap`` between two fits says about telling them apart
+    (:func:`finer_advice`): ``need``, the encoder resolution (ticks per turn) at which it
+    reaches ``DECISIVE_CHI2`` (None: no resolution does, the fits are one curve); ``more``,
+    how many more usable touches like the ``touches`` it came from are expected to reach it
+    when they are borderline (0: not borderline)."""
+
+    gap: float
+    ticks_per_rev: int
+    need: int | None
+    touches: int
+    more: int
+
+    @property
+    def borderline(self) -> bool:
+        """At most as many touches again, each adding its share of the gap, would decide."""
+        return self.more > 0
+
+    def clause(self, state_gap: bool = False) -> str:
+        """The clause a refusal appends; with ``state_gap`` it states the gap in every case
+        (the borderline wording does so itself), for a reason that does not state it before."""
+        gap = f"expected chi2 gap {self.gap:.2g}"
+        if self.borderline:
+            return (f": {self.touches} usable touches come close ({gap} of the {DECISIVE_CHI2:g} that decides; "
+                    f"each touch adds its share): about {self.more} more like them "
+                    f"{'is' if self.more == 1 else 'are'} expected to tell them apart, as {FINER} {self.need:,} "
+                    f"ticks per turn would")
+        if self.need is None:
+            text = ": no encoder resolution tells them apart on these touches"
+        elif self.need <= self.ticks_per_rev:
+            text = ""  # these touches could tell them apart: more touches may
+        else:
+            text = (f": both fit within this jaw's angle resolution ({self.ticks_per_rev:,} ticks per turn); "
+                    f"{FINER} {self.need:,} ticks per turn tells them apart")
+        return f"{text} ({gap})" if state_gap else text
+
+
+def finer_advice(gap: float, ticks_per_rev: int | None, touches: int = 0) -> FinerAdvice | None:
+    """What an expected Δχ² ``gap`` needs to reach ``DECISIVE_CHI2``: the encoder resolution
+    (tactile_jaw.separation.finer_ticks), and, when the ``touches`` it came from are
+    borderline — each adds its share of the gap, and at most as many again would reach
+    ``DECISIVE_CHI2`` — how many more usable touches like them are expected to, said before
+    the resolution (held-out X ellipse 59 of seed 241: gap 8.5 on 3 touches, "a jaw with >=
+    4,460 ticks per turn" beside this jaw's 4,096). None without the jaw's resolution."""
     if ticks_per_rev is None:
-        return ""
+        return None
     need = finer_ticks(gap, ticks_per_rev, DECISIVE_CHI2)
-    if need is None:
-        return ": no encoder resolution tells them apart on these touches"
-    if need <= ticks_per_rev:
-        return ""  # these touches could tell them apart: more touches may
-    more = math.ceil(touches * (DECISIVE_CHI2 / gap - 1.0) - 1e-9) if touches else 0
-    if 0 < more <= touches:
-        return (f": {touches} usable touches come close (expected chi2 gap {gap:.2g} of the {DECISIVE_CHI2:g} that "
-                f"decides; each touch adds its share): about {more} more like them {'is' if more == 1 else 'are'} expected "
-                f"to tell them apart, as {FINER} {need:,} ticks per turn would")
-    return (f": both fit within this jaw's angle resolution ({ticks_per_rev:,} ticks per turn); "
-            f"{FINER} {need:,} ticks per turn tells them apart")
+    more = 0
+    if need is not None and need > ticks_per_rev and touches:
+        more = math.ceil(touches * (DECISIVE_CHI2 / gap - 1.0) - 1e-9)
+        more = more if more <= touches else 0
+    return FinerAdvice(gap, ticks_per_rev, need, touches, more)
 
 
 def sample_positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | None:
@@ -403,9 +436,8 @@ def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], se
     if why.kind == "rival" and why.rival is not None and ticks_per_rev is not None:
         gap = rivals_gap(recognize_touches, recognition, touches, why.rival)
         if gap is not None:
-            finer = finer_advice(gap, ticks_per_rev, len(touches))
-            shown = "" if "expected chi2 gap" in finer else f" (expected chi2 gap {gap:.2g})"
-            why = Why(f"{why}{finer}{shown}", why.kind, why.rival)
+            finer = finer_advice(gap, ticks_per_rev, len(touches)).clause(state_gap=True)
+            why = Why(f"{why}{finer}", why.kind, why.rival)
     reason = f"not decisive after {len(touches)} usable touches: {why}" + (f"; {stopped}" if stopped else "")
     return Recognition("unclassified", reason=reason, ranking=recognition.ranking, timing=recognition.timing,
                        next_touch=recognition.next_touch)

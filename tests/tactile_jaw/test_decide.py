@@ -222,10 +222,28 @@ def test_borderline_touches_say_how_many_more_would_tell():
     resolution (≥ 4,450 ticks at a gap of 8.5, barely above this jaw's 4,096); a gap of 3 on 3 touches (4 more
     needed) keeps the resolution's wording, and so does a call without the touches' count."""
     near = finer_advice(8.5, 4096, 3)
-    assert near.startswith(": 3 usable touches come close (expected chi2 gap 8.5 of the 10 that decides")
-    assert "about 1 more like them" in near and f"as {FINER} 4,450 ticks per turn would" in near
+    assert near.borderline and near.more == 1 and near.need == 4450 and near.gap == 8.5
+    assert near.clause().startswith(": 3 usable touches come close (expected chi2 gap 8.5 of the 10 that decides")
+    assert "about 1 more like them" in near.clause() and f"as {FINER} 4,450 ticks per turn would" in near.clause()
+    assert near.clause(state_gap=True) == near.clause()  # the borderline wording states the gap itself
     far = finer_advice(3.0, 4096, 3)
-    assert far.startswith(": both fit within this jaw's angle resolution (4,096 ticks per turn)") and "more like" not in far
-    assert finer_advice(8.5, 4096) == (": both fit within this jaw's angle resolution (4,096 ticks per turn); "
-                                       f"{FINER} 4,450 ticks per turn tells them apart")
-    assert math.ceil(3 * (DECISIVE_CHI2 / 5.0 - 1.0)) == 3 and "about 3 more" in finer_advice(5.0, 4096, 3)
+    assert not far.borderline and far.more == 0
+    assert far.clause().startswith(": both fit within this jaw's angle resolution (4,096 ticks per turn)")
+    assert "more like" not in far.clause() and far.clause(state_gap=True).endswith(" (expected chi2 gap 3)")
+    assert finer_advice(8.5, 4096).clause() == (": both fit within this jaw's angle resolution (4,096 ticks per turn); "
+                                                f"{FINER} 4,450 ticks per turn tells them apart")
+    assert math.ceil(3 * (DECISIVE_CHI2 / 5.0 - 1.0)) == 3 and finer_advice(5.0, 4096, 3).more == 3
+    assert finer_advice(8.5, None, 3) is None
+
+def test_final_answer_states_the_rivals_gap_once(monkeypatch):
+    """A refusal whose rival fits as well states the expected χ² gap exactly once: inside
+    the borderline wording (gap 8.5 on 3 touches), else after the resolution's clause (gap
+    3.0), and after a clause that names no resolution (gap 0: one curve)."""
+    answer = rec("ellipse", ("ellipse", True, 25.6, 68, 458.7), ("hyperbola", True, 26.4, 68, 470.4))
+    for gap, wording in ((8.5, "3 usable touches come close (expected chi2 gap 8.5 of the 10 that decides"),
+                         (3.0, f"tells them apart (expected chi2 gap 3)"),
+                         (0.0, "no encoder resolution tells them apart on these touches (expected chi2 gap 0)")):
+        monkeypatch.setattr("tactile_jaw.decide.rivals_gap", lambda *args, gap=gap: gap)
+        out = final_answer(lambda touches, **kw: answer, [{}] * 3, SETTINGS, ticks_per_rev=4096)
+        assert out.cls == "unclassified" and wording in out.reason, out.reason
+        assert out.reason.count("expected chi2 gap") == 1, out.reason
