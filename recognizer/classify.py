@@ -349,8 +349,7 @@ def _samples_conic(cls: str, d: Contacts, request: Request) -> list[tuple[Contac
     zero = np.zeros_like(x)
     out = []
     for way, turn in ((d, 0.0), (d.flipped(), math.pi)):
-        samples = Contacts(x, y, phi + turn, zero, zero, np.zeros((x.size, 2, 2)), zero, zero)
-        samples._scale = d.scale
+        samples = Contacts(x, y, phi + turn, zero, zero, np.zeros((x.size, 2, 2)), zero, zero, extent=d.scale)
         out += [(way, p, [t[int(m)] for m in mid]) for p, t in conic_start(cls, samples)]
     return out
 

@@ -5,7 +5,7 @@ each touch's (κ, κ_s) covariance and the same touches seen in the other direct
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import InitVar, dataclass
 
 import numpy as np
 
@@ -38,13 +38,17 @@ class Contacts:
     #: arc length (mm) a touch reaches either side of its contact (half the median roll of
     #: the request's samples-touches; 0 for contacts): no touch rolls through a cusp
     reach: float = 0.0
+    #: L (``scale``) when the caller states it: another view of the same touches keeps their
+    #: L (the flipped view; the samples of recognizer.classify._samples_conic, whose floors
+    #: stay the contacts'); None: computed from the positions when first asked
+    extent: InitVar[float | None] = None
 
     @property
     def n(self) -> int:
         return len(self.x)
 
-    def __post_init__(self):
-        self._scale = None
+    def __post_init__(self, extent: float | None):
+        self._scale = extent
         self._white = None
         self._wl = None
         self._rows = None
@@ -190,8 +194,7 @@ class Contacts:
             cov[:, 0, 1] *= -1.0
             cov[:, 1, 0] *= -1.0
             f = Contacts(self.x, self.y, self.phi + np.pi, -self.kappa, self.kappa_s, cov,
-                         self.sig_pos, self.sig_phi, self.reach)
-            f._scale = self.scale
+                         self.sig_pos, self.sig_phi, self.reach, extent=self.scale)
             f._wl = [(-w00, w01, -w10, w11) for w00, w01, w10, w11 in self._whitener_rows()]
             f._rows = [(x, y, p + np.pi, -k, ks, sp, sf, -w00, w01, -w10, w11)
                        for x, y, p, k, ks, sp, sf, w00, w01, w10, w11 in self.rows()]

@@ -55,3 +55,18 @@ def test_correlated_covariance_same_chi2_both_directions(rho):
     f1, f2 = L.fit_class("ellipse", fwd), L.fit_class("ellipse", rev)
     assert f1.chi2 < 30  # a consistent fit with 3·5 − 8 = 7 degrees of freedom
     assert f2.chi2 == pytest.approx(f1.chi2, rel=1e-6)
+
+
+def test_a_stated_extent_is_the_scale_and_the_flipped_view_keeps_it():
+    """``Contacts(..., extent=L)`` takes L as the touches' scale (the floors' length) instead
+    of computing it; without it the scale is the largest distance between two contacts; the
+    flipped view keeps the scale either way and floors its deviations alike."""
+    x, y = np.array([0.0, 3.0, 0.0]), np.array([0.0, 0.0, 4.0])
+    zero = np.zeros(3)
+    kw = dict(phi=np.array([0.1, 0.2, 0.3]), kappa=np.array([0.5, 0.4, 0.3]), kappa_s=zero,
+              cov=np.zeros((3, 2, 2)), sig_pos=zero, sig_phi=zero)
+    assert Contacts(x, y, **kw).scale == pytest.approx(5.0, rel=1e-15)
+    stated = Contacts(x, y, **kw, extent=250.0)
+    assert stated.scale == 250.0 and stated.flipped().scale == 250.0
+    assert stated.rows()[0][5] == pytest.approx(1e-7 * 250.0, rel=1e-12)  # σ_pos floor EPS_FLOOR·L
+    assert stated.flipped().rows()[0][5] == stated.rows()[0][5]
