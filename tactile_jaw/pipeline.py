@@ -756,7 +756,10 @@ def pivot_run(lines: kin.PadLine, contacts, sigma: np.ndarray) -> tuple[np.ndarr
     the whole roll 10.5 mm) and left roll 6 (7 of 9, whole-roll ρ −51.7 mm: no corner by
     :func:`clears_around`); their other usable roll kept its last sample 0.7° past the
     curve's end tangent and 0.74 mm past the corner, the refined truth's χ² was 114 on 15
-    and the answer the other branch's semicubical, a +89 %, b −452 %, σ 0.1 %."""
+    and the answer the other branch's semicubical, a +89 %, b −452 %, σ 0.1 %. Every window
+    is fitted, no early stop: rolls have at most 9 lines (28 windows); measured on the logs of
+    session 22's held-out runs (P, X, calibrated P), 0–241 ms per exploration, median ≤ 1 ms,
+    within 1 % of an exploration's CPU."""
     normal, d = np.asarray(lines.normal)[contacts.order], np.asarray(lines.d)[contacts.order]
     n = d.size
     for k in range(n, SEGMENT_CORNER_LINES - 1, -1):
