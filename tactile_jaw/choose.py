@@ -38,7 +38,7 @@ from recognizer.curves import CURVES
 from recognizer.result import Recognition
 from recognizer.touches import Reach
 from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
-from tactile_jaw.plan import ObjectModel, feasible, nominal_psi
+from tactile_jaw.plan import ObjectModel, feasible, free_strips, nominal_psi, opened_strips, rested_ends
 from tactile_jaw.settings import ExploreSettings
 
 #: a suggested next touch this near (mm) one already aimed at is not aimed at again
@@ -66,6 +66,10 @@ MOVE_TURN_MAX_DEG = 30.0
 #: tactile_jaw.rounds.transit), so a boundary inside it is clear of them (seed-11 random
 #: parabola 23 of session 10, moved as a reach-only search advised, lay across the opened jaw)
 MOVE_CLEAR_MM = 3.0
+#: a place counts as swept free within this far (mm) beyond a probe's swept stretch along its
+#: pad (tactile_jaw.plan.free_strips): the probe at a pad's normal starts half a probe's span
+#: (3°) off it, and misses the opened pad's far corners by 0.3 mm (calibrated block 1 of seed 239)
+FREE_END_MM = 1.0
 #: the search asks the jaw's reach (:meth:`JawReach.finger`, ~1.6 ms) at most this many times (seed-13
 #: random parabola 18 on the P-series jaw: a turn of 30° and a (-14, -8) mm shift, found after
 #: more than 1,200 questions, 2.3 s more)
@@ -158,10 +162,16 @@ def last_stop(events) -> dict | None:
 class JawReach:
     """Where the jaw's pads can roll (module docstring); the recognizer's ``options.reach``."""
 
-    def __init__(self, config, settings: ExploreSettings):
+    def __init__(self, config, settings: ExploreSettings, probes: Sequence = ()):
         ws = config.workspace
         self.config = config
         self.settings = settings
+        #: the exploration's probes (tactile_jaw.pipeline.FeltTouch, a list that may still grow):
+        #: the pad ends they rested on bound where a move may carry the object
+        #: (:meth:`opened_clear`); none, no such bound (a replayed log's recognition)
+        self.probes = probes
+        #: (how many probes, the free strips, the rested pad ends) as :meth:`opened_clear` last read them
+        self._free: tuple[int, np.ndarray, np.ndarray] | None = None
         self.disk = Reach(float(ws.center_mm[0]), float(ws.center_mm[1]), float(ws.radius_mm))
         self._model = ObjectModel(ws.center_mm, ws.radius_mm)  # nothing felt: only its workspace edge is used
 
@@ -186,9 +196,64 @@ class JawReach:
             out[i] = self.finger(float(px[i]), float(py[i]), float(phi[i])) is not None
         return out
 
+    def opened_clear(self, about, turn: float, shift: np.ndarray) -> np.ndarray:
+        """For each shift (k × 2) after turning by ``turn`` about ``about``: does the opened
+        jaw keep its clearance from where the probes found the object going on unfelt? A pad
+        end a probe rested on (tactile_jaw.plan.rested_ends) found the object there, going on
+        past the end where no pad swept: the opened pads' places (their face and
+        ``MOVE_CLEAR_MM`` before it, tactile_jaw.plan.opened_strips), carried back to where the
+        object lies now, must not come within ``MOVE_CLEAR_MM`` of such an end on its far side,
+        except where a probe's pad swept free (tactile_jaw.plan.free_strips) or the opened jaw
+        stood when the exploration began. Calibrated random block 1 of bench_explore --finite
+        10 --anywhere --seed 239 (P-series): the right pad's proximal end rested on its short
+        side at (87.9, −39.8) mm; turned 10° about the face its left pad met and moved (6, −4)
+        mm, that side came 1.0 mm from the opened right pad's place and its far corner across
+        the pad. Space no probe found the object in is not held against a move: session 22's
+        check that every such place be swept free (fc55cf9) refused 3 of 4 good moves of seed
+        191, and the half-plane past every rested end refused 54 of 76 moves named in sessions
+        20–22's held-out logs (those sampled 23–62 mm from the end); this check 3 of 106, all
+        blocks whose far side came to an opened pad. True for every shift when no probe rested
+        on a pad end."""
+        if self._free is None or self._free[0] != len(self.probes):
+            ends = rested_ends(self.config, self.probes)
+            # the opened pads' places are free as the object lies now (the exploration began
+            # there), and so is all behind their faces, the fingers' side
+            behind = opened_strips(self.config, MOVE_CLEAR_MM, 2.0 * self.disk.radius)
+            self._free = (len(self.probes), np.vstack([free_strips(self.config, self.probes), behind]), ends)
+        _, free, ends = self._free
+        if not len(ends):
+            return np.ones(len(shift), bool)
+        points = np.vstack([_strip_points(*row) for row in opened_strips(self.config, MOVE_CLEAR_MM)])  # m × 2
+        c, s = math.cos(turn), math.sin(turn)
+        a = np.asarray(about, float)
+        # p = R⁻¹(q − a − shift) + a: where each such place is now
+        back = (points[None, :, :] - a - np.asarray(shift, float)[:, None, :]) @ np.array([[c, -s], [s, c]]) + a
+        beyond = np.zeros(back.shape[:2], bool)
+        for ex, ey, bx, by in ends:
+            dx, dy = back[..., 0] - ex, back[..., 1] - ey
+            beyond |= (dx * bx + dy * by > 0.0) & (np.hypot(dx, dy) <= MOVE_CLEAR_MM)
+        near = back[beyond]  # only these can be refused: the swept strips are asked about them alone
+        swept = np.zeros(len(near), bool)
+        for psi, u_lo, u_hi, d_lo, d_hi in free:
+            n, t = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
+            u, d = near @ t, near @ n
+            swept |= (u >= u_lo - FREE_END_MM) & (u <= u_hi + FREE_END_MM) & (d >= d_lo - 1e-9) & (d <= d_hi + 1e-9)
+        beyond[beyond] = ~swept
+        return ~np.any(beyond, axis=1)
+
     def to_json(self) -> dict:
         """The workspace disk (a request file's ``options.reach`` holds only a disk)."""
         return self.disk.to_json()
+
+
+def _strip_points(psi: float, u_lo: float, u_hi: float, d_lo: float, d_hi: float) -> np.ndarray:
+    """Points (m × 2) filling a strip (tactile_jaw.plan.free_strips' rows) at most
+    ``MOVE_STEP_MM`` apart along it, at its near, middle and far lines."""
+    n, t = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
+    u = np.linspace(u_lo, u_hi, int(math.ceil((u_hi - u_lo) / MOVE_STEP_MM)) + 1)
+    d = np.linspace(d_lo, d_hi, 3)
+    uu, dd = (v.ravel() for v in np.meshgrid(u, d))
+    return uu[:, None] * t + dd[:, None] * n
 
 
 def vertex_aim(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray], reach: JawReach,
@@ -515,6 +580,7 @@ def move_for(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tu
         places, keep = _moved(goal, float(turn), shift)
         every = np.concatenate([places, keep], axis=1)
         clear = np.all(np.hypot(every[..., 0] - cx, every[..., 1] - cy) <= allowed[None, :] + 1e-9, axis=1)
+        clear &= reach.opened_clear(goal.about, float(turn), shift)
         travel = np.max(np.hypot(*(every - here[None]).transpose(2, 0, 1)), axis=1)
         cands += [(float(travel[i]), abs(float(turn)), float(turn), i, places[i]) for i in np.flatnonzero(clear)]
     cands.sort(key=lambda c: c[:2])
@@ -540,7 +606,8 @@ def _reaches(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float, fin
     places, keep = _moved(goal, turn, np.array([[dx, dy]]))
     here = np.asarray(goal.keep, float).T
     allowed = np.maximum(radius - MOVE_CLEAR_MM, np.hypot(here[:, 0] - cx, here[:, 1] - cy))
-    if np.any(np.hypot(keep[0, :, 0] - cx, keep[0, :, 1] - cy) > allowed + 1e-9):
+    if np.any(np.hypot(keep[0, :, 0] - cx, keep[0, :, 1] - cy) > allowed + 1e-9) \
+            or not reach.opened_clear(goal.about, turn, np.array([[dx, dy]]))[0]:
         return False
     return all(reach.finger(float(p[0]), float(p[1]), goal.places[j][2] + turn, fingers) is not None
                for j, p in enumerate(places[0]))
@@ -550,8 +617,13 @@ def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None) ->
     """What a person can do so that a pad rolls through every place of ``goal``: the move of
     :func:`move_for` in the hand frame's words (x away from the palm, y toward the left
     finger, turns counterclockwise positive) and as :class:`Stop`'s ``move``, or a general
-    request (and None) when none is near."""
+    request (and None) when none is near, saying so when moves were near but each would carry
+    an opened pad where the object goes on unfelt (:meth:`JawReach.opened_clear`)."""
     move = move_for(reach, goal, fingers)
+    if move is None and len(reach.probes) and move_for(JawReach(reach.config, reach.settings), goal, fingers):
+        return (f"every move that brings a pad {goal.where} would carry an opened pad past a pad end a probe rested "
+                f"on, where the object goes on unfelt: place the object so that more of its curved part faces a "
+                f"finger, clear of the opened pads"), None
     if move is None:
         return (f"no pad reaches {goal.where} with the object moved up to {MOVE_MAX_MM:g} mm and turned up to "
                 f"{MOVE_TURN_MAX_DEG:g} deg inside the workspace: place the object so that more of its curved part "

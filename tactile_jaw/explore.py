@@ -547,7 +547,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
 
     index, probes = probe_boundary(jaw, model, out, emit, say, press_beside)
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
-    reach = JawReach(cfg, settings)
+    reach = JawReach(cfg, settings, out.probes)  # the probes' list: those beside the rolls count as made
     ticks = jaw_ticks_per_rev(cfg)
     aim: Aim | None = None  # where the next touch goes while the answer is not decisive (tactile_jaw.choose)
     undecided = None  # the latest answer that was not decisive: (recognition, why, its touches)

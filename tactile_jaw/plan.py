@@ -17,7 +17,7 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import LIMIT_MARGIN_RAD
-from hand_driver.motion import roll_angles
+from hand_driver.motion import contact_on_pad, roll_angles
 from tactile_common.errors import InputError
 from tactile_jaw.pipeline import FeltTouch
 from tactile_jaw.settings import ExploreSettings
@@ -255,6 +255,11 @@ def open_pose(config) -> np.ndarray:
     return np.concatenate(out)
 
 
+#: the stretch a probe's pad swept free is taken between its poses this far apart (mm) along
+#: its approach (:func:`free_strips`): each step's overlap loses what the pad slid in it
+#: (~0.5 mm at each end on the P-series jaw's probes)
+FREE_STEP_MM = 1.0
+
 #: how far (mm) from the workspace a refusal still names the object's nearest point
 _NEAREST_SEARCH_MM = 10_000.0
 
@@ -321,3 +326,85 @@ def probe_face_contact(config, felt: FeltTouch) -> float | None:
     if np.any(u < PROBE_PAD_MARGIN * length) or np.any(u > (1 - PROBE_PAD_MARGIN) * length):
         return None
     return float(u[len(u) // 2])
+
+
+def _pad_extent(line) -> tuple[float, float]:
+    """The pad's ends' coordinates along ``line``'s tangent (−sin ψ, cos ψ), smaller first."""
+    t = np.array([-math.sin(float(line.psi)), math.cos(float(line.psi))])
+    u = sorted((float(t @ np.asarray(line.proximal)), float(t @ np.asarray(line.distal))))
+    return u[0], u[1]
+
+
+def free_strips(config, probes) -> np.ndarray:
+    """Where the probes' pads swept and met nothing (k × 5 rows ψ rad, u_lo, u_hi, d_lo, d_hi
+    mm: the points p with d_lo ≤ n(ψ)·p ≤ d_hi and u_lo ≤ t(ψ)·p ≤ u_hi, t = (−sin ψ, cos ψ)).
+    Each probe's first approach (tactile_jaw.probing) ran from the workspace edge's line
+    along its normal to its first contact, or without one across the disk: the rectangle
+    between, across the stretch its pad covered at both ends, was free of the object, and
+    so was the finger's own body behind the pad's face at the edge (the pad's offset from
+    its links; for the nominal probe, the opened jaw's place). What a move must not carry
+    unfelt object into: the opened pads' strips (:func:`opened_strips`)."""
+    ws = config.workspace
+    model = ObjectModel(ws.center_mm, ws.radius_mm)
+    rows = []
+    for felt in probes:
+        touch = felt.touch
+        if not touch.samples and touch.outcome != "no_contact":
+            continue  # unreachable, blocked: where its pad went is not known
+        finger = config.finger(felt.finger)
+        psi = float(touch.samples[0].psi) if touch.samples else float(
+            roll_angles(touch.psi_center, math.radians(PROBE_SPAN_DEG), PROBE_SAMPLES)[0])
+        edge = model.edge(psi)
+        far = touch.samples[0].d if touch.samples else edge + 2.0 * model.workspace_radius
+        # the pad slides along its line as the joints carry it in: the swept stretch is taken
+        # between pad poses every FREE_STEP_MM of the approach, each the overlap of two
+        depths = np.linspace(edge, far, max(2, math.ceil((far - edge) / FREE_STEP_MM) + 1))
+        extents = []
+        for d in depths:
+            try:
+                extents.append(_pad_extent(kin.finger_pad_line(
+                    finger, kin.ik_line(finger, psi, float(d), margin_rad=LIMIT_MARGIN_RAD))))
+            except kin.Unreachable:
+                break
+        for i in range(len(extents) - 1):
+            lo, hi = max(extents[i][0], extents[i + 1][0]), min(extents[i][1], extents[i + 1][1])
+            if hi > lo:
+                rows.append((psi, lo, hi, edge - finger.pad.offset_mm if i == 0 else depths[i], depths[i + 1]))
+    return np.array(rows, float).reshape(-1, 5)
+
+
+def opened_strips(config, depth_mm: float, behind_mm: float = 0.0) -> np.ndarray:
+    """The opened jaw's pads (:func:`open_pose`) as :func:`free_strips` rows: each pad's face
+    from ``behind_mm`` behind it to ``depth_mm`` in front."""
+    ws = config.workspace
+    model = ObjectModel(ws.center_mm, ws.radius_mm)
+    rows = []
+    for finger in config.fingers:
+        psi = nominal_psi(finger)
+        edge = model.edge(psi)
+        line = kin.finger_pad_line(finger, kin.ik_line(finger, psi, edge, margin_rad=LIMIT_MARGIN_RAD))
+        rows.append((psi, *_pad_extent(line), edge - behind_mm, edge + depth_mm))
+    return np.array(rows, float)
+
+
+def rested_ends(config, probes) -> np.ndarray:
+    """The pad ends probes rested on (k × 4 rows: the end's point x, y mm and the unit
+    direction along the pad beyond it): a probe whose last contact (the crossing of its last
+    two pad lines) lies within ``PROBE_PAD_MARGIN`` of the pad's length from an end, or beyond
+    it, met the object with that end, and the object goes on past it where no pad swept
+    (calibrated random block 1 of bench_explore --finite 10 --anywhere --seed 239: the right
+    pad's proximal end on the block's corner, its far corner 14 mm beyond, behind the pad's face)."""
+    rows = []
+    for felt in probes:
+        samples = felt.touch.samples
+        if len(samples) < 2:
+            continue
+        _, u = contact_on_pad(samples)
+        length = config.finger(felt.finger).pad.length_mm
+        if u is None or PROBE_PAD_MARGIN * length <= u <= (1.0 - PROBE_PAD_MARGIN) * length:
+            continue
+        line = samples[-1].line
+        end, other = (line.proximal, line.distal) if u < 0.5 * length else (line.distal, line.proximal)
+        beyond = np.asarray(end, float) - np.asarray(other, float)
+        rows.append((*np.asarray(end, float), *(beyond / np.linalg.norm(beyond))))
+    return np.array(rows, float).reshape(-1, 4)
