@@ -47,15 +47,6 @@ HOPELESS_START = 1e6
 #: above the give-up level and stalled there for a few iterations; dropped after 4, the
 #: answer was unclassified; after 8 it goes on to χ² 16.3)
 GIVE_UP_AFTER = 8
-#: a noisy fit whose χ² fell by less than CREEP_CHI2 of its own noise (√(2·dof), the χ²
-#: distribution's deviation) over the last CREEP_STEPS iterations has stopped: it is creeping
-#: along a valley the touches do not determine, mostly a parameter running toward its class's
-#: limit (an ellipse's a → ∞, a cubical's a → 0) with χ² flat. Its χ² is final to far below
-#: any decision (30 more such steps move it < 0.25·CREEP_CHI2·√(2·dof) per step… < 0.3), and a refined
-#: class is judged on its refinement over every sample, which starts from here. On
-#: tools.bench_wide seed 211 (3 touches, 2 trials per class) 233 of 353 contact solves ran to
-#: the 40-iteration cap, 86 % of the solves' time, nearly all creeping so.
-CREEP_STEPS, CREEP_CHI2 = 5, 0.01
 
 
 def svd(a: np.ndarray):
@@ -339,10 +330,6 @@ class ContactModel:
             return z, math.inf, None, None
         r = np.array(r)
         mu = 1e-6
-        # exact data (σ floors: χ² in units of rounding) goes on to the cost floor instead
-        creep = math.inf if (self.d.exact or self.d.eased) else \
-            CREEP_CHI2 * math.sqrt(2.0 * max(len(r) - len(z), 1))
-        costs = [cost]
         if cost > give_up and ((self.d.exact and cost > HOPELESS_START * give_up) or self.floor() > give_up):
             max_iter = 0
         for it in range(max_iter):
@@ -368,8 +355,5 @@ class ContactModel:
                     break
                 mu *= 10
             if not improved or small:
-                break
-            costs.append(cost)
-            if len(costs) > CREEP_STEPS and costs[-1 - CREEP_STEPS] - cost < creep:
                 break
         return z, cost, r, parts
