@@ -144,10 +144,14 @@ def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma
     if placed[0][0] > HOPELESS_PER_OBS * 3 * d.n and not d.eased:
         return []
     solved = []
+    tried = set()  # a start met before (several pairs giving one frame) solves to the same fit
     for cost0, z0, p0 in placed[:max_starts]:
         if every and cost0 > HOPELESS_PER_OBS * 3 * d.n and not d.eased:
             continue
         z = model.pack(*z0)
+        if z.tobytes() in tried:
+            continue
+        tried.add(z.tobytes())
         if cost0 > give_up and d.eased:
             z = _eased_start(cls, d, z, cost0)
         z, cost, r, parts = model.solve(z, give_up=give_up)
