@@ -514,8 +514,9 @@ def corner_faces(lines: Sequence[kin.PadLine], length_mm: float,
     Held-out blocks 5, 12 and 14 of bench_explore --finite 20 --anywhere --seed 269 (x
     118–133 mm, a corner toward each pad, every face 42–55° from a pad's nominal normal):
     block 12's left pad end slid 19 mm along a face whose line lies 5 mm past the left
-    finger's reach; block 5's left pad turned about its corner to pad normal −138.25°, as far
-    as its joints reach, 0.35° past the face's seat; refused naming no move before."""
+    finger's reach; block 5's left pad turned about its corner to pad normal −138.25°, 0.35°
+    past the face's seat, where the finger's reach ends (its next part step, from 3 mm out,
+    beyond it); refused naming no move before."""
     runs = [_run(lines, i, -1, tol_mm)[0] for i in range(len(lines))]
     if not runs or max(runs) < 3:
         return []
@@ -543,8 +544,7 @@ def corner_faces(lines: Sequence[kin.PadLine], length_mm: float,
         u = float(edge.pad_coordinate(p))
         part = length_mm - u if side > 0 else u
         along = (max(ends, key=lambda e: float(np.linalg.norm(e - p))) - p) / felt if ends else side * t
-        reach = max(felt, part)
-        if reach >= FACE_MIN_FRACTION * length_mm:
+        if max(felt, part) >= FACE_MIN_FRACTION * length_mm:
             out.append((felt, p, p + max(felt, FACE_MIN_FRACTION * length_mm) * along, n))
     return out
 
