@@ -21,7 +21,7 @@ from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, WITHIN_REACH, Goal, JawReach, Stop, facing_move, move_advice,
                                 place_goal)
-from tactile_jaw.flat import FACE_MISS_MM, SAME_FACE_RAD, bulged, curved_faces, face_groups, recognized_touches
+from tactile_jaw.flat import FACE_MISS_MM, bulged, curved_faces, face_groups, recognized_touches, same_face_rad
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
@@ -590,18 +590,18 @@ def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings,
 def _seated_apart(seated: Sequence[FeltTouch]) -> str:
     """Why flat presses that seated made no answer: their faces (tactile_jaw.flat.face_groups)
     are too many, each felt too few times — on a short face the pad's angles scatter more
-    than one face's presses may (``SAME_FACE_RAD``: its angle from supports L mm apart, each
-    fixed to ~0.07 mm, scatters ~0.1/L rad). Held-out X line 7 of seed 241: 4 presses seated
-    on an 11 mm face at ψ −63.4, −62.7, −63.3, −62.3°, two faces of 2, and the refusal said
-    only that 1 press found no seat."""
+    than one face's presses may (tactile_jaw.flat.same_face_rad: by the faces' lengths). Held-out
+    X line 7 of seed 241 (session 22, a fixed 0.57° then): 4 presses seated on an 11 mm face at
+    ψ −63.4, −62.7, −63.3, −62.3°, two faces of 2, and the refusal said only that 1 press found
+    no seat."""
     groups = face_groups(seated)
     if len(groups) == 1:
         return f"{len(seated)} flat press{'es' if len(seated) > 1 else ''} seated on one face, too few for an answer"
     psi = [math.degrees(t.face.psi) for t in seated]
-    length = min(t.face.length for t in seated)
+    short = min((t.face for t in seated), key=lambda f: f.length)
     return (f"{len(seated)} flat presses seated, on {len(groups)} faces by their angles (pad normal {min(psi):.1f} to "
-            f"{max(psi):.1f} deg; one face's presses agree within {math.degrees(SAME_FACE_RAD):.1f} deg), none felt often enough: "
-            f"over {length:.1f} mm of the pad the seats' angles scatter more than that")
+            f"{max(psi):.1f} deg; one face's presses agree within {math.degrees(same_face_rad(short, short)):.1f} deg), "
+            f"none felt often enough: over {short.length:.1f} mm of the pad the seats' angles scatter more than that")
 
 
 def unusable_refusal(out: Exploration) -> tuple[Recognition, Stop]:
