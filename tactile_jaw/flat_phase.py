@@ -21,7 +21,7 @@ from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, WITHIN_REACH, Goal, JawReach, Stop, facing_move, move_advice,
                                 place_goal)
-from tactile_jaw.flat import FACE_MISS_MM, SAME_FACE_RAD, bulged, curved_faces, face_groups, recognized_touches
+from tactile_jaw.flat import FACE_MISS_MM, bulged, curved_faces, face_groups, recognized_touches, same_face_rad
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
@@ -397,22 +397,48 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
                              and not isinstance(t.touch, FlatResult)], f.pad.length_mm)
         if slid is not None and (best is None or slid[0] > best[0]):
             best = (slid[0], f.name, *slid[1:])
-    if best is None:
-        return None
-    length, finger, p, q, toward = best
-    normal = face_normal(p, q, toward)
-    psi = math.atan2(normal[1], normal[0])
-    mid = 0.5 * (p + q)
-    phi = psi - math.pi / 2
-    goal = Goal(tuple((float(x), float(y), phi) for x, y in (p, mid, q)), np.stack([p, q], axis=1),
-                (float(mid[0]), float(mid[1])), "across that face")
-    advice, move = move_advice(JawReach(cfg, settings), goal, [cfg.finger(finger)])
     head = ("no flat press seated" if not seated else
             f"{seated} flat press{'es' if seated > 1 else ''} seated, fewer than the answer needs on one face")
+    if best is None:
+        return _corner_stop(cfg, settings, out, head)
+    length, finger, p, q, toward = best
+    advice, move, mid, psi = _face_advice(cfg, settings, finger, p, q, toward)
     short = length < FACE_MIN_FRACTION * cfg.finger(finger).pad.length_mm
     return Stop(f"{head}; the {finger} pad met a face near ({mid[0]:.0f}, {mid[1]:.0f}) mm, pad normal "
                 f"{math.degrees(psi):.0f} deg, over {length:.1f} mm of the pad"
                 + (f" (a seat needs {FACE_MIN_FRACTION:g} of it)" if short else "") + f": {advice}", move)
+
+
+def _face_advice(cfg, settings: ExploreSettings, finger: str, p: np.ndarray, q: np.ndarray,
+                 toward: np.ndarray) -> tuple[str, dict | None, np.ndarray, float]:
+    """The move after which the pad of ``finger`` rolls through the face PQ's ends and middle
+    with its tangent (the pad's normal along ``toward``: tactile_jaw.choose.move_advice), as
+    (advice, move, the face's middle, the seated pad's normal ψ)."""
+    normal = face_normal(p, q, toward)
+    psi = math.atan2(normal[1], normal[0])
+    mid = 0.5 * (p + q)
+    goal = Goal(tuple((float(x), float(y), psi - math.pi / 2) for x, y in (p, mid, q)), np.stack([p, q], axis=1),
+                (float(mid[0]), float(mid[1])), "across that face")
+    advice, move = move_advice(JawReach(cfg, settings), goal, [cfg.finger(finger)])
+    return advice, move, mid, psi
+
+
+def _corner_stop(cfg, settings: ExploreSettings, out: Exploration, head: str) -> Stop | None:
+    """When no press found a face: the first face beside a corner a pad turned about
+    (:func:`corner_faces`, every finger's, the longest felt first) for which a move seats that
+    pad (:func:`_face_advice`), as the stop naming it; None if there is none."""
+    found = []
+    for f in cfg.fingers:
+        samples = [s for t in (*out.probes, *out.touches) if t.touch.finger == f.name for s in t.touch.samples]
+        samples.sort(key=lambda s: math.remainder(float(s.line.psi) - nominal_psi(f), 2 * math.pi))
+        found += [(face, f.name) for face in corner_faces([s.line for s in samples], f.pad.length_mm)]
+    for (felt, p, q, toward), finger in sorted(found, key=lambda c: -c[0][0]):
+        advice, move, _, psi = _face_advice(cfg, settings, finger, p, q, toward)
+        if move is not None:
+            seen = f"met its face with a pad end {felt:.1f} mm from it" if felt > 0 else "turned on as far as it reached"
+            return Stop(f"{head}; the {finger} pad turned about a corner at ({p[0]:.0f}, {p[1]:.0f}) mm and "
+                        f"{seen}, short of lying on the face at pad normal {math.degrees(psi):.0f} deg: {advice}", move)
+    return None
 
 
 def sliding_face(rolls: Sequence[FeltTouch], length_mm: float,
@@ -470,6 +496,71 @@ def sliding_face(rolls: Sequence[FeltTouch], length_mm: float,
     return best
 
 
+def corner_faces(lines: Sequence[kin.PadLine], length_mm: float,
+                 tol_mm: float = SEAT_TOL_MM) -> list[tuple[float, np.ndarray, np.ndarray, np.ndarray]]:
+    """The faces beside the corner a finger's pad turned about most, from its pad lines in
+    order of ψ (probes, rolls, presses): the longest run of ≥ 3 lines through one point P
+    (hand_driver.flat_press._run), and past either end of it, as (how far from P a pad end
+    felt the face, P, Q, the pad's normal toward it): the lines there that miss P by more
+    than ``tol_mm``, each resting on one pad end E (the end whose chord PE no pad stop cuts:
+    P and E both on the convex object, a pad stopped across the chord would have met it),
+    those ends on one straight line through P within ``tol_mm``: Q the farthest; with no
+    such end, the face along the run's last line over the part of the pad that turning on
+    lowers (0 felt). Q lies at least FACE_MIN_FRACTION of the pad from P (what a seat
+    needs); a face that neither felt nor the pad's part reaches is left out. A pad turned
+    about a corner toward a face it cannot lie on — the face's line beyond the finger's reach,
+    or the pad placed along it past the face — meets that face with a pad end at most: no
+    seat, whose supports need three lines each (hand_driver.flat_press.seat_split).
+    Held-out blocks 5, 12 and 14 of bench_explore --finite 20 --anywhere --seed 269 (x
+    118–133 mm, a corner toward each pad, every face 42–55° from a pad's nominal normal):
+    block 12's left pad end slid 19 mm along a face whose line lies 5 mm past the left
+    finger's reach; block 5's left pad turned about its corner to pad normal −138.25°, 0.35°
+    past the face's seat, where the finger's reach ends (its next part step, from 3 mm out,
+    beyond it); refused naming no move before."""
+    runs = [_run(lines, i, -1, tol_mm)[0] for i in range(len(lines))]
+    if not runs or max(runs) < 3:
+        return []
+    hi = max(range(len(runs)), key=lambda i: (runs[i], i))
+    lo = hi - runs[hi] + 1
+    p = _run(lines, hi, -1, tol_mm)[1]
+    out = []
+    for edge, beyond, turn in ((lines[hi], lines[hi + 1:], 1), (lines[lo], lines[:lo][::-1], -1)):
+        ends: list[np.ndarray] = []
+        for ln in beyond:
+            if abs(float(ln.normal @ p - ln.d)) <= tol_mm:
+                continue  # through the corner still
+            touched = [e for e in (np.asarray(ln.proximal, float), np.asarray(ln.distal, float))
+                       if not any(_cuts(m, p, e, tol_mm) for m in lines)]
+            if len(touched) != 1:
+                break  # neither end or either: no face to tell
+            pts = np.array([*ends, touched[0]]) - p
+            if len(pts) > 1 and float(np.max(np.abs(pts @ np.linalg.svd(pts)[2][1]))) > tol_mm:
+                break  # off the straight line the nearer ends lie on: past the face
+            ends.append(touched[0])
+        felt = max((float(np.linalg.norm(e - p)) for e in ends), default=0.0)
+        t, n = np.asarray(edge.tangent, float), np.asarray(edge.normal, float)
+        # turning on by ``turn`` about P lowers the pad part on this side of it (hand_driver.flat_press.lowering_turn)
+        side = turn * (1.0 if float(np.array([-t[1], t[0]]) @ n) > 0 else -1.0)
+        u = float(edge.pad_coordinate(p))
+        part = length_mm - u if side > 0 else u
+        along = (max(ends, key=lambda e: float(np.linalg.norm(e - p))) - p) / felt if ends else side * t
+        if max(felt, part) >= FACE_MIN_FRACTION * length_mm:
+            out.append((felt, p, p + max(felt, FACE_MIN_FRACTION * length_mm) * along, n))
+    return out
+
+
+def _cuts(line: kin.PadLine, a: np.ndarray, b: np.ndarray, tol_mm: float) -> bool:
+    """Does the pad of ``line`` lie more than ``tol_mm`` inside the chord from ``a`` to ``b``
+    somewhere along it (a point of the chord under the pad, on the pad's side of its line)?"""
+    t, n = np.asarray(line.tangent, float), np.asarray(line.normal, float)
+    ua, ub = (float(t @ (x - line.proximal)) for x in (a, b))
+    length = float(np.linalg.norm(np.asarray(line.distal) - np.asarray(line.proximal)))
+    lo, hi = sorted(((0.0 - ua) / (ub - ua), (length - ua) / (ub - ua))) if abs(ub - ua) > 1e-9 else \
+        ((0.0, 1.0) if 0.0 <= ua <= length else (1.0, 0.0))
+    lo, hi = max(lo, 0.0), min(hi, 1.0)
+    return lo <= hi and min(float(n @ (a + s * (b - a)) - line.d) for s in (lo, hi)) < -tol_mm
+
+
 def _pivot(lines: kin.PadLine, tol_mm: float) -> np.ndarray | None:
     """The point more than half a roll's consecutive lines pass within ``tol_mm`` of, or None."""
     seq = [lines.at(i) for i in range(np.asarray(lines.psi).size)]
@@ -499,18 +590,18 @@ def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings,
 def _seated_apart(seated: Sequence[FeltTouch]) -> str:
     """Why flat presses that seated made no answer: their faces (tactile_jaw.flat.face_groups)
     are too many, each felt too few times — on a short face the pad's angles scatter more
-    than one face's presses may (``SAME_FACE_RAD``: its angle from supports L mm apart, each
-    fixed to ~0.07 mm, scatters ~0.1/L rad). Held-out X line 7 of seed 241: 4 presses seated
-    on an 11 mm face at ψ −63.4, −62.7, −63.3, −62.3°, two faces of 2, and the refusal said
-    only that 1 press found no seat."""
+    than one face's presses may (tactile_jaw.flat.same_face_rad: by the faces' lengths). Held-out
+    X line 7 of seed 241 (session 22, a fixed 0.57° then): 4 presses seated on an 11 mm face at
+    ψ −63.4, −62.7, −63.3, −62.3°, two faces of 2, and the refusal said only that 1 press found
+    no seat."""
     groups = face_groups(seated)
     if len(groups) == 1:
         return f"{len(seated)} flat press{'es' if len(seated) > 1 else ''} seated on one face, too few for an answer"
     psi = [math.degrees(t.face.psi) for t in seated]
-    length = min(t.face.length for t in seated)
+    short = min((t.face for t in seated), key=lambda f: f.length)
     return (f"{len(seated)} flat presses seated, on {len(groups)} faces by their angles (pad normal {min(psi):.1f} to "
-            f"{max(psi):.1f} deg; one face's presses agree within {math.degrees(SAME_FACE_RAD):.1f} deg), none felt often enough: "
-            f"over {length:.1f} mm of the pad the seats' angles scatter more than that")
+            f"{max(psi):.1f} deg; one face's presses agree within {math.degrees(same_face_rad(short, short)):.1f} deg), "
+            f"none felt often enough: over {short.length:.1f} mm of the pad the seats' angles scatter more than that")
 
 
 def unusable_refusal(out: Exploration) -> tuple[Recognition, Stop]:

@@ -29,7 +29,7 @@ from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, Samples
 from tactile_common.errors import InputError
 from tactile_jaw.curvature_pool import pooled
 from tactile_jaw.envelope import MIN_DEGREE, EnvelopeFit, fit_envelope, joint_noise
-from tactile_jaw.flat import FLAT_NOISE, Face, bulged_presses, feel_flat, recognized_touches
+from tactile_jaw.flat import Face, bulged_presses, feel_flat, flat_noise, recognized_touches
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
 
 #: a touch whose radius of curvature at the contact is below this (mm), or below
@@ -917,9 +917,9 @@ def stated_noise(touches: Sequence[FeltTouch]) -> NoiseModel:
     themselves (docs/exploration.md#the-stated-noise): σ_φ of the pad angle (two joints, each
     quantized to a tick), and the RMS over every sample of its position's deviation across
     and along its pad line, propagated from the ticks through its touch's envelope fit
-    (tactile_jaw.envelope); flat presses alone (tactile_jaw.flat) state ``FLAT_NOISE``."""
+    (tactile_jaw.envelope); flat presses alone (tactile_jaw.flat) state ``flat_noise`` of their faces."""
     if _flat_only(touches):
-        return parse_noise(dict(FLAT_NOISE), "flat touches' noise")
+        return parse_noise(flat_noise([t.face for t in touches]), "flat touches' noise")
     rolling = [t for t in touches if t.fit is not None]
     across = np.concatenate([t.fit.sigma_across for t in rolling])
     along = np.concatenate([t.fit.sigma_along for t in rolling])

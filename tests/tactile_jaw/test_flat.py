@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -135,3 +136,28 @@ def test_a_press_that_rolled_on_a_curved_part_makes_its_faces_closing_segments()
     assert "closing segments, not a line" in curve_refusal(found).reason
     assert recognized_touches(chord, curved=True) == [] and recognized_touches(chord) == chord
     assert curved_part(CONFIG_P, [corner, *chord]) is None
+
+
+def test_the_same_face_tolerance_and_stated_angle_noise_follow_the_face_length():
+    """tactile_jaw.flat.face_phi_sd: a face's angle from supports ℓ apart, each fixed to
+    SUPPORT_SD_MM, scatters √2·SUPPORT_SD_MM/ℓ (9.0 mrad at 11 mm), FLAT_NOISE's φ for long
+    faces; two 11 mm faces 1.06° apart (held-out X line 7 of seed 241's presses) are one face,
+    two 40 mm faces so far apart are not (0.57° as before); a request of flat touches on 11 mm
+    faces states that σ_φ (tactile_jaw.pipeline.stated_noise)."""
+    from tactile_jaw.flat import SUPPORT_SD_MM, face_phi_sd
+    from tactile_jaw.pipeline import stated_noise
+    assert face_phi_sd(11.0) == pytest.approx(math.sqrt(2.0) * SUPPORT_SD_MM / 11.0) and face_phi_sd(11.0) > 8.5e-3
+    assert face_phi_sd(40.0) == FLAT_NOISE["phi"]
+
+    def face(psi_deg: float, length: float):
+        psi = math.radians(psi_deg)
+        t = np.array([-math.sin(psi), math.cos(psi)])
+        mid = np.array([110.0, 10.0])
+        return Face(psi, float(np.array([math.cos(psi), math.sin(psi)]) @ mid), mid - 0.5 * length * t,
+                    mid + 0.5 * length * t)
+
+    assert same_face(face(-90.0, 11.0), face(-88.94, 11.0)) and not same_face(face(-90.0, 11.0), face(-87.5, 11.0))
+    assert not same_face(face(-90.0, 40.0), face(-88.94, 40.0)) and same_face(face(-90.0, 40.0), face(-89.5, 40.0))
+    short = [SimpleNamespace(touch=FlatResult("left", k, -math.pi / 2, [], outcome="ok", roles=[]),
+                             face=face(-90.0, 11.0)) for k in range(3)]
+    assert stated_noise(short).phi == pytest.approx(face_phi_sd(11.0))

@@ -102,3 +102,87 @@ def test_a_face_a_pad_end_slid_along():
     got = sliding_face([roll(lines, rho=25.0, slid="proximal") for lines in short], 52.0)
     assert got is not None and got[0] == pytest.approx(14.0, abs=1e-6)
     assert sliding_face([roll(lines, rho=-30.0) for lines in short], 52.0) is None  # unflagged: pivots
+
+
+#: held-out block 12 of bench_explore --finite 20 --anywhere --seed 269 (both jaws): a corner toward
+#: each pad, every face 42–48° from a pad's nominal normal, x 109–142 mm
+CORNERED = {"class": "line", "params": {}, "pose": {"theta": -2.400317147455274, "x": 130.0992665700785,
+                                                    "y": 12.534721498661314},
+            "extent": [-16.280225189522252, 16.280225189522252],
+            "closure": [[16.280225189522252, -13.024180151617802], [-16.280225189522252, -13.024180151617802]]}
+
+
+def _corners(obj) -> np.ndarray:
+    """A block's corners in the hand frame: its line's ends (extent), then its closure's points."""
+    c, s = math.cos(obj["pose"]["theta"]), math.sin(obj["pose"]["theta"])
+    local = [(obj["extent"][1], 0.0), (obj["extent"][0], 0.0), *obj["closure"][::-1]]
+    return np.array([(obj["pose"]["x"] + c * u - s * v, obj["pose"]["y"] + s * u + c * v) for u, v in local])
+
+
+def _press(finger: str, lines) -> FeltTouch:
+    samples = [Sample(reading=k, psi=float(ln.psi), ticks=np.zeros(2), line=ln, current_ma=None, robot_time=0.0)
+               for k, ln in enumerate(lines[s] for s in sorted(lines))]
+    press = FlatResult(finger, 0, float(samples[0].psi), samples, outcome="no_seat", roles=["scan"] * len(samples))
+    return FeltTouch(press, None, None, None, "no seat", None)
+
+
+def test_a_corner_turned_about_names_the_move_that_seats_its_face():
+    """tactile_jaw.flat_phase.corner_faces on exact stops of the P-series left pad at the
+    orientations its press on held-out block 12 reached (−89.75…−62.75° about the corner, then
+    its distal end 8–19 mm along the face, the face's line 5 mm past the finger's reach, the next
+    turn blocked): no seat. The stop names that face, measured from the corner to the farthest
+    end (on the face's line within 0.1 mm), and a move; the block moved so, the press walk
+    seats (refused naming no move before)."""
+    from hand_driver.config import load_config
+    from hand_driver.flat_press import seat_split
+    from tactile_jaw.flat_phase import corner_faces
+    from tests.hand_driver.test_flat_press import _stop
+    config = load_config("config/jaw-p.yaml")
+    finger = config.finger("left")
+    world = ContactWorld(config, load_scene({"name": "b", "classes": ["line"], "object": CORNERED}).object)
+    reached = (-89.75, -86.75, -83.75, -80.75, -77.75, -74.75, -71.75, -68.75, -65.75, -62.75, -59.75, -56.75,
+               -55.25, -54.5)
+    lines = {a: _stop(world, finger, math.radians(a)) for a in reached}
+    ordered = [lines[a] for a in sorted(lines)]
+    assert seat_split(ordered, finger.pad.length_mm) is None
+    corner, other = _corners(CORNERED)[[2, 3]]  # the face's ends, (133.3, 33.1) and (109.3, 11.1) mm
+    along = (other - corner) / np.linalg.norm(other - corner)
+    felt, p, q, _ = max(corner_faces(ordered, finger.pad.length_mm), key=lambda f: f[0])
+    assert np.linalg.norm(p - corner) < 0.1
+    assert 15.0 < felt < np.linalg.norm(other - corner)
+    assert abs(float(along[0] * (q - corner)[1] - along[1] * (q - corner)[0])) < 0.1  # on the face's line
+    out = Exploration()
+    out.touches = [_press("left", lines)]
+    stop = short_face_stop(config, ExploreSettings.from_profile("balanced"), out)
+    assert stop is not None and stop.move is not None and "left pad turned about a corner at (133, 33) mm" in stop
+    moved = load_scene({"name": "b", "classes": ["line"], "object": moved_object(CORNERED, stop.move)}).object
+    found, _ = _walk(ContactWorld(config, moved), finger, -math.pi / 2)
+    assert found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * finger.pad.length_mm
+
+
+def test_corner_faces_needs_a_corner_and_a_consistent_pad_end():
+    """corner_faces on exact pad lines of a pad turned about a corner at (0, 0), 40 mm along it,
+    from 30° to 3° short of lying on the face y = 0 (x < 0) beyond its distal part: past either
+    end of that turn, the face along the last line over the part turning on lowers (none felt);
+    lines past the seat resting on the distal end at x = −12, −16, −20 mm give that face as
+    felt, 20 mm; an end 1 mm below that line (past a second corner) ends the face before it."""
+    from tactile_jaw.flat_phase import corner_faces
+
+    def pad_through(point, angle, u):  # the pad along ``angle`` with ``point`` u mm from its proximal end
+        t = np.array([math.cos(angle), math.sin(angle)])
+        return _pad(np.asarray(point, float) - u * t, angle)
+
+    def beside(faces):  # the face found toward x < 0
+        return next(f for f in faces if f[2][0] < 0.0)
+
+    about = [pad_through((0.0, 0.0), math.pi + a, 40.0) for a in np.radians(np.arange(-30.0, 0.0, 3.0))]
+    felt, p, q, _ = beside(corner_faces(about, 52.0))
+    assert felt == 0.0 and np.allclose(p, 0.0, atol=1e-6)
+    assert np.linalg.norm(q) == pytest.approx(FACE_MIN_FRACTION * 52.0) and abs(q[1]) < 0.6  # along the -3° line
+    ends = [pad_through((-x, 0.0), math.pi + a, 52.0) for x, a in zip((12.0, 16.0, 20.0), np.radians((2.0, 3.0, 4.0)))]
+    felt, p, q, _ = beside(corner_faces(about + ends, 52.0))
+    assert felt == pytest.approx(20.0, abs=1e-6) and np.allclose(q, (-20.0, 0.0), atol=1e-6)
+    # past a second corner at (-16, 0): an end 1 mm below the face's line, the pad steep enough to clear (-16, 0)
+    bent = ends[:2] + [pad_through((-20.0, -1.0), math.pi + math.radians(15.0), 52.0)]
+    felt, _, _, _ = beside(corner_faces(about + bent, 52.0))
+    assert felt == pytest.approx(16.0, abs=1e-6)
