@@ -165,13 +165,15 @@ def _curve_felt(cfg, settings: ExploreSettings, out: Exploration, emit, say, che
         checked.update(id(t) for t in new)
         return False
     out.used, out.recognition = [], curve_refusal(curve)
-    out.stopped = curve_stop(cfg, settings, curve, next(t for t in new if t.touch.touch == curve.touch.touch))
+    out.stopped = curve_stop(cfg, settings, curve, next(t for t in new if t.touch.touch == curve.touch.touch),
+                             out.probes)
     emit(out.stopped.event("stopped_early"))
     say(f"{out.recognition.reason}; {out.stopped}")
     return True
 
 
-def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch) -> Stop:
+def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch,
+               probes: Sequence[FeltTouch] = ()) -> Stop:
     """What would help once ``curve`` (tactile_jaw.pipeline.curved_part), a stretch of the
     touch ``felt``, rolled on a curved part that no usable touch measured: where ``felt``
     left that part at one end of its ψ range more than at the other (a roll run onto a
@@ -181,12 +183,14 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
     stretch's direction of travel), away from the corner (tactile_jaw.choose.move_advice);
     else (a press's scan, or a stretch cut on both sides) a pad clear of the corners there;
     for presses whose seats bulged (tactile_jaw.flat.bulged_presses), the move after which a
-    pad rolls across the middle of their supports with the seat's tangent."""
+    pad rolls across the middle of their supports with the seat's tangent. ``probes``: the
+    exploration's, whose rested pad ends bound every move (tactile_jaw.choose.JawReach.opened_clear)."""
+    reach = JawReach(cfg, settings, probes)
     if isinstance(curve.touch, FlatResult):
         x, y = (float(v) for v in curve.face.middle)
         where = f"the curved part the {curve.finger} pad pressed near ({x:.1f}, {y:.1f}) mm"
         goal = place_goal(x, y, curve.face.psi - math.pi / 2, np.stack([curve.face.p, curve.face.q], axis=1))
-        advice, move = move_advice(JawReach(cfg, settings), replace(goal, where=where), [cfg.finger(curve.finger)])
+        advice, move = move_advice(reach, replace(goal, where=where), [cfg.finger(curve.finger)])
         return Stop(f"{advice} ({where}; the rolls there met its corners)" if advice == WITHIN_REACH else advice, move)
     c, m = curve.contacts, len(curve.contacts.x) // 2
     psi = np.asarray(c.psi, dtype=float)
@@ -198,7 +202,6 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
         finger = cfg.finger(felt.finger)
         goal = replace(place_goal(float(c.x[m]), float(c.y[m]), float(psi[m]) - math.pi / 2, (c.x, c.y)),
                        where=f"on its curved part, {near}")
-        reach = JawReach(cfg, settings)
         advice, move = move_advice(reach, goal, [finger])
         if move is None and advice == WITHIN_REACH:  # reached there, yet its rolls met the corners
             facing = facing_move(reach, goal, finger)
@@ -219,7 +222,7 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
     goal = Goal(((float(x), float(y), phi),), np.array([c.x, c.y], dtype=float), (float(c.x[m]), float(c.y[m])),
                 f"on along its curved part, {near}, past the end of that stretch away from the corner "
                 f"{felt.finger} roll {felt.touch.touch} ran onto")
-    advice, move = move_advice(JawReach(cfg, settings), goal)
+    advice, move = move_advice(reach, goal)
     return Stop(advice, move)
 
 
@@ -402,24 +405,25 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
     if best is None:
         return _corner_stop(cfg, settings, out, head)
     length, finger, p, q, toward = best
-    advice, move, mid, psi = _face_advice(cfg, settings, finger, p, q, toward)
+    advice, move, mid, psi = _face_advice(cfg, settings, out, finger, p, q, toward)
     short = length < FACE_MIN_FRACTION * cfg.finger(finger).pad.length_mm
     return Stop(f"{head}; the {finger} pad met a face near ({mid[0]:.0f}, {mid[1]:.0f}) mm, pad normal "
                 f"{math.degrees(psi):.0f} deg, over {length:.1f} mm of the pad"
                 + (f" (a seat needs {FACE_MIN_FRACTION:g} of it)" if short else "") + f": {advice}", move)
 
 
-def _face_advice(cfg, settings: ExploreSettings, finger: str, p: np.ndarray, q: np.ndarray,
+def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, p: np.ndarray, q: np.ndarray,
                  toward: np.ndarray) -> tuple[str, dict | None, np.ndarray, float]:
     """The move after which the pad of ``finger`` rolls through the face PQ's ends and middle
     with its tangent (the pad's normal along ``toward``: tactile_jaw.choose.move_advice), as
-    (advice, move, the face's middle, the seated pad's normal ψ)."""
+    (advice, move, the face's middle, the seated pad's normal ψ); ``out``'s probes bound the move
+    (tactile_jaw.choose.JawReach.opened_clear)."""
     normal = face_normal(p, q, toward)
     psi = math.atan2(normal[1], normal[0])
     mid = 0.5 * (p + q)
     goal = Goal(tuple((float(x), float(y), psi - math.pi / 2) for x, y in (p, mid, q)), np.stack([p, q], axis=1),
                 (float(mid[0]), float(mid[1])), "across that face")
-    advice, move = move_advice(JawReach(cfg, settings), goal, [cfg.finger(finger)])
+    advice, move = move_advice(JawReach(cfg, settings, out.probes), goal, [cfg.finger(finger)])
     return advice, move, mid, psi
 
 
@@ -433,7 +437,7 @@ def _corner_stop(cfg, settings: ExploreSettings, out: Exploration, head: str) ->
         samples.sort(key=lambda s: math.remainder(float(s.line.psi) - nominal_psi(f), 2 * math.pi))
         found += [(face, f.name) for face in corner_faces([s.line for s in samples], f.pad.length_mm)]
     for (felt, p, q, toward), finger in sorted(found, key=lambda c: -c[0][0]):
-        advice, move, _, psi = _face_advice(cfg, settings, finger, p, q, toward)
+        advice, move, _, psi = _face_advice(cfg, settings, out, finger, p, q, toward)
         if move is not None:
             seen = f"met its face with a pad end {felt:.1f} mm from it" if felt > 0 else "turned on as far as it reached"
             return Stop(f"{head}; the {finger} pad turned about a corner at ({p[0]:.0f}, {p[1]:.0f}) mm and "
