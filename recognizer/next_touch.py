@@ -49,6 +49,12 @@ pad's tolerance of the pad's orientation (``_seats``: c's predicted tilt and its
 turns ``SEAT_RAD`` to seat). The leader's parameter gain counts with the leader's own p.
 Where some helpful place lands for every candidate at least ``LAND_WEIGHT_MIN`` likely, only
 such places are chosen, a semicubical leader's other branch, which no rival has, excepted.
+A line leader's rivals are all curved, one alternative "curved, not line" of weight their
+sum W: its entropy with the leader is resolved in proportion to Σ w_c·p_c·(1 − exp(−χ²_c/8))/W,
+and the places kept are where the pad lands for at least ``CURVED_LAND_MIN`` of W (rival by
+rival, a far hyperbola arm answered line was tested only where the ellipse rival bends).
+Each candidate's pad comes in from that candidate's own free side where its curve turns one
+way over its touches (``_solid_left``).
 Before (session 17), a rival counted only in its own pair and only where the pad landed on
 its curve at its mean: places where the rivals' tangents were tilted from the leader's, or
 unknown (a circle leader's far side, 9e3 rad for the ellipse rival), were suggested and the
