@@ -49,6 +49,12 @@ pad's tolerance of the pad's orientation (``_seats``: c's predicted tilt and its
 turns ``SEAT_RAD`` to seat). The leader's parameter gain counts with the leader's own p.
 Where some helpful place lands for every candidate at least ``LAND_WEIGHT_MIN`` likely, only
 such places are chosen, a semicubical leader's other branch, which no rival has, excepted.
+A line leader's rivals are all curved, one alternative "curved, not line" of weight their
+sum W: its entropy with the leader is resolved in proportion to Σ w_c·p_c·(1 − exp(−χ²_c/8))/W,
+and the places kept are where the pad lands for at least ``CURVED_LAND_MIN`` of W (rival by
+rival, a far hyperbola arm answered line was tested only where the ellipse rival bends).
+Each candidate's pad comes in from that candidate's own free side where its curve turns one
+way over its touches (``_solid_left``).
 Before (session 17), a rival counted only in its own pair and only where the pad landed on
 its curve at its mean: places where the rivals' tangents were tilted from the leader's, or
 unknown (a circle leader's far side, 9e3 rad for the ellipse rival), were suggested and the
@@ -104,8 +110,12 @@ PAD_ROLLS = 1.0
 """a pad's half length in rolls: a pad twice as long as the request's touches roll."""
 SEAT_RAD = 0.05
 """how far a pad that meets the boundary with its end turns to seat on it (rad; tools.pad_approach)."""
+FLAT_TOL = 1e-9
+"""points within this fraction of the pad's half length of the farthest out meet its face together."""
 LAND_WEIGHT_MIN = 0.01
 """a candidate at least this likely must be landed on too, where some helpful place is."""
+CURVED_LAND_MIN = 0.5
+"""the fraction of a line leader's curved rivals' weight a pad must land for (``LAND_WEIGHT_MIN``'s rule for a line)."""
 SEPARATION_MIN = 0.1
 """an expected χ² separation below this (1.2 % of a pair's entropy) is not checked the other way round."""
 
@@ -230,7 +240,12 @@ def _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff) -
     h = dx * (-sgn * uy) + dy * (sgn * ux)
     v = dx * ux + dy * uy
     seen = (np.abs(v) <= half_pad) & (h <= standoff) & np.isfinite(h)
-    j = np.argmax(np.where(seen, h, -np.inf), axis=1)
+    # the face meets every point as far out as the farthest at once (a straight stretch: all of
+    # them, their h equal but for rounding); the contact is the one nearest the pad's middle,
+    # not whichever rounding puts out farthest (a line leader kept 60 of 160 places, as rounding fell)
+    h = np.where(seen, h, -np.inf)
+    top = h >= np.max(h, axis=1, keepdims=True) - FLAT_TOL * half_pad
+    j = np.argmin(np.where(top, np.abs(v), np.inf), axis=1)
     rows = np.arange(j.size)
     n = t_dense.size
     closed = curve.t_period is not None
@@ -251,6 +266,23 @@ def _touchable(curve, t: np.ndarray, roll: float) -> np.ndarray:
     if curve.name != "semicubical_parabola" or roll <= 0:
         return np.ones(np.shape(t), bool)
     return np.abs(curve.arc_length(np.zeros_like(t), t)) >= 0.5 * roll
+
+
+def _solid_left(c: Candidate, d: Contacts, turn: float) -> bool:
+    """Whether the solid lies on the left of the touches' direction of travel, c true: on
+    the side c's curve turns to over its touches where it turns one way there (a convex
+    piece), else the side the touches turn to (``turn``, ``Contacts.dominant_kappa``).
+    Far out on a hyperbola arm the touches barely turn and their side can come out wrong
+    (bench_wide seed 271 hyperbola 11: ``turn`` +0.16 against a truth turning right): a
+    pad then came in from the hyperbola rival's solid side everywhere and never landed
+    on it."""
+    k = np.asarray(c.curve().kappa(np.asarray(c.t, float)), float) * \
+        travel_direction(c.curve(), c.pose, c.t, d.phi)
+    if k.size and np.all(k > 0):
+        return True
+    if k.size and np.all(k < 0):
+        return False
+    return turn > 0
 
 
 def _toward_cusp(c: Candidate, t: np.ndarray) -> np.ndarray:
@@ -411,7 +443,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         if not padded:
             return np.ones(px.size, bool)
         curve, t_pad = c.curve(), _pad_span(c)
-        args = (turn > 0, PAD_ROLLS * roll, 0.5 * roll, d.scale)
+        args = (_solid_left(c, d, turn), PAD_ROLLS * roll, 0.5 * roll, d.scale)
         if c is not leader and c.cls == "semicubical_parabola" and \
                 not _landed(curve, c.pose, t_pad, d.x, d.y, d.phi, *args).any():
             side = np.sign(np.median(c.t))
@@ -433,7 +465,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     if reach is not None:  # the place's tangent in the touches' direction of travel: a robot's reach may depend on it
         keep &= reach.contains(px, py, phi + flip)
     keep &= _touchable(curve, t, roll)
-    if keep.any():  # where a pad sent there lands on the leader's curve
+    if keep.any() and curve.name != "line":  # where a pad sent there lands on the leader's curve (a line: anywhere)
         keep[keep] = lands(leader, px[keep], py[keep], phi[keep] + flip)
     if not keep.any():
         return None
@@ -466,6 +498,9 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     on_all = np.ones(px.size, bool)  # the pad lands whichever likely class is true
     best_sep = {}
     landed = w_lead * seat_lead
+    line_lead = leader.cls == "line"
+    curved_on = np.zeros(px.size)  # a line leader's rivals' weight a pad lands for
+    curved_resolved = np.zeros(px.size)  # ... and tells from the line there
     for c, wc in others:
         mean_c, P_c, _, ok_c, posed_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, d.scale, roll)
         chi2 = _separation(mean_c - mean_lead, P_lead, P_c)
@@ -485,15 +520,31 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         on_c = ~_toward_cusp(c, posed_c[2])
         if padded:
             on_c &= lands(c, px, py, phi + flip)
-        if wc >= LAND_WEIGHT_MIN:
-            on_all &= on_c
         seats = _seats(_tilt(c, d, posed_c, phi + flip), mean_c, P_c, W, roll) if padded else 1.0
-        landed += wc * on_c * seats
-        ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * (1.0 - np.exp(-chi2 / 8.0))
+        resolved = 1.0 - np.exp(-chi2 / 8.0)
+        if line_lead:
+            curved_on += wc * on_c
+            curved_resolved += wc * on_c * seats * resolved
+        else:
+            if wc >= LAND_WEIGHT_MIN:
+                on_all &= on_c
+            landed += wc * on_c * seats
+            ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * resolved
         best_sep[c.cls] = chi2
-    # a lost touch tells nothing, whichever candidate is true: every pair's resolution
-    # counts in proportion to the chance the pad lands and seats
-    ig_class *= landed / (w_lead + sum(wc for _, wc in others))
+    w_rivals = sum(wc for _, wc in others)
+    if line_lead and w_rivals > 0:
+        # every rival of a line is curved: one alternative, "curved, not line", of weight
+        # their sum, resolved in proportion to the weight a pad lands for and tells from the
+        # line there; the pad must land for at least half of it. Rival by rival, a far
+        # hyperbola arm answered line was tested where the ellipse rival bends (outward),
+        # never where the hyperbola rival does (toward its vertex, vetoed by the semicubical
+        # rival's cusp beside the touches; bench_wide seed 271 hyperbola 7)
+        ig_class = (w_lead + w_rivals) * _entropy2(w_lead / (w_lead + w_rivals)) * seat_lead * \
+            curved_resolved / w_rivals
+        on_all = curved_on >= CURVED_LAND_MIN * w_rivals
+    else:  # a lost touch tells nothing, whichever candidate is true: every pair's resolution
+        # counts in proportion to the chance the pad lands and seats
+        ig_class *= landed / (w_lead + w_rivals)
     gain = ig_class + w_lead * seat_lead * np.where(np.isfinite(ig_param), ig_param, 0.0)
     helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
     if not helps.any():

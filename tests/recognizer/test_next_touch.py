@@ -406,3 +406,50 @@ def test_a_parabolas_suggestions_across_its_vertex_keep_it_parabola():
         tl.append(bw._extra_touch(shape, got.t, rs, direction))
         rec, _, _ = bw._recognize(tl, nm)
     assert rec.cls == "parabola", rec.cls
+
+
+@pytest.mark.parametrize("theta", [0.0, 0.13, 1.0, -2.14])
+def test_a_pad_lands_anywhere_on_a_straight_stretch(theta):
+    """A pad sent along a line lands wherever its middle is on it, away from the known
+    stretch's ends: the face meets every point at once, the contact is the one under its
+    middle. Before, the farthest-out point was whichever rounding put out farthest, often
+    one under the pad's end, and the place was judged lost (bench_wide seed 271 hyperbola 7,
+    answered line: 60 of 160 places kept)."""
+    from recognizer.next_touch import _landed
+
+    line = CURVES["line"]({})
+    pose = Pose(theta, 0.37, -0.21)
+    t = np.linspace(-0.8, 0.8, 161)
+    x, y = pose.apply(*line.point(t))
+    phi = np.full(t.size, theta)
+    for left in (True, False):
+        got = _landed(line, pose, np.linspace(-1.5, 1.5, 400), x, y, phi, left, 0.18, 0.09, 0.58)
+        assert got.all(), np.flatnonzero(~got)
+
+
+@pytest.mark.parametrize("trial", [7, 11])
+def test_a_line_leader_tests_the_curved_alternative_where_it_bends(trial):
+    """bench_wide --set wide seed 271 (development), hyperbola far on an arm (trials 7 and 11,
+    L 2.2 and 1.2 mm): 3 touches are answered line. Each curved rival alone vetoed the places
+    toward the vertex (the semicubical rival's cusp lies beside the touches; in trial 11 the
+    touches' barely measured turn put the solid on the wrong side, so no pad landed on the
+    hyperbola rival), and the suggestions went where the ellipse rival bends, the far
+    outward stretch, leaving the answer line. Treated as one alternative, "curved, not
+    line", the first suggestion lies toward the vertex, beyond the touches, and with the
+    suggested touches the answer is hyperbola."""
+    from tools import bench_wide as bw
+
+    shape, ts, (lo, hi, clear), rs, direction, left, touches, nm, rec = _wide_case_after_random("hyperbola", trial, 271)
+    assert rec.cls == "line"
+    landed, tl = [], list(touches)
+    for _ in range(2):
+        nt = rec.next_touch
+        if nt is None:
+            break
+        got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach", left, direction)
+        assert got.t is not None, got
+        landed.append(got.t)
+        tl.append(bw._extra_touch(shape, got.t, rs, direction))
+        rec, _, _ = bw._recognize(tl, nm)
+    assert landed and landed[0] < min(ts), (landed, ts)
+    assert rec.cls == "hyperbola", rec.cls
