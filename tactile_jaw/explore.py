@@ -38,10 +38,11 @@ from tactile_common.errors import InputError
 from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
                                  sample_positions)
-from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses, unusable_refusal
+from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_press, early_press, flat_presses,
+                                    unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
-                                  on_corner, too_few_clear)
+                                  on_corner, sure_corner, too_few_clear)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              feasible, nominal_psi, predicted_tangent, retreat_offset, within_curve)
 from tactile_jaw.probing import probe_boundary
@@ -182,6 +183,33 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
     on, off = (on[0] + np.remainder(np.asarray(v, float) - on[0] + math.pi, 2 * math.pi) - math.pi for v in (on, off))
     lo, hi = float(np.min(on)), float(np.max(on))
     return [(float(e), 1.0) if e > hi else (float(e), -1.0) for e in off if e > hi or e < lo]
+
+
+def corner_cones(name: str, touches: list[FeltTouch]) -> list[tuple[float, float]]:
+    """The pad normals at which finger ``name``'s rolls (of ``touches``, every one felt) turned
+    about one corner, as (ψ_lo, ψ_hi) arcs: for each group of rolls that pivoted about points
+    within ``PIVOT_AGAIN_MM`` of each other, each of them sure to be a corner
+    (tactile_jaw.pipeline.sure_corner, the corners whose samples are cleared), the range of
+    their pad lines' ψ. The normals of a convex boundary point form one arc, so every normal
+    between two of that corner's is its normal too: a roll within the range pivots about it
+    again (tactile_jaw.plan.within_cone). X-series lines of bench_explore --finite 20 --anywhere
+    --seed 269: the left pad's guard rolls went on about the corner its earlier rolls had
+    turned about from ψ −131.5 to −86° (rolls at −110°, 2.2 and 3.1 s, blocks 1, 4, 19)."""
+    rolls = [t for t in touches if t.finger == name and not isinstance(t.touch, FlatResult) and t.lines is not None
+             and sure_corner(t, touches)]
+    groups: list[list[FeltTouch]] = []
+    for t in rolls:
+        group = next((g for g in groups if any(math.dist(t.corner, o.corner) <= PIVOT_AGAIN_MM for o in g)), None)
+        if group is None:
+            groups.append([t])
+        else:
+            group.append(t)
+    cones = []
+    for group in groups:
+        psi = np.concatenate([np.asarray(t.lines.psi, dtype=float).ravel() for t in group])
+        psi = psi[0] + np.remainder(psi - psi[0] + math.pi, 2 * math.pi) - math.pi  # unwrapped about the first
+        cones.append((float(np.min(psi)), float(np.max(psi))))
+    return cones
 
 
 def unrolled_finger(active, out: Exploration, probes, deferred: set[str], roll_at) -> str | None:
@@ -567,6 +595,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     def limits(name):  # where the finger's rolls so far left the curved part
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
+    def plan_psi(f):  # the planner's next roll of finger f: within the curve felt, not about a corner felt
+        return choose_psi(f, model, settings, used[f.name], limits(f.name), corner_cones(f.name, out.touches))
+
     deferred: set[str] = set()  # fingers a stop for want of reach waited for (unrolled_finger), once each
     no_curve: set[int] = set()  # presses whose scans rolled on no curved part (their id; scanned_curve)
     sided: set[str] = set()  # fingers sent to a closed answer's other side once (other_side_aim)
@@ -586,7 +617,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             # unless a finger rolls again beside a corner, where a press's scan felt the curve, or wider where
             # a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157: its tight ends)
             waiting = unrolled_before_flat(cfg, out, probes, off_curve,
-                                           lambda f: choose_psi(f, model, settings, used[f.name], limits(f.name)))
+                                           plan_psi)
             if waiting is None:
                 say(f"none of {sum(not isinstance(t.touch, FlatResult) for t in out.touches)} rolling touches was "
                     f"usable clear of the corners: no curved part within reach of the pads")
@@ -630,8 +661,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 psi, point, span = _follow_hint(hints.pop(f.name), f.name, from_hint, aimed_at, say)
             else:
                 later = active[active.index(f) + 1:]
-                others_roll = bool(plans) or any(g.name in hints or choose_psi(g, model, settings, used[g.name], limits(g.name))
-                                                 is not None for g in later)
+                others_roll = bool(plans) or any(g.name in hints or plan_psi(g) is not None for g in later)
                 if (not out.used and not pressed and pressing is None and others_roll  # another finger rolls meanwhile
                         and len(cfg.fingers) <= len(out.touches) + beside and len(out.touches) < FLAT_AFTER_TOUCHES):
                     plan = early_press(jaw, f.name, model, out, index + len(plans), emit, spent)
@@ -647,7 +677,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                     span *= settings.roll_span_rad
                     wider.add(index + len(plans))
                 else:
-                    psi = choose_psi(f, model, settings, used[f.name], limits(f.name))
+                    psi = plan_psi(f)
                     side = None
                     if (psi is None and undecided is not None and undecided[1].kind == "imprecise"
                             and f.name not in sided and not any(t.finger == f.name for t in out.used)):
@@ -668,8 +698,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             used[f.name].append(psi)
             plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent, point,
                                         span)
-        if set(plans) == set(again) and all(choose_psi(cfg.finger(n), model, settings, used[n], limits(n)) is None
-                                            for n in again):
+        if set(plans) == set(again) and all(plan_psi(cfg.finger(n)) is None for n in again):
             aside.difference_update(again.values())  # only presses of a seated face, and no finger can roll
             plans = {}  # again: the flat phase makes them and decides (nothing to guard against any more)
         if not plans:
@@ -717,7 +746,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
                                                         "off it", kind="curve")
             if off_curve[name] == OFF_CURVE_RETIRE and felt.off_curve and rolls_on_within(
-                    name, out.used, choose_psi(cfg.finger(name), model, settings, used[name], limits(name))):
+                    name, out.used, plan_psi(cfg.finger(name))):
                 off_curve[name] -= 1
                 say(f"{name}: its last {OFF_CURVE_RETIRE} touches left the curved part it felt: it rolls on short of "
                     f"where they left it")
@@ -791,7 +820,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                                         lambda: beyond_resolution(recognize_touches, recognition, why, usable,
                                                                   settings.touches))
             other = None if out.stopped is None else unrolled_finger(
-                active, out, probes, deferred, lambda f: choose_psi(f, model, settings, used[f.name], limits(f.name)))
+                active, out, probes, deferred, plan_psi)
             if other is not None:  # its side of the object first: rolls on one side alone leave the rivals
                 deferred.add(other)
                 probes.queues[other] = []
