@@ -25,13 +25,13 @@ docs/exploration.md.
 from __future__ import annotations
 
 import math
-from typing import Any, Callable, Container
+from typing import Any, Callable, Container, Sequence
 
 import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
-from hand_driver.flat_press import FlatResult
+from hand_driver.flat_press import SEAT_TOL_MM, FlatResult
 from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
 from recognizer.curves import CURVES
 from tactile_common.errors import InputError
@@ -44,7 +44,8 @@ from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, cl
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
                                   on_corner, sure_corner, too_few_clear)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
-                             feasible, nominal_psi, predicted_tangent, retreat_offset, within_curve)
+                             feasible, nominal_psi, predicted_tangent, probe_face_contact, retreat_offset,
+                             within_curve)
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
 from tactile_jaw.separation import jaw_ticks_per_rev
@@ -232,9 +233,11 @@ def unrolled_finger(active, out: Exploration, probes, deferred: set[str], roll_a
     return None
 
 
-def unrolled_before_flat(cfg, out: Exploration, probes, off_curve: dict[str, int], roll_at) -> str | None:
+def unrolled_before_flat(cfg, out: Exploration, probes, off_curve: dict[str, int], roll_at,
+                         pressed: Sequence[FeltTouch] = ()) -> str | None:
     """The finger the flat presses wait for (:func:`unrolled_finger`): not retired
-    (``OFF_CURVE_RETIRE``), its probes met the object on its pad's face, it has made no rolling
+    (``OFF_CURVE_RETIRE``), its probes met the object on its pad's face, and not only on the face
+    its presses (of ``pressed``) seated on (:func:`probes_on_face`), it has made no rolling
     touch at all and the planner has one for it (``roll_at``). The other finger's rolls all fell
     on corners or a closing segment, which on a finite curved object is the side facing that
     finger; the side this one probed may be the curved part (P semicubical 126 of bench_explore
@@ -243,8 +246,27 @@ def unrolled_before_flat(cfg, out: Exploration, probes, off_curve: dict[str, int
     presses found no seat, and the move named turned the closing segment further toward the
     right pad). None when every such finger rolled: then a block's presses start as before."""
     rolled = {t.finger for t in out.touches if not isinstance(t.touch, FlatResult)}
+    rolled |= {f.name for f in cfg.fingers if probes_on_face(cfg, f.name, out.probes, pressed)}
     active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
     return unrolled_finger(active, out, probes, rolled, roll_at)
+
+
+def probes_on_face(cfg, name: str, probes: Sequence[FeltTouch], pressed: Sequence[FeltTouch]) -> bool:
+    """Whether finger ``name``'s probes that met the object on its pad's face (of ``probes``;
+    tactile_jaw.plan.probe_face_contact) met only the face its first seated press (of
+    ``pressed``) found, or that face's supports: each of their pad lines is that face's support
+    line at its normal, d = min(n·P, n·Q) within ``SEAT_TOL_MM`` (a line farther out rests on
+    boundary beyond the face). Such probes say nothing of a curved part, and the finger need not
+    roll before the flat presses answer: X-series lines 1, 4, 9, 19 of bench_explore --finite 20
+    --anywhere --seed 269, whose right pad, its 3 seated presses done, was held to a roll of 3.4–4.1
+    s that pivoted about its face's end (the run 27.8–29.0 s). False without a seated face."""
+    face = next((t.face for t in pressed if t.finger == name and t.face is not None), None)
+    if face is None:
+        return False
+    lines = [s.line for t in probes if t.finger == name and probe_face_contact(cfg, t) is not None
+             for s in t.touch.samples]
+    return all(abs(float(ln.d) - min(float(ln.normal @ face.p), float(ln.normal @ face.q))) <= SEAT_TOL_MM
+               for ln in lines)
 
 
 def unrolled_places(cfg, out: Exploration, recognition) -> list[tuple[float, float, float]]:
@@ -616,8 +638,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 h.kind in ("corner", "scan") or (h.kind == "wider" and out.used) for h in hints.values()):
             # unless a finger rolls again beside a corner, where a press's scan felt the curve, or wider where
             # a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157: its tight ends)
-            waiting = unrolled_before_flat(cfg, out, probes, off_curve,
-                                           plan_psi)
+            waiting = unrolled_before_flat(cfg, out, probes, off_curve, plan_psi, pressed)
             if waiting is None:
                 say(f"none of {sum(not isinstance(t.touch, FlatResult) for t in out.touches)} rolling touches was "
                     f"usable clear of the corners: no curved part within reach of the pads")
