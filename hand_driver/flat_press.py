@@ -316,10 +316,10 @@ def _slid_past(seq: list[kin.PadLine], b: int, tol_mm: float) -> bool:
 
 def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first_turn: int,
               allowed: Callable[[float], bool], toward: np.ndarray | None = None,
-              tol_mm: float = SEAT_TOL_MM, least: float = PIVOT_PART_FRACTION) -> float | None:
+              tol_mm: float = SEAT_TOL_MM) -> float | None:
     """The step index of the press's next approach (module docstring, step 2), given the
     steps ``ks`` taken (increasing) and their pad lines; ``allowed(k)`` says whether step k
-    may be tried (``toward``, ``least``: :func:`lowering_turn`'s). None when neither end can grow."""
+    may be tried. None when neither end can grow."""
     fill = sliding_fill(ks, lines, allowed, tol_mm)
     if fill is not None:
         return fill
@@ -327,11 +327,11 @@ def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first
     if len(ks) == 1:
         order = [first_turn, -first_turn]
     elif len(ks) == 2 or through_lo == len(ks):  # all through one point: turn about it
-        turn = lowering_turn(lines[-1], line_point(lines)[0], length_mm, toward, least) or first_turn
+        turn = lowering_turn(lines[-1], line_point(lines)[0], length_mm, toward) or first_turn
         order = [turn, -turn]
     else:
-        hi = lowering_turn(lines[-1], kin.crossing(lines[-2], lines[-1]), length_mm, toward, least)
-        lo = lowering_turn(lines[0], kin.crossing(lines[0], lines[1]), length_mm, toward, least)
+        hi = lowering_turn(lines[-1], kin.crossing(lines[-2], lines[-1]), length_mm, toward)
+        lo = lowering_turn(lines[0], kin.crossing(lines[0], lines[1]), length_mm, toward)
         if hi == 1:
             order = [1, -1]
         elif lo == -1:
@@ -357,14 +357,12 @@ def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first
 def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: int, d_start: float,
                travel_mm: float, toward=None, on_event: Callable[[dict], None] | None = None,
                give_up: Callable[[], str | None] | None = None,
-               interrupt: Callable[[], str | None] | None = None, on_face: bool = False) -> Motion:
+               interrupt: Callable[[], str | None] | None = None) -> Motion:
     """Seat the pad flat on the face of the object before it and press it there (module
     docstring): a guarded approach at ``psi_start`` from ``d_start`` (at most
     ``travel_mm``), the pad turned in FLAT_STEP_DEG steps toward the seat (the first one by
     ``first_turn``, ±1; about a corner under the pad's middle, the part toward the point
-    ``toward`` lowered: :func:`lowering_turn`; with ``on_face``, ``toward`` is a point of the
-    face to seat on, found before, and the part toward it is lowered about any point under the
-    pad), backed off and re-approached as in a
+    ``toward`` lowered: :func:`lowering_turn`), backed off and re-approached as in a
     rolling touch, until two supports are found, then the seated presses. Outcome ``no_seat`` when the pad turned
     FLAT_MAX_TURN_DEG either way (or to its joint limits) without seating; ``stopped`` when
     ``give_up()`` (asked before each turn while no seat is found) returns a reason, or
@@ -413,8 +411,7 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
             if why is not None:
                 result.outcome, result.message = "stopped", f"{finger}: flat press stopped: {why}"
                 return result
-            k = next_step(sorted(steps), lines, length, first_turn, allowed, toward,
-                          least=0.0 if on_face else PIVOT_PART_FRACTION)
+            k = next_step(sorted(steps), lines, length, first_turn, allowed, toward)
             if k is None:
                 result.outcome = "no_seat"
                 result.message = (f"{finger}: turned {math.degrees(step * (max(steps) - min(steps))):.0f} deg about "

@@ -142,15 +142,9 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
         return seated_other() or (f"no seat found within {FLAT_MAX_S:g} s" if jaw.robot_time() - t0 > FLAT_MAX_S
                                   else None)
 
-    # on a face found (seated before) the press lowers the part of the pad over it about whatever point it
-    # rests on; else, about a corner under the pad's middle, the part toward the workspace centre. P line 7
-    # of bench_explore --finite 20 --anywhere --seed 241: from 2.5 steps before its short face the left pad
-    # rested on the face's corner with the longer part beyond it, and each later press turned that part
-    # down 60 deg first, 10.7-11.0 s a press instead of 2.5 s. Not toward a seat the rolls only show (no
-    # press seated there): P lines 1 and 11 of that run turned toward it and found no seat (refused)
     result = yield from flat_press(jaw, finger, touch_index, start, side if face is not None else 1, d_start, travel,
-                                   toward=model.workspace_center if face is None else face.middle, on_event=emit,
-                                   give_up=give_up, interrupt=seated_other, on_face=face is not None)
+                                   toward=model.workspace_center, on_event=emit, give_up=give_up,
+                                   interrupt=seated_other)
     if result.outcome == "ok":
         seated.add(finger)
     return result
@@ -289,9 +283,8 @@ def _booked(cfg, pressed: Sequence[FeltTouch], emit=None, say=None) -> "_Faces":
 
 @dataclass
 class _Faces:
-    """Each finger's flat-press state: the face its first seated press found (every later press
-    starts from it), its presses that missed, the side of its face its first seated press came
-    from, the seated presses so far."""
+    """Each finger's flat-press state: the face it seated on, its presses that missed, the
+    side of its face its first seated press came from, the seated presses so far."""
 
     faces: dict[str, Any]
     misses: dict[str, int]
@@ -303,11 +296,9 @@ class _Faces:
         """Count ``name``'s press ``felt`` (``seated``: the fingers whose press of the same
         round seated), log it and say it."""
         if felt.problem is None:
-            if self.faces[name] is None:  # the first seat is the reference: a later press's seat may lie a
-                # degree off a short face's normal (a pad end's support), and starting each press from the last
-                # one's walked the seats −63.1 → −61.5° on P line 7 of seed 241, no three on one face (refused)
+            if self.faces[name] is None:
                 self.sides[name] = 1 if math.remainder(felt.face.psi - felt.touch.psi_center, 2 * math.pi) >= 0 else -1
-                self.faces[name] = felt.face
+            self.faces[name] = felt.face
             self.flat.append(felt)
             emit({"type": "event", "kind": "touch_used", "message": f"{name}: flat press {felt.touch.touch} seated",
                   "touch": felt.touch.touch, "samples": felt.to_json()})
