@@ -25,25 +25,27 @@ docs/exploration.md.
 from __future__ import annotations
 
 import math
-from typing import Any, Callable, Container
+from typing import Any, Callable, Container, Sequence
 
 import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
-from hand_driver.flat_press import FlatResult
+from hand_driver.flat_press import SEAT_TOL_MM, FlatResult
 from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
 from recognizer.curves import CURVES
 from tactile_common.errors import InputError
 from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
                                  sample_positions)
-from tactile_jaw.flat_phase import FLAT_AFTER_TOUCHES, beside_press, early_press, flat_presses, unusable_refusal
+from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_press, early_press, flat_presses,
+                                    unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
-                                  on_corner, too_few_clear)
+                                  on_corner, sure_corner, too_few_clear)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
-                             feasible, nominal_psi, predicted_tangent, retreat_offset, within_curve)
+                             feasible, nominal_psi, predicted_tangent, probe_face_contact, retreat_offset,
+                             within_curve)
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
 from tactile_jaw.separation import jaw_ticks_per_rev
@@ -184,6 +186,33 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
     return [(float(e), 1.0) if e > hi else (float(e), -1.0) for e in off if e > hi or e < lo]
 
 
+def corner_cones(name: str, touches: list[FeltTouch]) -> list[tuple[float, float]]:
+    """The pad normals at which finger ``name``'s rolls (of ``touches``, every one felt) turned
+    about one corner, as (ψ_lo, ψ_hi) arcs: for each group of rolls that pivoted about points
+    within ``PIVOT_AGAIN_MM`` of each other, each of them sure to be a corner
+    (tactile_jaw.pipeline.sure_corner, the corners whose samples are cleared), the range of
+    their pad lines' ψ. The normals of a convex boundary point form one arc, so every normal
+    between two of that corner's is its normal too: a roll within the range pivots about it
+    again (tactile_jaw.plan.within_cone). X-series lines of bench_explore --finite 20 --anywhere
+    --seed 269: the left pad's guard rolls went on about the corner its earlier rolls had
+    turned about from ψ −131.5 to −86° (rolls at −110°, 2.2 and 3.1 s, blocks 1, 4, 19)."""
+    rolls = [t for t in touches if t.finger == name and not isinstance(t.touch, FlatResult) and t.lines is not None
+             and sure_corner(t, touches)]
+    groups: list[list[FeltTouch]] = []
+    for t in rolls:
+        group = next((g for g in groups if any(math.dist(t.corner, o.corner) <= PIVOT_AGAIN_MM for o in g)), None)
+        if group is None:
+            groups.append([t])
+        else:
+            group.append(t)
+    cones = []
+    for group in groups:
+        psi = np.concatenate([np.asarray(t.lines.psi, dtype=float).ravel() for t in group])
+        psi = psi[0] + np.remainder(psi - psi[0] + math.pi, 2 * math.pi) - math.pi  # unwrapped about the first
+        cones.append((float(np.min(psi)), float(np.max(psi))))
+    return cones
+
+
 def unrolled_finger(active, out: Exploration, probes, deferred: set[str], roll_at) -> str | None:
     """The first of the ``active`` fingers (not in ``deferred``) whose probes met the object's
     face (``probes.faces``) and that has made no usable roll yet but has one to make
@@ -204,9 +233,11 @@ def unrolled_finger(active, out: Exploration, probes, deferred: set[str], roll_a
     return None
 
 
-def unrolled_before_flat(cfg, out: Exploration, probes, off_curve: dict[str, int], roll_at) -> str | None:
+def unrolled_before_flat(cfg, out: Exploration, probes, off_curve: dict[str, int], roll_at,
+                         pressed: Sequence[FeltTouch] = ()) -> str | None:
     """The finger the flat presses wait for (:func:`unrolled_finger`): not retired
-    (``OFF_CURVE_RETIRE``), its probes met the object on its pad's face, it has made no rolling
+    (``OFF_CURVE_RETIRE``), its probes met the object on its pad's face, and not only on the face
+    its presses (of ``pressed``) seated on (:func:`probes_on_face`), it has made no rolling
     touch at all and the planner has one for it (``roll_at``). The other finger's rolls all fell
     on corners or a closing segment, which on a finite curved object is the side facing that
     finger; the side this one probed may be the curved part (P semicubical 126 of bench_explore
@@ -215,8 +246,27 @@ def unrolled_before_flat(cfg, out: Exploration, probes, off_curve: dict[str, int
     presses found no seat, and the move named turned the closing segment further toward the
     right pad). None when every such finger rolled: then a block's presses start as before."""
     rolled = {t.finger for t in out.touches if not isinstance(t.touch, FlatResult)}
+    rolled |= {f.name for f in cfg.fingers if probes_on_face(cfg, f.name, out.probes, pressed)}
     active = [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE]
     return unrolled_finger(active, out, probes, rolled, roll_at)
+
+
+def probes_on_face(cfg, name: str, probes: Sequence[FeltTouch], pressed: Sequence[FeltTouch]) -> bool:
+    """Whether finger ``name``'s probes that met the object on its pad's face (of ``probes``;
+    tactile_jaw.plan.probe_face_contact) met only the face its first seated press (of
+    ``pressed``) found, or that face's supports: each of their pad lines is that face's support
+    line at its normal, d = min(n·P, n·Q) within ``SEAT_TOL_MM`` (a line farther out rests on
+    boundary beyond the face). Such probes say nothing of a curved part, and the finger need not
+    roll before the flat presses answer: X-series lines 1, 4, 9, 19 of bench_explore --finite 20
+    --anywhere --seed 269, whose right pad, its 3 seated presses done, was held to a roll of 3.4–4.1
+    s that pivoted about its face's end (the run 27.8–29.0 s). False without a seated face."""
+    face = next((t.face for t in pressed if t.finger == name and t.face is not None), None)
+    if face is None:
+        return False
+    lines = [s.line for t in probes if t.finger == name and probe_face_contact(cfg, t) is not None
+             for s in t.touch.samples]
+    return all(abs(float(ln.d) - min(float(ln.normal @ face.p), float(ln.normal @ face.q))) <= SEAT_TOL_MM
+               for ln in lines)
 
 
 def unrolled_places(cfg, out: Exploration, recognition) -> list[tuple[float, float, float]]:
@@ -567,6 +617,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     def limits(name):  # where the finger's rolls so far left the curved part
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
+    def plan_psi(f):  # the planner's next roll of finger f: within the curve felt, not about a corner felt
+        return choose_psi(f, model, settings, used[f.name], limits(f.name), corner_cones(f.name, out.touches))
+
     deferred: set[str] = set()  # fingers a stop for want of reach waited for (unrolled_finger), once each
     no_curve: set[int] = set()  # presses whose scans rolled on no curved part (their id; scanned_curve)
     sided: set[str] = set()  # fingers sent to a closed answer's other side once (other_side_aim)
@@ -585,8 +638,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 h.kind in ("corner", "scan") or (h.kind == "wider" and out.used) for h in hints.values()):
             # unless a finger rolls again beside a corner, where a press's scan felt the curve, or wider where
             # a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157: its tight ends)
-            waiting = unrolled_before_flat(cfg, out, probes, off_curve,
-                                           lambda f: choose_psi(f, model, settings, used[f.name], limits(f.name)))
+            waiting = unrolled_before_flat(cfg, out, probes, off_curve, plan_psi, pressed)
             if waiting is None:
                 say(f"none of {sum(not isinstance(t.touch, FlatResult) for t in out.touches)} rolling touches was "
                     f"usable clear of the corners: no curved part within reach of the pads")
@@ -630,8 +682,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 psi, point, span = _follow_hint(hints.pop(f.name), f.name, from_hint, aimed_at, say)
             else:
                 later = active[active.index(f) + 1:]
-                others_roll = bool(plans) or any(g.name in hints or choose_psi(g, model, settings, used[g.name], limits(g.name))
-                                                 is not None for g in later)
+                others_roll = bool(plans) or any(g.name in hints or plan_psi(g) is not None for g in later)
                 if (not out.used and not pressed and pressing is None and others_roll  # another finger rolls meanwhile
                         and len(cfg.fingers) <= len(out.touches) + beside and len(out.touches) < FLAT_AFTER_TOUCHES):
                     plan = early_press(jaw, f.name, model, out, index + len(plans), emit, spent)
@@ -647,7 +698,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                     span *= settings.roll_span_rad
                     wider.add(index + len(plans))
                 else:
-                    psi = choose_psi(f, model, settings, used[f.name], limits(f.name))
+                    psi = plan_psi(f)
                     side = None
                     if (psi is None and undecided is not None and undecided[1].kind == "imprecise"
                             and f.name not in sided and not any(t.finger == f.name for t in out.used)):
@@ -668,8 +719,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             used[f.name].append(psi)
             plans[f.name] = _touch_plan(jaw, f.name, model, psi, settings, index + len(plans), emit, spent, point,
                                         span)
-        if set(plans) == set(again) and all(choose_psi(cfg.finger(n), model, settings, used[n], limits(n)) is None
-                                            for n in again):
+        if set(plans) == set(again) and all(plan_psi(cfg.finger(n)) is None for n in again):
             aside.difference_update(again.values())  # only presses of a seated face, and no finger can roll
             plans = {}  # again: the flat phase makes them and decides (nothing to guard against any more)
         if not plans:
@@ -717,7 +767,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 hints[name] = Aim(*felt.curve_at, name, "where its last roll felt the curved part before it ran "
                                                         "off it", kind="curve")
             if off_curve[name] == OFF_CURVE_RETIRE and felt.off_curve and rolls_on_within(
-                    name, out.used, choose_psi(cfg.finger(name), model, settings, used[name], limits(name))):
+                    name, out.used, plan_psi(cfg.finger(name))):
                 off_curve[name] -= 1
                 say(f"{name}: its last {OFF_CURVE_RETIRE} touches left the curved part it felt: it rolls on short of "
                     f"where they left it")
@@ -791,7 +841,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                                         lambda: beyond_resolution(recognize_touches, recognition, why, usable,
                                                                   settings.touches))
             other = None if out.stopped is None else unrolled_finger(
-                active, out, probes, deferred, lambda f: choose_psi(f, model, settings, used[f.name], limits(f.name)))
+                active, out, probes, deferred, plan_psi)
             if other is not None:  # its side of the object first: rolls on one side alone leave the rivals
                 deferred.add(other)
                 probes.queues[other] = []

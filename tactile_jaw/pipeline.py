@@ -591,9 +591,16 @@ def clearing_corners(felt: Sequence[FeltTouch]) -> np.ndarray:
     roll at that place), which is no corner; and the end corners of the closing segments
     rolls crossed (``FeltTouch.segment_corners``): the corners :func:`clear_of_corners`
     clears samples around."""
-    return np.array([t.corner for t in felt if t.corner is not None and clears_around(t.fit)
-                     and not (corner_in_doubt(t.fit) and measured_there(t, felt))]
+    return np.array([t.corner for t in felt if sure_corner(t, felt)]
                     + [p for t in felt for p in t.segment_corners], dtype=float).reshape(-1, 2)
+
+
+def sure_corner(touch: FeltTouch, felt: Sequence[FeltTouch]) -> bool:
+    """Whether ``touch`` pivoted about a corner :func:`clearing_corners` clears around: judged a
+    corner, sure to be one (:func:`clears_around`), and not a corner in doubt that a usable roll of
+    ``felt`` measured as tightly bent boundary there (:func:`measured_there`)."""
+    return (touch.corner is not None and clears_around(touch.fit)
+            and not (corner_in_doubt(touch.fit) and measured_there(touch, felt)))
 
 
 def clears_around(fit: EnvelopeFit) -> bool:

@@ -223,15 +223,30 @@ def within_curve(psi: float, span: float, limits) -> bool:
     return all(side * math.remainder(end - psi, 2 * math.pi) > 0.5 * span for end, side in limits)
 
 
+def within_cone(psi: float, span: float, cones) -> bool:
+    """Whether a roll of ``span`` (rad) about ψ lies wholly within one of the ``cones`` ((ψ_lo,
+    ψ_hi) pairs, ψ_lo ≤ ψ_hi, an arc under 2π: the pad normals at which the finger's support
+    lines passed through one corner, tactile_jaw.explore.corner_cones)."""
+    for lo, hi in cones:
+        start = math.remainder(psi - 0.5 * span - lo, 2 * math.pi)  # from lo to the roll's first orientation
+        if 0.0 <= start and start + span <= hi - lo:
+            return True
+    return False
+
+
 def choose_psi(finger, model: ObjectModel, settings: ExploreSettings, used: list[float],
-               limits=()) -> float | None:
+               limits=(), cones=()) -> float | None:
     """Next pad orientation for ``finger`` (module docstring), None if none is feasible; a
     roll reaches no pad orientation beyond ``limits`` (:func:`within_curve`), where the
-    finger's earlier rolls left the curved part."""
+    finger's earlier rolls left the curved part, and none lies wholly within one of the
+    ``cones`` (:func:`within_cone`): a convex boundary point's normals form one arc, so a roll
+    between two normals at which the pad turned about one corner turns about it again and
+    keeps none of its samples (tactile_jaw.pipeline.clear_of_corners)."""
     nominal = nominal_psi(finger)
     offsets = np.arange(-CANDIDATE_SPREAD_DEG, CANDIDATE_SPREAD_DEG + 1e-9, CANDIDATE_STEP_DEG)
     cands = [nominal + math.radians(o) for o in offsets]
-    ok = [a for a in cands if within_curve(a, settings.roll_span_rad, limits) and feasible(finger, model, a, settings)]
+    ok = [a for a in cands if within_curve(a, settings.roll_span_rad, limits)
+          and not within_cone(a, settings.roll_span_rad, cones) and feasible(finger, model, a, settings)]
     if not ok:
         return None
     if not used:
