@@ -92,6 +92,23 @@ class EnvelopeFit:
     kappa_degree: int  # the degree of d(ψ) κ, κ_s come from (:func:`curvature_degree`)
     #: κ, κ_s at every degree the order rule fitted (tactile_jaw.curvature_pool)
     ladder: CurvatureLadder | None = None
+    #: the next degree's term the contacts' degree leaves out (tactile_jaw.curvature_pool states it)
+    next_term: NextTerm | None = None
+
+
+@dataclass(frozen=True)
+class NextTerm:
+    """The term of d(ψ) one degree above the contacts' degree k: its size c = d^(k+1) (mm/rad^(k+1),
+    the richer fit's, constant over the roll) with its noise variance, and what a unit of it does to
+    the samples the degree-k fit states (``pattern``: rows as ``EnvelopeFit.noise_factor``'s, x…, y…,
+    φ…). The fit of degree k cannot follow it (its least squares leave a degree-(k+1) term's
+    part orthogonal to degree k in the samples: the truncation), and on one roll c is mostly
+    noise; a finger's rolls near one place share it (tactile_jaw.curvature_pool pools it)."""
+
+    degree: int  # k + 1
+    value: float  # c (mm/rad^(k+1))
+    variance: float  # of c, from the readings' noise (the two fits see the same readings)
+    pattern: np.ndarray  # (3n,) the degree-k samples' error per unit c
 
 
 @dataclass(frozen=True)
@@ -187,7 +204,29 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
     return EnvelopeFit(base, float(kappa), float(kappa_s), cov, rho,
                        float(np.sqrt(np.sum(lowest[2] ** 2))), float(np.sum((base.residual / sigma) ** 2)),
                        n - base.degree - 1, np.sqrt(np.sum(across**2, axis=1)), np.sqrt(np.sum(along**2, axis=1)),
-                       factor[3:], sigma, np.sqrt(np.sum(fpsi**2, axis=1)), curved.degree, ladder)
+                       factor[3:], sigma, np.sqrt(np.sum(fpsi**2, axis=1)), curved.degree, ladder,
+                       next_term(fit_of, base.degree, top) if base.degree + 1 < n else None)
+
+
+def next_term(fit_of, k: int, top: int) -> NextTerm | None:
+    """:class:`NextTerm` of the degree-k fit against degree k + 1 (``fit_of`` as in
+    :func:`choose_degree`); None where the readings do not determine k + 1 (above ``top``). With
+    ψ and the origin held both fits are linear in the support values d_i, and both reproduce a
+    polynomial of degree ≤ k and leave the degree-(k+1) fit's residuals alone, so the samples'
+    difference Δ = c·e exactly, e the pattern of u_i = (ψ_i − ψ_m)^(k+1)/(k+1)!:
+    (∂/∂d of degree k − of degree k + 1)·u; c = eᵀΔ/eᵀe, its noise eᵀ(F_k − F_(k+1))/eᵀe."""
+    if k + 1 > top:
+        return None
+    (c, f), (c_hi, f_hi) = fit_of(k), fit_of(k + 1)
+    n = c.x.size
+    u = (c.psi - c.psi[n // 2]) ** (k + 1) / math.factorial(k + 1)
+    pattern = (_envelope_jacobian(c)[1] - _envelope_jacobian(c_hi)[1])[3:] @ u
+    diff, dfac = _difference((c, f), (c_hi, f_hi))
+    e = pattern[: 2 * n]
+    norm = float(e @ e)
+    if not (norm > 0.0 and np.isfinite(norm)):
+        return None
+    return NextTerm(k + 1, float(e @ diff) / norm, float(np.sum((e @ dfac) ** 2)) / norm**2, pattern)
 
 
 #: a richer degree of d(ψ) is taken when its contacts differ from the present degree's by
