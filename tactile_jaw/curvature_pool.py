@@ -124,26 +124,29 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
 
 
 def _truncation_columns(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray]]:
-    """The samples' truncation of one finger's ``rolls`` (tactile_jaw.envelope.NextTerm: the term
-    one degree above each roll's contacts' degree k, c = d^(k+1) of the richer fit, with its
-    noise v) pooled per degree across the rolls as κ's bias is (:func:`pool`, :func:`corrected`):
-    each roll's expected squared c, b̂² + what the pooled estimate leaves, stated as one more
-    noise-factor column √(b̂² + left)·e (e its pattern: a correlated error along the roll). One
-    roll's c is mostly its noise (the richer degree's contacts are 2–3× noisier); a finger
-    rolls again near one place, where c is systematic. Returns (index in ``rolls``, column)."""
-    by_degree: dict[int, list[int]] = {}
+    """The samples' truncation of one finger's ``rolls`` (tactile_jaw.envelope.NextTerm: the terms
+    one and two degrees above each roll's contacts' degree k, c = d^(j) of the richer fit, with
+    its noise v) pooled per degree j across the rolls as κ's bias is (:func:`pool`,
+    :func:`corrected`): each roll's expected squared c, b̂² + what the pooled estimate leaves,
+    stated as one more noise-factor column √(b̂² + left)·e per term (e its pattern: a correlated
+    error along the roll). One roll's c is mostly its noise (the richer degree's contacts are
+    2–3× noisier); a finger rolls again near one place, where c is systematic. Returns (index in
+    ``rolls``, column)."""
+    by_degree: dict[int, list[tuple[int, Any]]] = {}
     for i, t in enumerate(rolls):
-        term = getattr(t.fit, "next_term", None)
-        if term is not None and term.variance > 0.0 and getattr(t.samples, "noise_factor", None) is not None:
-            by_degree.setdefault(term.degree, []).append(i)
+        if getattr(t.samples, "noise_factor", None) is None:
+            continue
+        for term in getattr(t.fit, "next_terms", ()):
+            if term.variance > 0.0:
+                by_degree.setdefault(term.degree, []).append((i, term))
     columns = []
     for members in by_degree.values():
-        terms = [rolls[i].fit.next_term for i in members]
-        value, var = np.array([t.value for t in terms]), np.array([t.variance for t in terms])
+        value = np.array([term.value for _, term in members])
+        var = np.array([term.variance for _, term in members])
         bias = pool(value, var, tested=False)
         if bias is None:
             continue
-        for n, (i, term) in enumerate(zip(members, terms)):
+        for n, (i, term) in enumerate(members):
             columns.append((i, math.sqrt(expected_square(value, var, bias, n)) * term.pattern))
     return columns
 
