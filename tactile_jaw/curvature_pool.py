@@ -47,7 +47,7 @@ from tactile_jaw.envelope import TRUNCATION_ALPHA
 LINEAR_SHARE = REL_SIGMA_CHECK
 
 
-def pool(diff: np.ndarray, var: np.ndarray) -> tuple[float, float, np.ndarray] | None:
+def pool(diff: np.ndarray, var: np.ndarray, tested: bool = True) -> tuple[float, float, np.ndarray] | None:
     """The truncation bias of one degree against the next over a finger's rolls (``diff`` their
     differences Δ, ``var`` those differences' noise variances v) as b ~ N(μ, s²), by the method of
     moments (DerSimonian–Laird: s² the spread of Δ beyond their noise, μ̂ their mean weighted by
@@ -56,7 +56,7 @@ def pool(diff: np.ndarray, var: np.ndarray) -> tuple[float, float, np.ndarray] |
     diff, var = np.asarray(diff, dtype=float), np.asarray(var, dtype=float)
     if not (np.all(var > 0.0) and np.all(np.isfinite(diff)) and np.all(np.isfinite(var))):
         return None
-    if float(np.sum(diff**2 / var)) <= stats.chi2.isf(TRUNCATION_ALPHA, diff.size):
+    if tested and float(np.sum(diff**2 / var)) <= stats.chi2.isf(TRUNCATION_ALPHA, diff.size):
         return None
     weight = 1.0 / var
     centre = float(np.sum(weight * diff) / np.sum(weight))
@@ -116,7 +116,50 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
             for i in stating:
                 if any(c is not None for c in components[i]):
                     out[i] = _taken_out(touches[i], k, components[i])
+        for i, column in _truncation_columns([touches[i] for i in members]):
+            s = out[members[i]].samples
+            out[members[i]] = replace(out[members[i]], samples=replace(
+                s, noise_factor=np.hstack([s.noise_factor, column[:, None]])))
     return out
+
+
+def _truncation_columns(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray]]:
+    """The samples' truncation of one finger's ``rolls`` (tactile_jaw.envelope.NextTerm: the terms
+    one and two degrees above each roll's contacts' degree k, c = d^(j) of the richer fit, with
+    its noise v) pooled per degree j across the rolls as κ's bias is (:func:`pool`,
+    :func:`corrected`): each roll's expected squared c, b̂² + what the pooled estimate leaves,
+    stated as one more noise-factor column √(b̂² + left)·e per term (e its pattern: a correlated
+    error along the roll). One roll's c is mostly its noise (the richer degree's contacts are
+    2–3× noisier); a finger rolls again near one place, where c is systematic. Returns (index in
+    ``rolls``, column)."""
+    by_degree: dict[int, list[tuple[int, Any]]] = {}
+    for i, t in enumerate(rolls):
+        if getattr(t.samples, "noise_factor", None) is None:
+            continue
+        for term in getattr(t.fit, "next_terms", ()):
+            if term.variance > 0.0:
+                by_degree.setdefault(term.degree, []).append((i, term))
+    columns = []
+    for members in by_degree.values():
+        value = np.array([term.value for _, term in members])
+        var = np.array([term.variance for _, term in members])
+        bias = pool(value, var, tested=False)
+        if bias is None:
+            continue
+        for n, (i, term) in enumerate(members):
+            columns.append((i, math.sqrt(expected_square(value, var, bias, n)) * term.pattern))
+    return columns
+
+
+def expected_square(diff: np.ndarray, var: np.ndarray, pooled_bias: tuple[float, float, np.ndarray], n: int) -> float:
+    """E[b_n²] of roll ``n``'s bias given the finger's rolls (``diff``, ``var`` as in :func:`pool`):
+    b̂² (b̂ = (1 − w)μ̂ + wΔ_n, w = s²/(s² + v_n)) plus its posterior variance w·v_n + (1 − w)²·var μ̂,
+    var μ̂ = 1/Σ 1/(v_j + s²). A finger's one roll: Δ_n² + v_n, its bias as large as its own
+    difference allows."""
+    centre, spread, _ = pooled_bias
+    w = spread / (spread + var[n])
+    estimate = (1.0 - w) * centre + w * float(diff[n])
+    return estimate**2 + w * float(var[n]) + (1.0 - w) ** 2 / float(np.sum(1.0 / (var + spread)))
 
 
 def unseen(var: np.ndarray, pooled_bias: tuple[float, float, np.ndarray]) -> tuple[float, float, float]:

@@ -92,6 +92,26 @@ class EnvelopeFit:
     kappa_degree: int  # the degree of d(ψ) κ, κ_s come from (:func:`curvature_degree`)
     #: κ, κ_s at every degree the order rule fitted (tactile_jaw.curvature_pool)
     ladder: CurvatureLadder | None = None
+    #: the next degrees' terms the contacts' degree leaves out (tactile_jaw.curvature_pool states them)
+    next_terms: tuple[NextTerm, ...] = ()
+
+
+@dataclass(frozen=True)
+class NextTerm:
+    """A term of d(ψ) above the contacts' degree k (degree j = k + 1 or k + 2): its size c = d^(j)
+    (mm/rad^j, the richer fit's, constant over the roll) with its noise variance, and what a unit
+    of it does to the samples the degree-k fit states (``pattern``: rows as
+    ``EnvelopeFit.noise_factor``'s, x…, y…, φ…). The fit of degree k cannot follow it (its least
+    squares leave a degree-j term's part orthogonal to degree k in the samples: the truncation),
+    and on one roll c is mostly noise; a finger's rolls near one place share it
+    (tactile_jaw.curvature_pool pools it). Both k + 1 and k + 2: where a roll is symmetric about
+    a vertex of the boundary d(ψ) is even there and its odd term vanishes (an ellipse's flat side:
+    the quartic kept, its quintic term ~0, its sextic term 0.2–0.3 µm across, 1–2 σ)."""
+
+    degree: int  # j: k + 1 or k + 2
+    value: float  # c (mm/rad^j)
+    variance: float  # of c, from the readings' noise (the two fits see the same readings)
+    pattern: np.ndarray  # (3n,) the degree-k samples' error per unit c
 
 
 @dataclass(frozen=True)
@@ -187,7 +207,33 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
     return EnvelopeFit(base, float(kappa), float(kappa_s), cov, rho,
                        float(np.sqrt(np.sum(lowest[2] ** 2))), float(np.sum((base.residual / sigma) ** 2)),
                        n - base.degree - 1, np.sqrt(np.sum(across**2, axis=1)), np.sqrt(np.sum(along**2, axis=1)),
-                       factor[3:], sigma, np.sqrt(np.sum(fpsi**2, axis=1)), curved.degree, ladder)
+                       factor[3:], sigma, np.sqrt(np.sum(fpsi**2, axis=1)), curved.degree, ladder,
+                       next_terms(fit_of, base.degree, top))
+
+
+def next_terms(fit_of, k: int, top: int) -> tuple[NextTerm, ...]:
+    """:class:`NextTerm` of degrees j = k + 1 and k + 2 of the degree-k fit (``fit_of`` as in
+    :func:`choose_degree`), each from its comparison with the fit of degree j; none where the
+    readings do not determine j (above ``top``) or are fewer than j + 1.
+    With ψ and the origin held both fits are linear in the support values d_i, and both reproduce
+    a polynomial of degree ≤ k and leave the degree-j fit's residuals alone, so the samples'
+    difference is Δ = Σ_i c_i e_i exactly over the terms i = k + 1 … j, e_i the pattern of
+    u_i = (ψ − ψ_m)^i / i! ((∂/∂d of degree k − of degree j)·u_i): c by least squares on the
+    e_i (x, y rows), its noise from the difference of the two noise factors; the term j is c_j."""
+    n = fit_of(k)[0].x.size
+    out = []
+    for j in range(k + 1, min(k + 2, top, n - 1) + 1):
+        (c, f), (c_hi, f_hi) = fit_of(k), fit_of(j)
+        jac = (_envelope_jacobian(c)[1] - _envelope_jacobian(c_hi)[1])[3:]
+        shifted = c.psi - c.psi[n // 2]
+        patterns = np.stack([jac @ (shifted**i / math.factorial(i)) for i in range(k + 1, j + 1)], axis=1)
+        diff, dfac = _difference((c, f), (c_hi, f_hi))
+        e = patterns[: 2 * n]
+        if not (np.all(np.isfinite(e)) and np.linalg.matrix_rank(e) == e.shape[1]):
+            break
+        solve = np.linalg.pinv(e)[-1]  # the term j's row of the least squares
+        out.append(NextTerm(j, float(solve @ diff), float(np.sum((solve @ dfac) ** 2)), patterns[:, -1]))
+    return tuple(out)
 
 
 #: a richer degree of d(ψ) is taken when its contacts differ from the present degree's by

@@ -238,7 +238,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
         if rough(smooth) is not None:  # fine encoders: a constant ρ does not explain the lines
             return out(f"{finger}: arc length not increasing, and {rough(smooth)}", c, u, fit, off_curve=True)
         fit = replace(fit, contacts=smooth.contacts, sigma_across=smooth.sigma_across,
-                      sigma_along=smooth.sigma_along, noise_factor=smooth.noise_factor)
+                      sigma_along=smooth.sigma_along, noise_factor=smooth.noise_factor, next_terms=smooth.next_terms)
         c = fit.contacts
         u = _pad_u(lines, c)
     if no_advance(c.s) is not None:  # as the recognizer refuses them (a Δs of 2e-16 mm was not ≤ 0)

@@ -261,7 +261,10 @@ def test_true_class_chi2_is_calibrated():
         if len(felt) < 3:
             continue
         top = recognize_ellipse(felt).ranking[0]
-        assert top.dof == sum(_rank(f.samples.noise_factor) - f.contacts.x.size for f in felt) - 5
+        # the recognizer pools the touches (tactile_jaw.curvature_pool: the next degrees' terms, one
+        # noise-factor column each): the ranks it counts are the pooled touches'
+        assert top.dof == sum(_rank(p.samples.noise_factor) - f.contacts.x.size
+                              for f, p in zip(felt, recognize_ellipse.pooled(felt))) - 5
         assert top.p_value > 1e-3, (a, b, top.chi2, top.dof)
         ratios.append(top.chi2 / top.dof)
     assert 0.45 < np.mean(ratios) < 1.3, ratios
