@@ -79,7 +79,7 @@ def test_the_flat_phase_feels_a_bulged_press_again_when_the_second_comes(presses
     """The flat phase feels each touch once (``checked``), but a bulged press shows a curve
     only with the next: the first is felt again in the round of the second."""
     config, felt = presses
-    out = SimpleNamespace(touches=[felt[8], felt[12]], used=None, recognition=None, stopped=None)
+    out = SimpleNamespace(touches=[felt[8], felt[12]], probes=[], used=None, recognition=None, stopped=None)
     checked: set[int] = set()
     said: list[str] = []
     settings = ExploreSettings.from_profile("balanced")
