@@ -37,6 +37,7 @@ import numpy as np
 from scipy import stats
 
 from recognizer.intervals import REL_SIGMA_CHECK
+from recognizer.limits import MIN_NOISE
 from tactile_jaw.envelope import TRUNCATION_ALPHA
 
 #: a roll joins its finger's pool when the noise of its difference Δ in κ is within this share of
@@ -147,7 +148,10 @@ def _truncation_columns(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray]]:
         if bias is None:
             continue
         for n, (i, term) in enumerate(members):
-            columns.append((i, math.sqrt(expected_square(value, var, bias, n)) * term.pattern))
+            column = math.sqrt(expected_square(value, var, bias, n)) * term.pattern
+            # A pattern's node (a vertex-centred roll's middle) comes out ~1e-17, not 0: below what
+            # any instrument resolves, which a written touches file may not state (recognizer.touches).
+            columns.append((i, np.where(np.abs(column) < MIN_NOISE, 0.0, column)))
     return columns
 
 
