@@ -345,10 +345,11 @@ class JointBus:
     def _torque_off_best_effort(self) -> None:
         try:
             self._port.is_using = False
-            for _ in range(2):  # broadcast: no status; send twice against a lost packet
-                self._write_field_raw("torque_enable", [0] * len(self.ids))
-            if self.watchdog_ms:
-                self._write_field_raw("bus_watchdog", [0] * len(self.ids))
+            # broadcast: no status; each sent twice against a lost packet (the disarm too: the
+            # clean-clone CI of session 23 once found the watchdog still armed 30 s after close)
+            for name in ("torque_enable", "bus_watchdog") if self.watchdog_ms else ("torque_enable",):
+                for _ in range(2):
+                    self._write_field_raw(name, [0] * len(self.ids))
         except Exception as exc:  # never mask the error that is propagating
             log.warning("torque off on %s failed: %s", self.port_name, exc)
 
