@@ -149,9 +149,10 @@ def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma
         if every and cost0 > HOPELESS_PER_OBS * 3 * d.n and not d.eased:
             continue
         z = model.pack(*z0)
-        if z.tobytes() in tried:
+        key = z.tobytes()
+        if key in tried:
             continue
-        tried.add(z.tobytes())
+        tried.add(key)
         if cost0 > give_up and d.eased:
             z = _eased_start(cls, d, z, cost0)
         z, cost, r, parts = model.solve(z, give_up=give_up)
