@@ -670,7 +670,10 @@ def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: floa
     solution); trust-region reflective where unknowns outnumber residuals; above
     ``SPARSE_UNKNOWNS`` unknowns the trust-region reflective method on the Jacobian as a
     sparse matrix with LSMR steps (each sample's t enters 3 of the residuals: O(m·n) per
-    step where the dense factorization takes O(m·n²))."""
+    step where the dense factorization takes O(m·n²)). Below that the block structure is
+    no lever: at a 3-touch request's 81 × 32, MINPACK's dense QR and step take ~110 µs an
+    iteration (~11 % of a recognition), and a Schur-complement step over the t's in NumPy
+    cost as much and ended its 40 evaluations at a higher χ² (docs/benchmarks.md, session 24)."""
     kw = dict(x_scale="jac", max_nfev=max_nfev, xtol=tol, ftol=tol, gtol=tol)
     if z0.size > SPARSE_UNKNOWNS:
         return optimize.least_squares(fun, z0, jac=lambda z: sparse.csr_matrix(jac(z)), method="trf",
