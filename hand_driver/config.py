@@ -459,6 +459,13 @@ def _declared(obj, keys: tuple[str, ...]) -> dict:
     return {k: _num(getattr(obj, k)) for k in keys if getattr(obj, k)}
 
 
+def states_calibration(cfg: JawConfig) -> bool:
+    """Whether the jaw states what a calibration left of its zeros' errors (some joint's
+    ``zero_sigma_deg``, written by ``tactile calibrate``): without it the stated noise holds the
+    encoders' ticks and backlash only, not the zeros' errors (docs/estimation.md)."""
+    return any(j.zero_sigma_deg > 0.0 for j in cfg.joints)
+
+
 def declares_errors(cfg: JawConfig) -> bool:
     """Whether the jaw declares any servo error (backlash, compliance) for the emulator."""
     return any(j.backlash_deg or j.compliance_deg_per_nm for j in cfg.joints) or any(

@@ -58,6 +58,15 @@ SUBMODELS = frozenset((answer, rival) for answer, rivals in LIMIT_OF.items() for
 #: variants moved 3–5 mm or resized 1.1× (20.6–22.8°): the object ends about 21–23° past the
 #: fitted vertex, so 25° leaves that margin; the aimed touch then meets the corner.
 VERTEX_SIDE_DEG = 25.0
+#: what an answer of a jaw that states no calibration (hand_driver.config.states_calibration)
+#: does not hold. On the P-series jaw's zeros off by 0.06–0.12° (config/jaw-p-truth.yaml, a
+#: tick 3.6e-4°) uncalibrated, circle 22 of bench_explore seed 283 was answered ellipse (a
+#: 17.331, b 17.256 for r 17.319) with only the base joints' zero errors simulated, and no
+#: class fitted with all of them (circles 22, 24, 34): a zero error is common to every touch
+#: of its finger, a bias no stated noise of the readings holds (docs/estimation.md)
+UNCALIBRATED = ("σ's hold the readings' noise only: the jaw config states no calibration (no joint's zero_sigma_deg), "
+                "so its joints' zero errors are in none of them and may make no class fit, or another one; "
+                "calibrate the jaw first (tactile calibrate)")
 #: an answer is decisive only once every shape parameter's standard deviation is at most
 #: the profile's ``decisive_rel_sigma`` of its magnitude (of max(|p|, 1) for the
 #: dimensionless ``DIMENSIONLESS``; a run without a profile: balanced's). ``fast`` (5 samples
@@ -423,13 +432,23 @@ def sample_positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | 
 
 
 def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings,
-                 stopped: str | None = None, ticks_per_rev: int | None = None) -> Recognition:
+                 stopped: str | None = None, ticks_per_rev: int | None = None, calibrated: bool = True) -> Recognition:
     """The answer on the usable touches once exploration ends: the recognizer's class when
     it is decisive (:func:`decide`), else ``unclassified`` with the reason (and ``stopped``,
     why exploration ended undecided and what a person can do, tactile_jaw.choose) and the
     recognizer's ``next_touch``; a wrong class said confidently is worse than a refusal.
+    Not ``calibrated`` (the jaw states no calibration), the reason ends with ``UNCALIBRATED``.
     Replay uses this on the logged touches (and the log's ``stopped_early`` or ``budget_spent``
     event)."""
+    answer = _final(recognize_touches, touches, settings, stopped, ticks_per_rev)
+    if calibrated:
+        return answer
+    return replace(answer, reason=f"{answer.reason}; {UNCALIBRATED}" if answer.reason else UNCALIBRATED)
+
+
+def _final(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings,
+           stopped: str | None, ticks_per_rev: int | None) -> Recognition:
+    """:func:`final_answer` of a calibrated jaw."""
     recognition, why = decide(recognize_touches, touches, settings, ticks_per_rev)
     if recognition.cls == "unclassified" or why is None:
         return recognition

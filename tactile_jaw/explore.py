@@ -30,6 +30,7 @@ from typing import Any, Callable, Container, Sequence
 import numpy as np
 
 from hand_driver import kinematics as kin
+from hand_driver.config import states_calibration
 from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
 from hand_driver.flat_press import SEAT_TOL_MM, FlatResult
 from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
@@ -897,7 +898,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     if out.used:
         usable = cleared()
         try:  # the answer on every usable touch, a refusal unless decisive
-            out.recognition = final_answer(recognize_touches, usable, settings, out.stopped, ticks)
+            out.recognition = final_answer(recognize_touches, usable, settings, out.stopped, ticks,
+                                           states_calibration(cfg))
             out.answers.append(out.recognition.cls)
         except InputError as exc:
             emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})

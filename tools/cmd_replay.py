@@ -70,6 +70,7 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     ``--mcap``."""
     # here, not at the top: tactile --help imports every command module (tools.cli), and these
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
+    from hand_driver.config import states_calibration
     from tactile_jaw.choose import JawReach, last_stop
     from tactile_jaw.decide import final_answer
     from tactile_jaw.flat import is_flat
@@ -114,7 +115,7 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
         try:
             recognition = final_answer(recognize_touches, touches, settings,
                                        stop.get("message") if stop is not None else None,
-                                       jaw_ticks_per_rev(config)).to_json()
+                                       jaw_ticks_per_rev(config), states_calibration(config)).to_json()
         except InputError as exc:  # fewer usable touches than any class needs: the exploration refused
             recognition = too_few_clear(touches, len(usable), exc).to_json() if len(touches) < len(usable) else None
             too_few = str(exc)

@@ -8,10 +8,11 @@ from dataclasses import replace
 import numpy as np
 from scipy import stats
 
+from hand_driver.config import load_config, states_calibration
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Ranked, Recognition
-from tactile_jaw.decide import (DECISIVE_ALPHA, DECISIVE_CHI2, FINER, VERTEX_SIDE_DEG, final_answer, finer_advice,
-                               imprecision, indecision, vertex_sides)
+from tactile_jaw.decide import (DECISIVE_ALPHA, DECISIVE_CHI2, FINER, UNCALIBRATED, VERTEX_SIDE_DEG, final_answer,
+                               finer_advice, imprecision, indecision, vertex_sides)
 from tactile_jaw.settings import ExploreSettings
 
 SETTINGS = ExploreSettings(touches=8, samples_per_touch=9, roll_span_rad=math.radians(30), min_touches=3,
@@ -124,6 +125,28 @@ def test_final_answer_refuses_an_undecided_class():
     assert out.ranking == answers[4].ranking
     answers[3] = rec("circle", ("circle", True, 5.0, 7, 18.0))
     assert final_answer(lambda touches: answers[len(touches)], [{}] * 4, SETTINGS).cls == "circle"
+
+
+def test_an_uncalibrated_jaws_answer_says_what_its_sigmas_do_not_hold():
+    """A zero error is common to every touch of its finger: no stated noise of the readings holds
+    it, so an answer of a jaw that states no calibration says so, right or refused."""
+    right = rec("circle", ("circle", True, 5.0, 7, 18.0))
+    assert final_answer(lambda touches: right, [{}] * 3, SETTINGS).reason is None
+    told = final_answer(lambda touches: right, [{}] * 3, SETTINGS, calibrated=False)
+    assert told.cls == "circle" and told.reason == UNCALIBRATED and "tactile calibrate" in told.reason
+    undecided = rec("circle", ("circle", True, 12.0, 12, 30.0), ("ellipse", True, 9.0, 10, 33.0))
+    refused = final_answer(lambda touches: undecided, [{}] * 3, SETTINGS, calibrated=False)
+    assert refused.cls == "unclassified" and refused.reason.startswith("not decisive after 3 usable touches")
+    assert refused.reason.endswith(f"; {UNCALIBRATED}")
+
+
+def test_states_calibration():
+    assert not states_calibration(load_config("config/jaw-p.yaml"))
+    assert not states_calibration(load_config("config/jaw.yaml"))
+    nominal = load_config("config/jaw-p.yaml")
+    finger = nominal.fingers[1]
+    joints = (finger.joints[0], replace(finger.joints[1], zero_sigma_deg=4e-4))
+    assert states_calibration(replace(nominal, fingers=(nominal.fingers[0], replace(finger, joints=joints))))
 
 
 def test_loose_parameters_are_not_decisive():

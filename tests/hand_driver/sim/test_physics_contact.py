@@ -67,6 +67,22 @@ def test_pad_stops_at_exact_tangency(cls, params, side, t):
     assert info["left"].gap_mm < 0.05 and not info["left"].penetrating
 
 
+@pytest.mark.parametrize("t", [0.1, 0.4, 0.9, 1.7])
+def test_a_fine_jaw_stops_at_tangency_within_a_fraction_of_its_tick(t):
+    """The stop is the last configuration without penetration, so whatever gap the bisection
+    leaves is on one side: a bias in every reading, which must stay far below what the jaw's
+    encoders resolve. The P-series jaw's tick moves its pad ~6e-4 mm; the former 1e-6 rad
+    tolerance left up to 1e-4 mm (its circles' r came out high by ~5e-5 mm, z +1 on average)."""
+    fine = load_config("config/jaw-p.yaml")
+    left = fine.finger("left")
+    world = ContactWorld(fine, _object_touching_at("circle", {"r": 20.0}, "left", t))
+    q_out = kin.ik_line(left, -math.pi / 2, -23.0, contact=(105.0, 23.0))
+    q_in = kin.ik_line(left, -math.pi / 2, -13.0, contact=(105.0, 13.0))
+    q = world.constrain(np.r_[q_out, RIGHT_PARK], np.r_[q_in, RIGHT_PARK])
+    assert not world.penetrates(q, [0])
+    assert float(kin.finger_pad_line(left, q[:2]).d) == pytest.approx(-18.0, abs=2e-6)
+
+
 def test_pad_end_stops_on_a_disk():
     """Edge contact: the fingertip corner pushed radially into a disk stops on its circle."""
     obj = SceneObject("circle", {"r": 20.0}, Pose(0.0, 85.0, 10.0), "left")
