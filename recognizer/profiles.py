@@ -33,9 +33,8 @@ import math
 from dataclasses import dataclass
 from typing import Any, Mapping
 
+from recognizer.estimate import METHODS
 from tactile_common.errors import InputError
-
-ESTIMATORS = ("auto", "central", "poly")
 
 
 @dataclass(frozen=True)
@@ -60,8 +59,8 @@ class Profile:
             raise InputError(f"{where}: samples_per_touch must be >= 3, got {self.samples_per_touch}")
         if not 0.0 < self.roll_span_deg <= 90.0:
             raise InputError(f"{where}: roll_span_deg must be in (0, 90], got {self.roll_span_deg}")
-        if self.estimator not in ESTIMATORS:
-            raise InputError(f"{where}: estimator must be one of {', '.join(ESTIMATORS)}, got {self.estimator!r}")
+        if self.estimator not in METHODS:
+            raise InputError(f"{where}: estimator must be one of {', '.join(METHODS)}, got {self.estimator!r}")
         if not 0.0 < self.alpha < 0.5:
             raise InputError(f"{where}: alpha must be in (0, 0.5), got {self.alpha}")
         if not 0.0 < self.decisive_rel_sigma <= 0.5:

@@ -18,6 +18,7 @@ from typing import Mapping
 import numpy as np
 
 from recognizer import limits
+from recognizer.estimate import METHODS
 from recognizer.noise import NoiseModel, parse_noise
 from recognizer.scene import ALL_CLASSES, check_profile, load_scene
 from tactile_common.errors import InputError, check_keys
@@ -37,7 +38,6 @@ _SAMPLE_KEYS = {"phi", "x", "y", "s", "curvature", "noise_factor", "finger", "me
 _CURVATURE_KEYS = ("kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s")
 _CONTACT_KEYS = ("x", "y", "phi") + _CURVATURE_KEYS
 _OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float, "reach": dict}
-ESTIMATORS = ("auto", "central", "poly")
 
 
 @dataclass(frozen=True)
@@ -252,8 +252,8 @@ def _parse_options(raw, where: str = "options") -> dict:
         if _OPTION_KEYS[k] is dict:
             v = parse_reach(v, f"{where}.{k}")
         out[k] = v
-    if "estimator" in out and out["estimator"] not in ESTIMATORS:
-        raise InputError(f"{where}.estimator: unknown {out['estimator']!r}; allowed: {', '.join(ESTIMATORS)}")
+    if "estimator" in out and out["estimator"] not in METHODS:
+        raise InputError(f"{where}.estimator: unknown {out['estimator']!r}; allowed: {', '.join(METHODS)}")
     if "alpha" in out and not 0.0 < out["alpha"] < 0.5:
         raise InputError(f"{where}.alpha: must be in (0, 0.5), got {out['alpha']}")
     if "timeout_s" in out and not 0.0 < out["timeout_s"] <= limits.MAX_TIMEOUT_S:

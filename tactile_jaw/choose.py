@@ -567,6 +567,12 @@ def move_for(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tu
     ``MOVE_STEP_MM`` up to ``MOVE_MAX_MM``, turns every ``MOVE_TURN_STEP_DEG`` up to
     ``MOVE_TURN_MAX_DEG``, smallest first by how far the farthest known point travels; None
     when none does within ``MOVE_QUERIES`` questions to the reach."""
+    return _move_search(reach, goal, fingers)[0]
+
+
+def _move_search(reach: JawReach, goal: Goal, fingers) -> tuple[tuple[float, float, float] | None, list]:
+    """:func:`move_for`'s move, and the candidates (turn, shift, places) it passed over only because
+    they carry an opened pad where the object goes on (:meth:`JawReach.opened_clear`), in its order."""
     k = int(MOVE_MAX_MM // MOVE_STEP_MM)
     grid = np.arange(-k, k + 1) * MOVE_STEP_MM
     shift = np.stack([v.ravel() for v in np.meshgrid(grid, grid)], axis=-1)
@@ -575,18 +581,28 @@ def move_for(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tu
     (cx, cy), radius = (reach.disk.x, reach.disk.y), reach.disk.radius
     here = np.vstack([np.array([(x, y) for x, y, _ in goal.places]), np.asarray(goal.keep, float).T])
     allowed = np.maximum(radius - MOVE_CLEAR_MM, np.hypot(here[:, 0] - cx, here[:, 1] - cy))
-    cands = []
+    cands, blocked = [], []
     for turn in np.radians(np.arange(-m, m + 1) * MOVE_TURN_STEP_DEG):
         places, keep = _moved(goal, float(turn), shift)
         every = np.concatenate([places, keep], axis=1)
         clear = np.all(np.hypot(every[..., 0] - cx, every[..., 1] - cy) <= allowed[None, :] + 1e-9, axis=1)
-        clear &= reach.opened_clear(goal.about, float(turn), shift)
+        opened = reach.opened_clear(goal.about, float(turn), shift)
         travel = np.max(np.hypot(*(every - here[None]).transpose(2, 0, 1)), axis=1)
-        cands += [(float(travel[i]), abs(float(turn)), float(turn), i, places[i]) for i in np.flatnonzero(clear)]
+        for i in np.flatnonzero(clear):
+            (cands if opened[i] else blocked).append((float(travel[i]), abs(float(turn)), float(turn), shift[i], places[i]))
     cands.sort(key=lambda c: c[:2])
+    blocked.sort(key=lambda c: c[:2])
+    first = _first_reaching(reach, goal, cands, fingers)
+    return (None if first is None else (float(first[3][0]), float(first[3][1]), first[2])), blocked
+
+
+def _first_reaching(reach: JawReach, goal: Goal, cands: Sequence, fingers):
+    """The first of the candidate moves ``cands`` (..., turn, shift, places) after which a pad rolls
+    through every place of ``goal``, or None when none does within ``MOVE_QUERIES`` questions."""
     order = list(range(len(goal.places)))  # the place that failed last is asked first
     asked = 0
-    for _, _, turn, i, places in cands:
+    for cand in cands:
+        turn, places = cand[2], cand[4]
         for j in list(order):
             asked += 1
             if reach.finger(float(places[j, 0]), float(places[j, 1]), goal.places[j][2] + turn, fingers) is None:
@@ -594,7 +610,7 @@ def move_for(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tu
                 order.insert(0, j)
                 break
         else:
-            return float(shift[i, 0]), float(shift[i, 1]), turn
+            return cand
         if asked >= MOVE_QUERIES:
             return None
     return None
@@ -619,8 +635,10 @@ def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None) ->
     finger, turns counterclockwise positive) and as :class:`Stop`'s ``move``, or a general
     request (and None) when none is near, saying so when moves were near but each would carry
     an opened pad where the object goes on unfelt (:meth:`JawReach.opened_clear`)."""
-    move = move_for(reach, goal, fingers)
-    if move is None and len(reach.probes) and move_for(JawReach(reach.config, reach.settings), goal, fingers):
+    move, blocked = _move_search(reach, goal, fingers)
+    # the search passed over every reaching move only for the opened pads: the candidates it had
+    # asked about reach nowhere, so the moves without the probes' bound are those it passed over
+    if move is None and _first_reaching(reach, goal, blocked, fingers) is not None:
         return (f"every move that brings a pad {goal.where} would carry an opened pad past a pad end a probe rested "
                 f"on, where the object goes on unfelt: place the object so that more of its curved part faces a "
                 f"finger, clear of the opened pads"), None

@@ -117,22 +117,31 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
             for i in stating:
                 if any(c is not None for c in components[i]):
                     out[i] = _taken_out(touches[i], k, components[i])
-        for i, column in _truncation_columns([touches[i] for i in members]):
+        for i, column, own in _truncation_columns([touches[i] for i in members]):
             s = out[members[i]].samples
+            # the roll's own term (its fit's last column; a term of a higher degree may come first)
+            kept = np.delete(s.noise_factor, touches[members[i]].fit.noise_factor.shape[1] - 1, axis=1) if own \
+                else s.noise_factor
             out[members[i]] = replace(out[members[i]], samples=replace(
-                s, noise_factor=np.hstack([s.noise_factor, column[:, None]])))
+                s, noise_factor=np.hstack([kept, column[:, None]])))
     return out
 
 
-def _truncation_columns(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray]]:
+def _truncation_columns(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray, bool]]:
     """The samples' truncation of one finger's ``rolls`` (tactile_jaw.envelope.NextTerm: the terms
     one and two degrees above each roll's contacts' degree k, c = d^(j) of the richer fit, with
     its noise v) pooled per degree j across the rolls as κ's bias is (:func:`pool`,
     :func:`corrected`): each roll's expected squared c, b̂² + what the pooled estimate leaves,
     stated as one more noise-factor column √(b̂² + left)·e per term (e its pattern: a correlated
     error along the roll). One roll's c is mostly its noise (the richer degree's contacts are
-    2–3× noisier); a finger rolls again near one place, where c is systematic. Returns (index in
-    ``rolls``, column)."""
+    2–3× noisier); a finger rolls again near one place, where c is systematic. Stated here once:
+    where a roll's own test found its k + 1 term (``NextTerm.own``, envelope._with_truncation's
+    column, which the caller drops) the column is √max(E[c²], own²): the pool's E[c²] is the
+    posterior of rolls alike, and a finger's lone roll's, Δ² + v, always holds its own; a roll
+    whose own test finds more than its finger's pool allows is not like the others and keeps its
+    own (X-series seed-283 ellipse 47, a roll of a finger's six: own column 4.5 mm over its samples,
+    pooled 0.08 mm). Returns (index in
+    ``rolls``, column, whether it replaces the roll's own column)."""
     by_degree: dict[int, list[tuple[int, Any]]] = {}
     for i, t in enumerate(rolls):
         if getattr(t.samples, "noise_factor", None) is None:
@@ -148,10 +157,10 @@ def _truncation_columns(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray]]:
         if bias is None:
             continue
         for n, (i, term) in enumerate(members):
-            column = math.sqrt(expected_square(value, var, bias, n)) * term.pattern
+            column = math.sqrt(max(expected_square(value, var, bias, n), term.own**2)) * term.pattern
             # A pattern's node (a vertex-centred roll's middle) comes out ~1e-17, not 0: below what
             # any instrument resolves, which a written touches file may not state (recognizer.touches).
-            columns.append((i, np.where(np.abs(column) < MIN_NOISE, 0.0, column)))
+            columns.append((i, np.where(np.abs(column) < MIN_NOISE, 0.0, column), term.own > 0.0))
     return columns
 
 

@@ -112,6 +112,10 @@ class NextTerm:
     value: float  # c (mm/rad^j)
     variance: float  # of c, from the readings' noise (the two fits see the same readings)
     pattern: np.ndarray  # (3n,) the degree-k samples' error per unit c
+    #: j = k + 1 only: the size (in units of c) of the roll's own truncation against j where its own
+    #: test found one (:func:`_with_truncation`: the noise factor's last column, |c|·√(1 − rank/χ²)·e
+    #: in x, y), else 0; tactile_jaw.curvature_pool states the term once, in its place
+    own: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -188,6 +192,8 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
     capped = degree is None  # the order rule's cap: the next degree's truncation is stated
     top = kin.determined_degree(lines.psi)  # no degree the readings do not determine
     base, factor = choose_degree(fit_of, weighed, capped, top)
+    # choose_degree's truncation column, if it stated one
+    own = factor[3:, -1] if factor.shape[1] > fit_of(base.degree)[1].shape[1] else None
     curved, curved_factor = curvature_degree(fit_of, weighed, base.degree, capped, top)
     lowest = fit_of(weighed.start)[1]  # the corner test's ρ: the most precise one
     n = q.shape[0]
@@ -208,13 +214,14 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
                        float(np.sqrt(np.sum(lowest[2] ** 2))), float(np.sum((base.residual / sigma) ** 2)),
                        n - base.degree - 1, np.sqrt(np.sum(across**2, axis=1)), np.sqrt(np.sum(along**2, axis=1)),
                        factor[3:], sigma, np.sqrt(np.sum(fpsi**2, axis=1)), curved.degree, ladder,
-                       next_terms(fit_of, base.degree, top))
+                       next_terms(fit_of, base.degree, top, own))
 
 
-def next_terms(fit_of, k: int, top: int) -> tuple[NextTerm, ...]:
+def next_terms(fit_of, k: int, top: int, own: np.ndarray | None = None) -> tuple[NextTerm, ...]:
     """:class:`NextTerm` of degrees j = k + 1 and k + 2 of the degree-k fit (``fit_of`` as in
     :func:`choose_degree`), each from its comparison with the fit of degree j; none where the
-    readings do not determine j (above ``top``) or are fewer than j + 1.
+    readings do not determine j (above ``top``) or are fewer than j + 1. ``own``: the degree-k
+    fit's own truncation column against k + 1 (:func:`_with_truncation`), if it states one.
     With ψ and the origin held both fits are linear in the support values d_i, and both reproduce
     a polynomial of degree ≤ k and leave the degree-j fit's residuals alone, so the samples'
     difference is Δ = Σ_i c_i e_i exactly over the terms i = k + 1 … j, e_i the pattern of
@@ -232,7 +239,8 @@ def next_terms(fit_of, k: int, top: int) -> tuple[NextTerm, ...]:
         if not (np.all(np.isfinite(e)) and np.linalg.matrix_rank(e) == e.shape[1]):
             break
         solve = np.linalg.pinv(e)[-1]  # the term j's row of the least squares
-        out.append(NextTerm(j, float(solve @ diff), float(np.sum((solve @ dfac) ** 2)), patterns[:, -1]))
+        stated = 0.0 if own is None or j > k + 1 else float(np.linalg.norm(own[: 2 * n]) / np.linalg.norm(e[:, 0]))
+        out.append(NextTerm(j, float(solve @ diff), float(np.sum((solve @ dfac) ** 2)), patterns[:, -1], stated))
     return tuple(out)
 
 

@@ -413,17 +413,17 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
 
 
 def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, p: np.ndarray, q: np.ndarray,
-                 toward: np.ndarray) -> tuple[str, dict | None, np.ndarray, float]:
+                 toward: np.ndarray, reach: JawReach | None = None) -> tuple[str, dict | None, np.ndarray, float]:
     """The move after which the pad of ``finger`` rolls through the face PQ's ends and middle
     with its tangent (the pad's normal along ``toward``: tactile_jaw.choose.move_advice), as
     (advice, move, the face's middle, the seated pad's normal ψ); ``out``'s probes bound the move
-    (tactile_jaw.choose.JawReach.opened_clear)."""
+    (tactile_jaw.choose.JawReach.opened_clear; ``reach``, if given, holds them)."""
     normal = face_normal(p, q, toward)
     psi = math.atan2(normal[1], normal[0])
     mid = 0.5 * (p + q)
     goal = Goal(tuple((float(x), float(y), psi - math.pi / 2) for x, y in (p, mid, q)), np.stack([p, q], axis=1),
                 (float(mid[0]), float(mid[1])), "across that face")
-    advice, move = move_advice(JawReach(cfg, settings, out.probes), goal, [cfg.finger(finger)])
+    advice, move = move_advice(reach or JawReach(cfg, settings, out.probes), goal, [cfg.finger(finger)])
     return advice, move, mid, psi
 
 
@@ -436,8 +436,9 @@ def _corner_stop(cfg, settings: ExploreSettings, out: Exploration, head: str) ->
         samples = [s for t in (*out.probes, *out.touches) if t.touch.finger == f.name for s in t.touch.samples]
         samples.sort(key=lambda s: math.remainder(float(s.line.psi) - nominal_psi(f), 2 * math.pi))
         found += [(face, f.name) for face in corner_faces([s.line for s in samples], f.pad.length_mm)]
+    reach = JawReach(cfg, settings, out.probes)  # one for every face: the opened pads' bound read once
     for (felt, p, q, toward), finger in sorted(found, key=lambda c: -c[0][0]):
-        advice, move, _, psi = _face_advice(cfg, settings, out, finger, p, q, toward)
+        advice, move, _, psi = _face_advice(cfg, settings, out, finger, p, q, toward, reach)
         if move is not None:
             seen = f"met its face with a pad end {felt:.1f} mm from it" if felt > 0 else "turned on as far as it reached"
             return Stop(f"{head}; the {finger} pad turned about a corner at ({p[0]:.0f}, {p[1]:.0f}) mm and "

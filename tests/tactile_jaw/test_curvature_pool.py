@@ -166,3 +166,40 @@ def test_the_stated_noise_covers_the_truncation_of_exact_rolls():
 
     assert ratio(felt) > 3.0
     assert 0.5 < ratio(pooled(felt)) < 1.5
+
+
+def _with_own_truncation(t, size: float):
+    """Felt roll ``t`` as if its own test had found its truncation against degree k + 1 of
+    ``size`` (in units of c): envelope._with_truncation's last noise-factor column, x, y rows of
+    the term's pattern, and the term's ``own``."""
+    term = t.fit.next_terms[0]
+    n = t.samples.x.size
+    column = np.concatenate([size * term.pattern[: 2 * n], np.zeros(n)])[:, None]
+    factor = np.hstack([t.samples.noise_factor, column])
+    terms = (replace(term, own=size),) + t.fit.next_terms[1:]
+    return replace(t, fit=replace(t.fit, noise_factor=factor, next_terms=terms),
+                   samples=replace(t.samples, noise_factor=factor))
+
+
+@pytest.mark.parametrize("scale", [0.1, 30.0])
+def test_a_rolls_truncation_is_stated_once(scale):
+    """A roll whose own test found its truncation against degree k + 1 (envelope._with_truncation)
+    states it once, in the finger's pooled column of that term: √max(E[c²], own²) along the
+    term's pattern, the own column dropped (before: both, the X-series jaw's χ²/dof at the truth
+    0.46). The own size enters no other roll's statement."""
+    felt = rolls(HUMP_DEG, 0)
+    plain = pooled(felt)
+    term = felt[0].fit.next_terms[0]
+    assert term.degree == felt[0].fit.contacts.degree + 1 and term.own == 0.0
+    pattern = term.pattern / np.linalg.norm(term.pattern)
+    along = plain[0].samples.noise_factor.T @ pattern
+    pooled_size = float(np.max(np.abs(along))) / np.linalg.norm(term.pattern)  # its pooled column, √E[c²]
+    own = scale * pooled_size
+    after = pooled([_with_own_truncation(felt[0], own)] + felt[1:])
+    f = after[0].samples.noise_factor
+    assert f.shape == plain[0].samples.noise_factor.shape
+    np.testing.assert_allclose(f[:, :-3], plain[0].samples.noise_factor[:, :-3])  # the ticks' columns
+    stated = np.max(np.abs(f.T @ pattern)) / np.linalg.norm(term.pattern)
+    assert stated == pytest.approx(max(own, pooled_size), rel=1e-9)
+    for a, b in zip(after[1:], plain[1:]):
+        np.testing.assert_array_equal(a.samples.noise_factor, b.samples.noise_factor)

@@ -14,7 +14,7 @@ from hand_driver import kinematics as kin
 from hand_driver.config import load_config
 from hand_driver.cycle import LIMIT_MARGIN_RAD
 from hand_driver.motion import Sample, TouchResult
-from tactile_jaw.choose import MOVE_CLEAR_MM, Goal, JawReach, move_advice
+from tactile_jaw.choose import MOVE_CLEAR_MM, Goal, JawReach, move_advice, move_for
 from tactile_jaw.pipeline import FeltTouch
 from tactile_jaw.plan import opened_strips, rested_ends
 from tactile_jaw.settings import ExploreSettings
@@ -121,3 +121,53 @@ def test_the_move_named_with_the_probes_keeps_its_clearance_from_the_rested_ends
     assert before is not None and not clear(before)
     _, move = move_advice(reach, goal, left)
     assert move is not None and move != before and clear(move)
+
+
+def _face_goal(psi_deg: float) -> Goal:
+    """The goal across the face the left pad met (as above), its pad normal at ``psi_deg``."""
+    psi = math.radians(psi_deg)
+    t = np.array([math.cos(psi - math.pi / 2), math.sin(psi - math.pi / 2)])
+    p, mid, q = (np.asarray(ABOUT) + k * 2.6 * t for k in (-1, 0, 1))
+    return Goal(tuple((float(x), float(y), psi - math.pi / 2) for x, y in (p, mid, q)), np.stack([p, q], axis=1),
+                ABOUT, "across that face")
+
+
+def _questions(monkeypatch) -> list:
+    """A counter of the questions put to any JawReach's ``finger``."""
+    calls = [0]
+    finger = JawReach.finger
+
+    def counted(self, *args, **kwargs):
+        calls[0] += 1
+        return finger(self, *args, **kwargs)
+
+    monkeypatch.setattr(JawReach, "finger", counted)
+    return calls
+
+
+def test_a_refusal_without_a_move_asks_each_candidate_once(monkeypatch):
+    """No pad reaches the face turned away from the left finger (normal 97°): the advice says
+    so, and asks the reach no more than one search over every candidate move does (the probe-free
+    search): the candidates the search with the probes asked about reach nowhere, so only those
+    it passed over for the opened pads are asked again (before: the whole search again without
+    the probes, 5,030 questions against 2,754, 1.5 s → 0.85 s of CPU)."""
+    calls = _questions(monkeypatch)
+    goal, left = _face_goal(97.0), [CONFIG.finger("left")]
+    assert move_for(JawReach(CONFIG, SETTINGS), goal, left) is None
+    unbound = calls[0]
+    calls[0] = 0
+    text, move = move_advice(JawReach(CONFIG, SETTINGS, PROBES), goal, left)
+    assert move is None and text.startswith("no pad reaches across that face")
+    assert 0 < calls[0] <= unbound
+
+
+def test_moves_barred_only_by_the_opened_pads_are_named_so(monkeypatch):
+    """Where the opened pads bar every move (each shift refused while probes rested on pad ends)
+    yet one reaches without them, the refusal says so, from the one search's record."""
+    bar = JawReach.opened_clear
+    monkeypatch.setattr(JawReach, "opened_clear",
+                        lambda self, about, turn, shift: bar(self, about, turn, shift) & (len(self.probes) == 0))
+    text, move = move_advice(JawReach(CONFIG, SETTINGS, PROBES), _face_goal(-83.0), [CONFIG.finger("left")])
+    assert move is None and text.startswith("every move that brings a pad across that face would carry an opened pad")
+    _, free = move_advice(JawReach(CONFIG, SETTINGS), _face_goal(-83.0), [CONFIG.finger("left")])
+    assert free is not None
