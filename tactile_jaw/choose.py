@@ -29,7 +29,7 @@ touch budget runs out undecided, :func:`budget_advice` says the same, or asks fo
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable, Sequence
 
 import numpy as np
@@ -38,7 +38,8 @@ from recognizer.curves import CURVES
 from recognizer.result import Recognition
 from recognizer.touches import Reach
 from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
-from tactile_jaw.plan import ObjectModel, feasible, free_strips, nominal_psi, opened_strips, rested_ends
+from tactile_jaw.plan import (ObjectModel, feasible, free_strips, nominal_psi, opened_strips, rested_ends,
+                              rolled_arc)
 from tactile_jaw.settings import ExploreSettings
 
 #: a suggested next touch this near (mm) one already aimed at is not aimed at again
@@ -175,14 +176,18 @@ class JawReach:
         self.disk = Reach(float(ws.center_mm[0]), float(ws.center_mm[1]), float(ws.radius_mm))
         self._model = ObjectModel(ws.center_mm, ws.radius_mm)  # nothing felt: only its workspace edge is used
 
-    def finger(self, x: float, y: float, phi: float, fingers: Sequence | None = None):
+    def finger(self, x: float, y: float, phi: float, fingers: Sequence | None = None,
+               curvature: tuple[float, float] | None = None):
         """The finger (of ``fingers``, default all) that can roll through (x, y) with its pad
-        normal at φ + π/2 nearest its zero-angle normal, or None."""
+        normal at φ + π/2 nearest its zero-angle normal, or None. With ``curvature`` (κ, κ_s of
+        the curve there, :func:`curvature_at`) the contact travels along the curve over the roll
+        (tactile_jaw.plan.RolledArc), else it stays at (x, y)."""
         if not bool(self.disk.contains(x, y)):
             return None
         psi = phi + math.pi / 2
+        aim = (x, y) if curvature is None else rolled_arc(x, y, psi, *curvature)
         ok = [f for f in (self.config.fingers if fingers is None else fingers)
-              if feasible(f, self._model, psi, self.settings, aim=(x, y))]
+              if feasible(f, self._model, psi, self.settings, aim=aim)]
         return min(ok, key=lambda f: abs(math.remainder(psi - nominal_psi(f), 2 * math.pi)), default=None)
 
     def contains(self, px, py, phi=None) -> np.ndarray:
@@ -339,11 +344,11 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
                                     f"(near {_where(*vertex_place(recognition, touched))}) could not be made, or ran "
                                     "off the curved part without pivoting about a corner: it lies at the edge of the "
                                     "pads' reach",
-                                    vertex_goals(recognition, touched, reach), reach)
+                                    vertex_goals(recognition, touched, reach), reach, recognition=recognition)
         if aim is None:
             return None, _goal_stop("no touch within the pads' reach can decide: no pad can roll beyond the vertex "
                                     f"on that side (near {_where(*vertex_place(recognition, touched))})",
-                                    vertex_goals(recognition, touched, reach), reach)
+                                    vertex_goals(recognition, touched, reach), reach, recognition=recognition)
     suggested = recognition.next_touch
     if suggested is not None:
         f = reach.finger(suggested["x"], suggested["y"], suggested["phi"], fingers)
@@ -356,7 +361,8 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
         return None, None  # one more touch anywhere: the planner's
     what = ("narrow the parameters" if why.kind == "imprecise" else "tell the classes apart")
     if also and touched is not None and one_side is not None and one_side():
-        side = other_side_stop(f"no touch within the pads' reach is expected to {what}", touched, reach, also)
+        side = other_side_stop(f"no touch within the pads' reach is expected to {what}", touched, reach, also,
+                               recognition)
         if side is not None:
             return None, side
     if why.kind == "resolution":  # more touches of this jaw cannot tell them apart (tactile_jaw.decide.inseparable)
@@ -365,7 +371,8 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
     if wanted is None:
         return None, Stop(f"no touch within the pads' reach is expected to {what}: move or turn the object so that "
                           f"more of its curved part faces a finger")
-    return None, _wanted_stop(f"no touch within the pads' reach is expected to {what}", wanted, reach, touched, also)
+    return None, _wanted_stop(f"no touch within the pads' reach is expected to {what}", wanted, reach, touched, also,
+                              recognition)
 
 
 def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, budget: int,
@@ -389,7 +396,7 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     (no finger has a roll left to make)."""
     spent = f"the touch budget of {budget} is spent" if ended is None else ended
     if one_side and also and touched is not None:
-        stop = other_side_stop(spent, touched, reach, also)
+        stop = other_side_stop(spent, touched, reach, also, recognition)
         if stop is not None:
             return stop
     if why.kind == "unclassified" and recognition.untested:
@@ -406,14 +413,14 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
         if reach.finger(x, y, phi) is None:
             return _goal_stop(f"{spent} and no pad can roll beyond the parabola's vertex on the side felt less than "
                               f"{VERTEX_SIDE_DEG:g} deg (near {_where(x, y, phi)})",
-                              vertex_goals(recognition, touched, reach), reach)
+                              vertex_goals(recognition, touched, reach), reach, recognition=recognition)
     wanted = anywhere() if anywhere is not None else None
     if wanted is None:
         return Stop(f"{spent}: a profile with more touches (--profile accurate) may decide")
     if reach.finger(float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])) is not None:
         return Stop(f"{spent}; the most telling touch would roll at ({float(wanted['x']):.0f}, {float(wanted['y']):.0f}) "
                     f"mm, within a pad's reach: a profile with more touches (--profile accurate) may decide")
-    return _wanted_stop(spent, wanted, reach, touched, also)
+    return _wanted_stop(spent, wanted, reach, touched, also, recognition)
 
 
 @dataclass(frozen=True)
@@ -421,12 +428,58 @@ class Goal:
     """What a move of the object is for: a pad rolling through every place (x, y, φ) of
     ``places`` (mm, rad: the boundary's tangent there, in the touches' direction of travel),
     the boundary's known points ``keep`` (2 × n, mm) kept clear of the opened jaw
-    (``MOVE_CLEAR_MM``), turning about ``about``; ``where`` names it for people."""
+    (``MOVE_CLEAR_MM``), turning about ``about``; ``where`` names it for people; ``curvature``
+    per place (κ, κ_s) of the answered curve there, or None (:func:`with_curvature`; empty:
+    none known): a pad's contact travels along the curve over its roll (:meth:`JawReach.finger`)."""
 
     places: tuple[tuple[float, float, float], ...]
     keep: np.ndarray
     about: tuple[float, float]
     where: str
+    curvature: tuple[tuple[float, float] | None, ...] = ()
+
+    def curvature_of(self, j: int) -> tuple[float, float] | None:
+        """(κ, κ_s) at place ``j``, or None."""
+        return self.curvature[j] if j < len(self.curvature) else None
+
+
+#: a goal's place this near (mm) the answered curve rolls on it (:func:`curvature_at`)
+ON_CURVE_MM = 1.0
+#: :func:`curvature_at` starts from the nearest of this many curve points: over a periodic class's
+#: period, or over the touched parameters' span widened CURVE_REACH_SPANS times it each side
+CURVE_GRID = 2001
+CURVE_REACH_SPANS = 4.0
+
+
+def curvature_at(recognition: Recognition | None, x: float, y: float) -> tuple[float, float] | None:
+    """(κ, κ_s) (eqs. 3–7) of the answered curve at its point nearest (x, y), or None when there
+    is no curved answer or that point is farther than ``ON_CURVE_MM``."""
+    if recognition is None or recognition.pose is None or recognition.cls not in CURVES or recognition.cls == "line":
+        return None
+    curve = CURVES[recognition.cls](recognition.params)
+    px, py = (float(np.ravel(v)[0]) for v in recognition.pose.inverse(x, y))
+    if curve.t_period is not None:
+        grid = np.linspace(*curve.t_period, CURVE_GRID)
+    else:
+        t = np.array([c["t"] for c in recognition.contacts], float)
+        lo, hi = (float(t.min()), float(t.max())) if t.size else (-1.0, 1.0)
+        wide = CURVE_REACH_SPANS * max(hi - lo, 1.0)
+        grid = np.linspace(lo - wide, hi + wide, CURVE_GRID)
+    cx, cy = curve.point(grid)
+    start = grid[[int(np.argmin(np.hypot(cx - px, cy - py)))]]
+    t = curve.project(start, px, py, 8)
+    cx, cy = curve.point(t)
+    if not math.hypot(float(cx[0]) - px, float(cy[0]) - py) <= ON_CURVE_MM:
+        return None
+    return float(np.ravel(curve.kappa(t))[0]), float(np.ravel(curve.kappa_s(t))[0])
+
+
+def with_curvature(goal: Goal, recognition: Recognition | None) -> Goal:
+    """``goal`` with the answered curve's curvature at each of its places (:func:`curvature_at`);
+    unchanged without a recognition."""
+    if recognition is None:
+        return goal
+    return replace(goal, curvature=tuple(curvature_at(recognition, x, y) for x, y, _ in goal.places))
 
 
 def place_goal(x: float, y: float, phi: float, touched=None) -> Goal:
@@ -469,17 +522,18 @@ def _thinned(touched, most: int = 24) -> np.ndarray:
     return xy[:, np.unique(np.linspace(0, xy.shape[1] - 1, min(most, xy.shape[1])).astype(int))]
 
 
-def _wanted_stop(head: str, wanted: dict, reach: JawReach, touched=None, also=()) -> Stop:
+def _wanted_stop(head: str, wanted: dict, reach: JawReach, touched=None, also=(),
+                 recognition: Recognition | None = None) -> Stop:
     """``head``, then where the touch ``wanted`` (a ``next_touch``) would roll and the move of
     the object that brings it within a pad's roll (:func:`_goal_stop`); ``wanted['what']``, if
     given, names the touch (tactile_jaw.explore.past_felt_end)."""
     x, y, phi = float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])
     return _goal_stop(f"{head}; {wanted.get('what', 'the most telling touch')} would roll at {_where(x, y, phi)}",
-                      place_goal(x, y, phi, touched), reach, also)
+                      place_goal(x, y, phi, touched), reach, also, recognition)
 
 
 def _goal_stop(message: str, goal: Goal | Sequence[Goal], reach: JawReach,
-               also: Sequence[tuple[float, float, float]] = ()) -> Stop:
+               also: Sequence[tuple[float, float, float]] = (), recognition: Recognition | None = None) -> Stop:
     """The stop ``message``, then the move of the object that reaches ``goal`` (:func:`move_advice`)
     and with it the places ``also`` (x, y, φ), where a finger that never rolled met the object,
     when a move reaches them all (:func:`with_places`), else ``goal``'s. (A move for ``also``'s
@@ -490,27 +544,29 @@ def _goal_stop(message: str, goal: Goal | Sequence[Goal], reach: JawReach,
     (:func:`side_goal`) stands in: a closed object's other side decides what one side leaves
     (random X-series ellipse 50 of seed 157: the touch wanted lay at the far end of the major
     axis, which no pad reaches however the object lies; moved as the left pad's place asks,
-    turned 5° and moved 3 mm, it is answered ellipse, a −0.31 %); else the first goal's advice."""
+    turned 5° and moved 3 mm, it is answered ellipse, a −0.31 %); else the first goal's advice.
+    Each place rolls on ``recognition``'s curve where it lies on it (:func:`with_curvature`)."""
     goals = (goal,) if isinstance(goal, Goal) else tuple(goal)
     first = None
     for g in goals:
         if also:
-            advice, move = move_advice(reach, with_places(g, also))
+            advice, move = move_advice(reach, with_curvature(with_places(g, also), recognition))
             if move is not None:
                 return Stop(f"{message}: {advice}", move)
-        advice, move = move_advice(reach, g)
+        advice, move = move_advice(reach, with_curvature(g, recognition))
         if move is not None or advice == WITHIN_REACH:
             return Stop(f"{message}: {advice}", move)
         first = advice if first is None else first
     if also:
-        side, side_move = move_advice(reach, side_goal(goals[0], also))
+        side, side_move = move_advice(reach, with_curvature(side_goal(goals[0], also), recognition))
         if side_move is not None:
             return Stop(f"{message}: no pad reaches that touch with the object moved up to {MOVE_MAX_MM:g} mm and "
                         f"turned up to {MOVE_TURN_MAX_DEG:g} deg; {side}", side_move)
     return Stop(f"{message}: {first}", None)
 
 
-def other_side_stop(head: str, touched, reach: JawReach, also: Sequence[tuple[float, float, float]]) -> Stop | None:
+def other_side_stop(head: str, touched, reach: JawReach, also: Sequence[tuple[float, float, float]],
+                    recognition: Recognition | None = None) -> Stop | None:
     """``head``, then the move after which a pad rolls through ``also``'s places (where a finger
     that never rolled met the object: its other side, :func:`side_goal`), the felt samples
     ``touched`` kept clear of the opened jaw; None when no move reaches them. For an answer the
@@ -520,7 +576,7 @@ def other_side_stop(head: str, touched, reach: JawReach, also: Sequence[tuple[fl
     again, ellipse and semicubical within 0.1 in χ²; turned 10° about the left pad's place
     instead, the left pad rolls there and it is answered ellipse, a −0.07 %)."""
     keep = Goal((), _thinned(touched), (0.0, 0.0), "")
-    advice, move = move_advice(reach, side_goal(keep, also))
+    advice, move = move_advice(reach, with_curvature(side_goal(keep, also), recognition))
     if move is None:
         return None
     return Stop(f"{head}; the rolls on this side cannot tell the classes apart at this jaw's angle resolution, "
@@ -605,7 +661,8 @@ def _first_reaching(reach: JawReach, goal: Goal, cands: Sequence, fingers):
         turn, places = cand[2], cand[4]
         for j in list(order):
             asked += 1
-            if reach.finger(float(places[j, 0]), float(places[j, 1]), goal.places[j][2] + turn, fingers) is None:
+            if reach.finger(float(places[j, 0]), float(places[j, 1]), goal.places[j][2] + turn, fingers,
+                            goal.curvature_of(j)) is None:
                 order.remove(j)
                 order.insert(0, j)
                 break
@@ -625,8 +682,8 @@ def _reaches(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float, fin
     if np.any(np.hypot(keep[0, :, 0] - cx, keep[0, :, 1] - cy) > allowed + 1e-9) \
             or not reach.opened_clear(goal.about, turn, np.array([[dx, dy]]))[0]:
         return False
-    return all(reach.finger(float(p[0]), float(p[1]), goal.places[j][2] + turn, fingers) is not None
-               for j, p in enumerate(places[0]))
+    return all(reach.finger(float(p[0]), float(p[1]), goal.places[j][2] + turn, fingers, goal.curvature_of(j))
+               is not None for j, p in enumerate(places[0]))
 
 
 def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tuple[str, dict | None]:

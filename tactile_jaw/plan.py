@@ -12,6 +12,7 @@ orientation (:func:`feasible`) farthest from the finger's earlier touches
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -108,15 +109,55 @@ def nominal_psi(finger) -> float:
     return finger.base.angle + finger.pad.side_sign * math.pi / 2
 
 
+#: a rolled arc's radius of curvature is at most this (mm): a straight stretch's contact runs
+#: off any pad over a roll, and this keeps the closed form finite
+ARC_RHO_MAX_MM = 1e6
+
+
+@dataclass(frozen=True)
+class RolledArc:
+    """A touch aimed at the boundary point (x, y) mm with pad normal ``psi`` (rad) on a curve of
+    radius of curvature ``rho`` (mm) there, changing by ``drho`` (mm/rad) per radian of pad normal
+    (ρ' = −κ_s/(|κ|κ²), κ and κ_s of eqs. 3–7 at the place: :func:`rolled_arc`). Over a roll
+    the contact travels along the curve (tactile_jaw.choose.JawReach.finger): a pad on a
+    curve of ρ ~43 mm rolled 18° about a fixed aim met it ~6.8 mm along the pad from where
+    a fixed contact would be (calibrated cubical 54 of seed 281)."""
+
+    x: float
+    y: float
+    psi: float
+    rho: float
+    drho: float = 0.0
+
+    def contact(self, psi: float) -> np.ndarray:
+        """The contact for pad normal ψ: p(ψ) = p₀ − ∫ρ(u) n'(u) du from ψ₀ (n the pad's normal,
+        pointing into the object, n' its derivative; ρ(u) = ρ₀ + ρ'(u − ψ₀)), in closed form
+        p₀ − ρ₀(n − n₀) − ρ'(Δ n + n' − n'₀), Δ = ψ − ψ₀."""
+        delta = math.remainder(psi - self.psi, 2 * math.pi)
+        n, n0 = kin.unit(psi), kin.unit(self.psi)
+        dn, dn0 = np.array([-math.sin(psi), math.cos(psi)]), np.array([-math.sin(self.psi), math.cos(self.psi)])
+        return np.array([self.x, self.y]) - self.rho * (n - n0) - self.drho * (delta * n + dn - dn0)
+
+
+def rolled_arc(x: float, y: float, psi: float, kappa: float, kappa_s: float) -> RolledArc:
+    """The :class:`RolledArc` at (x, y), pad normal ψ, of a curve with curvature κ and κ_s there
+    (either sign: the pad rolls on the side the solid is convex; ρ = 1/|κ| at most
+    ``ARC_RHO_MAX_MM``, ρ' = dρ/dψ = (dρ/ds)/(dψ/ds) = −κ_s/(|κ|κ²))."""
+    if abs(kappa) < 1.0 / ARC_RHO_MAX_MM:
+        return RolledArc(x, y, psi, ARC_RHO_MAX_MM)
+    return RolledArc(x, y, psi, 1.0 / abs(kappa), -kappa_s / (abs(kappa) * kappa * kappa))
+
+
 def predicted_tangent(model: ObjectModel, psi: float, aim=None) -> tuple[float, np.ndarray] | None:
     """The pad line offset d and contact point predicted for normal ψ: the object model's
     (:meth:`ObjectModel.tangent`), or, for a touch aimed at a boundary point ``aim`` (the
     recognizer's ``next_touch``, from the curve it fitted to every touch, which knows more
     there than the model's extrapolation), the line of normal ψ through that point (the
-    true tangent over a roll of ±Δψ about it is at most ρ·Δψ²/2 nearer)."""
+    true tangent over a roll of ±Δψ about it is at most ρ·Δψ²/2 nearer), or, for a
+    :class:`RolledArc`, through the contact the arc has at ψ (the contact travels over a roll)."""
     if aim is None:
         return model.tangent(psi)
-    p = np.asarray(aim, dtype=float)
+    p = aim.contact(psi) if isinstance(aim, RolledArc) else np.asarray(aim, dtype=float)
     return float(kin.unit(psi) @ p), p
 
 

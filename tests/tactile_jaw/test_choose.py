@@ -15,7 +15,7 @@ from recognizer.classify import NONE_TESTED_FITS, recognize
 from recognizer.result import Ranked, Recognition
 from recognizer.touches import parse_request
 from tactile_jaw.choose import (MOVE_CLEAR_MM, MOVE_MAX_MM, MOVE_TURN_MAX_DEG, VERTEX_ENDS, VERTEX_OFF, JawReach, Stop,
-                                budget_advice, move_advice, move_for, next_aim, place_goal, vertex_aim, vertex_goal)
+                                budget_advice, curvature_at, move_advice, move_for, next_aim, place_goal, vertex_aim, vertex_goal)
 from tactile_jaw.decide import NO_CLASS_FITS, VERTEX_SIDE_DEG, Why, refusal_kind, vertex_sides
 from tactile_jaw.plan import ObjectModel, feasible
 from tactile_jaw.settings import ExploreSettings
@@ -111,13 +111,15 @@ def _moved(move, x, y):
 
 def _vertex_region_reached(rec, move, edge_deg, reach=REACH):
     """Whether, the parabola answer ``rec`` moved so, a pad of ``reach`` rolls centred at every
-    tangent turn within ±edge_deg of its vertex (every 2.5°: more places than the search asked)."""
+    tangent turn within ±edge_deg of its vertex (every 2.5°: more places than the search asked),
+    its contact travelling along the parabola over the roll (κ, κ_s at the place)."""
     curve = CURVES["parabola"](rec.params)
     for c in np.arange(-edge_deg, edge_deg + 1e-9, 2.5):
         t = np.array([math.tan(math.radians(c))])
         x, y = _moved(move, *rec.pose.apply(*curve.point(t)))
         phi = float(curve.tangent_angle(t)[0]) + rec.pose.theta - math.pi + math.radians(move["turn_deg"])
-        if reach.finger(float(np.ravel(x)[0]), float(np.ravel(y)[0]), phi) is None:
+        curvature = (float(curve.kappa(t)[0]), float(curve.kappa_s(t)[0]))
+        if reach.finger(float(np.ravel(x)[0]), float(np.ravel(y)[0]), phi, curvature=curvature) is None:
             return False
     return True
 
@@ -283,9 +285,10 @@ def test_a_move_to_the_telling_touch_also_brings_the_side_an_unrolled_finger_met
     both = budget_advice(ellipse, _why("rival"), None, REACH, 8, anywhere=lambda: wanted, also=[right])
     assert alone.move is not None and both.move is not None and "met only at its pad's end" in both
 
-    def reached(move, x, y, phi):
+    def reached(move, x, y, phi):  # the contact travelling along the answered ellipse over the roll
         mx, my = _moved(move, np.array([x]), np.array([y]))
-        return REACH.finger(float(mx[0]), float(my[0]), phi + math.radians(move["turn_deg"])) is not None
+        return REACH.finger(float(mx[0]), float(my[0]), phi + math.radians(move["turn_deg"]),
+                            curvature=curvature_at(ellipse, x, y)) is not None
 
     assert reached(both.move, wanted["x"], wanted["y"], wanted["phi"]) and reached(both.move, *right)
     assert not reached(alone.move, *right)

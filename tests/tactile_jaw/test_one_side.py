@@ -14,7 +14,7 @@ from hand_driver.config import load_config
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Ranked, Recognition
 from tactile_jaw import decide
-from tactile_jaw.choose import JawReach, budget_advice, next_aim
+from tactile_jaw.choose import JawReach, budget_advice, curvature_at, next_aim
 from tactile_jaw.decide import Why, beyond_resolution
 from tactile_jaw.settings import ExploreSettings
 from tests.tactile_jaw.test_choose import _moved
@@ -52,7 +52,8 @@ def test_the_move_for_a_rival_beyond_the_resolution_brings_the_other_side_within
     assert after.move is not None and "the object's other side can" in after
     assert after.move != before.move
     mx, my = _moved(after.move, left[0], left[1])
-    assert REACH.finger(mx, my, left[2] + math.radians(after.move["turn_deg"]), [CONFIG.finger("left")]) is not None
+    assert REACH.finger(mx, my, left[2] + math.radians(after.move["turn_deg"]), [CONFIG.finger("left")],
+                        curvature_at(ELLIPSE, left[0], left[1])) is not None  # its contact travelling over the roll
     # the felt side stays inside the workspace disk with its margin, or no farther out
     fx, fy = _moved(after.move, x, y)
     here = np.hypot(x - 110.0, y)
