@@ -299,24 +299,6 @@ def _toward_cusp(c: Candidate, t: np.ndarray) -> np.ndarray:
     return (np.sign(t) != side[0]) | (np.abs(t) < np.min(np.abs(touched)))
 
 
-def _past_bend(leader: Candidate, t: np.ndarray) -> np.ndarray:
-    """Whether each of the leader's places t lies beyond its touched span on the end where
-    its curve bends more (|κ| larger at that end's touch): where a semicubical parabola
-    through the same touches, far out on a branch, has its cusp (|κ| grows toward it as
-    toward a parabola's vertex), whichever end that rival's own fit puts it at (its cusp
-    barely measured: bench_wide seed 293 semicubical 9, the rival's cusp fitted at the
-    other end; a parabola leader's touch past its vertex side met the true cusp's other
-    branch tilted 1.46 rad and was lost). None on a closed curve or at equal ends."""
-    curve = leader.curve()
-    lt = np.asarray(leader.t, float)
-    if curve.t_period is not None or lt.size < 2:
-        return np.zeros(np.shape(t), bool)
-    k_lo, k_hi = np.abs(np.asarray(curve.kappa(np.array([lt.min(), lt.max()])), float))
-    if not (np.isfinite(k_lo) and np.isfinite(k_hi)) or k_lo == k_hi:
-        return np.zeros(np.shape(t), bool)
-    return t < lt.min() if k_lo > k_hi else t > lt.max()
-
-
 def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, scale: float, roll: float = 0.0):
     """(whitened mean (m, 4), whitened covariance (m, 4, 4), whitened G, touchable (m,)) of
     candidate c's measurement at every place (W whitens R): where c's closest point is too
@@ -567,13 +549,6 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
     if not helps.any():
         return None
-    # a likely semicubical rival: never past the touches toward where a cusp may lie, while
-    # some place elsewhere helps (a pad sent there meets the cusp or the other branch)
-    if curve.name != "semicubical_parabola" and \
-            any(c.cls == "semicubical_parabola" and wc >= LAND_WEIGHT_MIN for c, wc in others):
-        bend = _past_bend(leader, t[keep])
-        if (helps & ~bend).any():
-            helps &= ~bend
     # a lost touch tells nothing: where it lands for every likely class, but on a semicubical
     # leader's other branch, which no rival has
     if curve.name == "semicubical_parabola":
