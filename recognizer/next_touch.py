@@ -52,7 +52,9 @@ such places are chosen, a semicubical leader's other branch, which no rival has,
 A line leader's rivals are all curved, one alternative "curved, not line" of weight their
 sum W: its entropy with the leader is resolved in proportion to Σ w_c·p_c·(1 − exp(−χ²_c/8))/W,
 and the places kept are where the pad lands for at least ``CURVED_LAND_MIN`` of W (rival by
-rival, a far hyperbola arm answered line was tested only where the ellipse rival bends).
+rival, a far hyperbola arm answered line was tested only where the ellipse rival bends);
+the pad's landing on them is checked first at the ``LAND_FIRST`` places of largest possible
+class gain, at the others only when none of those beats their bound (the same choice).
 Each candidate's pad comes in from that candidate's own free side where its curve turns one
 way over its touches (``_solid_left``).
 Before (session 17), a rival counted only in its own pair and only where the pad landed on
