@@ -453,3 +453,34 @@ def test_a_line_leader_tests_the_curved_alternative_where_it_bends(trial):
         rec, _, _ = bw._recognize(tl, nm)
     assert landed and landed[0] < min(ts), (landed, ts)
     assert rec.cls == "hyperbola", rec.cls
+
+
+def test_a_line_leader_checks_landing_only_where_the_choice_can_fall(monkeypatch):
+    """bench_wide --set wide seed 293 (development since session 24), line trial 12: the
+    line leader's curved rivals had a pad's landing checked at all ~160 places (half of
+    next_touch's time; worst 128 ms on 293's line answers). Now first at the
+    ``LAND_FIRST`` places of largest possible class gain, the rest only when none of those
+    beats their bounds: the same suggestion as checking everywhere, with a tenth of the
+    checks."""
+    import recognizer.next_touch as nt_mod
+    from tools import bench_wide as bw
+
+    _, shape, ts, _, rs = bw.draw_case("line", 12, 293, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    nm = NoiseModel(noise.phi, noise.pos)
+    checked = []
+    landed = nt_mod._landed
+
+    def counting(curve, pose, t_dense, px, *args):
+        checked.append(np.size(px))
+        return landed(curve, pose, t_dense, px, *args)
+
+    monkeypatch.setattr(nt_mod, "_landed", counting)
+    rec, _, _ = bw._recognize(touches, nm)
+    few = sum(checked)
+    monkeypatch.setattr(nt_mod, "LAND_FIRST", 10 ** 6)
+    checked.clear()
+    full, _, _ = bw._recognize(touches, nm)
+    assert rec.cls == full.cls == "line" and rec.next_touch == full.next_touch
+    assert few <= 0.2 * sum(checked), (few, sum(checked))
