@@ -144,10 +144,23 @@ def _block_turned(turn_deg: float):
 
 def _stop(world: ContactWorld, finger, psi: float) -> kin.PadLine | None:
     """Where a guarded approach at ψ stops: the first pad line of normal ψ (within the
-    joint limits) that touches the object, to 1e-9 mm; None if none within reach."""
+    joint limits, the pad's middle nearer the workspace centre of the two solutions) that
+    touches the object, to 1e-9 mm; None if none within reach. Either finger."""
+    at = [f.name for f in CONFIG.fingers].index(finger.name)
+    centre = np.array(CONFIG.workspace.center_mm)
+
+    def ik(d):
+        sols = [q for q in kin.ik_line_solutions(finger, psi, d) if kin.within_limits(finger.joints, q)]
+        if not sols:
+            raise kin.Unreachable(f"{finger.name}: psi {psi}, d {d}")
+        pad = [kin.finger_pad_line(finger, q) for q in sols]
+        return sols[int(np.argmin([np.linalg.norm(0.5 * (ln.proximal + ln.distal) - centre) for ln in pad]))]
+
     def pen(d):
         try:
-            return world.penetrates(np.concatenate([kin.ik_line(finger, psi, d), np.zeros(2)]), [0])
+            q = np.zeros(2 * len(CONFIG.fingers))
+            q[2 * at:2 * at + 2] = ik(d)
+            return world.penetrates(q, [at])
         except kin.Unreachable:
             return None
 
@@ -163,7 +176,7 @@ def _stop(world: ContactWorld, finger, psi: float) -> kin.PadLine | None:
     for _ in range(40):
         mid = 0.5 * (lo + hi)
         lo, hi = (lo, mid) if pen(mid) else (mid, hi)
-    return kin.finger_pad_line(finger, kin.ik_line(finger, psi, lo))
+    return kin.finger_pad_line(finger, ik(lo))
 
 
 def _walk(world: ContactWorld, finger, psi0: float):
@@ -387,3 +400,26 @@ def test_a_seat_on_a_corner_under_the_pads_middle_lowers_the_shorter_part():
     psi = math.atan2(n[1], n[0])
     seated = kin.finger_pad_line(finger, kin.ik_line(finger, psi, float(n @ corner)))
     assert 0.35 * finger.pad.length_mm < float(seated.pad_coordinate(corner)) < 0.65 * finger.pad.length_mm
+
+
+def test_a_range_on_two_supports_a_face_apart_grows_toward_the_seat_between():
+    """Block 1 of ``bench_explore --finite 20 --anywhere --classes line --config
+    config/jaw-p.yaml --seed 283`` (development): the right pad's second press starts at
+    ψ 76.2°, 7.5° below the seat (83.7°) of the block's 33 mm bottom face, whose corner lies
+    12 mm along the pad with 40 mm of pad beyond it, over nothing. After 7 lines the low end
+    rests on the pad's proximal end on the face (two lines clear of the corner), the high
+    end pivots about the corner (three): turning about the corner lowers its longer part,
+    so the press turned on up to 60° from ψ0 (22 stops, 10.6 s live) before the third line
+    through the other support. Two supports a face apart put the seat between the ends:
+    the low end grows, 8 stops."""
+    half, theta = 16.65220870284343, -0.11015170059767954
+    block = load_scene({"name": "block 1", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": theta, "x": 88.72768964557048, "y": -1.4034288458679796},
+        "extent": [-half, half], "closure": [[half, -13.321766962274745], [-half, -13.321766962274745]]}}).object
+    finger = CONFIG.finger("right")
+    found, lines = _walk(ContactWorld(CONFIG, block), finger, math.radians(76.22))
+    assert found is not None
+    assert len(lines) <= 9 and max(lines) <= 6
+    _, p, q = found
+    n = face_normal(p, q, lines[max(lines)].normal)
+    assert math.atan2(n[1], n[0]) == pytest.approx(math.pi / 2 + theta, abs=5e-3)
