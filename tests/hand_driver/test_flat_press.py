@@ -179,7 +179,7 @@ def _stop(world: ContactWorld, finger, psi: float) -> kin.PadLine | None:
     return kin.finger_pad_line(finger, ik(lo))
 
 
-def _walk(world: ContactWorld, finger, psi0: float):
+def _walk(world: ContactWorld, finger, psi0: float, first_turn: int = 1, face=None):
     """The press's decisions (next_step, seat_split) on exact stops from ψ0, as flat_press
     takes them: a turn the joints cannot make blocks that side from there on (part steps
     short of it stay allowed). Returns (seat_split's answer or None, the lines by step)."""
@@ -192,9 +192,9 @@ def _walk(world: ContactWorld, finger, psi0: float):
         found = seat_split([lines[k] for k in ks], finger.pad.length_mm)
         if found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * finger.pad.length_mm:
             return found, lines
-        k = next_step(ks, [lines[k] for k in ks], finger.pad.length_mm, 1,
+        k = next_step(ks, [lines[k] for k in ks], finger.pad.length_mm, first_turn,
                       lambda k: abs(k) <= most and abs(k) < blocked.get(int(np.sign(k)), math.inf) and k not in lines,
-                      toward=np.array(CONFIG.workspace.center_mm))
+                      toward=np.array(CONFIG.workspace.center_mm), face=face)
         if k is None:
             return None, lines
         line = _stop(world, finger, psi0 + k * step)
@@ -420,6 +420,29 @@ def test_a_range_on_two_supports_a_face_apart_grows_toward_the_seat_between():
     found, lines = _walk(ContactWorld(CONFIG, block), finger, math.radians(76.22))
     assert found is not None
     assert len(lines) <= 9 and max(lines) <= 6
+    _, p, q = found
+    n = face_normal(p, q, lines[max(lines)].normal)
+    assert math.atan2(n[1], n[0]) == pytest.approx(math.pi / 2 + theta, abs=5e-3)
+
+
+def test_a_later_press_turns_about_its_faces_corner_toward_the_other_support():
+    """The same block on the X-series jaw (seed 283, line 1): the right pad seated from
+    ψ 90.75° (above the seat, 83.7°), so its later presses start above the seat and turn
+    down (91.56°, then 88.56°). Both lines pass through the face's corner 12 mm along the
+    pad; turning about it to lower the pad's longer part (40 mm, past the corner over
+    nothing) turned the press up to 139.6° first: 23 stops, 10.3 s live, each. The face it
+    seated on says the object lies toward its other support: turned that way, ≤ 12 stops."""
+    half, theta = 16.65220870284343, -0.11015170059767954
+    block = load_scene({"name": "block 1", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": theta, "x": 88.72768964557048, "y": -1.4034288458679796},
+        "extent": [-half, half], "closure": [[half, -13.321766962274745], [-half, -13.321766962274745]]}}).object
+    finger = CONFIG.finger("right")
+    world = ContactWorld(CONFIG, block)
+    first, _ = _walk(world, finger, math.radians(90.75))
+    assert first is not None
+    found, lines = _walk(world, finger, math.radians(91.56), -1, face=(first[1], first[2]))
+    assert found is not None and len(lines) <= 12
+    assert len(_walk(world, finger, math.radians(91.56), -1)[1]) >= 20  # without the face: up first
     _, p, q = found
     n = face_normal(p, q, lines[max(lines)].normal)
     assert math.atan2(n[1], n[0]) == pytest.approx(math.pi / 2 + theta, abs=5e-3)
