@@ -338,26 +338,20 @@ def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first
     if fill is not None:
         return fill
     through_lo = _run(lines, 0, 1, tol_mm)[0]
-    through_hi = _run(lines, len(lines) - 1, -1, tol_mm)[0]
-    ends = [kin.crossing(lines[0], lines[1]), kin.crossing(lines[-2], lines[-1])] if len(lines) >= 2 else [None]
-    # both ends of the range pivot about points (runs of lines) a face apart: a convex object's
-    # support turns from one point to the next only across a face's normal, so the seat lies
-    # between the ends, whichever part of the pad turning about an end would lower
-    apart = (bool(through_lo and through_hi) and all(e is not None for e in ends)
-             and float(np.linalg.norm(ends[1] - ends[0])) >= FACE_MIN_FRACTION * length_mm)
     if len(ks) == 1:
         order = [first_turn, -first_turn]
     elif len(ks) == 2 or through_lo == len(ks):  # all through one point: turn about it
         turn = _turn_about(lines[-1], line_point(lines)[0], length_mm, toward, face, tol_mm) or first_turn
         order = [turn, -turn]
     else:
-        hi = None if apart else _turn_about(lines[-1], ends[1], length_mm, toward, face, tol_mm)
-        lo = None if apart else _turn_about(lines[0], ends[0], length_mm, toward, face, tol_mm)
+        hi = _turn_about(lines[-1], kin.crossing(lines[-2], lines[-1]), length_mm, toward, face, tol_mm)
+        lo = _turn_about(lines[0], kin.crossing(lines[0], lines[1]), length_mm, toward, face, tol_mm)
         if hi == 1:
             order = [1, -1]
         elif lo == -1:
             order = [-1, 1]
         else:  # the seat lies between the ends: the side with fewer lines through its support
+            through_hi = _run(lines, len(lines) - 1, -1, tol_mm)[0]
             order = [1, -1] if max(through_hi, 2) <= max(through_lo, 2) else [-1, 1]
             if (through_lo if order[0] > 0 else through_hi) >= SUPPORT_LINES:
                 order = order[:1]  # the other side has its lines: growing it leads away from the seat

@@ -402,7 +402,7 @@ def test_a_seat_on_a_corner_under_the_pads_middle_lowers_the_shorter_part():
     assert 0.35 * finger.pad.length_mm < float(seated.pad_coordinate(corner)) < 0.65 * finger.pad.length_mm
 
 
-def test_a_range_on_two_supports_a_face_apart_grows_toward_the_seat_between():
+def test_a_later_press_past_its_seat_grows_toward_the_faces_other_support():
     """Block 1 of ``bench_explore --finite 20 --anywhere --classes line --config
     config/jaw-p.yaml --seed 283`` (development): the right pad's second press starts at
     ψ 76.2°, 7.5° below the seat (83.7°) of the block's 33 mm bottom face, whose corner lies
@@ -410,16 +410,21 @@ def test_a_range_on_two_supports_a_face_apart_grows_toward_the_seat_between():
     rests on the pad's proximal end on the face (two lines clear of the corner), the high
     end pivots about the corner (three): turning about the corner lowers its longer part,
     so the press turned on up to 60° from ψ0 (22 stops, 10.6 s live) before the third line
-    through the other support. Two supports a face apart put the seat between the ends:
-    the low end grows, 8 stops."""
+    through the other support. Its first press (from 74.81°) seated on that face: turned
+    about the corner, a support of that face, the part toward the other support is lowered,
+    so the low end grows: 8 stops."""
     half, theta = 16.65220870284343, -0.11015170059767954
     block = load_scene({"name": "block 1", "classes": ["line"], "object": {
         "class": "line", "params": {}, "pose": {"theta": theta, "x": 88.72768964557048, "y": -1.4034288458679796},
         "extent": [-half, half], "closure": [[half, -13.321766962274745], [-half, -13.321766962274745]]}}).object
     finger = CONFIG.finger("right")
-    found, lines = _walk(ContactWorld(CONFIG, block), finger, math.radians(76.22))
+    world = ContactWorld(CONFIG, block)
+    first, _ = _walk(world, finger, math.radians(74.81))
+    assert first is not None
+    found, lines = _walk(world, finger, math.radians(76.22), face=(first[1], first[2]))
     assert found is not None
     assert len(lines) <= 9 and max(lines) <= 6
+    assert len(_walk(world, finger, math.radians(76.22))[1]) >= 20  # without the face: on up to 60°
     _, p, q = found
     n = face_normal(p, q, lines[max(lines)].normal)
     assert math.atan2(n[1], n[0]) == pytest.approx(math.pi / 2 + theta, abs=5e-3)
