@@ -314,12 +314,26 @@ def _slid_past(seq: list[kin.PadLine], b: int, tol_mm: float) -> bool:
             or (b >= 3 and _run(seq, b - 1, -1, tol_mm)[0] < 3))
 
 
+def _turn_about(line: kin.PadLine, about: np.ndarray | None, length_mm: float, toward: np.ndarray | None,
+                face: tuple[np.ndarray, np.ndarray] | None, tol_mm: float) -> int | None:
+    """:func:`lowering_turn` about ``about``; about one of the supports of the ``face`` the
+    finger seated on before (a later press), the part of the pad toward the other support,
+    wherever that lies on the pad: the face is there, and the longer part may hang past
+    the face's corner over nothing."""
+    if about is not None and face is not None:
+        for here, other in (face, face[::-1]):
+            if float(np.linalg.norm(about - here)) <= SPLIT_APART * tol_mm:
+                return lowering_turn(line, about, length_mm, other, least=0.0)
+    return lowering_turn(line, about, length_mm, toward)
+
+
 def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first_turn: int,
               allowed: Callable[[float], bool], toward: np.ndarray | None = None,
-              tol_mm: float = SEAT_TOL_MM) -> float | None:
+              tol_mm: float = SEAT_TOL_MM, face: tuple[np.ndarray, np.ndarray] | None = None) -> float | None:
     """The step index of the press's next approach (module docstring, step 2), given the
     steps ``ks`` taken (increasing) and their pad lines; ``allowed(k)`` says whether step k
-    may be tried. None when neither end can grow."""
+    may be tried; ``face`` the supports (P, Q) of the face the finger seated on before.
+    None when neither end can grow."""
     fill = sliding_fill(ks, lines, allowed, tol_mm)
     if fill is not None:
         return fill
@@ -327,11 +341,11 @@ def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first
     if len(ks) == 1:
         order = [first_turn, -first_turn]
     elif len(ks) == 2 or through_lo == len(ks):  # all through one point: turn about it
-        turn = lowering_turn(lines[-1], line_point(lines)[0], length_mm, toward) or first_turn
+        turn = _turn_about(lines[-1], line_point(lines)[0], length_mm, toward, face, tol_mm) or first_turn
         order = [turn, -turn]
     else:
-        hi = lowering_turn(lines[-1], kin.crossing(lines[-2], lines[-1]), length_mm, toward)
-        lo = lowering_turn(lines[0], kin.crossing(lines[0], lines[1]), length_mm, toward)
+        hi = _turn_about(lines[-1], kin.crossing(lines[-2], lines[-1]), length_mm, toward, face, tol_mm)
+        lo = _turn_about(lines[0], kin.crossing(lines[0], lines[1]), length_mm, toward, face, tol_mm)
         if hi == 1:
             order = [1, -1]
         elif lo == -1:
@@ -357,7 +371,8 @@ def next_step(ks: list[float], lines: list[kin.PadLine], length_mm: float, first
 def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: int, d_start: float,
                travel_mm: float, toward=None, on_event: Callable[[dict], None] | None = None,
                give_up: Callable[[], str | None] | None = None,
-               interrupt: Callable[[], str | None] | None = None) -> Motion:
+               interrupt: Callable[[], str | None] | None = None,
+               face: tuple[np.ndarray, np.ndarray] | None = None) -> Motion:
     """Seat the pad flat on the face of the object before it and press it there (module
     docstring): a guarded approach at ``psi_start`` from ``d_start`` (at most
     ``travel_mm``), the pad turned in FLAT_STEP_DEG steps toward the seat (the first one by
@@ -367,7 +382,8 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
     FLAT_MAX_TURN_DEG either way (or to its joint limits) without seating; ``stopped`` when
     ``give_up()`` (asked before each turn while no seat is found) returns a reason, or
     ``interrupt()`` (asked every cycle of those turns and approaches), such as another pad
-    having seated in the same cycles."""
+    having seated in the same cycles. ``face``: the supports (P, Q) of the face the finger
+    seated on before, about which the pad turns toward the other (:func:`next_step`)."""
     m = jaw.config.motion
     emit = on_event or (lambda rec: None)
     length = jaw.config.finger(finger).pad.length_mm
@@ -411,7 +427,7 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
             if why is not None:
                 result.outcome, result.message = "stopped", f"{finger}: flat press stopped: {why}"
                 return result
-            k = next_step(sorted(steps), lines, length, first_turn, allowed, toward)
+            k = next_step(sorted(steps), lines, length, first_turn, allowed, toward, face=face)
             if k is None:
                 result.outcome = "no_seat"
                 result.message = (f"{finger}: turned {math.degrees(step * (max(steps) - min(steps))):.0f} deg about "

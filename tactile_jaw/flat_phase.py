@@ -144,7 +144,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
 
     result = yield from flat_press(jaw, finger, touch_index, start, side if face is not None else 1, d_start, travel,
                                    toward=model.workspace_center, on_event=emit, give_up=give_up,
-                                   interrupt=seated_other)
+                                   interrupt=seated_other, face=None if face is None else (face.p, face.q))
     if result.outcome == "ok":
         seated.add(finger)
     return result

@@ -144,10 +144,23 @@ def _block_turned(turn_deg: float):
 
 def _stop(world: ContactWorld, finger, psi: float) -> kin.PadLine | None:
     """Where a guarded approach at ψ stops: the first pad line of normal ψ (within the
-    joint limits) that touches the object, to 1e-9 mm; None if none within reach."""
+    joint limits, the pad's middle nearer the workspace centre of the two solutions) that
+    touches the object, to 1e-9 mm; None if none within reach. Either finger."""
+    at = [f.name for f in CONFIG.fingers].index(finger.name)
+    centre = np.array(CONFIG.workspace.center_mm)
+
+    def ik(d):
+        sols = [q for q in kin.ik_line_solutions(finger, psi, d) if kin.within_limits(finger.joints, q)]
+        if not sols:
+            raise kin.Unreachable(f"{finger.name}: psi {psi}, d {d}")
+        pad = [kin.finger_pad_line(finger, q) for q in sols]
+        return sols[int(np.argmin([np.linalg.norm(0.5 * (ln.proximal + ln.distal) - centre) for ln in pad]))]
+
     def pen(d):
         try:
-            return world.penetrates(np.concatenate([kin.ik_line(finger, psi, d), np.zeros(2)]), [0])
+            q = np.zeros(2 * len(CONFIG.fingers))
+            q[2 * at:2 * at + 2] = ik(d)
+            return world.penetrates(q, [at])
         except kin.Unreachable:
             return None
 
@@ -163,10 +176,10 @@ def _stop(world: ContactWorld, finger, psi: float) -> kin.PadLine | None:
     for _ in range(40):
         mid = 0.5 * (lo + hi)
         lo, hi = (lo, mid) if pen(mid) else (mid, hi)
-    return kin.finger_pad_line(finger, kin.ik_line(finger, psi, lo))
+    return kin.finger_pad_line(finger, ik(lo))
 
 
-def _walk(world: ContactWorld, finger, psi0: float):
+def _walk(world: ContactWorld, finger, psi0: float, first_turn: int = 1, face=None):
     """The press's decisions (next_step, seat_split) on exact stops from ψ0, as flat_press
     takes them: a turn the joints cannot make blocks that side from there on (part steps
     short of it stay allowed). Returns (seat_split's answer or None, the lines by step)."""
@@ -179,9 +192,9 @@ def _walk(world: ContactWorld, finger, psi0: float):
         found = seat_split([lines[k] for k in ks], finger.pad.length_mm)
         if found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * finger.pad.length_mm:
             return found, lines
-        k = next_step(ks, [lines[k] for k in ks], finger.pad.length_mm, 1,
+        k = next_step(ks, [lines[k] for k in ks], finger.pad.length_mm, first_turn,
                       lambda k: abs(k) <= most and abs(k) < blocked.get(int(np.sign(k)), math.inf) and k not in lines,
-                      toward=np.array(CONFIG.workspace.center_mm))
+                      toward=np.array(CONFIG.workspace.center_mm), face=face)
         if k is None:
             return None, lines
         line = _stop(world, finger, psi0 + k * step)
@@ -387,3 +400,54 @@ def test_a_seat_on_a_corner_under_the_pads_middle_lowers_the_shorter_part():
     psi = math.atan2(n[1], n[0])
     seated = kin.finger_pad_line(finger, kin.ik_line(finger, psi, float(n @ corner)))
     assert 0.35 * finger.pad.length_mm < float(seated.pad_coordinate(corner)) < 0.65 * finger.pad.length_mm
+
+
+def test_a_later_press_past_its_seat_grows_toward_the_faces_other_support():
+    """Block 1 of ``bench_explore --finite 20 --anywhere --classes line --config
+    config/jaw-p.yaml --seed 283`` (development): the right pad's second press starts at
+    ψ 76.2°, 7.5° below the seat (83.7°) of the block's 33 mm bottom face, whose corner lies
+    12 mm along the pad with 40 mm of pad beyond it, over nothing. After 7 lines the low end
+    rests on the pad's proximal end on the face (two lines clear of the corner), the high
+    end pivots about the corner (three): turning about the corner lowers its longer part,
+    so the press turned on up to 60° from ψ0 (22 stops, 10.6 s live) before the third line
+    through the other support. Its first press (from 74.81°) seated on that face: turned
+    about the corner, a support of that face, the part toward the other support is lowered,
+    so the low end grows: 8 stops."""
+    half, theta = 16.65220870284343, -0.11015170059767954
+    block = load_scene({"name": "block 1", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": theta, "x": 88.72768964557048, "y": -1.4034288458679796},
+        "extent": [-half, half], "closure": [[half, -13.321766962274745], [-half, -13.321766962274745]]}}).object
+    finger = CONFIG.finger("right")
+    world = ContactWorld(CONFIG, block)
+    first, _ = _walk(world, finger, math.radians(74.81))
+    assert first is not None
+    found, lines = _walk(world, finger, math.radians(76.22), face=(first[1], first[2]))
+    assert found is not None
+    assert len(lines) <= 9 and max(lines) <= 6
+    assert len(_walk(world, finger, math.radians(76.22))[1]) >= 20  # without the face: on up to 60°
+    _, p, q = found
+    n = face_normal(p, q, lines[max(lines)].normal)
+    assert math.atan2(n[1], n[0]) == pytest.approx(math.pi / 2 + theta, abs=5e-3)
+
+
+def test_a_later_press_turns_about_its_faces_corner_toward_the_other_support():
+    """The same block on the X-series jaw (seed 283, line 1): the right pad seated from
+    ψ 90.75° (above the seat, 83.7°), so its later presses start above the seat and turn
+    down (91.56°, then 88.56°). Both lines pass through the face's corner 12 mm along the
+    pad; turning about it to lower the pad's longer part (40 mm, past the corner over
+    nothing) turned the press up to 139.6° first: 23 stops, 10.3 s live, each. The face it
+    seated on says the object lies toward its other support: turned that way, ≤ 12 stops."""
+    half, theta = 16.65220870284343, -0.11015170059767954
+    block = load_scene({"name": "block 1", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": theta, "x": 88.72768964557048, "y": -1.4034288458679796},
+        "extent": [-half, half], "closure": [[half, -13.321766962274745], [-half, -13.321766962274745]]}}).object
+    finger = CONFIG.finger("right")
+    world = ContactWorld(CONFIG, block)
+    first, _ = _walk(world, finger, math.radians(90.75))
+    assert first is not None
+    found, lines = _walk(world, finger, math.radians(91.56), -1, face=(first[1], first[2]))
+    assert found is not None and len(lines) <= 12
+    assert len(_walk(world, finger, math.radians(91.56), -1)[1]) >= 20  # without the face: up first
+    _, p, q = found
+    n = face_normal(p, q, lines[max(lines)].normal)
+    assert math.atan2(n[1], n[0]) == pytest.approx(math.pi / 2 + theta, abs=5e-3)
