@@ -448,12 +448,16 @@ def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, 
         facing = facing_move(reach, goal, f)
         if facing is not None and off(facing[1]) <= SEATED_TURN_DEG:
             advice, move = facing
-        else:
+        elif off(None) > SEATED_TURN_DEG:
             way = "counterclockwise" if math.remainder(nominal_psi(f) - psi, 2 * math.pi) > 0 else "clockwise"
             advice, move = (f"that face's seat lies {off(None):.0f} deg from the {finger} pad's nominal normal, past the "
-                            f"{SEATED_TURN_DEG:g} deg a flat press seats from there: turn the object "
-                            f"{off(None) - SEATED_TURN_DEG:.0f} deg or more {way} (hand frame) about ({mid[0]:.0f}, "
+                            f"{SEATED_TURN_DEG:g} deg a flat press seats from there: turn the object at least "
+                            f"{off(None) - SEATED_TURN_DEG:.0f} deg {way} (hand frame) about ({mid[0]:.0f}, "
                             f"{mid[1]:.0f}) mm, so that the face faces the {finger} finger"), None
+        else:  # the moves that reach it turn the seat away
+            advice, move = (f"each move found that brings the {finger} pad across that face turns its seat past the "
+                            f"{SEATED_TURN_DEG:g} deg from the pad's nominal normal a flat press seats from: place the "
+                            f"object so that the face faces the {finger} finger inside the workspace"), None
     return advice, move, mid, psi
 
 
