@@ -14,7 +14,8 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
-from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_STEP_DEG, SEAT_TOL_MM, SPLIT_APART, FlatResult, _run,
+from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_MAX_TURN_DEG, FLAT_STEP_DEG, SEAT_TOL_MM, SPLIT_APART,
+                                     FlatResult, _run,
                                      face_normal, flat_press, seat_split)
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from recognizer.result import Recognition
@@ -52,6 +53,12 @@ FLAT_MAX_S = 12.0
 #: (:func:`sliding_face`); the X-series rolls about one corner of seed 139's block 18 met it
 #: within 0.3 mm, the P-series slides of its block 8 passed through points 4–7 mm apart
 PIVOT_AGAIN_MM = 1.0
+#: a first press, from the pad's nominal normal, seats a face whose seat lies at most this far
+#: (deg) from that normal: it turns FLAT_MAX_TURN_DEG at most, three steps past the seat (its Q
+#: lines). A move named for a face leaves the seat there (:func:`_face_advice`): line 17 of
+#: bench_explore --finite 20 --seed 283 (near the palm, its long face 79° from the right pad's
+#: normal) was moved with the seat 59° from it (P-series): no seat within FLAT_MAX_S, refused again
+SEATED_TURN_DEG = FLAT_MAX_TURN_DEG - 3 * FLAT_STEP_DEG
 
 
 def _felt_stop(out: Exploration, finger: str, psi: float) -> tuple[float, float] | None:
@@ -374,7 +381,8 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
 def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: int = 0) -> Stop | None:
     """When the flat presses end undecided (``seated`` of them seated): the longest face a
     press found — a seated press's supports, else what its lines show
-    (hand_driver.flat_press.seat_split without the FACE_MIN_FRACTION bound: a face lying
+    (the path one pad end of its lines slid along, :func:`_slid_path`, else
+    hand_driver.flat_press.seat_split without the FACE_MIN_FRACTION bound: a face lying
     mostly beyond the pad's end, whose supports are that end and one corner) — and the move
     of the object after which that pad rolls through both its supports with its tangent
     (tactile_jaw.choose.move_advice): that face, under the pad and clear of its joint limits,
@@ -387,14 +395,17 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
     for t in out.touches:
         if not isinstance(t.touch, FlatResult) or len(t.touch.samples) < 6:
             continue
+        length_mm = cfg.finger(t.finger).pad.length_mm
+        toward = t.touch.samples[-1].line.normal
         if t.face is not None:
             found = (None, t.face.p, t.face.q)
-        else:
+        else:  # the path a pad end slid along is the face; the crossings of its lines lie off the object
             lines = sorted((smp.line for smp in t.touch.samples), key=lambda ln: float(ln.psi))
-            found = seat_split(lines, cfg.finger(t.finger).pad.length_mm)
+            slid = _slid_path(lines, length_mm)
+            found = seat_split(lines, length_mm) if slid is None else (None, slid[0], slid[1])
+            toward = toward if slid is None else slid[2]
         if found is not None and (best is None or np.linalg.norm(found[2] - found[1]) > best[0]):
-            best = (float(np.linalg.norm(found[2] - found[1])), t.finger, found[1], found[2],
-                    t.touch.samples[-1].line.normal)
+            best = (float(np.linalg.norm(found[2] - found[1])), t.finger, found[1], found[2], toward)
     for f in cfg.fingers:  # ... or one a pad end slid along during the rolls
         slid = sliding_face([t for t in out.touches if t.finger == f.name and t.lines is not None
                              and not isinstance(t.touch, FlatResult)], f.pad.length_mm)
@@ -415,7 +426,9 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
 def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, p: np.ndarray, q: np.ndarray,
                  toward: np.ndarray, reach: JawReach | None = None) -> tuple[str, dict | None, np.ndarray, float]:
     """The move after which the pad of ``finger`` rolls through the face PQ's ends and middle
-    with its tangent (the pad's normal along ``toward``: tactile_jaw.choose.move_advice), as
+    with its tangent (the pad's normal along ``toward``: tactile_jaw.choose.move_advice) and its
+    first press seats there (the seat within ``SEATED_TURN_DEG`` of the pad's nominal normal,
+    else the turn that faces it to the finger, tactile_jaw.choose.facing_move, or no move), as
     (advice, move, the face's middle, the seated pad's normal ψ); ``out``'s probes bound the move
     (tactile_jaw.choose.JawReach.opened_clear; ``reach``, if given, holds them)."""
     normal = face_normal(p, q, toward)
@@ -423,7 +436,28 @@ def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, 
     mid = 0.5 * (p + q)
     goal = Goal(tuple((float(x), float(y), psi - math.pi / 2) for x, y in (p, mid, q)), np.stack([p, q], axis=1),
                 (float(mid[0]), float(mid[1])), "across that face")
-    advice, move = move_advice(reach or JawReach(cfg, settings, out.probes), goal, [cfg.finger(finger)])
+    f = cfg.finger(finger)
+    reach = reach or JawReach(cfg, settings, out.probes)
+    advice, move = move_advice(reach, goal, [f])
+
+    def off(move: dict | None) -> float:  # the seat's angle from the pad's nominal normal after ``move``
+        turn = 0.0 if move is None else math.radians(move["turn_deg"])
+        return abs(math.degrees(math.remainder(psi + turn - nominal_psi(f), 2 * math.pi)))
+
+    if (move is not None or advice == WITHIN_REACH) and off(move) > SEATED_TURN_DEG:
+        facing = facing_move(reach, goal, f)
+        if facing is not None and off(facing[1]) <= SEATED_TURN_DEG:
+            advice, move = facing
+        elif off(None) > SEATED_TURN_DEG:
+            way = "counterclockwise" if math.remainder(nominal_psi(f) - psi, 2 * math.pi) > 0 else "clockwise"
+            advice, move = (f"that face's seat lies {off(None):.0f} deg from the {finger} pad's nominal normal, past the "
+                            f"{SEATED_TURN_DEG:g} deg a flat press seats from there: turn the object at least "
+                            f"{off(None) - SEATED_TURN_DEG:.0f} deg {way} (hand frame) about ({mid[0]:.0f}, "
+                            f"{mid[1]:.0f}) mm, so that the face faces the {finger} finger"), None
+        else:  # the moves that reach it turn the seat away
+            advice, move = (f"each move found that brings the {finger} pad across that face turns its seat past the "
+                            f"{SEATED_TURN_DEG:g} deg from the pad's nominal normal a flat press seats from: place the "
+                            f"object so that the face faces the {finger} finger inside the workspace"), None
     return advice, move, mid, psi
 
 
@@ -443,6 +477,28 @@ def _corner_stop(cfg, settings: ExploreSettings, out: Exploration, head: str) ->
             seen = f"met its face with a pad end {felt:.1f} mm from it" if felt > 0 else "turned on as far as it reached"
             return Stop(f"{head}; the {finger} pad turned about a corner at ({p[0]:.0f}, {p[1]:.0f}) mm and "
                         f"{seen}, short of lying on the face at pad normal {math.degrees(psi):.0f} deg: {advice}", move)
+    return None
+
+
+def _slid_path(lines: Sequence[kin.PadLine], length_mm: float,
+               tol_mm: float = SEAT_TOL_MM) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """(P, Q, toward): the ends of the straight path one pad end of every line of an unseated
+    press (``lines``) slid along, within ``tol_mm``, over at least FACE_MIN_FRACTION of the pad
+    (an end turning about a corner under the pad bows out by more: :func:`sliding_face`), and
+    the way from the pad into the face (from the other end: the lines' normals, up to 98° off
+    the face's there, say nothing), or None. X line 17 of bench_explore --finite 20 --seed 283: the right press's proximal end slid
+    11.7 mm along the block's long face (within 0.04 mm) as the pad turned 48–146°, its lines
+    crossing 1.8 mm inside the block and 4.3 mm outside it, where seat_split put a face of
+    6.5 mm at pad normal 98° and the move named for it."""
+    for end in ("proximal", "distal"):
+        pts = np.array([np.asarray(getattr(ln, end), dtype=float) for ln in lines])
+        centre = pts.mean(axis=0)
+        along, across = np.linalg.svd(pts - centre)[2]
+        u = (pts - centre) @ along
+        if float(np.max(np.abs((pts - centre) @ across))) <= tol_mm and float(np.ptp(u)) >= FACE_MIN_FRACTION * length_mm:
+            other = "distal" if end == "proximal" else "proximal"
+            toward = np.mean([np.asarray(getattr(ln, end), float) - np.asarray(getattr(ln, other), float) for ln in lines], axis=0)
+            return centre + float(np.min(u)) * along, centre + float(np.max(u)) * along, toward
     return None
 
 

@@ -908,7 +908,7 @@ def curve_refusal(curve: FeltTouch) -> Recognition:
     segments."""
     if isinstance(curve.touch, FlatResult):
         x, y = curve.face.middle
-        felt = (f"pressed a curved part of the boundary: its seats stopped {curve.face.miss:+.2f} mm short of the line "
+        felt = (f"pressed a curved part of the boundary: its seats stopped {curve.face.bulge:+.2f} mm short of the line "
                 f"through their supports near ({x:.1f}, {y:.1f}) mm, twice (at most {SEAT_TOL_MM:g})")
     else:
         c, m = curve.contacts, len(curve.contacts.x) // 2

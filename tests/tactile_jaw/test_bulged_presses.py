@@ -88,3 +88,46 @@ def test_the_flat_phase_feels_a_bulged_press_again_when_the_second_comes(presses
     assert _curve_felt(config, settings, out, lambda rec: None, said.append, checked)
     assert out.recognition.cls == "unclassified" and out.used == []
     assert f"at most {SEAT_TOL_MM:g}" in said[-1] and out.stopped is not None
+
+
+X_LINE_19 = json.loads((Path(__file__).parent / "data" / "x_line_19_presses.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def block_presses():
+    """X line 19 of seed 283's presses felt as the exploration felt them: {touch: FeltTouch}."""
+    config = load_config("config/jaw.yaml")
+    out = {}
+    for t in X_LINE_19["presses"]:
+        samples = logged_samples(config, t["finger"], t["ticks"], t["psi"])
+        touch = FlatResult(t["finger"], t["touch"], t["psi_center"], samples, outcome=t["outcome"], roles=t["roles"])
+        out[t["touch"]] = feel(config, touch, 9)
+    return config, out
+
+
+def test_a_seat_short_of_a_pad_end_past_a_corner_is_no_bulge(block_presses):
+    """X line 19 of seed 283 (a 42.7 mm block face, the 52 mm pad turned about its corners
+    3.1–3.8 mm from the pad ends): the right pad's presses 11 and 20 stopped +0.24 / +0.23 mm
+    short of the pad ends its supports were read as (within END_SUPPORT_MM of the crossing),
+    0.06 mm of the crossings, the block's corners. Their seats still fail (the end reading
+    holds an arc's bulge), but they show no curved part: before, both counted as bulged and
+    the block was refused ("closing segments, not a line")."""
+    config, felt = block_presses
+    for k in (11, 20):
+        assert felt[k].problem is not None and "did not lie flat" in felt[k].problem
+        assert 0.2 < felt[k].face.miss < 0.26  # short of the pad ends
+        assert abs(felt[k].face.bulge) < 0.1  # at the corners the lines cross at
+        assert not bulged(felt[k])
+    for k in (17, 18, 19):
+        assert felt[k].problem is None and abs(felt[k].face.miss) < 0.06 and felt[k].face.bulge <= felt[k].face.miss
+    every = [felt[k] for k in sorted(felt)]
+    assert bulged_presses(every) is None and curved_part(config, every) is None
+    assert recognized_touches([t for t in every if t.problem is None], 2) == [felt[17], felt[19]]
+
+
+def test_a_bulge_shows_however_the_supports_are_read(presses):
+    """P hyperbola 93's presses on its curved part: their crossings lie mid-pad, the bulge
+    is the same either way."""
+    _, felt = presses
+    for k in (8, 10):
+        assert felt[k].face.bulge == pytest.approx(felt[k].face.miss) and felt[k].face.bulge > 0.25

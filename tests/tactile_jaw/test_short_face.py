@@ -186,3 +186,37 @@ def test_corner_faces_needs_a_corner_and_a_consistent_pad_end():
     bent = ends[:2] + [pad_through((-20.0, -1.0), math.pi + math.radians(15.0), 52.0)]
     felt, _, _, _ = beside(corner_faces(about + bent, 52.0))
     assert felt == pytest.approx(16.0, abs=1e-6)
+
+
+def test_a_press_whose_pad_end_slid_along_a_face_beyond_its_seat_turn_names_no_move():
+    """X line 17 of bench_explore --finite 20 --seed 283 (a 40 mm block near the palm, its long
+    face 78° from the right pad's nominal normal): the right press's proximal end slid 11.7 mm
+    along that face (within 0.04 mm) as the pad turned 48–146°, no seat. Before, seat_split put a
+    6.5 mm face at pad normal 98° where the lines cross, one support 4.3 mm outside the block,
+    and named a move; moved so, the block was refused again. Now the face is the end's path
+    (flat_phase._slid_path) on the block's face, and no move is named whose press cannot seat
+    (SEATED_TURN_DEG): the stop asks for the turn."""
+    import json
+    from pathlib import Path
+
+    from hand_driver.config import load_config
+    from tactile_jaw.flat_phase import SEATED_TURN_DEG, _slid_path
+    from tactile_jaw.pipeline import feel, logged_samples
+    raw = json.loads((Path(__file__).parent / "data" / "x_line_17_press.json").read_text())
+    config = load_config("config/jaw.yaml")
+    t = raw["presses"][0]
+    samples = logged_samples(config, t["finger"], t["ticks"], t["psi"])
+    felt = feel(config, FlatResult(t["finger"], t["touch"], t["psi_center"], samples, outcome=t["outcome"],
+                                   roles=t["roles"]), 9)
+    pose = raw["truth"]["pose"]
+    c, s = math.cos(pose["theta"]), math.sin(pose["theta"])
+    p, q, toward = _slid_path(sorted((smp.line for smp in samples), key=lambda ln: float(ln.psi)), 52.0)
+    for x in (p, q):  # on the block's face: y = 0 in its frame, within its extent
+        u, v = c * (x[0] - pose["x"]) + s * (x[1] - pose["y"]), -s * (x[0] - pose["x"]) + c * (x[1] - pose["y"])
+        assert abs(v) < 0.05 and abs(u) < raw["truth"]["extent"][1]
+    assert 11.0 < float(np.linalg.norm(q - p)) < 12.5 and float(toward @ np.array([-s, c])) < 0  # into the block
+    out = Exploration()
+    out.touches = [felt]
+    stop = short_face_stop(config, ExploreSettings.from_profile("balanced"), out)
+    assert stop is not None and stop.move is None
+    assert "pad normal 168 deg" in stop and f"past the {SEATED_TURN_DEG:g} deg" in stop and "clockwise" in stop
