@@ -402,6 +402,14 @@ def test_a_seat_on_a_corner_under_the_pads_middle_lowers_the_shorter_part():
     assert 0.35 * finger.pad.length_mm < float(seated.pad_coordinate(corner)) < 0.65 * finger.pad.length_mm
 
 
+#: block 1 of ``bench_explore --finite 20 --anywhere --classes line --seed 283`` (development)
+BLOCK_1_HALF, BLOCK_1_THETA = 16.65220870284343, -0.11015170059767954
+BLOCK_1 = load_scene({"name": "block 1", "classes": ["line"], "object": {
+    "class": "line", "params": {}, "pose": {"theta": BLOCK_1_THETA, "x": 88.72768964557048, "y": -1.4034288458679796},
+    "extent": [-BLOCK_1_HALF, BLOCK_1_HALF],
+    "closure": [[BLOCK_1_HALF, -13.321766962274745], [-BLOCK_1_HALF, -13.321766962274745]]}}).object
+
+
 def test_a_later_press_past_its_seat_grows_toward_the_faces_other_support():
     """Block 1 of ``bench_explore --finite 20 --anywhere --classes line --config
     config/jaw-p.yaml --seed 283`` (development): the right pad's second press starts at
@@ -413,12 +421,8 @@ def test_a_later_press_past_its_seat_grows_toward_the_faces_other_support():
     through the other support. Its first press (from 74.81°) seated on that face: turned
     about the corner, a support of that face, the part toward the other support is lowered,
     so the low end grows: 8 stops."""
-    half, theta = 16.65220870284343, -0.11015170059767954
-    block = load_scene({"name": "block 1", "classes": ["line"], "object": {
-        "class": "line", "params": {}, "pose": {"theta": theta, "x": 88.72768964557048, "y": -1.4034288458679796},
-        "extent": [-half, half], "closure": [[half, -13.321766962274745], [-half, -13.321766962274745]]}}).object
     finger = CONFIG.finger("right")
-    world = ContactWorld(CONFIG, block)
+    world = ContactWorld(CONFIG, BLOCK_1)
     first, _ = _walk(world, finger, math.radians(74.81))
     assert first is not None
     found, lines = _walk(world, finger, math.radians(76.22), face=(first[1], first[2]))
@@ -427,7 +431,7 @@ def test_a_later_press_past_its_seat_grows_toward_the_faces_other_support():
     assert len(_walk(world, finger, math.radians(76.22))[1]) >= 20  # without the face: on up to 60°
     _, p, q = found
     n = face_normal(p, q, lines[max(lines)].normal)
-    assert math.atan2(n[1], n[0]) == pytest.approx(math.pi / 2 + theta, abs=5e-3)
+    assert math.atan2(n[1], n[0]) == pytest.approx(math.pi / 2 + BLOCK_1_THETA, abs=5e-3)
 
 
 def test_a_later_press_turns_about_its_faces_corner_toward_the_other_support():
@@ -437,12 +441,8 @@ def test_a_later_press_turns_about_its_faces_corner_toward_the_other_support():
     pad; turning about it to lower the pad's longer part (40 mm, past the corner over
     nothing) turned the press up to 139.6° first: 23 stops, 10.3 s live, each. The face it
     seated on says the object lies toward its other support: turned that way, ≤ 12 stops."""
-    half, theta = 16.65220870284343, -0.11015170059767954
-    block = load_scene({"name": "block 1", "classes": ["line"], "object": {
-        "class": "line", "params": {}, "pose": {"theta": theta, "x": 88.72768964557048, "y": -1.4034288458679796},
-        "extent": [-half, half], "closure": [[half, -13.321766962274745], [-half, -13.321766962274745]]}}).object
     finger = CONFIG.finger("right")
-    world = ContactWorld(CONFIG, block)
+    world = ContactWorld(CONFIG, BLOCK_1)
     first, _ = _walk(world, finger, math.radians(90.75))
     assert first is not None
     found, lines = _walk(world, finger, math.radians(91.56), -1, face=(first[1], first[2]))
@@ -450,4 +450,4 @@ def test_a_later_press_turns_about_its_faces_corner_toward_the_other_support():
     assert len(_walk(world, finger, math.radians(91.56), -1)[1]) >= 20  # without the face: up first
     _, p, q = found
     n = face_normal(p, q, lines[max(lines)].normal)
-    assert math.atan2(n[1], n[0]) == pytest.approx(math.pi / 2 + theta, abs=5e-3)
+    assert math.atan2(n[1], n[0]) == pytest.approx(math.pi / 2 + BLOCK_1_THETA, abs=5e-3)

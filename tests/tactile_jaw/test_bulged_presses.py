@@ -27,16 +27,21 @@ DATA = Path(__file__).parent / "data" / "p_hyperbola_93_presses.json"
 RAW = json.loads(DATA.read_text())
 
 
-@pytest.fixture(scope="module")
-def presses():
-    """Every logged press felt as the exploration felt it: {touch index: FeltTouch}."""
-    config = load_config("config/jaw-p.yaml")
+def felt_presses(config_path: str, raw: dict):
+    """Every logged press of ``raw`` felt as the exploration felt it: (config, {touch index: FeltTouch})."""
+    config = load_config(config_path)
     out = {}
-    for t in RAW["presses"]:
+    for t in raw["presses"]:
         samples = logged_samples(config, t["finger"], t["ticks"], t["psi"])
         touch = FlatResult(t["finger"], t["touch"], t["psi_center"], samples, outcome=t["outcome"], roles=t["roles"])
         out[t["touch"]] = feel(config, touch, 9)
     return config, out
+
+
+@pytest.fixture(scope="module")
+def presses():
+    """P hyperbola 93's logged presses felt as the exploration felt them."""
+    return felt_presses("config/jaw-p.yaml", RAW)
 
 
 def test_the_presses_on_the_curve_bulged_and_those_on_the_closing_segment_seated(presses):
@@ -95,14 +100,8 @@ X_LINE_19 = json.loads((Path(__file__).parent / "data" / "x_line_19_presses.json
 
 @pytest.fixture(scope="module")
 def block_presses():
-    """X line 19 of seed 283's presses felt as the exploration felt them: {touch: FeltTouch}."""
-    config = load_config("config/jaw.yaml")
-    out = {}
-    for t in X_LINE_19["presses"]:
-        samples = logged_samples(config, t["finger"], t["ticks"], t["psi"])
-        touch = FlatResult(t["finger"], t["touch"], t["psi_center"], samples, outcome=t["outcome"], roles=t["roles"])
-        out[t["touch"]] = feel(config, touch, 9)
-    return config, out
+    """X line 19 of seed 283's presses felt as the exploration felt them."""
+    return felt_presses("config/jaw.yaml", X_LINE_19)
 
 
 def test_a_seat_short_of_a_pad_end_past_a_corner_is_no_bulge(block_presses):
