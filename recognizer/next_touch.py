@@ -579,12 +579,15 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         bound = pair * sum(wc * on_c * seats * resolved for _, wc, on_c, seats, resolved in curved) / w_rivals
         order = np.argsort(-bound, kind="stable")
         order = order[bound[order] >= CLASS_GAIN_MIN]
+
         def lands_at(c: Candidate, k: np.ndarray):
             return lands(c, px[k], py[k], phi[k] + flip) if padded else True
 
         ig_class, on_all = _line_rivals_landed(curved, order[:LAND_FIRST], pair, w_rivals, lands_at)
         if order.size > LAND_FIRST and not _beats_the_rest(ig_class, on_all, bound, order[LAND_FIRST:]):
-            ig_class, on_all = _line_rivals_landed(curved, order, pair, w_rivals, lands_at)
+            # the rest's checks only: each place's gain and landing are its own (0 and False elsewhere)
+            ig_rest, on_rest = _line_rivals_landed(curved, order[LAND_FIRST:], pair, w_rivals, lands_at)
+            ig_class, on_all = ig_class + ig_rest, on_all | on_rest
     else:  # a lost touch tells nothing, whichever candidate is true: every pair's resolution
         # counts in proportion to the chance the pad lands and seats
         ig_class *= landed / (w_lead + w_rivals)
