@@ -227,12 +227,17 @@ def next_terms(fit_of, k: int, top: int, own: np.ndarray | None = None) -> tuple
     difference is Δ = Σ_i c_i e_i exactly over the terms i = k + 1 … j, e_i the pattern of
     u_i = (ψ − ψ_m)^i / i! ((∂/∂d of degree k − of degree j)·u_i): c by least squares on the
     e_i (x, y rows), its noise from the difference of the two noise factors; the term j is c_j."""
-    n = fit_of(k)[0].x.size
+    c, f = fit_of(k)
+    n = c.x.size
+    richer = range(k + 1, min(k + 2, top, n - 1) + 1)
+    if not richer:
+        return ()
+    jac_k = _envelope_jacobian(c)[1]  # the degree-k fit's, the same against every j
+    shifted = c.psi - c.psi[n // 2]
     out = []
-    for j in range(k + 1, min(k + 2, top, n - 1) + 1):
-        (c, f), (c_hi, f_hi) = fit_of(k), fit_of(j)
-        jac = (_envelope_jacobian(c)[1] - _envelope_jacobian(c_hi)[1])[3:]
-        shifted = c.psi - c.psi[n // 2]
+    for j in richer:
+        c_hi, f_hi = fit_of(j)
+        jac = (jac_k - _envelope_jacobian(c_hi)[1])[3:]
         patterns = np.stack([jac @ (shifted**i / math.factorial(i)) for i in range(k + 1, j + 1)], axis=1)
         diff, dfac = _difference((c, f), (c_hi, f_hi))
         e = patterns[: 2 * n]
