@@ -54,7 +54,8 @@ sum W: its entropy with the leader is resolved in proportion to Σ w_c·p_c·(1 
 and the places kept are where the pad lands for at least ``CURVED_LAND_MIN`` of W (rival by
 rival, a far hyperbola arm answered line was tested only where the ellipse rival bends);
 the pad's landing on them is checked first at the ``LAND_FIRST`` places of largest possible
-class gain, at the others only when none of those beats their bound (the same choice).
+class gain, then, while none of those checked beats the others' bound, at as many again of
+the others (the same choice).
 Each candidate's pad comes in from that candidate's own free side where its curve turns one
 way over its touches (``_solid_left``).
 Before (session 17), a rival counted only in its own pair and only where the pad landed on
@@ -119,7 +120,8 @@ LAND_WEIGHT_MIN = 0.01
 CURVED_LAND_MIN = 0.5
 """the fraction of a line leader's curved rivals' weight a pad must land for (``LAND_WEIGHT_MIN``'s rule for a line)."""
 LAND_FIRST = 16
-"""a line leader's places whose landing is checked first, those of largest possible class gain."""
+"""a line leader's places whose landing is checked first, those of largest possible class gain
+(then batches as large as all checked so far)."""
 SEPARATION_MIN = 0.1
 """an expected χ² separation below this (1.2 % of a pair's entropy) is not checked the other way round."""
 
@@ -597,8 +599,8 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         # rival's cusp beside the touches; bench_wide seed 271 hyperbola 7)
         # The landing checks (half of the time: bench_wide seed 293 line answers 84 / 128 ms)
         # run first at the LAND_FIRST places of largest ``bound`` (the class gain were the pad
-        # to land for every rival), and elsewhere only where a place landed for does not
-        # already beat every other's bound and that bound reaches CLASS_GAIN_MIN: the same choice
+        # to land for every rival), then at as many again of the next, for as long as no place
+        # landed for beats every unchecked one's bound (those reaching CLASS_GAIN_MIN): the same choice
         pair = (w_lead + w_rivals) * _entropy2(w_lead / (w_lead + w_rivals)) * seat_lead
         bound = pair * sum(wc * on_c * seats * resolved for _, wc, on_c, seats, resolved in curved) / w_rivals
         order = np.argsort(-bound, kind="stable")
