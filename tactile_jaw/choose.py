@@ -192,9 +192,10 @@ class JawReach:
             return None
         psi = phi + math.pi / 2
         aim = (x, y) if curvature is None else rolled_arc(x, y, psi, *curvature)
-        ok = [f for f in (self.config.fingers if fingers is None else fingers)
-              if feasible(f, self._model, psi, self.settings, aim=aim)]
-        return min(ok, key=lambda f: abs(math.remainder(psi - nominal_psi(f), 2 * math.pi)), default=None)
+        # nearest its zero-angle normal first (a stable sort: ties in the given order), the first that rolls
+        nearest = sorted(self.config.fingers if fingers is None else fingers,
+                         key=lambda f: abs(math.remainder(psi - nominal_psi(f), 2 * math.pi)))
+        return next((f for f in nearest if feasible(f, self._model, psi, self.settings, aim=aim)), None)
 
     def contains(self, px, py, phi=None) -> np.ndarray:
         """Whether a pad can roll through each place (x, y) with tangent φ; without φ, the disk.

@@ -348,3 +348,15 @@ def test_the_reach_of_many_places_at_once_is_each_places_own_without_asking_each
         monkeypatch.setattr(choose, "REACH_UNSURE", 1e3)
         assert reach.contains(px, py, phi).tolist() == exact
         monkeypatch.undo()
+
+
+def test_the_finger_nearest_its_zero_angle_normal_is_asked_first(monkeypatch):
+    # the parabola example's vertex facing down: the left pad rolls there, nearest its normal;
+    # the right one is not asked (before: both, then the nearer of those that roll)
+    import tactile_jaw.choose as choose
+    asked = []
+    real = choose.feasible
+    monkeypatch.setattr(choose, "feasible", lambda f, *a, **k: asked.append(f.name) or real(f, *a, **k))
+    assert REACH.finger(105.0, 12.0, -math.pi).name == "left" and asked == ["left"]
+    asked.clear()
+    assert REACH.finger(105.0, 12.0, -math.pi / 2) is None and sorted(asked) == ["left", "right"]
