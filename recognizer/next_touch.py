@@ -54,7 +54,8 @@ sum W: its entropy with the leader is resolved in proportion to Σ w_c·p_c·(1 
 and the places kept are where the pad lands for at least ``CURVED_LAND_MIN`` of W (rival by
 rival, a far hyperbola arm answered line was tested only where the ellipse rival bends);
 the pad's landing on them is checked first at the ``LAND_FIRST`` places of largest possible
-class gain, at the others only when none of those beats their bound (the same choice).
+class gain, then, while none of those checked beats the others' bound, at as many again of
+the others (the same choice).
 Each candidate's pad comes in from that candidate's own free side where its curve turns one
 way over its touches (``_solid_left``).
 Before (session 17), a rival counted only in its own pair and only where the pad landed on
@@ -119,7 +120,8 @@ LAND_WEIGHT_MIN = 0.01
 CURVED_LAND_MIN = 0.5
 """the fraction of a line leader's curved rivals' weight a pad must land for (``LAND_WEIGHT_MIN``'s rule for a line)."""
 LAND_FIRST = 16
-"""a line leader's places whose landing is checked first, those of largest possible class gain."""
+"""a line leader's places whose landing is checked first, those of largest possible class gain
+(then batches as large as all checked so far)."""
 SEPARATION_MIN = 0.1
 """an expected χ² separation below this (1.2 % of a pair's entropy) is not checked the other way round."""
 
@@ -238,23 +240,41 @@ def _landed(curve, pose: Pose, t_dense: np.ndarray, px, py, phi, left: bool, hal
 
 
 def _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff) -> np.ndarray:
-    """``_landed`` without seating: (dx, dy), the dense points less each place."""
+    """``_landed`` without seating: (dx, dy), the dense points less each place. Only the
+    points under the pad (|lateral| ≤ half_pad) are asked further, each with the same
+    arithmetic (a place's pad covers a fraction of the dense span)."""
     ux, uy = np.cos(phi)[:, None], np.sin(phi)[:, None]
     sgn = -1.0 if left else 1.0
-    h = dx * (-sgn * uy) + dy * (sgn * ux)
+    out_x, out_y = -sgn * uy, sgn * ux  # h = (dx, dy)·(out_x, out_y): how far out
+
+    def seen_at(r, col):
+        """Whether the dense point col lies under place r's pad, not beyond ``standoff`` out."""
+        h = dx[r, col] * out_x[r, 0] + dy[r, col] * out_y[r, 0]
+        return (np.abs(v[r, col]) <= half_pad) & (h <= standoff) & np.isfinite(h)
+
     v = dx * ux + dy * uy
-    seen = (np.abs(v) <= half_pad) & (h <= standoff) & np.isfinite(h)
+    r, col = np.nonzero(np.abs(v) <= half_pad)
+    h = dx[r, col] * out_x[r, 0] + dy[r, col] * out_y[r, 0]
+    seen = (h <= standoff) & np.isfinite(h)
+    r, col, h = r[seen], col[seen], h[seen]
     # the face meets every point as far out as the farthest at once (a straight stretch: all of
     # them, their h equal but for rounding); the contact is the one nearest the pad's middle,
     # not whichever rounding puts out farthest (a line leader kept 60 of 160 places, as rounding fell)
-    h = np.where(seen, h, -np.inf)
-    top = h >= np.max(h, axis=1, keepdims=True) - FLAT_TOL * half_pad
-    j = np.argmin(np.where(top, np.abs(v), np.inf), axis=1)
+    far = np.full(phi.size, -np.inf)
+    np.maximum.at(far, r, h)
+    top = h >= far[r] - FLAT_TOL * half_pad
+    r, col = r[top], col[top]
+    first = np.lexsort((col, np.abs(v[r, col]), r))  # by place, then |lateral|, then column (np.argmin's)
+    first = first[np.diff(r[first], prepend=-1) != 0]
+    j = np.zeros(phi.size, int)
+    j[r[first]] = col[first]
+    met = np.zeros(phi.size, bool)
+    met[r] = True
     rows = np.arange(j.size)
     n = t_dense.size
     closed = curve.t_period is not None
     lo, hi = (j - 1) % n, (j + 1) % n
-    ok = seen[rows, j] & seen[rows, lo] & seen[rows, hi] & (np.abs(v[rows, j]) + reach <= half_pad)
+    ok = met & seen_at(rows, j) & seen_at(rows, lo) & seen_at(rows, hi) & (np.abs(v[rows, j]) + reach <= half_pad)
     if not closed:  # the dense span's ends: what lies beyond is not known
         ok &= (j > 0) & (j < n - 1)
     if curve.name == "semicubical_parabola":
@@ -391,8 +411,9 @@ def _line_rivals_landed(curved: list, idx: np.ndarray, pair: np.ndarray, w_rival
     on, told = np.zeros(size), np.zeros(size)
     for c, wc, clear, seats, resolved in curved:
         on_c = np.zeros(size, bool)
-        if idx.size:
-            on_c[idx] = clear[idx] & lands(c, idx)
+        k = idx[clear[idx]]  # a place's landing is its own: asked only where c is clear of its cusp
+        if k.size:
+            on_c[k] = lands(c, k)
         on += wc * on_c
         told += wc * on_c * seats * resolved
     return pair * told / w_rivals, on >= CURVED_LAND_MIN * w_rivals
@@ -468,6 +489,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     w_lead = max(float(w[lead_i]), MIN_WEIGHT)
     turn = d.dominant_kappa()
     padded = roll > 0 and turn != 0  # a pad's approach modelled: the solid's side is known
+    pads = {}  # id(candidate): its curve, dense t's and pad's side for ``lands``
 
     def lands(c: Candidate, px, py, travel) -> np.ndarray:
         """Whether a pad sent to each place lands there on c's curve (``_landed``). A
@@ -476,12 +498,15 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         branch: its touched one only."""
         if not padded:
             return np.ones(px.size, bool)
-        curve, t_pad = c.curve(), _pad_span(c)
-        args = (_solid_left(c, d, turn), PAD_ROLLS * roll, 0.5 * roll, d.scale)
-        if c is not leader and c.cls == "semicubical_parabola" and \
-                not _landed(curve, c.pose, t_pad, d.x, d.y, d.phi, *args).any():
-            side = np.sign(np.median(c.t))
-            t_pad = t_pad[np.sign(t_pad) == side] if side else t_pad
+        if id(c) not in pads:  # what does not change from place to place, once per candidate
+            curve, t_pad = c.curve(), _pad_span(c)
+            args = (_solid_left(c, d, turn), PAD_ROLLS * roll, 0.5 * roll, d.scale)
+            if c is not leader and c.cls == "semicubical_parabola" and \
+                    not _landed(curve, c.pose, t_pad, d.x, d.y, d.phi, *args).any():
+                side = np.sign(np.median(c.t))
+                t_pad = t_pad[np.sign(t_pad) == side] if side else t_pad
+            pads[id(c)] = curve, t_pad, args
+        curve, t_pad, args = pads[id(c)]
         return _landed(curve, c.pose, t_pad, px, py, travel, *args)
 
     # places on the leader's curve (a semicubical's other branch too, as far from the cusp)
@@ -556,8 +581,9 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         if line_lead:
             curved.append((c, wc, on_c, seats, resolved))
         else:
-            if padded:
-                on_c &= lands(c, px, py, phi + flip)
+            if padded:  # a place's landing is its own: asked only where c's pad may land
+                k_c = np.flatnonzero(on_c)
+                on_c[k_c] = lands(c, px[k_c], py[k_c], phi[k_c] + flip)
             if wc >= LAND_WEIGHT_MIN:
                 on_all &= on_c
             landed += wc * on_c * seats
@@ -573,8 +599,8 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         # rival's cusp beside the touches; bench_wide seed 271 hyperbola 7)
         # The landing checks (half of the time: bench_wide seed 293 line answers 84 / 128 ms)
         # run first at the LAND_FIRST places of largest ``bound`` (the class gain were the pad
-        # to land for every rival), and elsewhere only where a place landed for does not
-        # already beat every other's bound and that bound reaches CLASS_GAIN_MIN: the same choice
+        # to land for every rival), then at as many again of the next, for as long as no place
+        # landed for beats every unchecked one's bound (those reaching CLASS_GAIN_MIN): the same choice
         pair = (w_lead + w_rivals) * _entropy2(w_lead / (w_lead + w_rivals)) * seat_lead
         bound = pair * sum(wc * on_c * seats * resolved for _, wc, on_c, seats, resolved in curved) / w_rivals
         order = np.argsort(-bound, kind="stable")
@@ -583,11 +609,13 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         def lands_at(c: Candidate, k: np.ndarray):
             return lands(c, px[k], py[k], phi[k] + flip) if padded else True
 
-        ig_class, on_all = _line_rivals_landed(curved, order[:LAND_FIRST], pair, w_rivals, lands_at)
-        if order.size > LAND_FIRST and not _beats_the_rest(ig_class, on_all, bound, order[LAND_FIRST:]):
-            # the rest's checks only: each place's gain and landing are its own (0 and False elsewhere)
-            ig_rest, on_rest = _line_rivals_landed(curved, order[LAND_FIRST:], pair, w_rivals, lands_at)
-            ig_class, on_all = ig_class + ig_rest, on_all | on_rest
+        done = LAND_FIRST
+        ig_class, on_all = _line_rivals_landed(curved, order[:done], pair, w_rivals, lands_at)
+        while order.size > done and not _beats_the_rest(ig_class, on_all, bound, order[done:]):
+            # as many again of the rest: each place's gain and landing are its own (0 and False elsewhere)
+            ig_more, on_more = _line_rivals_landed(curved, order[done:2 * done], pair, w_rivals, lands_at)
+            ig_class, on_all = ig_class + ig_more, on_all | on_more
+            done *= 2
     else:  # a lost touch tells nothing, whichever candidate is true: every pair's resolution
         # counts in proportion to the chance the pad lands and seats
         ig_class *= landed / (w_lead + w_rivals)

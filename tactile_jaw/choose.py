@@ -34,12 +34,14 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from hand_driver.cycle import LIMIT_MARGIN_RAD
 from recognizer.curves import CURVES
 from recognizer.result import Recognition
 from recognizer.touches import Reach
+from tactile_common.angles import wrap_angle
 from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
-from tactile_jaw.plan import (ObjectModel, feasible, free_strips, nominal_psi, opened_strips, rested_ends,
-                              rolled_arc)
+from tactile_jaw.plan import (APPROACH_MARGIN_MM, PLAN_OVERSHOOT_MM, PLAN_PAD_MARGIN, ObjectModel, feasible,
+                              free_strips, nominal_psi, opened_strips, rested_ends, rolled_arc)
 from tactile_jaw.settings import ExploreSettings
 
 #: a suggested next touch this near (mm) one already aimed at is not aimed at again
@@ -75,6 +77,10 @@ FREE_END_MM = 1.0
 #: random parabola 18 on the P-series jaw: a turn of 30° and a (-14, -8) mm shift, found after
 #: more than 1,200 questions, 2.3 s more)
 MOVE_QUERIES = 6000
+#: :meth:`JawReach.contains` asks :meth:`JawReach.finger` itself about a place any comparison of
+#: which (mm, rad, or a cosine) lies this near its bound: the places at once round otherwise
+#: (numpy's cos, arccos against math's), ~1e-13
+REACH_UNSURE = 1e-9
 #: what :func:`move_advice` asks when a pad already reaches every place, yet its finger gave up there
 WITHIN_REACH = "move or turn the object so that more of its curved part faces a finger"
 #: a shift found is lengthened by this much (mm) when every place is still reached then
@@ -186,19 +192,30 @@ class JawReach:
             return None
         psi = phi + math.pi / 2
         aim = (x, y) if curvature is None else rolled_arc(x, y, psi, *curvature)
-        ok = [f for f in (self.config.fingers if fingers is None else fingers)
-              if feasible(f, self._model, psi, self.settings, aim=aim)]
-        return min(ok, key=lambda f: abs(math.remainder(psi - nominal_psi(f), 2 * math.pi)), default=None)
+        # nearest its zero-angle normal first (a stable sort: ties in the given order), the first that rolls
+        nearest = sorted(self.config.fingers if fingers is None else fingers,
+                         key=lambda f: abs(math.remainder(psi - nominal_psi(f), 2 * math.pi)))
+        return next((f for f in nearest if feasible(f, self._model, psi, self.settings, aim=aim)), None)
 
     def contains(self, px, py, phi=None) -> np.ndarray:
-        """Whether a pad can roll through each place (x, y) with tangent φ; without φ, the disk."""
+        """Whether a pad can roll through each place (x, y) with tangent φ; without φ, the disk.
+        :meth:`finger`'s answer (is not None), every place at once (:func:`_rolls_through`);
+        a place some comparison of which lies within ``REACH_UNSURE`` of its bound is asked
+        :meth:`finger` itself, so that rounding never changes an answer."""
         inside = np.atleast_1d(np.asarray(self.disk.contains(px, py), bool))
         if phi is None:
             return inside
         px, py, phi = (np.broadcast_to(np.atleast_1d(np.asarray(v, float)), inside.shape) for v in (px, py, phi))
-        out = inside.copy()
-        for i in np.flatnonzero(inside):
-            out[i] = self.finger(float(px[i]), float(py[i]), float(phi[i])) is not None
+        idx = np.flatnonzero(inside)
+        ok, unsure = np.zeros(idx.size, bool), np.zeros(idx.size, bool)
+        for f in self.config.fingers:
+            rolls, near = _rolls_through(f, self._model, self.settings, px[idx], py[idx], phi[idx] + math.pi / 2)
+            ok |= rolls & ~near
+            unsure |= near
+        for i in np.flatnonzero(unsure & ~ok):
+            ok[i] = self.finger(float(px[idx[i]]), float(py[idx[i]]), float(phi[idx[i]])) is not None
+        out = np.zeros(inside.shape, bool)
+        out[idx] = ok
         return out
 
     def opened_clear(self, about, turn: float, shift: np.ndarray) -> np.ndarray:
@@ -249,6 +266,79 @@ class JawReach:
     def to_json(self) -> dict:
         """The workspace disk (a request file's ``options.reach`` holds only a disk)."""
         return self.disk.to_json()
+
+
+def _rolls_through(finger, model: ObjectModel, settings: ExploreSettings, px: np.ndarray, py: np.ndarray,
+                   psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """tactile_jaw.plan.feasible for a touch aimed at each place (px, py) with pad normal ψ,
+    all places at once: (whether ``finger`` rolls through it, whether some comparison lay
+    within ``REACH_UNSURE`` of its bound, where the answer is not yet known otherwise). At
+    both ends a of the roll, the pad line through the place, d = n(a)·p, has a joint
+    solution within the limits (less LIMIT_MARGIN_RAD) with the place on the pad
+    ``PLAN_PAD_MARGIN`` of its length from either end (which implies kinematics.ik_line's
+    contact on the pad), the line ``PLAN_OVERSHOOT_MM`` beyond has one, and so has some
+    line of plan.retreat_offset's (the workspace edge's, then 1 mm steps inward, at most
+    ``APPROACH_MARGIN_MM`` outside d). Only places still rolled through are asked further."""
+    j1, j2 = finger.joints
+    side, length, off = finger.pad.side_sign, finger.pad.length_mm, finger.pad.offset_mm
+    lo = np.array([j1.min_rad, j2.min_rad]) + LIMIT_MARGIN_RAD
+    hi = np.array([j1.max_rad, j2.max_rad]) - LIMIT_MARGIN_RAD
+    base = np.array([finger.base.x, finger.base.y])
+    lo_u, hi_u = PLAN_PAD_MARGIN * length, (1 - PLAN_PAD_MARGIN) * length
+    cx, cy = model.workspace_center
+
+    def solutions(a, d):
+        """(q (2, m, 2): kinematics.ik_line_solutions' two, whether each is real and within
+        the limits (2, m), the least distance of a comparison from its bound (m,))."""
+        c = (d - off - (np.cos(a) * base[0] + np.sin(a) * base[1])) / j1.link_mm
+        acos = np.arccos(np.clip(c, -1.0, 1.0))
+        q = np.stack([np.stack([wrap_angle(a1 - finger.base.angle), wrap_angle(a - side * math.pi / 2 - a1)], axis=-1)
+                      for a1 in (a + acos, a - acos)])
+        valid = (np.abs(c) <= 1.0) & np.all((q >= lo) & (q <= hi), axis=-1)
+        bounds = np.abs(np.concatenate([q - lo, hi - q, math.pi - np.abs(q)], axis=-1))
+        return q, valid, np.minimum(np.min(bounds, axis=(0, 2)), np.abs(1.0 - np.abs(c)))
+
+    ok = np.ones(px.shape, bool)
+    near = np.zeros(px.shape, bool)
+    for end in (-0.5, 0.5):
+        i = np.flatnonzero(ok & ~near)
+        a = psi[i] + end * settings.roll_span_rad
+        x, y = px[i], py[i]
+        d = np.cos(a) * x + np.sin(a) * y
+        q, valid, gap = solutions(a, d)
+        # the place along the pad (kinematics.chain_pad_line: from the proximal end along e(α2))
+        a1, a2 = finger.base.angle + q[..., 0], finger.base.angle + q[..., 0] + q[..., 1]
+        e2 = np.stack([np.cos(a2), np.sin(a2)], axis=-1)
+        n = np.stack([np.cos(a2 + side * math.pi / 2), np.sin(a2 + side * math.pi / 2)], axis=-1)
+        prox = base + j1.link_mm * np.stack([np.cos(a1), np.sin(a1)], axis=-1) + (j2.link_mm - length) * e2 + off * n
+        u = (x - prox[..., 0]) * e2[..., 0] + (y - prox[..., 1]) * e2[..., 1]
+        rolls = np.any(valid & (u >= lo_u) & (u <= hi_u), axis=0)
+        gap = np.minimum(gap, np.min(np.minimum(np.abs(u - lo_u), np.abs(hi_u - u)), axis=0))
+        _, over, gap_over = solutions(a, d + PLAN_OVERSHOOT_MM)
+        rolls &= np.any(over, axis=0)
+        gap = np.minimum(gap, gap_over)
+        # plan.retreat_offset: the first reachable line from the edge's inward, 1 mm steps;
+        # the edge's own line is always tried (the limit is at least it: no rounding there)
+        d_out = np.cos(a) * cx + np.sin(a) * cy - model.workspace_radius
+        limit = np.maximum(d_out, d - APPROACH_MARGIN_MM)
+        gap = np.minimum(gap, np.abs(d - APPROACH_MARGIN_MM - d_out))
+        retreat = np.zeros(i.shape, bool)
+        step = d_out.copy()
+        first = limit == d_out
+        todo = np.flatnonzero(rolls & (gap >= REACH_UNSURE))
+        while todo.size:
+            tried = step[todo] <= limit[todo] + 1e-9
+            gap[todo] = np.where(first[todo], gap[todo], np.minimum(gap[todo], np.abs(limit[todo] + 1e-9 - step[todo])))
+            todo = todo[tried]
+            _, valid_r, gap_r = solutions(a[todo], step[todo])
+            gap[todo] = np.minimum(gap[todo], gap_r)
+            retreat[todo] = np.any(valid_r, axis=0)
+            todo = todo[~retreat[todo]]
+            step[todo] += 1.0
+            first[todo] = False
+        ok[i] = rolls & retreat
+        near[i] = gap < REACH_UNSURE
+    return ok, near
 
 
 def _strip_points(psi: float, u_lo: float, u_hi: float, d_lo: float, d_hi: float) -> np.ndarray:

@@ -484,3 +484,70 @@ def test_a_line_leader_checks_landing_only_where_the_choice_can_fall(monkeypatch
     full, _, _ = bw._recognize(touches, nm)
     assert rec.cls == full.cls == "line" and rec.next_touch == full.next_touch
     assert few <= 0.2 * sum(checked), (few, sum(checked))
+
+
+def _met_by_face_dense(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff):
+    """``_met_by_face`` as it was before session 25, on every dense point (the reference)."""
+    from recognizer.next_touch import FLAT_TOL
+    ux, uy = np.cos(phi)[:, None], np.sin(phi)[:, None]
+    sgn = -1.0 if left else 1.0
+    h = dx * (-sgn * uy) + dy * (sgn * ux)
+    v = dx * ux + dy * uy
+    seen = (np.abs(v) <= half_pad) & (h <= standoff) & np.isfinite(h)
+    h = np.where(seen, h, -np.inf)
+    top = h >= np.max(h, axis=1, keepdims=True) - FLAT_TOL * half_pad
+    j = np.argmin(np.where(top, np.abs(v), np.inf), axis=1)
+    rows, n = np.arange(j.size), t_dense.size
+    lo, hi = (j - 1) % n, (j + 1) % n
+    ok = seen[rows, j] & seen[rows, lo] & seen[rows, hi] & (np.abs(v[rows, j]) + reach <= half_pad)
+    if curve.t_period is None:
+        ok &= (j > 0) & (j < n - 1)
+    if curve.name == "semicubical_parabola":
+        tj = t_dense[j]
+        ok &= (np.sign(t_dense[lo]) == np.sign(t_dense[hi])) & (np.abs(curve.arc_length(np.zeros_like(tj), tj)) >= reach)
+    return ok
+
+
+@pytest.mark.parametrize("cls, params", [("line", {}), ("ellipse", {"a": 40.0, "b": 6.0}),
+                                         ("semicubical_parabola", {"a": 2.0, "b": 1.0}), ("hyperbola", {"a": 5.0, "b": 3.0})])
+def test_a_pads_face_meets_the_same_points_asking_only_those_under_it(cls, params):
+    """``_met_by_face`` works on the dense points under each pad only (session 25, for
+    speed): on exact curves, places on and beside them, pads of every orientation near the
+    tangent and both sides, its answer is the dense reference's, place by place."""
+    from recognizer.next_touch import _met_by_face
+    curve = CURVES[cls](params)
+    rng = np.random.default_rng(7)
+    t_dense = np.linspace(-3.0, 3.0, 700) if curve.t_period is None else np.linspace(-np.pi, np.pi, 700, endpoint=False)
+    cx, cy = curve.point(t_dense)
+    t = rng.uniform(-2.0, 2.0, 300)
+    px, py = curve.point(t)
+    px, py = px + rng.normal(0, 0.01, t.size), py + rng.normal(0, 0.01, t.size)
+    phi = np.asarray(curve.tangent_angle(t), float) + rng.normal(0, 0.003, t.size) * (np.arange(t.size) % 2)
+    dx, dy = cx[None, :] - px[:, None], cy[None, :] - py[:, None]
+    landed = 0
+    for left in (True, False):
+        for half_pad, reach in ((0.5, 0.25), (3.0, 1.0)):
+            got = _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, 2.0)
+            want = _met_by_face_dense(curve, t_dense, dx, dy, phi, left, half_pad, reach, 2.0)
+            assert got.tolist() == want.tolist()
+            landed += int(got.sum())
+    assert 0 < landed < 4 * t.size  # some pads land and some do not
+
+
+@pytest.mark.parametrize("trial", [3, 6, 10])
+def test_a_line_leaders_landing_checks_in_batches_choose_as_checking_everywhere(trial, monkeypatch):
+    """bench_wide --set wide seed 293, line trials 3, 6, 10: no place of the first
+    ``LAND_FIRST`` provably wins, so the landing is checked in batches as large as all
+    checked so far (session 25; before, at every other place at once) until one does: the
+    same suggestion as checking every place."""
+    import recognizer.next_touch as nt_mod
+    from tools import bench_wide as bw
+
+    _, shape, ts, _, rs = bw.draw_case("line", trial, 293, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    nm = NoiseModel(noise.phi, noise.pos)
+    rec, _, _ = bw._recognize(touches, nm)
+    monkeypatch.setattr(nt_mod, "LAND_FIRST", 10 ** 6)
+    full, _, _ = bw._recognize(touches, nm)
+    assert rec.cls == full.cls == "line" and rec.next_touch is not None and rec.next_touch == full.next_touch
