@@ -366,6 +366,25 @@ def other_side_aim(recognition, finger, reach: JawReach) -> Aim | None:
                f"the pad: the other side of a closed object decides what one side leaves", kind="side")
 
 
+def promised_aims(places: Sequence[dict], cfg) -> dict[str, Aim]:
+    """Per finger, the first roll of a run after a move a refusal named (``places``: where that
+    move was for, tactile_jaw.choose.moved_places, each with the finger that rolls there; the
+    log's ``move``, ``tactile explore --moved-as``): the place itself, once, after its finger's
+    probes. The planner alone may never roll there: random X-series ellipse 40 of bench_explore
+    --finite 20 --anywhere --seed 283, moved 4 mm for the right pad to roll on the side it had
+    met only with its probes, was refused again with no right roll at all (no orientation the
+    right pad's lines predict a roll at; :func:`other_side_aim` only while the answer's
+    parameters are unsure, not while an open rival fits)."""
+    names = {f.name for f in cfg.fingers}
+    out: dict[str, Aim] = {}
+    for place in places:
+        finger = place.get("finger")
+        if finger in names and finger not in out:
+            out[finger] = Aim(float(place["x"]), float(place["y"]), float(place["phi"]), finger,
+                              "where the move of the object the last refusal named was for", kind="promised")
+    return out
+
+
 def _follow_hint(hint: Aim, finger: str, from_hint: set[str], aimed_at: list, say) -> tuple[float, tuple, float | None]:
     """A finger's next roll where its last one points (``hint``: a stretch of the curved part,
     or a corner in doubt): (ψ, the point aimed at, the span in roll spans or None), said."""
@@ -604,13 +623,15 @@ def _spent(out: Exploration) -> int:
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTouches,
             emit: Callable[[dict], None] | None = None,
             progress: Callable[[str], None] | None = None,
-            recognize_anywhere: RecognizeTouches | None = None) -> Exploration:
+            recognize_anywhere: RecognizeTouches | None = None, moved_for: Sequence[dict] = ()) -> Exploration:
     """Explore with both fingers (module docstring). ``recognize_touches`` maps a list of
     usable felt touches to a Recognition (tactile_jaw.pipeline.make_recognizer, its
     ``next_touch`` within the jaw's reach); ``emit`` receives log records; ``progress``
     one-line messages for people; ``recognize_anywhere``, the same with ``next_touch``
     anywhere in the workspace, lets a stop for want of reach say where the touch would go
-    and how far to move the object (tactile_jaw.choose.move_advice)."""
+    and how far to move the object (tactile_jaw.choose.move_advice); ``moved_for``, where the move
+    of the object a refusal named was for (its ``move['places']``): each finger named rolls there
+    first after its probes (:func:`promised_aims`)."""
     emit = emit or (lambda rec: None)
     say = progress or (lambda msg: None)
     recognize_touches = _memo(recognize_touches)
@@ -647,7 +668,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         return None if recognize_anywhere is None else (lambda: recognize_anywhere(touches).next_touch)
 
     aimed_at: list[tuple[float, float]] = []
-    hints: dict[str, Aim] = {}  # per finger: where its last unusable roll still felt the curved part
+    # per finger: where its last unusable roll still felt the curved part, or where a move was for
+    hints: dict[str, Aim] = promised_aims(moved_for, cfg)
     #: the touches rolled WIDER_SPAN times wider where a corner was in doubt (their indices: not
     #: rolled wider again; a usable one drops that corner, tactile_jaw.pipeline.measured_there)
     wider: set[int] = set()
@@ -676,9 +698,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(message)
             break
         if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
-                h.kind in ("corner", "scan") or (h.kind == "wider" and out.used) for h in hints.values()):
-            # unless a finger rolls again beside a corner, where a press's scan felt the curve, or wider where
-            # a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157: its tight ends)
+                h.kind in ("corner", "scan", "promised") or (h.kind == "wider" and out.used)
+                for h in hints.values()):
+            # unless a finger rolls again beside a corner, where a press's scan felt the curve, where a move was
+            # for, or wider where a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157:
+            # its tight ends)
             waiting = unrolled_before_flat(cfg, out, probes, off_curve, plan_psi, pressed)
             if waiting is None:
                 say(f"none of {sum(not isinstance(t.touch, FlatResult) for t in out.touches)} rolling touches was "
