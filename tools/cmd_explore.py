@@ -40,7 +40,7 @@ def add_common_arguments(parser, *, scene_default: str | None) -> None:
                         help="overwrite an existing --log, --mcap or --plot file (never a file the command reads)")
     parser.add_argument("--moved-as", metavar="LOG",
                         help="the run log of the refusal whose move the object was moved by: this run rolls first "
-                             "where that move was for (docs/exploration.md#what-a-refusal-asks-for)")
+                             "where that move was for (docs/exploration.md#following-the-advice)")
 
 
 def moved_for(path: str | None) -> list[dict]:
