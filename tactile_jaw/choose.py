@@ -109,7 +109,8 @@ class Aim:
     'wider' (where its last roll was a corner only by its radius's deviation, rolled again
     wider: tactile_jaw.explore.wider_again), 'corner' (beside a usable roll's stretch clear of
     the corner it ran onto, away from it: tactile_jaw.pipeline.clear_side) or 'scan' (where
-    a flat press's scan rolled on the curved part: tactile_jaw.explore.scanned_curve)."""
+    a flat press's scan rolled on the curved part: tactile_jaw.explore.scanned_curve) or
+    'promised' (where the move a refusal named was for, after it: tactile_jaw.explore.promised_aims)."""
 
     x: float
     y: float
@@ -146,7 +147,8 @@ class Stop(str):
     """Why exploration stops before its budget is spent (for people), with ``move``: the move
     of the object after which a pad rolls where the touch would have to go (:func:`move_for`:
     ``{"dx": mm, "dy": mm, "turn_deg": deg, "about": [x, y]}``, the turn about that place
-    first), or None when no small move is known."""
+    first, and ``places``: where it was named for, :func:`moved_places`), or None when no small
+    move is known."""
 
     move: dict | None
 
@@ -799,7 +801,24 @@ def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None) ->
     grow = (math.hypot(dx, dy) + MOVE_MARGIN_MM) / max(math.hypot(dx, dy), 1e-9)
     if (dx or dy) and _reaches(reach, goal, grow * dx, grow * dy, a, fingers):
         dx, dy = grow * dx, grow * dy  # clear of the reach's edge, which a fitted curve knows only so well
-    return _move_words(goal, dx, dy, a)
+    words, out = _move_words(goal, dx, dy, a)
+    return words, {**out, "places": moved_places(reach, goal, dx, dy, a, fingers)}
+
+
+def moved_places(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float,
+                 fingers: Sequence | None = None) -> list[dict]:
+    """Where the move (``dx``, ``dy`` mm after ``turn`` rad about ``goal.about``) was named for:
+    each place of ``goal`` once the object is moved so (x, y mm, φ rad in the hand frame) and the
+    finger that rolls there (None when none does), for :class:`Stop`'s ``move``: the run after
+    the move rolls there (tactile_jaw.explore.promised_aims)."""
+    places, _ = _moved(goal, turn, np.array([[dx, dy]]))
+    out = []
+    for j, (x, y) in enumerate(places[0]):
+        phi = float(math.remainder(goal.places[j][2] + turn, 2 * math.pi))
+        finger = reach.finger(float(x), float(y), phi, fingers, goal.curvature_of(j))
+        out.append({"x": round(float(x), 3), "y": round(float(y), 3), "phi": round(phi, 5),
+                    "finger": None if finger is None else finger.name})
+    return out
 
 
 def facing_move(reach: JawReach, goal: Goal, finger) -> tuple[str, dict] | None:

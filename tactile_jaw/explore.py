@@ -25,9 +25,11 @@ docs/exploration.md.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any, Callable, Container, Sequence
 
 import numpy as np
+from scipy.spatial import cKDTree
 
 from hand_driver import kinematics as kin
 from hand_driver.config import states_calibration
@@ -43,7 +45,7 @@ from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_p
                                     unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
-                                  on_corner, sure_corner, too_few_clear)
+                                  on_corner, sure_corner, too_few_clear, workspace_reach)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              feasible, nominal_psi, predicted_tangent, probe_face_contact, retreat_offset,
                              within_curve)
@@ -364,6 +366,25 @@ def other_side_aim(recognition, finger, reach: JawReach) -> Aim | None:
                f"the pad: the other side of a closed object decides what one side leaves", kind="side")
 
 
+def promised_aims(places: Sequence[dict], cfg) -> dict[str, Aim]:
+    """Per finger, the first roll of a run after a move a refusal named (``places``: where that
+    move was for, tactile_jaw.choose.moved_places, each with the finger that rolls there; the
+    log's ``move``, ``tactile explore --moved-as``): the place itself, once, after its finger's
+    probes. The planner alone may never roll there: random X-series ellipse 40 of bench_explore
+    --finite 20 --anywhere --seed 283, moved 4 mm for the right pad to roll on the side it had
+    met only with its probes, was refused again with no right roll at all (no orientation the
+    right pad's lines predict a roll at; :func:`other_side_aim` only while the answer's
+    parameters are unsure, not while an open rival fits)."""
+    names = {f.name for f in cfg.fingers}
+    out: dict[str, Aim] = {}
+    for place in places:
+        finger = place.get("finger")
+        if finger in names and finger not in out:
+            out[finger] = Aim(float(place["x"]), float(place["y"]), float(place["phi"]), finger,
+                              "where the move of the object the last refusal named was for", kind="promised")
+    return out
+
+
 def _follow_hint(hint: Aim, finger: str, from_hint: set[str], aimed_at: list, say) -> tuple[float, tuple, float | None]:
     """A finger's next roll where its last one points (``hint``: a stretch of the curved part,
     or a corner in doubt): (ψ, the point aimed at, the span in roll spans or None), said."""
@@ -422,12 +443,15 @@ def scanned_curve(cfg, felt: FeltTouch, reach: JawReach, no_curve: set[int]) -> 
                                       f"{roll.fit.rho:.1f} mm)", kind="scan")
 
 
-def at_corner(x: float, y: float, corners) -> bool:
+def at_corner(x, y, corners):
     """Whether the point (x, y) lies within ``CORNER_CLEARANCE_MM`` of one of the ``corners``
     ((k, 2): those a roll pivoted about, tactile_jaw.pipeline.clearing_corners), where a roll
-    keeps none of its samples (tactile_jaw.pipeline.clear_of_corners)."""
+    keeps none of its samples (tactile_jaw.pipeline.clear_of_corners); for arrays ``x``, ``y``,
+    one bool per point."""
     corners = np.asarray(corners, float).reshape(-1, 2)
-    return bool(len(corners)) and float(np.min(np.hypot(corners[:, 0] - x, corners[:, 1] - y))) < CORNER_CLEARANCE_MM
+    px, py = np.asarray(x, float)[..., None], np.asarray(y, float)[..., None]
+    near = np.any(np.hypot(corners[:, 0] - px, corners[:, 1] - py) < CORNER_CLEARANCE_MM, axis=-1)
+    return bool(near) if near.ndim == 0 else near
 
 
 def futile_roll(aim: Aim, touches: list[FeltTouch], span: float, corners) -> str | None:
@@ -461,7 +485,7 @@ END_SEARCH_SPANS = 4.0
 END_SEARCH_POINTS = 4001
 
 
-def beyond_felt_end(recognition, x: float, y: float, corners) -> bool:
+def beyond_felt_end(recognition, x, y, corners):
     """Whether the place (x, y) is not on the object as felt, for an open answer's curve
     (``recognition``: its contacts' parameters t are the felt stretch) and the corners rolls
     pivoted about (``corners``, tactile_jaw.pipeline.clearing_corners) that lie on that curve
@@ -475,32 +499,58 @@ def beyond_felt_end(recognition, x: float, y: float, corners) -> bool:
     whose ends both pads had pivoted about; the move to it ("20 mm toward the palm") left the
     pads only the cusp-side corner and the closing segment, and it was answered `line` after
     it. Places and corners are placed on the curve by its nearest of ``END_SEARCH_POINTS``
-    points, within ``CORNER_CLEARANCE_MM``; a closed class has no ends (False)."""
+    points, within ``CORNER_CLEARANCE_MM``; a closed class has no ends (False). ``x``, ``y``
+    may be arrays (the recognizer's places, :class:`FeltObject`): then one bool per place."""
+    scalar = np.ndim(x) == 0 and np.ndim(y) == 0
+    x, y = np.atleast_1d(np.asarray(x, float)), np.atleast_1d(np.asarray(y, float))
+    out = np.zeros(x.shape, bool)
     curve = CURVES[recognition.cls](recognition.params)
     corners = np.asarray(corners, float).reshape(-1, 2)
-    if curve.t_period is not None or recognition.pose is None or not recognition.contacts or not len(corners):
-        return False
-    felt = np.array([float(c["t"]) for c in recognition.contacts])
-    lo, hi = float(np.min(felt)), float(np.max(felt))
-    reach = END_SEARCH_SPANS * max(hi - lo, 1.0)
-    t = np.linspace(lo - reach, hi + reach, END_SEARCH_POINTS)
-    px, py = recognition.pose.apply(*curve.point(t))
+    if curve.t_period is None and recognition.pose is not None and recognition.contacts and len(corners):
+        felt = np.array([float(c["t"]) for c in recognition.contacts])
+        lo, hi = float(np.min(felt)), float(np.max(felt))
+        reach = END_SEARCH_SPANS * max(hi - lo, 1.0)
+        t = np.linspace(lo - reach, hi + reach, END_SEARCH_POINTS)
+        tree = cKDTree(np.stack(recognition.pose.apply(*curve.point(t)), axis=-1))
 
-    def on_curve(qx: float, qy: float) -> float | None:
-        gap = np.hypot(px - qx, py - qy)
-        k = int(np.argmin(gap))
-        return float(t[k]) if gap[k] <= CORNER_CLEARANCE_MM else None
+        def on_curve(qx: np.ndarray, qy: np.ndarray) -> np.ndarray:  # t of the nearest point, NaN: off the curve
+            gap, k = tree.query(np.stack([qx, qy], axis=-1))
+            return np.where(gap <= CORNER_CLEARANCE_MM, t[k], np.nan)
 
-    ends = [e for e in (on_curve(float(cx), float(cy)) for cx, cy in corners) if e is not None]
-    below, above = [e for e in ends if e < lo], [e for e in ends if e > hi]
-    at = on_curve(x, y)
-    if at is None:
-        return bool(below and above)
-    return (at < lo and any(at <= e for e in below)) or (at > hi and any(at >= e for e in above))
+        ends = on_curve(corners[:, 0], corners[:, 1])
+        below, above = ends[ends < lo], ends[ends > hi]
+        at = on_curve(x, y)
+        past_below = (at < lo) & (at <= below.max()) if below.size else np.zeros(x.shape, bool)
+        past_above = (at > hi) & (at >= above.min()) if above.size else np.zeros(x.shape, bool)
+        out = np.where(np.isnan(at), bool(below.size and above.size), past_below | past_above)
+    return bool(out[0]) if scalar else out
+
+
+@dataclass(frozen=True)
+class FeltObject:
+    """Where the recognizer's ``next_touch`` may point once its first choice lay off the object
+    as felt (:func:`past_felt_end`): within ``within`` (the workspace's reach), neither past a
+    corner the rolls pivoted about beyond the felt stretch of the ``recognition``'s curve
+    (:func:`beyond_felt_end`) nor at such a corner (:func:`at_corner`, where a roll keeps no
+    samples). Calibrated P cubical 58 of bench_explore --finite 10 --anywhere --seed 337: the
+    hyperbola leading, the cubical as close, the place named lay 0.4 mm from the corner the
+    left pad pivoted about, on its far side, and the refusal named no move; on the object, the
+    recognizer names (112, 35) mm, and the move to it (turned 20°, 4 mm) is what its twin 51
+    was answered right after."""
+
+    within: Any
+    recognition: Any
+    corners: np.ndarray
+
+    def contains(self, px, py, phi=None) -> np.ndarray:
+        px, py = np.atleast_1d(np.asarray(px, float)), np.atleast_1d(np.asarray(py, float))
+        return (np.asarray(self.within.contains(px, py, phi), bool) & ~at_corner(px, py, self.corners)
+                & ~beyond_felt_end(self.recognition, px, py, self.corners))
 
 
 def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], dict | None], reach: JawReach,
-                  span: float, limits: Callable[[str], list], corners=()) -> Callable[[], dict | None]:
+                  span: float, limits: Callable[[str], list], corners=(),
+                  on_object: Callable[[FeltObject], dict | None] | None = None) -> Callable[[], dict | None]:
     """The touch a budget-spent refusal names (tactile_jaw.choose.budget_advice): the
     recognizer's ``wanted`` (its ``next_touch`` anywhere), unless a pad reaches that place
     but its rolls left the curved part short of it (``limits``: tactile_jaw.explore.curve_limits,
@@ -515,8 +565,11 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
     corner a roll pivoted about (``corners``, tactile_jaw.pipeline.clearing_corners): a roll
     there keeps none of its samples near that corner (tactile_jaw.pipeline.clear_of_corners)
     and runs onto it (P cubical 104 of seed 139: the place named lay 0.8 mm from the corner
-    where the left pad's rolls left the curve, and more touches were advised). None when the
-    place lies past a corner beyond the felt stretch (:func:`beyond_felt_end`): not on the object."""
+    where the left pad's rolls left the curve, and more touches were advised). When the place
+    lies past a corner beyond the felt stretch (:func:`beyond_felt_end`: not on the object), the
+    recognizer's next touch among the places on the object as felt (``on_object``, asked with a
+    :class:`FeltObject` as its reach; None without it, or when there is none): no move brings a
+    place the object does not have within reach, a move to the best one it has may decide."""
 
     def run() -> dict | None:
         place = wanted()
@@ -524,7 +577,13 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
             return place
         x, y, phi = float(place["x"]), float(place["y"]), float(place["phi"])
         if beyond_felt_end(recognition, x, y, corners):
-            return None  # no move brings a place the object does not have within reach
+            if on_object is None:
+                return None
+            place = on_object(FeltObject(workspace_reach(reach.config), recognition,
+                                         np.asarray(corners, float).reshape(-1, 2)))
+            if place is None:
+                return None
+            x, y, phi = float(place["x"]), float(place["y"]), float(place["phi"])
         finger = reach.finger(x, y, phi)
         if finger is None or (not at_corner(x, y, corners) and within_curve(phi + math.pi / 2, span,
                                                                             limits(finger.name))):
@@ -564,13 +623,15 @@ def _spent(out: Exploration) -> int:
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTouches,
             emit: Callable[[dict], None] | None = None,
             progress: Callable[[str], None] | None = None,
-            recognize_anywhere: RecognizeTouches | None = None) -> Exploration:
+            recognize_anywhere: RecognizeTouches | None = None, moved_for: Sequence[dict] = ()) -> Exploration:
     """Explore with both fingers (module docstring). ``recognize_touches`` maps a list of
     usable felt touches to a Recognition (tactile_jaw.pipeline.make_recognizer, its
     ``next_touch`` within the jaw's reach); ``emit`` receives log records; ``progress``
     one-line messages for people; ``recognize_anywhere``, the same with ``next_touch``
     anywhere in the workspace, lets a stop for want of reach say where the touch would go
-    and how far to move the object (tactile_jaw.choose.move_advice)."""
+    and how far to move the object (tactile_jaw.choose.move_advice); ``moved_for``, where the move
+    of the object a refusal named was for (its ``move['places']``): each finger named rolls there
+    first after its probes (:func:`promised_aims`)."""
     emit = emit or (lambda rec: None)
     say = progress or (lambda msg: None)
     recognize_touches = _memo(recognize_touches)
@@ -607,7 +668,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         return None if recognize_anywhere is None else (lambda: recognize_anywhere(touches).next_touch)
 
     aimed_at: list[tuple[float, float]] = []
-    hints: dict[str, Aim] = {}  # per finger: where its last unusable roll still felt the curved part
+    # per finger: where its last unusable roll still felt the curved part, or where a move was for
+    hints: dict[str, Aim] = promised_aims(moved_for, cfg)
     #: the touches rolled WIDER_SPAN times wider where a corner was in doubt (their indices: not
     #: rolled wider again; a usable one drops that corner, tactile_jaw.pipeline.measured_there)
     wider: set[int] = set()
@@ -636,9 +698,11 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(message)
             break
         if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
-                h.kind in ("corner", "scan") or (h.kind == "wider" and out.used) for h in hints.values()):
-            # unless a finger rolls again beside a corner, where a press's scan felt the curve, or wider where
-            # a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157: its tight ends)
+                h.kind in ("corner", "scan", "promised") or (h.kind == "wider" and out.used)
+                for h in hints.values()):
+            # unless a finger rolls again beside a corner, where a press's scan felt the curve, where a move was
+            # for, or wider where a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157:
+            # its tight ends)
             waiting = unrolled_before_flat(cfg, out, probes, off_curve, plan_psi, pressed)
             if waiting is None:
                 say(f"none of {sum(not isinstance(t.touch, FlatResult) for t in out.touches)} rolling touches was "
@@ -872,7 +936,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         wanted = anywhere(usable)
         if wanted is not None:  # a place past where the rolls left the curved part is no place to touch
             wanted = past_felt_end(recognition, usable, wanted, reach, settings.roll_span_rad, limits,
-                                   clearing_corners(out.touches))
+                                   clearing_corners(out.touches),
+                                   lambda on: recognize_anywhere(usable, reach=on).next_touch)
         also = unrolled_places(cfg, out, recognition)
         one_side = bool(also) and beyond_resolution(recognize_touches, recognition, why, usable, settings.touches)
         out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,

@@ -99,15 +99,18 @@ def finite_object(rng, example: dict) -> dict:
     return obj
 
 
-def run_scene(path: Path, log: Path, profile: str, config: str = DEFAULT_CONFIG, truth: str | None = None) -> dict:
+def run_scene(path: Path, log: Path, profile: str, config: str = DEFAULT_CONFIG, truth: str | None = None,
+              moved_as: Path | None = None) -> dict:
     """``tactile demo`` of one scene with ``config`` (on the emulated jaw ``truth``, default
-    ``config``): its answer, exit status and what its log says."""
+    ``config``; ``moved_as``: the log of the refusal whose move the scene's object was moved by,
+    ``--moved-as``): its answer, exit status and what its log says."""
     from tools.cli import EXIT_RECOGNIZED, EXIT_REFUSED
 
     t0 = time.monotonic()
     out = subprocess.run([sys.executable, "-m", "tools.cli", "demo", "--scene", str(path), "--json", "--log", str(log),
                           "--profile", profile, "--config", config]
-                         + (["--truth-config", truth] if truth else []), capture_output=True, text=True)
+                         + (["--truth-config", truth] if truth else [])
+                         + (["--moved-as", str(moved_as)] if moved_as is not None else []), capture_output=True, text=True)
     wall = time.monotonic() - t0
     result = {"rc": out.returncode, "wall_s": wall, "stderr": out.stderr.strip().splitlines()[-1:] or [""]}
     if out.returncode in (EXIT_RECOGNIZED, EXIT_REFUSED):  # a refusal prints its answer too
@@ -418,8 +421,8 @@ def print_sigma_table(scenes, results) -> None:
 
 def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAULT_CONFIG,
                   truth: str | None = None) -> list[str | None]:
-    """Every refused scene whose refusal names a move, moved so and explored once more;
-    per class: refusals, those naming a move, and the second runs' right / refused / wrong.
+    """Every refused scene whose refusal names a move, moved so and explored once more (with
+    ``--moved-as`` its first run's log: it rolls first where the move was for); per class: refusals, those naming a move, and the second runs' right / refused / wrong.
     Returns, per scene, the second run's verdict (:func:`verdict`; 'refused' also when the
     moved object could not be explored, such as one the move put across the opened jaw), or
     None where no move was named."""
@@ -432,13 +435,14 @@ def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAUL
             mapping = yaml.safe_load(path.read_text())
             mapping["object"] = moved_object(mapping["object"], move)
             moved.write_text(yaml.safe_dump(mapping))
-            again.append((moved, obj, move))
+            again.append((moved, obj, move, path.with_suffix(".log")))
             index.append(k)
     with ThreadPoolExecutor(jobs) as pool:
-        second = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), profile, config, truth), again))
+        second = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), profile, config, truth,
+                                                   s[3]), again))
     print("\n| object moved as advised | move | answer | right | parameter error | robot time |")
     print("|---|---|---|---|---|---|")
-    for (path, obj, move), res in zip(again, second):
+    for (path, obj, move, _), res in zip(again, second):
         rec = res.get("recognition")
         said = verdict(obj, rec)
         print(f"| {path.stem} | ({move['dx']:.0f}, {move['dy']:.0f}) mm, {move['turn_deg']:.0f}° | "
@@ -451,14 +455,15 @@ def follow_advice(scenes, results, profile: str, jobs: int, config: str = DEFAUL
     for cls in CLASSES:
         refused = sum(verdict(obj, res.get("recognition")) == "refused"
                       for (_, obj), res in zip(scenes, results) if obj["class"] == cls)
-        mine = [res for (_, obj, _), res in zip(again, second) if obj["class"] == cls]
-        said = [verdict(obj, res.get("recognition")) for (_, obj, _), res in zip(again, second) if obj["class"] == cls]
+        mine = [res for (_, obj, _, _), res in zip(again, second) if obj["class"] == cls]
+        said = [verdict(obj, res.get("recognition")) for (_, obj, _, _), res in zip(again, second)
+                if obj["class"] == cls]
         robot = [res["robot_s"] for res in mine if res.get("robot_s") is not None]
         if refused:
             print(f"| {cls} | {refused} | {len(said)} | {said.count('yes')} | {said.count('refused')} | "
                   f"{said.count('**WRONG**')} | " + (f"{np.median(robot):.1f} s |" if robot else "— |"), flush=True)
     out: list[str | None] = [None] * len(scenes)
-    for k, (_, obj, _), res in zip(index, again, second):
+    for k, (_, obj, _, _), res in zip(index, again, second):
         out[k] = verdict(obj, res.get("recognition"))
     return out
 

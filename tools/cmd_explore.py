@@ -38,6 +38,25 @@ def add_common_arguments(parser, *, scene_default: str | None) -> None:
     parser.add_argument("--plot", metavar="PNG", help="write a plot of the pad lines, touches and recognized curve")
     parser.add_argument("--force", action="store_true",
                         help="overwrite an existing --log, --mcap or --plot file (never a file the command reads)")
+    parser.add_argument("--moved-as", metavar="LOG",
+                        help="the run log of the refusal whose move the object was moved by: this run rolls first "
+                             "where that move was for (docs/exploration.md#following-the-advice)")
+
+
+def moved_for(path: str | None) -> list[dict]:
+    """Where the move of ``--moved-as``'s refusal was for (its stop event's ``move['places']``,
+    tactile_jaw.choose.moved_places); empty without one. A log whose refusal named no move is
+    refused: the object was not moved as it said."""
+    if path is None:
+        return []
+    from hand_driver.log import read_log
+    from tactile_common.errors import InputError
+    from tactile_jaw.choose import last_stop
+
+    stop = last_stop(read_log(path).events)
+    if stop is None or stop.get("move") is None:
+        raise InputError(f"{path}: --moved-as: the run's refusal named no move of the object")
+    return list(stop["move"].get("places") or [])
 
 
 def check_outputs(args, log_path: str | None, reads) -> None:
@@ -95,11 +114,12 @@ def read_yaml_mapping_located(path: str, what: str):
 
 def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, log_path: str | None,
                 force: bool, clock_factory: Callable[[], Any], bus_timeout_s: float, progress: Callable[[str], None],
-                mcap_path: str | None = None) -> Session:
+                mcap_path: str | None = None, moved: list[dict] | None = None) -> Session:
     """Open the bus, explore, log everything (and with ``mcap_path`` write the bag as the
     run goes, from the log's records: without ``log_path`` the log is a scratch file,
     tools.ros_bag); returns the :class:`Session`. ``clock_factory`` is called once the log
-    is open, before the bus is: it may talk to the bus (:func:`bus_time_scale`)."""
+    is open, before the bus is: it may talk to the bus (:func:`bus_time_scale`). ``moved``:
+    where the move the object was moved by was for (:func:`moved_for`)."""
     from tactile_jaw.settings import ExploreSettings
 
     settings = ExploreSettings.from_profile(profile)
@@ -107,13 +127,13 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     if mcap_path is not None and log_path is None:
         with tempfile.TemporaryDirectory(prefix="tactile-") as scratch:
             return _run_session(port, config, scene_mapping, settings, str(Path(scratch) / "run.jsonl"), None,
-                                force, clock_factory, bus_timeout_s, progress, mcap_path, t0)
+                                force, clock_factory, bus_timeout_s, progress, mcap_path, t0, moved or [])
     return _run_session(port, config, scene_mapping, settings, log_path, log_path, force, clock_factory,
-                        bus_timeout_s, progress, mcap_path, t0)
+                        bus_timeout_s, progress, mcap_path, t0, moved or [])
 
 
 def _run_session(port, config, scene_mapping, settings, log_path, shown_log, force, clock_factory, bus_timeout_s,
-                 progress, mcap_path, t0) -> Session:
+                 progress, mcap_path, t0, moved) -> Session:
     """:func:`run_session` once the log's path is known (``shown_log``: the one to print, or None)."""
     from hand_driver.bus import JointBus
     from hand_driver.config import config_to_mapping
@@ -152,7 +172,7 @@ def _run_session(port, config, scene_mapping, settings, log_path, shown_log, for
             progress(f"exploring: up to {settings.touches} touches of {settings.samples_per_touch} samples over "
                      f"{settings.to_json()['roll_span_deg']:.0f} deg, profile {settings.profile}")
             exploration = explore(jaw, settings, recognize_touches, emit=log.write if log is not None else None,
-                                  progress=progress, recognize_anywhere=recognize_anywhere)
+                                  progress=progress, recognize_anywhere=recognize_anywhere, moved_for=moved)
         recognition = exploration.recognition.to_json() if exploration.recognition is not None else None
         if log is not None:
             log.write({"type": "result", "recognition": recognition, "robot_time_s": exploration.robot_time_s,
@@ -287,7 +307,8 @@ def run(args) -> int:
 
     config = load_config(args.config or default_path("config/jaw.yaml"))
     log_path = args.log or default_log_path()
-    check_outputs(args, log_path, [args.config or default_path("config/jaw.yaml"), args.scene])
+    check_outputs(args, log_path, [args.config or default_path("config/jaw.yaml"), args.scene, args.moved_as])
+    moved = moved_for(args.moved_as)
     scene_mapping = None
     if args.scene:
         from recognizer.scene import load_scene
@@ -300,7 +321,7 @@ def run(args) -> int:
     session = run_session(port=port, config=config, scene_mapping=scene_mapping,
                           profile=args.profile, log_path=log_path, force=args.force,
                           clock_factory=lambda: WallClock(bus_time_scale(config, port, say, args.time_scale)),
-                          bus_timeout_s=config.bus.timeout_s, progress=say, mcap_path=args.mcap)
+                          bus_timeout_s=config.bus.timeout_s, progress=say, mcap_path=args.mcap, moved=moved)
     return finish(session, args, config=config)
 
 

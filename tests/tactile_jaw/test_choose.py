@@ -360,3 +360,20 @@ def test_the_finger_nearest_its_zero_angle_normal_is_asked_first(monkeypatch):
     assert REACH.finger(105.0, 12.0, -math.pi).name == "left" and asked == ["left"]
     asked.clear()
     assert REACH.finger(105.0, 12.0, -math.pi / 2) is None and sorted(asked) == ["left", "right"]
+
+
+def test_a_move_says_where_it_was_for_and_which_finger_rolls_there_after_it():
+    # the place turns about itself (the goal's ``about``) and shifts with the object: after the move
+    # it lies at (x + dx, y + dy) with its tangent turned, and a pad of the named finger rolls there
+    from tactile_jaw.choose import moved_places
+
+    x, y, phi = 105.0, 12.0, math.radians(60.0) - math.pi / 2
+    _, move = move_advice(REACH, place_goal(x, y, phi))
+    (place,) = move["places"]
+    turn = math.radians(move["turn_deg"])
+    assert (place["x"], place["y"]) == (round(x + move["dx"], 3), round(y + move["dy"], 3))
+    assert place["phi"] == round(math.remainder(phi + turn, 2 * math.pi), 5)
+    finger = REACH.finger(place["x"], place["y"], place["phi"])
+    assert finger is not None and place["finger"] == finger.name
+    # a place no pad rolls at (far outside the workspace) names no finger
+    assert moved_places(REACH, place_goal(300.0, 300.0, 0.0), 0.0, 0.0, 0.0)[0]["finger"] is None

@@ -43,3 +43,49 @@ def test_a_closed_answer_has_no_ends():
     answer = Recognition("ellipse", {"a": 20.0, "b": 12.0}, POSE,
                          [{"t": t, "x": 0.0, "y": 0.0} for t in (0.1, 0.4, 0.8)])
     assert not beyond_felt_end(answer, 100.0, -20.0, [(100.0, -20.0)])
+
+
+def test_the_places_on_the_object_as_felt_are_those_short_of_its_pivoted_ends():
+    from tactile_jaw.explore import FeltObject
+    from tactile_jaw.pipeline import CORNER_CLEARANCE_MM
+    from recognizer.touches import Reach
+
+    corners = np.array([_at(T0), _at(T1)])
+    answer = _answer()
+    ts = np.array([-2.0, 5.5, 3.3, 1.9, 1.5])
+    px, py = np.array([_at(t) for t in ts]).T
+    assert np.hypot(px[-1] - corners[0, 0], py[-1] - corners[0, 1]) < CORNER_CLEARANCE_MM < np.hypot(
+        px[-2] - corners[0, 0], py[-2] - corners[0, 1])
+    # past either corner; within the stretch; short of the corner; beside the corner (no samples kept there)
+    assert beyond_felt_end(answer, px, py, corners).tolist() == [True, True, False, False, False]
+    on = FeltObject(Reach(px[2], py[2], 1000.0), answer, corners)
+    assert on.contains(px, py, np.zeros_like(px)).tolist() == [False, False, True, True, False]
+    assert FeltObject(Reach(px[2], py[2], 1.0), answer, corners).contains(px, py).tolist() == [False, False, True,
+                                                                                        False, False]
+    assert beyond_felt_end(answer, float(px[0]), float(py[0]), corners) is True  # a place alone: one bool
+
+
+def test_a_budget_refusal_asks_for_the_best_touch_on_the_object_when_the_first_lies_past_its_end():
+    """Calibrated P cubical 58 of seed 337: the recognizer's place lay past the left pad's end corner, the
+    refusal named no move; asked again among the places on the object, it names one a move reaches."""
+    from tactile_jaw.choose import JawReach
+    from tactile_jaw.explore import FeltObject, past_felt_end
+    from tactile_jaw.settings import ExploreSettings
+    from tests.tactile_jaw.test_flat import CONFIG_P
+
+    corners = [_at(T0), _at(T1)]
+    answer = _answer()
+    (x, y), (ox, oy) = _at(-2.0), _at(3.6)
+    past = {"x": x, "y": y, "phi": 0.0}
+    on_it = {"x": ox, "y": oy, "phi": 0.5}
+    reach = JawReach(CONFIG_P, ExploreSettings.from_profile("balanced"))
+    asked = []
+
+    def ask(on):
+        asked.append(on)
+        return on_it if on.contains(np.array([ox, x]), np.array([oy, y])).tolist() == [True, False] else None
+
+    assert past_felt_end(answer, [], lambda: past, reach, 0.3, lambda name: [], corners)() is None
+    assert past_felt_end(answer, [], lambda: past, reach, 0.3, lambda name: [], corners, ask)() is on_it
+    assert len(asked) == 1 and isinstance(asked[0], FeltObject)
+    assert past_felt_end(answer, [], lambda: past, reach, 0.3, lambda name: [], corners, lambda on: None)() is None
