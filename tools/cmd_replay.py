@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import sys
+from dataclasses import replace
 
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_write, check_output
@@ -72,7 +73,7 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
     from hand_driver.config import states_calibration
     from tactile_jaw.choose import JawReach, last_stop
-    from tactile_jaw.decide import final_answer
+    from tactile_jaw.decide import final_answer, noted
     from tactile_jaw.flat import is_flat
     from tactile_jaw.flat import recognized_touches
     from tactile_jaw.pipeline import clear_of_corners, curve_refusal, curved_part, logged_felt, make_recognizer, \
@@ -108,17 +109,20 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     stop = last_stop(contents.events)
     recognition, too_few = None, None
     if not touches and curve is not None:  # the exploration's flat phase stopped there (tactile_jaw.flat_phase)
-        recognition = curve_refusal(curve).to_json()
+        recognition = curve_refusal(curve)
     elif not touches:
         too_few = f"no usable touch in the log ({len(contents.touches)} touches logged): too few to recognize"
     else:
         try:
             recognition = final_answer(recognize_touches, touches, settings,
-                                       stop.get("message") if stop is not None else None,
-                                       jaw_ticks_per_rev(config), states_calibration(config)).to_json()
+                                       stop.get("message") if stop is not None else None, jaw_ticks_per_rev(config))
         except InputError as exc:  # fewer usable touches than any class needs: the exploration refused
-            recognition = too_few_clear(touches, len(usable), exc).to_json() if len(touches) < len(usable) else None
+            recognition = too_few_clear(touches, len(usable), exc) if len(touches) < len(usable) else None
             too_few = str(exc)
+    calibrated = states_calibration(config)  # every answer carries the jaw's calibration note, as the exploration's
+    too_few = noted(too_few, calibrated) if too_few is not None else None
+    if recognition is not None:
+        recognition = replace(recognition, reason=noted(recognition.reason, calibrated)).to_json()
     answer = recognition
     if recognition is None or recognition["class"] == "unclassified":
         answer = refusal(recognition, too_few, stop, config)
