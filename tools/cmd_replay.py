@@ -90,8 +90,9 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
         raise InputError(f"{args.log}: line 1: header settings lack touches/samples_per_touch/roll_span_deg") from None
     usable, felt = logged_felt(config, contents, settings)
     curve = curved_part(config, felt)
+    # a face felt fewer than min_touches times is no line, as in the exploration (tactile_jaw.pipeline.logged_touches)
     touches = recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0],
-                                 curved=curve is not None)
+                                 settings.min_touches, curved=curve is not None)
     logged_noise = header["settings"].get("noise")
     fixed_noise = logged_noise if isinstance(logged_noise, dict) else None  # an older run's fixed noise
     recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,

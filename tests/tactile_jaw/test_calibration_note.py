@@ -1,6 +1,6 @@
 """Every answer of a jaw that states no calibration ends with the note of what its σ's do not
 hold (tactile_jaw.decide.UNCALIBRATED, decided in one place: ``noted``), whichever path made
-it: the exploration's (tactile_jaw.explore.closing_answer; replay's: tests/tools/test_replay_calibration_note.py). Session 24's note was
+it: the exploration's (tactile_jaw.explore.closing_answer; replay's: tests/tools/test_replay_as_explored.py). Session 24's note was
 appended by ``final_answer`` only: the flat phase's "no usable touch" refusals of held-out
 seed 313 (P lines 5, 8, 10) did not carry it."""
 
