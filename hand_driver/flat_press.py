@@ -178,16 +178,15 @@ def end_support(lines: list[kin.PadLine], other: np.ndarray, tol_mm: float = SEA
         return None
     pad = float(np.linalg.norm(np.asarray(lines[0].distal) - np.asarray(lines[0].proximal)))
     for end in ("distal", "proximal"):
-        v = np.array([getattr(ln, end) for ln in lines], dtype=float) - np.asarray(other, dtype=float)
+        ends = np.array([getattr(ln, end) for ln in lines], dtype=float)
+        v = ends - np.asarray(other, dtype=float)
         far = np.linalg.norm(v, axis=1) >= FACE_MIN_FRACTION * pad
         n = len(far) if bool(np.all(far)) else int(np.argmin(far))  # the ends nearest the seat, while far
         if n < least:
             continue  # ends beside the other support lie on any line through it: no evidence of a face
-        v = v[:n]
-        along, normal = np.linalg.svd(v)[2]  # the line through ``other`` nearest the ends
-        worst = float(np.max(np.abs(v @ normal)))
-        if worst <= tol_mm and float(np.ptp(v @ along)) > SPLIT_APART * tol_mm:
-            return n, np.asarray(getattr(lines[0], end), dtype=float), worst
+        face = kin.straight_line(ends[:n], through=other)  # the line through ``other`` nearest the ends
+        if face.worst <= tol_mm and float(np.ptp(face.u)) > SPLIT_APART * tol_mm:
+            return n, np.asarray(getattr(lines[0], end), dtype=float), face.worst
     return None
 
 

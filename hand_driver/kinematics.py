@@ -152,6 +152,40 @@ def nearest_point(normals, d) -> np.ndarray:
     return np.linalg.lstsq(np.asarray(normals, dtype=float), np.asarray(d, dtype=float), rcond=None)[0]
 
 
+@dataclass(frozen=True)
+class StraightLine:
+    """The straight line nearest points (total least squares: the first right singular vector
+    of the points about ``centre`` is its direction), as ``centre`` on it, the unit vectors
+    ``along`` and ``across`` it, and each point's coordinates ``u`` along and ``v`` across it
+    from ``centre``: a pad end sliding along a face, the ends resting on one."""
+
+    centre: np.ndarray
+    along: np.ndarray
+    across: np.ndarray
+    u: np.ndarray
+    v: np.ndarray
+
+    @property
+    def worst(self) -> float:
+        """The largest distance of a point from the line (mm)."""
+        return float(np.max(np.abs(self.v)))
+
+    @property
+    def ends(self) -> tuple[np.ndarray, np.ndarray]:
+        """The feet of the points farthest apart along the line."""
+        return self.centre + float(np.min(self.u)) * self.along, self.centre + float(np.max(self.u)) * self.along
+
+
+def straight_line(points, through=None) -> StraightLine:
+    """:class:`StraightLine` nearest ``points`` (n, 2), n ≥ 2: through their centroid, or
+    through the point ``through`` (a corner, a support the line must pass)."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    centre = pts.mean(axis=0) if through is None else np.asarray(through, dtype=float)
+    rel = pts - centre
+    along, across = np.linalg.svd(rel)[2]
+    return StraightLine(centre, along, across, rel @ along, rel @ across)
+
+
 def chain_pad_line(base, q, links, pad_offset, pad_length, side_sign) -> PadLine:
     """Forward kinematics with explicit geometry (used by the fit): ``base`` (x, y, angle),
     ``q`` (..., 2), ``links`` (L1, L2)."""

@@ -152,6 +152,16 @@ class Curve:
                 t = np.where(np.isfinite(t_new), t_new, t)
         return t
 
+    def nearest(self, t_dense, px, py, steps: int) -> np.ndarray:
+        """The parameters of the curve's points nearest the canonical-frame points (px, py):
+        for each, the nearest of the points at the parameters ``t_dense`` (a dense grid over the
+        stretch where to look), then ``steps`` Newton steps (:meth:`project`)."""
+        t_dense = np.asarray(t_dense, dtype=float)
+        px, py = _arr(px).reshape(-1), _arr(py).reshape(-1)
+        cx, cy = self.point(t_dense)
+        start = t_dense[np.argmin(np.hypot(cx[None, :] - px[:, None], cy[None, :] - py[:, None]), axis=1)]
+        return self.project(start, px, py, steps)
+
     def keep_branch(self, t, t_new):
         """t_new where it lies on t's branch of the curve, else t (every class but the
         semicubical parabola has one branch)."""

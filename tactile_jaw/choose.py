@@ -557,9 +557,7 @@ def curvature_at(recognition: Recognition | None, x: float, y: float) -> tuple[f
         lo, hi = (float(t.min()), float(t.max())) if t.size else (-1.0, 1.0)
         wide = CURVE_REACH_SPANS * max(hi - lo, 1.0)
         grid = np.linspace(lo - wide, hi + wide, CURVE_GRID)
-    cx, cy = curve.point(grid)
-    start = grid[[int(np.argmin(np.hypot(cx - px, cy - py)))]]
-    t = curve.project(start, px, py, 8)
+    t = curve.nearest(grid, px, py, 8)
     cx, cy = curve.point(t)
     if not math.hypot(float(cx[0]) - px, float(cy[0]) - py) <= ON_CURVE_MM:
         return None

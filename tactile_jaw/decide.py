@@ -432,23 +432,13 @@ def sample_positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | 
 
 
 def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings,
-                 stopped: str | None = None, ticks_per_rev: int | None = None, calibrated: bool = True) -> Recognition:
+                 stopped: str | None = None, ticks_per_rev: int | None = None) -> Recognition:
     """The answer on the usable touches once exploration ends: the recognizer's class when
     it is decisive (:func:`decide`), else ``unclassified`` with the reason (and ``stopped``,
     why exploration ended undecided and what a person can do, tactile_jaw.choose) and the
     recognizer's ``next_touch``; a wrong class said confidently is worse than a refusal.
-    Not ``calibrated`` (the jaw states no calibration), the reason ends with ``UNCALIBRATED``.
     Replay uses this on the logged touches (and the log's ``stopped_early`` or ``budget_spent``
-    event)."""
-    answer = _final(recognize_touches, touches, settings, stopped, ticks_per_rev)
-    if calibrated:
-        return answer
-    return replace(answer, reason=f"{answer.reason}; {UNCALIBRATED}" if answer.reason else UNCALIBRATED)
-
-
-def _final(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings,
-           stopped: str | None, ticks_per_rev: int | None) -> Recognition:
-    """:func:`final_answer` of a calibrated jaw."""
+    event). The jaw's calibration note is :func:`noted`'s, on every answer."""
     recognition, why = decide(recognize_touches, touches, settings, ticks_per_rev)
     if recognition.cls == "unclassified" or why is None:
         return recognition
@@ -460,6 +450,17 @@ def _final(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings
     reason = f"not decisive after {len(touches)} usable touches: {why}" + (f"; {stopped}" if stopped else "")
     return Recognition("unclassified", reason=reason, ranking=recognition.ranking, timing=recognition.timing,
                        next_touch=recognition.next_touch)
+
+
+def noted(reason: str | None, calibrated: bool) -> str | None:
+    """An answer's ``reason`` as the jaw gives it: a jaw that states no calibration
+    (``calibrated`` False: hand_driver.config.states_calibration) ends every answer's reason
+    with ``UNCALIBRATED`` — a class, the recognizer's refusal, or the exploration's own
+    (too few usable touches, a curved part felt but not measured). The one place that decides
+    the note, for the exploration (tactile_jaw.explore.closing_answer) and replay alike."""
+    if calibrated:
+        return reason
+    return f"{reason}; {UNCALIBRATED}" if reason else UNCALIBRATED
 
 
 def refusal_kind(reason: str, move: dict | None = None) -> str:

@@ -25,7 +25,7 @@ docs/exploration.md.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, Callable, Container, Sequence
 
 import numpy as np
@@ -40,7 +40,7 @@ from recognizer.curves import CURVES
 from tactile_common.errors import InputError
 from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, next_aim
 from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
-                                 sample_positions)
+                                 noted, sample_positions)
 from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_press, early_press, flat_presses,
                                     unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
@@ -960,11 +960,23 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                    f"object offers no boundary they can roll on (flat, concave, or felt only by a pad end)")
         emit({"type": "event", "kind": "no_face_contact", "message": message})
         say(message)
+    closing_answer(cfg, out, cleared, recognize_touches, settings, emit, say)
+    out.robot_time_s = jaw.robot_time() - t0
+    return out
+
+
+def closing_answer(cfg, out: Exploration, cleared: Callable[[], list[FeltTouch]], recognize_touches: RecognizeTouches,
+                   settings: ExploreSettings, emit: Callable[[dict], None], say: Callable[[str], None]) -> None:
+    """The exploration's answer into ``out.recognition`` (with ``out.used``, and ``out.stopped``
+    when it names one): :func:`tactile_jaw.decide.final_answer` on the usable touches
+    (``cleared()``), else the refusal already made (a curved part felt, tactile_jaw.flat_phase)
+    or the one for too few usable touches; whichever it is, its reason ends with the jaw's
+    calibration note (:func:`tactile_jaw.decide.noted`): the flat phase's "no usable touch"
+    refusals of held-out seed 313 (P lines 5, 8, 10) did not carry it."""
     if out.used:
         usable = cleared()
         try:  # the answer on every usable touch, a refusal unless decisive
-            out.recognition = final_answer(recognize_touches, usable, settings, out.stopped, ticks,
-                                           states_calibration(cfg))
+            out.recognition = final_answer(recognize_touches, usable, settings, out.stopped, jaw_ticks_per_rev(cfg))
             out.answers.append(out.recognition.cls)
         except InputError as exc:
             emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})
@@ -977,5 +989,4 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         if stopped is None:
             emit(out.stopped.event("stopped_early"))
         say(f"{out.recognition.reason}; {out.stopped}")
-    out.robot_time_s = jaw.robot_time() - t0
-    return out
+    out.recognition = replace(out.recognition, reason=noted(out.recognition.reason, states_calibration(cfg)))

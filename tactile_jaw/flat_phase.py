@@ -491,14 +491,11 @@ def _slid_path(lines: Sequence[kin.PadLine], length_mm: float,
     crossing 1.8 mm inside the block and 4.3 mm outside it, where seat_split put a face of
     6.5 mm at pad normal 98° and the move named for it."""
     for end in ("proximal", "distal"):
-        pts = np.array([np.asarray(getattr(ln, end), dtype=float) for ln in lines])
-        centre = pts.mean(axis=0)
-        along, across = np.linalg.svd(pts - centre)[2]
-        u = (pts - centre) @ along
-        if float(np.max(np.abs((pts - centre) @ across))) <= tol_mm and float(np.ptp(u)) >= FACE_MIN_FRACTION * length_mm:
+        path = kin.straight_line([np.asarray(getattr(ln, end), dtype=float) for ln in lines])
+        if path.worst <= tol_mm and float(np.ptp(path.u)) >= FACE_MIN_FRACTION * length_mm:
             other = "distal" if end == "proximal" else "proximal"
             toward = np.mean([np.asarray(getattr(ln, end), float) - np.asarray(getattr(ln, other), float) for ln in lines], axis=0)
-            return centre + float(np.min(u)) * along, centre + float(np.max(u)) * along, toward
+            return *path.ends, toward
     return None
 
 
@@ -543,12 +540,11 @@ def sliding_face(rolls: Sequence[FeltTouch], length_mm: float,
             if len(pts) < 3 or not ((concave[i] and not pivoted) or rolls[i].slid == end):
                 continue  # its lines pass through a point another roll's pass through (a corner), and its
                 # end's path is straight only within the tolerance
-            centre = pts.mean(axis=0)
-            along, across = np.linalg.svd(pts - centre)[2]
-            if float(np.max(np.abs((pts - centre) @ across))) > tol_mm or float(np.ptp((pts - centre) @ along)) \
-                    <= SPLIT_APART * tol_mm:
+            path = kin.straight_line(pts)
+            if path.worst > tol_mm or float(np.ptp(path.u)) <= SPLIT_APART * tol_mm:
                 continue
-            on = pool[np.abs((pool - centre) @ across) <= tol_mm]
+            centre, along = path.centre, path.along
+            on = pool[np.abs((pool - centre) @ path.across) <= tol_mm]
             u = (on - centre) @ along
             length = float(np.ptp(u))
             if length >= FACE_MIN_FRACTION * length_mm and (best is None or length > best[0]):
@@ -594,8 +590,7 @@ def corner_faces(lines: Sequence[kin.PadLine], length_mm: float,
                        if not any(_cuts(m, p, e, tol_mm) for m in lines)]
             if len(touched) != 1:
                 break  # neither end or either: no face to tell
-            pts = np.array([*ends, touched[0]]) - p
-            if len(pts) > 1 and float(np.max(np.abs(pts @ np.linalg.svd(pts)[2][1]))) > tol_mm:
+            if ends and kin.straight_line([*ends, touched[0]], through=p).worst > tol_mm:
                 break  # off the straight line the nearer ends lie on: past the face
             ends.append(touched[0])
         felt = max((float(np.linalg.norm(e - p)) for e in ends), default=0.0)

@@ -802,10 +802,7 @@ def slid_end(lines: kin.PadLine, fit: EnvelopeFit) -> tuple[str, float, int] | N
         return None
     order = np.asarray(fit.contacts.order)
     for name in ("proximal", "distal"):
-        points = np.asarray(getattr(lines, name), dtype=float)[order]
-        centre = points.mean(axis=0)
-        across = np.linalg.svd(points - centre)[2][1]
-        chi2 = float(np.sum(((points - centre) @ across / sigma) ** 2))
+        chi2 = float(np.sum((kin.straight_line(np.asarray(getattr(lines, name), dtype=float)[order]).v / sigma) ** 2))
         if chi2 <= chi2_limit(SMOOTH_ALPHA, n - 2):
             return name, chi2, n - 2
     return None

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import sys
+from dataclasses import replace
 
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_write, check_output
@@ -72,7 +73,7 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     # pull numpy and scipy in (3-4 s measured on the shared 2-core machine at load 15)
     from hand_driver.config import states_calibration
     from tactile_jaw.choose import JawReach, last_stop
-    from tactile_jaw.decide import final_answer
+    from tactile_jaw.decide import final_answer, noted
     from tactile_jaw.flat import is_flat
     from tactile_jaw.flat import recognized_touches
     from tactile_jaw.pipeline import clear_of_corners, curve_refusal, curved_part, logged_felt, make_recognizer, \
@@ -89,8 +90,9 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
         raise InputError(f"{args.log}: line 1: header settings lack touches/samples_per_touch/roll_span_deg") from None
     usable, felt = logged_felt(config, contents, settings)
     curve = curved_part(config, felt)
+    # a face felt fewer than min_touches times is no line, as in the exploration (tactile_jaw.pipeline.logged_touches)
     touches = recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0],
-                                 curved=curve is not None)
+                                 settings.min_touches, curved=curve is not None)
     logged_noise = header["settings"].get("noise")
     fixed_noise = logged_noise if isinstance(logged_noise, dict) else None  # an older run's fixed noise
     recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,
@@ -108,17 +110,20 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     stop = last_stop(contents.events)
     recognition, too_few = None, None
     if not touches and curve is not None:  # the exploration's flat phase stopped there (tactile_jaw.flat_phase)
-        recognition = curve_refusal(curve).to_json()
+        recognition = curve_refusal(curve)
     elif not touches:
         too_few = f"no usable touch in the log ({len(contents.touches)} touches logged): too few to recognize"
     else:
         try:
             recognition = final_answer(recognize_touches, touches, settings,
-                                       stop.get("message") if stop is not None else None,
-                                       jaw_ticks_per_rev(config), states_calibration(config)).to_json()
+                                       stop.get("message") if stop is not None else None, jaw_ticks_per_rev(config))
         except InputError as exc:  # fewer usable touches than any class needs: the exploration refused
-            recognition = too_few_clear(touches, len(usable), exc).to_json() if len(touches) < len(usable) else None
+            recognition = too_few_clear(touches, len(usable), exc) if len(touches) < len(usable) else None
             too_few = str(exc)
+    calibrated = states_calibration(config)  # every answer carries the jaw's calibration note, as the exploration's
+    too_few = noted(too_few, calibrated) if too_few is not None else None
+    if recognition is not None:
+        recognition = replace(recognition, reason=noted(recognition.reason, calibrated)).to_json()
     answer = recognition
     if recognition is None or recognition["class"] == "unclassified":
         answer = refusal(recognition, too_few, stop, config)

@@ -193,3 +193,31 @@ def test_crossing_and_nearest_point_of_pad_lines():
     off = [_line_through(corner + s * ln.normal, float(ln.psi)) for ln in (a, b) for s in (1.0, -1.0)]
     np.testing.assert_allclose(kin.nearest_point(np.stack([ln.normal for ln in off]), [ln.d for ln in off]),
                                corner, atol=1e-12)
+
+
+def test_straight_line_nearest_points():
+    """kin.straight_line on points of an exact line 0.5 rad from +x, in pairs 0.03 mm on either
+    side of it: the line itself (the offsets cancel at every place), each point's
+    coordinates along and across it, its ends; through a point off the line, the line through
+    that point nearest them."""
+    base, t = np.array([104.0, -6.0]), np.array([math.cos(0.5), math.sin(0.5)])
+    n = np.array([-t[1], t[0]])
+    s = np.repeat(np.linspace(-9.0, 15.0, 4), 2)
+    off = 0.03 * np.array([1.0, -1.0] * 4)
+    line = kin.straight_line(base + s[:, None] * t + off[:, None] * n)
+    np.testing.assert_allclose(line.centre, base + s.mean() * t, atol=1e-12)
+    assert abs(float(line.along @ t)) == pytest.approx(1.0, abs=1e-12)
+    assert abs(float(line.across @ n)) == pytest.approx(1.0, abs=1e-12)
+    assert line.worst == pytest.approx(0.03, abs=1e-12)
+    np.testing.assert_allclose(np.abs(line.v), 0.03, atol=1e-12)
+    np.testing.assert_allclose(np.sort(np.abs(line.u)), np.sort(np.abs(s - s.mean())), atol=1e-12)
+    np.testing.assert_allclose(sorted(map(tuple, line.ends)), sorted([tuple(base - 9.0 * t), tuple(base + 15.0 * t)]),
+                               atol=1e-12)
+    # through a point 1 mm off the line at the points' middle: the parallel through it (a tilt
+    # takes it farther from the points on one side than it brings it nearer on the other), 1 mm off
+    through = base + 3.0 * t + 1.0 * n
+    apart = kin.straight_line(base + s[:, None] * t, through=through)
+    np.testing.assert_allclose(apart.centre, through)
+    assert abs(float(apart.along @ t)) == pytest.approx(1.0, abs=1e-12) and apart.worst == pytest.approx(1.0, abs=1e-12)
+    np.testing.assert_allclose(apart.u[:, None] * apart.along + apart.v[:, None] * apart.across,
+                               base + s[:, None] * t - through, atol=1e-12)

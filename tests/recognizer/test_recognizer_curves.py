@@ -173,3 +173,25 @@ def test_param_derivatives_match_sympy(cls):
                 for got, f in zip(cols, exact[name]):
                     want = float(f(mpmath.mpf(ti), *args))
                     assert got[i] == pytest.approx(want, rel=1e-11, abs=1e-13 * (1 + abs(want))), (cls, name, ti)
+
+
+def test_nearest_point_on_exact_curves():
+    """Curve.nearest: a circle's nearest points lie on the rays from its centre (r = 10 mm,
+    points 13, 3 and 17 mm from it, several at once): from the nearest of 2001 grid points
+    (within half a spacing, π/2000), each of the 8 steps along the tangent (:meth:`project`)
+    shrinks the angle's error by |1 − ρ/r| for a point at ρ from the centre; a parabola's
+    (a = 2.5, from (6, 1) on its concave side) where the offset is along its normal."""
+    circle = CURVES["circle"]({"r": 10.0})
+    rho = np.array([13.0, 3.0, 17.0])
+    px, py = rho * np.array([0.6, -0.8, 0.0]), rho * np.array([0.8, 0.6, -1.0])
+    t = circle.nearest(np.linspace(*circle.t_period, 2001), px, py, 8)
+    error = np.abs(np.angle(np.exp(1j * (t - np.arctan2(py, px)))))
+    assert np.all(error <= 1.01 * math.pi / 2000 * np.abs(1.0 - rho / 10.0) ** 8)
+    parabola = CURVES["parabola"]({"a": 2.5})
+    grid = np.linspace(-20.0, 20.0, 2001)
+    t = parabola.nearest(grid, 6.0, 1.0, 8)
+    (cx,), (cy,) = parabola.point(t)
+    ang = float(np.asarray(parabola.tangent_angle(t), float)[0])
+    assert abs((6.0 - cx) * math.cos(ang) + (1.0 - cy) * math.sin(ang)) < 1e-4  # along the normal (0.4 mm on: ±0.4)
+    gx, gy = parabola.point(grid)
+    assert math.hypot(6.0 - cx, 1.0 - cy) <= float(np.min(np.hypot(gx - 6.0, gy - 1.0)))

@@ -12,7 +12,7 @@ from hand_driver.config import load_config, states_calibration
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Ranked, Recognition
 from tactile_jaw.decide import (DECISIVE_ALPHA, DECISIVE_CHI2, FINER, UNCALIBRATED, VERTEX_SIDE_DEG, final_answer,
-                               finer_advice, imprecision, indecision, vertex_sides)
+                               finer_advice, imprecision, indecision, noted, vertex_sides)
 from tactile_jaw.settings import ExploreSettings
 
 SETTINGS = ExploreSettings(touches=8, samples_per_touch=9, roll_span_rad=math.radians(30), min_touches=3,
@@ -129,15 +129,16 @@ def test_final_answer_refuses_an_undecided_class():
 
 def test_an_uncalibrated_jaws_answer_says_what_its_sigmas_do_not_hold():
     """A zero error is common to every touch of its finger: no stated noise of the readings holds
-    it, so an answer of a jaw that states no calibration says so, right or refused."""
+    it, so an answer of a jaw that states no calibration says so, right or refused (``noted``,
+    the one place that decides it; tests/tactile_jaw/test_calibration_note.py: every answer path)."""
     right = rec("circle", ("circle", True, 5.0, 7, 18.0))
     assert final_answer(lambda touches: right, [{}] * 3, SETTINGS).reason is None
-    told = final_answer(lambda touches: right, [{}] * 3, SETTINGS, calibrated=False)
-    assert told.cls == "circle" and told.reason == UNCALIBRATED and "tactile calibrate" in told.reason
+    assert noted(None, calibrated=True) is None and noted("why", calibrated=True) == "why"
+    told = noted(final_answer(lambda touches: right, [{}] * 3, SETTINGS).reason, calibrated=False)
+    assert told == UNCALIBRATED and "tactile calibrate" in told
     undecided = rec("circle", ("circle", True, 12.0, 12, 30.0), ("ellipse", True, 9.0, 10, 33.0))
-    refused = final_answer(lambda touches: undecided, [{}] * 3, SETTINGS, calibrated=False)
-    assert refused.cls == "unclassified" and refused.reason.startswith("not decisive after 3 usable touches")
-    assert refused.reason.endswith(f"; {UNCALIBRATED}")
+    refused = noted(final_answer(lambda touches: undecided, [{}] * 3, SETTINGS).reason, calibrated=False)
+    assert refused.startswith("not decisive after 3 usable touches") and refused.endswith(f"; {UNCALIBRATED}")
 
 
 def test_states_calibration():
