@@ -71,6 +71,9 @@ BAND_MIN_EACH_WAY = 3
 #: few readings against the working load cannot fix is then b ± b/2, and what that leaves is in
 #: every parameter's standard error (docs/kinematics.md, backlash on the X-series jaw)
 BAND_PRIOR_FRACTION = 0.5
+#: a reading's leverage in the standard errors is taken as at most this (one that alone fixes a
+#: parameter has leverage 1 and a zero residual: its leave-one-out residual r/(1 − h) is finite)
+LEVERAGE_MAX = 1.0 - 1e-9
 #: what each parameter kind needs, for refusals
 _NEEDS = {
     "zero_tick": "face touches of this finger at widely spread pad orientations, with the other finger "
@@ -388,6 +391,21 @@ class ContactModel:
             self.groups = saved
 
 
+def standard_errors(u, s, vt, fun, n_prior: int) -> np.ndarray:
+    """Each unknown's standard error from the weighted fit's Jacobian J = U·S·Vᵀ and residuals
+    ``fun`` (readings by their quantization σ, then ``n_prior`` prior rows): the leave-one-out
+    (HC3) sandwich V·S⁻¹·Uᵀ·diag(wᵢ)·U·S⁻¹·Vᵀ with wᵢ = (rᵢ / (1 − hᵢ))², hᵢ = Σₖ Uᵢₖ² the
+    reading's leverage, 1 for a prior row (its stated deviation), and never below the quantization
+    model's V·S⁻²·Vᵀ. A parameter that few readings fix (a band loaded against the working load
+    by 2–7 touches) then carries those readings' own scatter, each as far off as the fit without
+    it would leave it, where the pooled χ²/dof of ~130 readings hid it."""
+    h = np.minimum(np.sum(u**2, axis=1), LEVERAGE_MAX)
+    w = (fun / (1.0 - h)) ** 2
+    w[w.size - n_prior:] = 1.0
+    a = (vt.T / s) @ u.T  # (JᵀJ)⁻¹Jᵀ
+    return np.sqrt(np.maximum(np.sum(a**2 * w, axis=1), np.sum((vt.T / s) ** 2, axis=1)))
+
+
 def backlash_matters(cfg: JawConfig) -> bool:
     """Does any joint's model state a backlash (the e-Manual's, control_table.ModelSpec.backlash_deg)?
     ``tactile calibrate`` then models it: even the XM430's 0.25°, under 3 of its ticks, biased the
@@ -460,10 +478,7 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
         kind = names[weak][1] if weak < nv else "zero_tick"
         raise CalibrationRefused(f"the touches cannot determine {what} (rank-deficient Jacobian); "
                                  f"it needs {_NEEDS[kind]}")
-    # variance factor: χ²/dof of the weighted fit, never below the quantization model's 1
-    sigma2 = max(float(res.fun @ res.fun) / (m - p), 1.0)
-    cov = sigma2 * (vt.T / s**2) @ vt
-    se = np.sqrt(np.diag(cov))
+    se = standard_errors(u, s, vt, res.fun, m - sig.size)
     zero_tol = [max(tol["zero_tick"], ZERO_FLOOR_DEG * j.ticks_per_rev / 360.0) for j in joints]
     # a band with a stated figure is known to its prior at worst: its tolerance is the prior's σ
     prior_tol = {nv - len(bands) + i: BAND_PRIOR_FRACTION * b for i, b in enumerate(model.priors) if b}

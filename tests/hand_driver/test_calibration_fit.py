@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -13,7 +15,7 @@ from hand_driver import calibration_fit as cal
 from hand_driver import calibration_plan as cp
 from hand_driver.config import load_config, perturbed as perturbed_config
 from recognizer.curves import Pose
-from recognizer.scene import SceneObject
+from recognizer.scene import SceneObject, load_scene
 
 CFG = load_config("config/jaw.yaml")
 DISK = SceneObject("circle", {"r": 20.0}, Pose(0.0, 0.0, 0.0), "left")
@@ -206,3 +208,48 @@ def test_zero_sigma_holds_the_spread_over_placements():
             assert j.zero_sigma_deg == pytest.approx(e.se * 360.0 / j.ticks_per_rev)
             link = next(e for e in two.estimates if e.name == f"{f.name}.joint{j.id}.link_mm")
             assert j.link_sigma_mm == pytest.approx(link.se)
+
+
+
+def test_a_parameter_few_readings_fix_carries_their_scatter():
+    """calibration_fit.standard_errors on a linear fit whose columns are its parameters: 130
+    readings of unit σ fix a, 4 more fix b (a + b) but scatter 10× wider. The pooled χ²/dof
+    held b to ~1.2 (its true deviation 10/√4 = 5); the leave-one-out sandwich gives it, and
+    leaves a at its quantization-model value where its readings are as modelled."""
+    rng = np.random.default_rng(3)
+    jac = np.zeros((134, 2))
+    jac[:, 0] = 1.0
+    jac[130:, 1] = 1.0
+    noise = np.concatenate([rng.normal(0.0, 1.0, 130), rng.normal(0.0, 10.0, 4)])
+    fun = noise - jac @ np.linalg.lstsq(jac, noise, rcond=None)[0]
+    u, s, vt = np.linalg.svd(jac, full_matrices=False)
+    se = cal.standard_errors(u, s, vt, fun, 0)
+    assert se[0] == pytest.approx(1.0 / np.sqrt(130), rel=0.25)
+    assert 2.5 < se[1] < 10.0
+    pooled = np.sqrt(float(fun @ fun) / 132 * (1.0 / 4 + 1.0 / 130))
+    assert pooled < 2.0  # what the pooled variance factor said
+
+
+@functools.cache
+def _p_readings_1006() -> tuple:
+    path = Path(__file__).parent / "data" / "p_calibration_1006.json"
+    return tuple(cal.Reading(f, kind, (t1, t2), pl) for f, kind, pl, t1, t2 in json.loads(path.read_text())["readings"])
+
+
+def test_emulated_p_calibration_states_what_its_readings_leave():
+    """The emulated bus's readings of calibration-only seed 1006 (config/jaw-p.yaml against
+    config/jaw-p-truth.yaml, bench_explore's calibration): pad-end touches the fit judges
+    loaded against a joint's working load read the gear on its working side (a pad end's force
+    is not known to lie along the disk's normal), and what the screen keeps of them left χ²/dof
+    17: the pooled standard errors put zero ticks 6.1, pads 4.1, bands 4.0 of them off the
+    truth. Each parameter's standard error now carries the scatter of the readings that fix it:
+    every one within 3 of the truth."""
+    nominal, truth = load_config("config/jaw-p.yaml"), load_config("config/jaw-p-truth.yaml")
+    disk = load_scene("config/scenes/calibration.yaml").object
+    loose = {"zero_tick": 99.0, "link_mm": 99.0, "offset_mm": 99.0, "backlash_deg": 99.0}
+    result = cal.fit(nominal, disk, list(_p_readings_1006()), tolerances=loose, backlash=True)
+    bands = tuple(k for k, (*_, fitted) in enumerate(result.loads) if fitted)
+    assert len(bands) == 4
+    err = cal.pack_params(result.config, bands) - cal.pack_params(truth, bands)
+    for e, d in zip(result.estimates, err):
+        assert abs(d) <= 3.0 * e.se, f"{e.name}: error {d:+.4g}, se {e.se:.3g}"
