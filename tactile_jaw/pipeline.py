@@ -5,7 +5,7 @@ envelope (the contacts, hand_driver.kinematics.touch_from_pad_lines), where each
 lies along the pad, and why the touch cannot be used (or None); the :class:`FeltTouch` is
 kept and reused by the exploration's checks and object model, the recognizer's samples,
 the log and the plot. :func:`make_recognizer` validates the scene and the stated noise
-once and recognizes any list of felt touches; :func:`logged_touches` rebuilds a run log's
+once and recognizes any list of felt touches; :func:`logged_run` rebuilds a run log's
 felt touches from its readings (replay, benchmarks).
 """
 
@@ -973,14 +973,30 @@ def make_recognizer(scene: dict[str, Any] | None, settings: ExploreSettings, noi
     return run
 
 
-def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouch]:
-    """The touches of a run log (hand_driver.log.read_log) the exploration recognized,
-    rebuilt from its readings with the same checks it applied, in the same order: the
-    usable ones clear of the corners (:func:`clear_of_corners`), flat presses among them as
-    tactile_jaw.flat.recognized_touches chooses."""
+@dataclass(frozen=True)
+class LoggedRun:
+    """A run log's touches as the exploration felt them (:func:`logged_run`)."""
+
+    usable: list[FeltTouch]  # the usable touches, in the run's order
+    curve: FeltTouch | None  # the first that rolled on a curved part (:func:`curved_part`)
+    touches: list[FeltTouch]  # those the exploration recognized
+
+
+def logged_run(config, contents, settings: ExploreSettings) -> LoggedRun:
+    """The touches of a run log (hand_driver.log.read_log) rebuilt from its readings with the
+    same checks the exploration applied, in the same order: the usable ones clear of the
+    corners (:func:`clear_of_corners`), flat presses among them as
+    tactile_jaw.flat.recognized_touches chooses (a face felt fewer than ``min_touches`` times
+    is no line)."""
     usable, felt = logged_felt(config, contents, settings)
-    return recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0],
-                              settings.min_touches, curved=curved_part(config, felt) is not None)
+    curve = curved_part(config, felt)
+    clear = clear_of_corners(config, usable, felt, settings.samples_per_touch)[0]
+    return LoggedRun(usable, curve, recognized_touches(clear, settings.min_touches, curved=curve is not None))
+
+
+def logged_touches(config, contents, settings: ExploreSettings) -> list[FeltTouch]:
+    """The touches of a run log the exploration recognized (:func:`logged_run`'s)."""
+    return logged_run(config, contents, settings).touches
 
 
 def too_few_clear(usable: Sequence[FeltTouch], used: int, exc: Exception) -> Recognition:

@@ -1,7 +1,7 @@
 """``tactile replay LOG``: the recognition of a recorded run, without hardware.
 
 The touches are rebuilt from the log's joint readings and touch boundaries with the
-jaw config and settings of the log's header (tactile_jaw.pipeline.logged_touches), then
+jaw config and settings of the log's header (tactile_jaw.pipeline.logged_run), then
 recognized exactly as during the run. The log is verified first (hand_driver.log.read_log:
 record numbers, hash chain, cross-checks): damage is "line N: ..." (exit 2); a log cut by a
 crash replays up to its last whole record and says it was cut; a version 1 log says it
@@ -75,9 +75,8 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     from tactile_jaw.choose import JawReach, last_stop
     from tactile_jaw.decide import final_answer, noted
     from tactile_jaw.flat import is_flat
-    from tactile_jaw.flat import recognized_touches
-    from tactile_jaw.pipeline import clear_of_corners, curve_refusal, curved_part, logged_felt, make_recognizer, \
-        stated_noise, too_few_clear, workspace_reach
+    from tactile_jaw.pipeline import curve_refusal, logged_run, make_recognizer, stated_noise, too_few_clear, \
+        workspace_reach
     from tactile_jaw.separation import jaw_ticks_per_rev
     from tactile_jaw.settings import ExploreSettings
     from tools.ros_bag import write_bag
@@ -88,11 +87,8 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
         settings = ExploreSettings.from_json(header.get("settings") or {})
     except (KeyError, TypeError, ValueError):
         raise InputError(f"{args.log}: line 1: header settings lack touches/samples_per_touch/roll_span_deg") from None
-    usable, felt = logged_felt(config, contents, settings)
-    curve = curved_part(config, felt)
-    # a face felt fewer than min_touches times is no line, as in the exploration (tactile_jaw.pipeline.logged_touches)
-    touches = recognized_touches(clear_of_corners(config, usable, felt, settings.samples_per_touch)[0],
-                                 settings.min_touches, curved=curve is not None)
+    run = logged_run(config, contents, settings)  # the exploration's own checks, in its order
+    usable, curve, touches = run.usable, run.curve, run.touches
     logged_noise = header["settings"].get("noise")
     fixed_noise = logged_noise if isinstance(logged_noise, dict) else None  # an older run's fixed noise
     recognize_touches = make_recognizer(header.get("scene"), settings, fixed_noise,

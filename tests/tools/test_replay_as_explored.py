@@ -37,19 +37,19 @@ def test_replay_of_a_log_without_usable_touches_carries_it_as_the_exploration(tm
 
 def test_replay_asks_as_many_presses_of_one_face_as_the_exploration(tmp_path, tactile_in_process, monkeypatch):
     """Replay takes a face's flat touches only once felt ``min_touches`` times, as the
-    exploration does (tactile_jaw.pipeline.logged_touches): held-out P line 5 of seed 313,
+    exploration does (both through tactile_jaw.pipeline.logged_run): held-out P line 5 of seed 313,
     refused by its exploration (2 presses seated on one face, min_touches 3), was answered line
     by ``tactile replay`` of its log, which passed no count (1)."""
-    import tactile_jaw.flat
+    import tactile_jaw.pipeline
 
     asked = []
-    real = tactile_jaw.flat.recognized_touches
+    real = tactile_jaw.pipeline.recognized_touches
 
     def spy(usable, fewest=1, curved=False):
         asked.append(fewest)
         return real(usable, fewest, curved)
 
-    monkeypatch.setattr(tactile_jaw.flat, "recognized_touches", spy)
+    monkeypatch.setattr(tactile_jaw.pipeline, "recognized_touches", spy)
     settings = ExploreSettings.from_profile("balanced")
     config = yaml.safe_load((ROOT / "config" / "jaw-p.yaml").read_text())
     log = tmp_path / "run.jsonl"
