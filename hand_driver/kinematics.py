@@ -243,22 +243,31 @@ def moment_arms(finger: FingerConfig, q, point, direction=None) -> np.ndarray:
                     axis=-1)
 
 
+def ik_line_angles(finger: FingerConfig, psi, d) -> tuple[np.ndarray, np.ndarray]:
+    """Both joint-angle solutions (rad, limits not checked) putting the pad on each line
+    ``n(ψ)·p = d`` with its outward normal at angle ψ, every line at once (``psi``, ``d``
+    broadcast to one shape S): q (2, *S, 2), the solution with α1 = ψ + arccos c first, and
+    whether each line is within reach, |c| ≤ 1 (S). The one inverse kinematics of a pad line
+    (:func:`ik_line_solutions` is its one-line case): the same arithmetic for one line as for many."""
+    psi, d = np.broadcast_arrays(np.asarray(psi, dtype=float), np.asarray(d, dtype=float))
+    j1 = finger.joints[0]
+    c = (d - finger.pad.offset_mm - (np.cos(psi) * finger.base.x + np.sin(psi) * finger.base.y)) / j1.link_mm
+    acos = np.arccos(np.clip(c, -1.0, 1.0))
+    a1 = psi + _BOTH.reshape((2,) + (1,) * psi.ndim) * acos  # ψ + arccos c, ψ − arccos c
+    a2 = psi - finger.pad.side_sign * (math.pi / 2)
+    return wrap_angle(np.stack([a1 - finger.base.angle, a2 - a1], axis=-1)), np.abs(c) <= 1.0
+
+
+#: the two solutions' signs of arccos c (:func:`ik_line_angles`)
+_BOTH = np.array([1.0, -1.0])
+
+
 def ik_line_solutions(finger: FingerConfig, psi: float, d: float) -> list[np.ndarray]:
     """Both joint-angle solutions (rad, limits not checked) putting the pad on the line
-    ``n(ψ)·p = d`` with its outward normal at angle ψ; empty if out of reach."""
-    j1, j2 = finger.joints
-    side = finger.pad.side_sign
-    b = np.array([finger.base.x, finger.base.y])
-    n = unit(psi)
-    c = (d - finger.pad.offset_mm - float(n @ b)) / j1.link_mm
-    if abs(c) > 1.0:
-        return []
-    a2 = psi - side * math.pi / 2
-    out = []
-    for sgn in (1.0, -1.0):
-        a1 = psi + sgn * math.acos(c)
-        out.append(np.array([float(wrap_angle(a1 - finger.base.angle)), float(wrap_angle(a2 - a1))]))
-    return out
+    ``n(ψ)·p = d`` with its outward normal at angle ψ; empty if out of reach
+    (:func:`ik_line_angles` of one line)."""
+    q, real = ik_line_angles(finger, float(psi), float(d))
+    return [q[0], q[1]] if bool(real) else []
 
 
 def ik_line(finger: FingerConfig, psi: float, d: float, contact=None, pad_u: float | None = None,

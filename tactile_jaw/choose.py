@@ -34,14 +34,12 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from hand_driver.cycle import LIMIT_MARGIN_RAD
 from recognizer.curves import CURVES
 from recognizer.result import Recognition
 from recognizer.touches import Reach
-from tactile_common.angles import wrap_angle
 from tactile_jaw.decide import VERTEX_SIDE_DEG, Why, vertex_sides
-from tactile_jaw.plan import (APPROACH_MARGIN_MM, PLAN_OVERSHOOT_MM, PLAN_PAD_MARGIN, ObjectModel, feasible,
-                              free_strips, nominal_psi, opened_strips, rested_ends, rolled_arc)
+from tactile_jaw.plan import (ObjectModel, RolledArc, feasible, feasible_arcs, free_strips, nominal_psi,
+                              opened_strips, rested_ends, rolled_arc)
 from tactile_jaw.settings import ExploreSettings
 
 #: a suggested next touch this near (mm) one already aimed at is not aimed at again
@@ -73,14 +71,14 @@ MOVE_CLEAR_MM = 3.0
 #: pad (tactile_jaw.plan.free_strips): the probe at a pad's normal starts half a probe's span
 #: (3°) off it, and misses the opened pad's far corners by 0.3 mm (calibrated block 1 of seed 239)
 FREE_END_MM = 1.0
-#: the search asks the jaw's reach (:meth:`JawReach.finger`, ~1.6 ms) at most this many times (seed-13
+#: the search asks the jaw's reach about a place of a candidate move at most this many times (seed-13
 #: random parabola 18 on the P-series jaw: a turn of 30° and a (-14, -8) mm shift, found after
-#: more than 1,200 questions, 2.3 s more)
+#: more than 1,200 questions, 2.3 s more when asked one place at a time)
 MOVE_QUERIES = 6000
-#: :meth:`JawReach.contains` asks :meth:`JawReach.finger` itself about a place any comparison of
-#: which (mm, rad, or a cosine) lies this near its bound: the places at once round otherwise
-#: (numpy's cos, arccos against math's), ~1e-13
-REACH_UNSURE = 1e-9
+#: the search asks the jaw's reach about this many candidate moves' places at once at first, twice
+#: as many each time after, up to MOVE_BATCH_MAX (:func:`_first_reaching`)
+MOVE_BATCH = 16
+MOVE_BATCH_MAX = 1024
 #: what :func:`move_advice` asks when a pad already reaches every place, yet its finger gave up there
 WITHIN_REACH = "move or turn the object so that more of its curved part faces a finger"
 #: a shift found is lengthened by this much (mm) when every place is still reached then
@@ -193,7 +191,7 @@ class JawReach:
         if not bool(self.disk.contains(x, y)):
             return None
         psi = phi + math.pi / 2
-        aim = (x, y) if curvature is None else rolled_arc(x, y, psi, *curvature)
+        aim = RolledArc(x, y, psi, 0.0) if curvature is None else rolled_arc(x, y, psi, *curvature)
         # nearest its zero-angle normal first (a stable sort: ties in the given order), the first that rolls
         nearest = sorted(self.config.fingers if fingers is None else fingers,
                          key=lambda f: abs(math.remainder(psi - nominal_psi(f), 2 * math.pi)))
@@ -201,22 +199,29 @@ class JawReach:
 
     def contains(self, px, py, phi=None) -> np.ndarray:
         """Whether a pad can roll through each place (x, y) with tangent φ; without φ, the disk.
-        :meth:`finger`'s answer (is not None), every place at once (:func:`_rolls_through`);
-        a place some comparison of which lies within ``REACH_UNSURE`` of its bound is asked
-        :meth:`finger` itself, so that rounding never changes an answer."""
+        :meth:`finger`'s answer (is not None), every place at once (:meth:`rolls`)."""
         inside = np.atleast_1d(np.asarray(self.disk.contains(px, py), bool))
         if phi is None:
             return inside
         px, py, phi = (np.broadcast_to(np.atleast_1d(np.asarray(v, float)), inside.shape) for v in (px, py, phi))
-        idx = np.flatnonzero(inside)
-        ok, unsure = np.zeros(idx.size, bool), np.zeros(idx.size, bool)
-        for f in self.config.fingers:
-            rolls, near = _rolls_through(f, self._model, self.settings, px[idx], py[idx], phi[idx] + math.pi / 2)
-            ok |= rolls & ~near
-            unsure |= near
-        for i in np.flatnonzero(unsure & ~ok):
-            ok[i] = self.finger(float(px[idx[i]]), float(py[idx[i]]), float(phi[idx[i]])) is not None
-        out = np.zeros(inside.shape, bool)
+        return self.rolls(px.ravel(), py.ravel(), phi.ravel()).reshape(inside.shape)
+
+    def rolls(self, px: np.ndarray, py: np.ndarray, phi: np.ndarray, rho=0.0, drho=0.0,
+              fingers: Sequence | None = None) -> np.ndarray:
+        """Whether :meth:`finger` (of ``fingers``, default all) is not None for each place (1-D
+        arrays x, y, φ), every place at once: inside the disk, a pad of some finger rolls through
+        it (tactile_jaw.plan.feasible_arcs, the rule and arithmetic :meth:`finger` asks of one
+        place), the contact travelling along a :class:`tactile_jaw.plan.RolledArc` of ``rho``,
+        ``drho`` (per place, or floats; 0: it stays at the place; :func:`rolled_arc`'s of κ, κ_s)."""
+        out = np.asarray(self.disk.contains(px, py), bool).copy()
+        idx = np.flatnonzero(out)
+        psi = phi[idx] + math.pi / 2
+        arc = RolledArc(px[idx], py[idx], psi, *(np.broadcast_to(np.asarray(v, float), px.shape)[idx]
+                                                  for v in (rho, drho)))
+        ok = np.zeros(idx.size, bool)
+        for f in self.config.fingers if fingers is None else fingers:
+            todo = np.flatnonzero(~ok)
+            ok[todo] = feasible_arcs(f, self._model, psi[todo], arc.at(todo), self.settings)
         out[idx] = ok
         return out
 
@@ -268,79 +273,6 @@ class JawReach:
     def to_json(self) -> dict:
         """The workspace disk (a request file's ``options.reach`` holds only a disk)."""
         return self.disk.to_json()
-
-
-def _rolls_through(finger, model: ObjectModel, settings: ExploreSettings, px: np.ndarray, py: np.ndarray,
-                   psi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """tactile_jaw.plan.feasible for a touch aimed at each place (px, py) with pad normal ψ,
-    all places at once: (whether ``finger`` rolls through it, whether some comparison lay
-    within ``REACH_UNSURE`` of its bound, where the answer is not yet known otherwise). At
-    both ends a of the roll, the pad line through the place, d = n(a)·p, has a joint
-    solution within the limits (less LIMIT_MARGIN_RAD) with the place on the pad
-    ``PLAN_PAD_MARGIN`` of its length from either end (which implies kinematics.ik_line's
-    contact on the pad), the line ``PLAN_OVERSHOOT_MM`` beyond has one, and so has some
-    line of plan.retreat_offset's (the workspace edge's, then 1 mm steps inward, at most
-    ``APPROACH_MARGIN_MM`` outside d). Only places still rolled through are asked further."""
-    j1, j2 = finger.joints
-    side, length, off = finger.pad.side_sign, finger.pad.length_mm, finger.pad.offset_mm
-    lo = np.array([j1.min_rad, j2.min_rad]) + LIMIT_MARGIN_RAD
-    hi = np.array([j1.max_rad, j2.max_rad]) - LIMIT_MARGIN_RAD
-    base = np.array([finger.base.x, finger.base.y])
-    lo_u, hi_u = PLAN_PAD_MARGIN * length, (1 - PLAN_PAD_MARGIN) * length
-    cx, cy = model.workspace_center
-
-    def solutions(a, d):
-        """(q (2, m, 2): kinematics.ik_line_solutions' two, whether each is real and within
-        the limits (2, m), the least distance of a comparison from its bound (m,))."""
-        c = (d - off - (np.cos(a) * base[0] + np.sin(a) * base[1])) / j1.link_mm
-        acos = np.arccos(np.clip(c, -1.0, 1.0))
-        q = np.stack([np.stack([wrap_angle(a1 - finger.base.angle), wrap_angle(a - side * math.pi / 2 - a1)], axis=-1)
-                      for a1 in (a + acos, a - acos)])
-        valid = (np.abs(c) <= 1.0) & np.all((q >= lo) & (q <= hi), axis=-1)
-        bounds = np.abs(np.concatenate([q - lo, hi - q, math.pi - np.abs(q)], axis=-1))
-        return q, valid, np.minimum(np.min(bounds, axis=(0, 2)), np.abs(1.0 - np.abs(c)))
-
-    ok = np.ones(px.shape, bool)
-    near = np.zeros(px.shape, bool)
-    for end in (-0.5, 0.5):
-        i = np.flatnonzero(ok & ~near)
-        a = psi[i] + end * settings.roll_span_rad
-        x, y = px[i], py[i]
-        d = np.cos(a) * x + np.sin(a) * y
-        q, valid, gap = solutions(a, d)
-        # the place along the pad (kinematics.chain_pad_line: from the proximal end along e(α2))
-        a1, a2 = finger.base.angle + q[..., 0], finger.base.angle + q[..., 0] + q[..., 1]
-        e2 = np.stack([np.cos(a2), np.sin(a2)], axis=-1)
-        n = np.stack([np.cos(a2 + side * math.pi / 2), np.sin(a2 + side * math.pi / 2)], axis=-1)
-        prox = base + j1.link_mm * np.stack([np.cos(a1), np.sin(a1)], axis=-1) + (j2.link_mm - length) * e2 + off * n
-        u = (x - prox[..., 0]) * e2[..., 0] + (y - prox[..., 1]) * e2[..., 1]
-        rolls = np.any(valid & (u >= lo_u) & (u <= hi_u), axis=0)
-        gap = np.minimum(gap, np.min(np.minimum(np.abs(u - lo_u), np.abs(hi_u - u)), axis=0))
-        _, over, gap_over = solutions(a, d + PLAN_OVERSHOOT_MM)
-        rolls &= np.any(over, axis=0)
-        gap = np.minimum(gap, gap_over)
-        # plan.retreat_offset: the first reachable line from the edge's inward, 1 mm steps;
-        # the edge's own line is always tried (the limit is at least it: no rounding there)
-        d_out = np.cos(a) * cx + np.sin(a) * cy - model.workspace_radius
-        limit = np.maximum(d_out, d - APPROACH_MARGIN_MM)
-        gap = np.minimum(gap, np.abs(d - APPROACH_MARGIN_MM - d_out))
-        retreat = np.zeros(i.shape, bool)
-        step = d_out.copy()
-        first = limit == d_out
-        todo = np.flatnonzero(rolls & (gap >= REACH_UNSURE))
-        while todo.size:
-            tried = step[todo] <= limit[todo] + 1e-9
-            gap[todo] = np.where(first[todo], gap[todo], np.minimum(gap[todo], np.abs(limit[todo] + 1e-9 - step[todo])))
-            todo = todo[tried]
-            _, valid_r, gap_r = solutions(a[todo], step[todo])
-            gap[todo] = np.minimum(gap[todo], gap_r)
-            retreat[todo] = np.any(valid_r, axis=0)
-            todo = todo[~retreat[todo]]
-            step[todo] += 1.0
-            first[todo] = False
-        ok[i] = rolls & retreat
-        near[i] = gap < REACH_UNSURE
-    return ok, near
 
 
 def _strip_points(psi: float, u_lo: float, u_hi: float, d_lo: float, d_hi: float) -> np.ndarray:
@@ -744,22 +676,37 @@ def _move_search(reach: JawReach, goal: Goal, fingers) -> tuple[tuple[float, flo
 
 def _first_reaching(reach: JawReach, goal: Goal, cands: Sequence, fingers):
     """The first of the candidate moves ``cands`` (..., turn, shift, places) after which a pad rolls
-    through every place of ``goal``, or None when none does within ``MOVE_QUERIES`` questions."""
-    order = list(range(len(goal.places)))  # the place that failed last is asked first
-    asked = 0
-    for cand in cands:
-        turn, places = cand[2], cand[4]
-        for j in list(order):
-            asked += 1
-            if reach.finger(float(places[j, 0]), float(places[j, 1]), goal.places[j][2] + turn, fingers,
-                            goal.curvature_of(j)) is None:
-                order.remove(j)
-                order.insert(0, j)
-                break
-        else:
-            return cand
-        if asked >= MOVE_QUERIES:
-            return None
+    through every place of ``goal``, or None when none does within ``MOVE_QUERIES`` questions: each
+    candidate's places asked in turn until one is not rolled through, the place that failed last
+    first. A place is asked of a batch of candidates at once (:meth:`JawReach.rolls`, from
+    ``MOVE_BATCH`` candidates, doubling), the first time one of the batch asks it."""
+    order = list(range(len(goal.places)))
+    arcs = [(0.0, 0.0) if goal.curvature_of(j) is None else
+            (lambda arc: (arc.rho, arc.drho))(rolled_arc(0.0, 0.0, 0.0, *goal.curvature_of(j)))
+            for j in order]
+    asked, start, size = 0, 0, MOVE_BATCH
+    while start < len(cands):
+        batch = cands[start:start + size]
+        turn = np.array([c[2] for c in batch])
+        places = np.array([c[4] for c in batch])  # batch × n × 2
+        rolled: dict[int, np.ndarray] = {}
+        for b, cand in enumerate(batch):
+            for j in list(order):
+                asked += 1
+                if j not in rolled:  # this place, for this candidate and the rest of the batch
+                    rolled[j] = np.zeros(len(batch), bool)
+                    rolled[j][b:] = reach.rolls(places[b:, j, 0], places[b:, j, 1], goal.places[j][2] + turn[b:],
+                                                *arcs[j], fingers=fingers)
+                if not rolled[j][b]:
+                    order.remove(j)
+                    order.insert(0, j)
+                    break
+            else:
+                return cand
+            if asked >= MOVE_QUERIES:
+                return None
+        start += size
+        size = min(2 * size, MOVE_BATCH_MAX)
     return None
 
 

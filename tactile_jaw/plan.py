@@ -98,10 +98,18 @@ class ObjectModel:
         dn = np.array([-math.sin(psi), math.cos(psi)])
         return float(coef[0]), coef[0] * n + coef[1] * dn
 
-    def edge(self, psi: float) -> float:
-        """Offset of the line with normal ψ tangent to the workspace disk (outside it)."""
-        n = kin.unit(psi)
-        return float(n @ self.workspace_center) - self.workspace_radius
+    def edge(self, psi):
+        """Offset of the line with normal ψ tangent to the workspace disk (outside it): a float
+        for a float ψ, an array for an array."""
+        out = line_offset(psi, self.workspace_center) - self.workspace_radius
+        return float(out) if np.ndim(out) == 0 else out
+
+
+def line_offset(psi, p):
+    """n(ψ)·p, the offset d of the line of normal ψ through the point(s) ``p`` (..., 2), ψ
+    broadcast against p's leading axes: the same arithmetic for one line as for many."""
+    p = np.asarray(p, dtype=float)
+    return np.cos(psi) * p[..., 0] + np.sin(psi) * p[..., 1]
 
 
 def nominal_psi(finger) -> float:
@@ -123,20 +131,32 @@ class RolledArc:
     curve of ρ ~43 mm rolled 18° about a fixed aim met it ~6.8 mm along the pad from where
     a fixed contact would be (calibrated cubical 54 of seed 281)."""
 
-    x: float
-    y: float
-    psi: float
-    rho: float
-    drho: float = 0.0
+    x: float | np.ndarray
+    y: float | np.ndarray
+    psi: float | np.ndarray
+    rho: float | np.ndarray
+    drho: float | np.ndarray = 0.0
 
-    def contact(self, psi: float) -> np.ndarray:
+    def contact(self, psi) -> np.ndarray:
         """The contact for pad normal ψ: p(ψ) = p₀ − ∫ρ(u) n'(u) du from ψ₀ (n the pad's normal,
         pointing into the object, n' its derivative; ρ(u) = ρ₀ + ρ'(u − ψ₀)), in closed form
-        p₀ − ρ₀(n − n₀) − ρ'(Δ n + n' − n'₀), Δ = ψ − ψ₀."""
-        delta = math.remainder(psi - self.psi, 2 * math.pi)
-        n, n0 = kin.unit(psi), kin.unit(self.psi)
-        dn, dn0 = np.array([-math.sin(psi), math.cos(psi)]), np.array([-math.sin(self.psi), math.cos(self.psi)])
-        return np.array([self.x, self.y]) - self.rho * (n - n0) - self.drho * (delta * n + dn - dn0)
+        p₀ − ρ₀(n − n₀) − ρ'(Δ n + n' − n'₀), Δ = ψ − ψ₀ taken to [−π, π]. Fields and ψ may be
+        arrays of one shape S (many arcs at once): (*S, 2). ρ = ρ' = 0 is a contact that stays at
+        (x, y), exactly (a touch aimed at a point)."""
+        psi, psi0 = np.asarray(psi, dtype=float), np.asarray(self.psi, dtype=float)
+        delta = psi - psi0
+        delta = delta - 2 * math.pi * np.rint(delta / (2 * math.pi))  # math.remainder's: Δ itself where |Δ| < π
+        c, s, c0, s0 = np.cos(psi), np.sin(psi), np.cos(psi0), np.sin(psi0)
+        # n = (cos, sin), n' = (−sin, cos), component by component
+        x = self.x - self.rho * (c - c0) - self.drho * (delta * c + -s - -s0)
+        y = self.y - self.rho * (s - s0) - self.drho * (delta * s + c - c0)
+        return np.stack([x, y], axis=-1)
+
+    def at(self, i) -> "RolledArc":
+        """The arcs ``i`` (an index array) of an arc whose fields are arrays of one shape (a
+        float field: the same for every arc)."""
+        fields = (np.asarray(v, dtype=float) for v in (self.x, self.y, self.psi, self.rho, self.drho))
+        return RolledArc(*(v[i] if v.ndim else np.full(np.shape(i), float(v)) for v in fields))
 
 
 def rolled_arc(x: float, y: float, psi: float, kappa: float, kappa_s: float) -> RolledArc:
@@ -158,7 +178,7 @@ def predicted_tangent(model: ObjectModel, psi: float, aim=None) -> tuple[float, 
     if aim is None:
         return model.tangent(psi)
     p = aim.contact(psi) if isinstance(aim, RolledArc) else np.asarray(aim, dtype=float)
-    return float(kin.unit(psi) @ p), p
+    return float(line_offset(psi, p)), p
 
 
 def retreat_offset(finger, model: ObjectModel, psi: float, aim=None) -> float | None:
@@ -171,13 +191,32 @@ def retreat_offset(finger, model: ObjectModel, psi: float, aim=None) -> float | 
     d = model.edge(psi)
     predicted = predicted_tangent(model, psi, aim)
     limit = d if predicted is None else max(d, predicted[0] - APPROACH_MARGIN_MM)
-    while d <= limit + 1e-9:
-        try:
-            kin.ik_line(finger, psi, d, margin_rad=LIMIT_MARGIN_RAD)
-            return d
-        except kin.Unreachable:
-            d += 1.0
-    return None
+    out = float(retreat_lines(finger, np.array([psi], float), np.array([d]), np.array([limit]))[0])
+    return None if math.isnan(out) else out
+
+
+def _reached(finger, q: np.ndarray, real: np.ndarray) -> np.ndarray:
+    """Whether each line has a joint solution (kinematics.ik_line_angles' q, real) within the
+    limits less ``LIMIT_MARGIN_RAD`` (kinematics.ik_line's rule): (2, *S) of the two solutions."""
+    return real & kin.within_limits(finger.joints, q, LIMIT_MARGIN_RAD)
+
+
+def retreat_lines(finger, psi: np.ndarray, start: np.ndarray, limit: np.ndarray) -> np.ndarray:
+    """:func:`retreat_offset`'s line for every pad normal ψ at once (1-D arrays): the first line
+    from ``start`` (the workspace edge's) inward in 1 mm steps, no farther in than ``limit``,
+    that the joints reach; NaN where none is."""
+    out = np.full(psi.shape, np.nan)
+    if not psi.size:
+        return out
+    step = np.array(start, dtype=float)
+    todo = np.flatnonzero(step <= limit + 1e-9)
+    while todo.size:
+        hit = np.any(_reached(finger, *kin.ik_line_angles(finger, psi[todo], step[todo])), axis=0)
+        out[todo[hit]] = step[todo[hit]]
+        todo = todo[~hit]
+        step[todo] += 1.0
+        todo = todo[step[todo] <= limit[todo] + 1e-9]
+    return out
 
 
 #: a transit between rolling touches keeps APPROACH_MARGIN_MM outside the tangent the felt
@@ -229,32 +268,72 @@ def clear_offset(finger, model: ObjectModel, psi: float, d: float | None) -> flo
     return predicted[0] - APPROACH_MARGIN_MM
 
 
+def reaches_lines(finger, model: ObjectModel, psi: np.ndarray, d: np.ndarray, p: np.ndarray,
+                  pad_margin: float = PLAN_PAD_MARGIN) -> np.ndarray:
+    """The reach rule of one roll orientation, for every line at once (1-D arrays ψ, d; p
+    (m, 2)): the pad line n(ψ)·x = d through the predicted contact p has a joint solution within
+    the limits less ``LIMIT_MARGIN_RAD`` with p on the pad (kinematics.ik_line with its contact),
+    and one with p ``pad_margin`` of the pad's length from either end; the line
+    ``PLAN_OVERSHOOT_MM`` beyond has one; and a line to retreat to (:func:`retreat_offset`'s,
+    from the workspace edge's inward up to ``APPROACH_MARGIN_MM`` outside d, :func:`retreat_lines`)
+    has one. :func:`feasible` asks it of one line, the jaw's reach of many
+    (tactile_jaw.choose.JawReach): one rule, the same arithmetic."""
+    m, length = psi.size, finger.pad.length_mm
+    edge = model.edge(psi)
+    # the line, the overshoot line and the workspace edge's line, in one pass
+    q, real = kin.ik_line_angles(finger, np.concatenate([psi, psi, psi]), np.concatenate([d, d + PLAN_OVERSHOOT_MM, edge]))
+    within = _reached(finger, q, real)
+    u = kin.finger_pad_line(finger, q[:, :m]).pad_coordinate(p)
+    on = within[:, :m]
+    ok = (np.any(on & (u >= 0.0) & (u <= length), axis=0)
+          & np.any(on & (u >= pad_margin * length) & (u <= (1 - pad_margin) * length), axis=0)
+          & np.any(within[:, m:2 * m], axis=0))
+    i = np.flatnonzero(ok & ~np.any(within[:, 2 * m:], axis=0))  # the edge's line out of reach: 1 mm steps inward
+    ok[i] = ~np.isnan(retreat_lines(finger, psi[i], edge[i] + 1.0, np.maximum(edge[i], d[i] - APPROACH_MARGIN_MM)))
+    return ok
+
+
 def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings, aim=None,
              pad_margin: float = PLAN_PAD_MARGIN) -> bool:
     """Every roll orientation around ψ has a predicted tangent (:func:`predicted_tangent`)
     that puts the pad on it, with the predicted contact on the pad, inside the joint
     limits, and also ``PLAN_OVERSHOOT_MM`` beyond it; a line to retreat to is reachable
     (:func:`retreat_offset`). The predicted contact keeps ``pad_margin`` of the pad's length
-    from either end."""
-    length = finger.pad.length_mm
-    for a in roll_angles(psi, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]:
-        predicted = predicted_tangent(model, float(a), aim)
-        if predicted is None:
-            return False
-        d, p = predicted
-        try:
-            kin.ik_line(finger, float(a), d, contact=p, margin_rad=LIMIT_MARGIN_RAD)
-            kin.ik_line(finger, float(a), d + PLAN_OVERSHOOT_MM, margin_rad=LIMIT_MARGIN_RAD)
-        except kin.Unreachable:
-            return False
-        if retreat_offset(finger, model, float(a), aim) is None:
-            return False
-        u = [float(kin.finger_pad_line(finger, q).pad_coordinate(p))
-             for q in kin.ik_line_solutions(finger, float(a), d)
-             if kin.within_limits(finger.joints, q, LIMIT_MARGIN_RAD)]
-        if not any(pad_margin * length <= v <= (1 - pad_margin) * length for v in u):
-            return False
-    return True
+    from either end (:func:`reaches_lines`; with an ``aim``, :func:`feasible_arcs` of one arc)."""
+    if aim is None:
+        return bool(feasible_many(finger, model, np.array([psi], float), settings, pad_margin)[0])
+    arc = aim if isinstance(aim, RolledArc) else RolledArc(float(aim[0]), float(aim[1]), psi, 0.0)
+    return bool(feasible_arcs(finger, model, np.array([psi], float), arc.at(np.array([0])), settings, pad_margin)[0])
+
+
+def feasible_many(finger, model: ObjectModel, psi: np.ndarray, settings: ExploreSettings,
+                  pad_margin: float = PLAN_PAD_MARGIN) -> np.ndarray:
+    """:func:`feasible` without an aim for rolls centred on every pad normal of ``psi`` (1-D) at
+    once: the object model's tangent (:meth:`ObjectModel.tangent`) at both ends of each roll,
+    :func:`reaches_lines` of all of them in one pass."""
+    ends = np.concatenate([roll_angles(float(c), settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]
+                           for c in psi]) if psi.size else np.zeros(0)
+    predicted = [model.tangent(float(a)) for a in ends]
+    known = np.array([t is not None for t in predicted], bool)
+    ok = known.copy()
+    i = np.flatnonzero(known)
+    if i.size:
+        d = np.array([predicted[k][0] for k in i])
+        p = np.array([predicted[k][1] for k in i], float).reshape(-1, 2)
+        ok[i] = reaches_lines(finger, model, ends[i], d, p, pad_margin)
+    return np.all(ok.reshape(-1, 2), axis=1)
+
+
+def feasible_arcs(finger, model: ObjectModel, psi: np.ndarray, arc: RolledArc, settings: ExploreSettings,
+                  pad_margin: float = PLAN_PAD_MARGIN) -> np.ndarray:
+    """:func:`feasible` for rolls centred on every pad normal of ``psi`` (1-D) at once, each
+    aimed at its arc of ``arc`` (fields arrays of psi's length, or floats: the contact at either
+    end of the roll where the arc has it, :meth:`RolledArc.contact`; ρ = 0: at (x, y))."""
+    first, last = roll_angles(0.0, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]
+    a = np.concatenate([psi + first, psi + last])  # both ends of every roll
+    both = np.concatenate([np.arange(psi.size)] * 2)
+    p = arc.at(both).contact(a)
+    return np.all(reaches_lines(finger, model, a, line_offset(a, p), p, pad_margin).reshape(2, -1), axis=0)
 
 
 def within_curve(psi: float, span: float, limits) -> bool:
@@ -286,8 +365,9 @@ def choose_psi(finger, model: ObjectModel, settings: ExploreSettings, used: list
     nominal = nominal_psi(finger)
     offsets = np.arange(-CANDIDATE_SPREAD_DEG, CANDIDATE_SPREAD_DEG + 1e-9, CANDIDATE_STEP_DEG)
     cands = [nominal + math.radians(o) for o in offsets]
-    ok = [a for a in cands if within_curve(a, settings.roll_span_rad, limits)
-          and not within_cone(a, settings.roll_span_rad, cones) and feasible(finger, model, a, settings)]
+    cands = [a for a in cands if within_curve(a, settings.roll_span_rad, limits)
+             and not within_cone(a, settings.roll_span_rad, cones)]
+    ok = [a for a, f in zip(cands, feasible_many(finger, model, np.array(cands, float), settings)) if f]
     if not ok:
         return None
     if not used:
