@@ -145,7 +145,8 @@ class RolledArc:
         (x, y), exactly (a touch aimed at a point)."""
         psi, psi0 = np.asarray(psi, dtype=float), np.asarray(self.psi, dtype=float)
         delta = psi - psi0
-        delta = delta - 2 * math.pi * np.rint(delta / (2 * math.pi))  # math.remainder's: Δ itself where |Δ| < π
+        # math.remainder's rounding: Δ itself where |Δ| < π
+        delta = delta - 2 * math.pi * np.rint(delta / (2 * math.pi))
         c, s, c0, s0 = np.cos(psi), np.sin(psi), np.cos(psi0), np.sin(psi0)
         # n = (cos, sin), n' = (−sin, cos), component by component
         x = self.x - self.rho * (c - c0) - self.drho * (delta * c + -s - -s0)
@@ -281,7 +282,8 @@ def reaches_lines(finger, model: ObjectModel, psi: np.ndarray, d: np.ndarray, p:
     m, length = psi.size, finger.pad.length_mm
     edge = model.edge(psi)
     # the line, the overshoot line and the workspace edge's line, in one pass
-    q, real = kin.ik_line_angles(finger, np.concatenate([psi, psi, psi]), np.concatenate([d, d + PLAN_OVERSHOOT_MM, edge]))
+    q, real = kin.ik_line_angles(finger, np.concatenate([psi, psi, psi]),
+                                 np.concatenate([d, d + PLAN_OVERSHOOT_MM, edge]))
     within = _reached(finger, q, real)
     u = kin.finger_pad_line(finger, q[:, :m]).pad_coordinate(p)
     on = within[:, :m]
