@@ -471,9 +471,13 @@ FAR_ARM_TURN = math.exp(-3.0)
 def _far_arm_fits(cands: list[Candidate], d: Contacts, request: Request,
                   options: RecognizeOptions) -> list[Candidate]:
     """Refined hyperbola fits from its asymptote starts (``starts.hyperbola_asymptote``),
-    in both directions of travel, when no hyperbola fit is consistent or none fits better
+    in both directions of travel, when no hyperbola fit is consistent, or none fits better
     than a consistent limit of it (line, parabola) by ``NESTED_MARGIN`` (it sits at the
-    limit), and the touches' tangents agree with one direction within their noise (χ² at
+    limit), or another consistent class fits better than every hyperbola fit by more than
+    ``NESTED_MARGIN`` (its fits left in a valley beside the truth's: tools.bench_wide --set
+    wide seed 349, trial 15, far on an arm, the hyperbola at χ² 98.7, 5 below its line
+    limit, the answer a cubical at 80.9 while the truth refined from itself fits 79.8),
+    and the touches' tangents agree with one direction within their noise (χ² at
     ``options.alpha``: far out on an arm, or nearly straight) or within ``FAR_ARM_TURN``
     (a touch nearer the vertex, such as a suggested one). There every other start places the touches by tangents
     within their noise of the asymptote's, the contact fit of three nearly collinear points
@@ -489,7 +493,8 @@ def _far_arm_fits(cands: list[Candidate], d: Contacts, request: Request,
     own = [c for c in cands if c.cls == cls]
     best = min((c.chi2 for c in own if c.consistent), default=math.inf)
     limits = min((c.chi2 for c in cands if c.consistent and cls in LIMIT_OF.get(c.cls, ())), default=math.inf)
-    if best < limits - NESTED_MARGIN:  # a consistent hyperbola that bends beyond its limits' fit
+    others = min((c.chi2 for c in cands if c.consistent and c.cls != cls), default=math.inf)
+    if best < limits - NESTED_MARGIN and best <= others + NESTED_MARGIN:  # bends beyond its limits, beaten by none
         return []
     dev = np.abs(np.asarray(wrap_angle(d.phi - _circmean(d.phi)), float))
     with np.errstate(divide="ignore", invalid="ignore"):

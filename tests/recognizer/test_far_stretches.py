@@ -176,3 +176,17 @@ def test_thin_ellipse_at_its_sharp_end_restarted_until_it_stops_crawling():
     assert region == "thin, sharp end"
     assert rec.cls == "ellipse", rec.reason
     assert rec.params["b"] == pytest.approx(shape.params["b"], rel=0.2)
+
+
+def test_far_arm_hyperbola_beaten_by_another_class_gets_its_asymptote_starts():
+    """Seed 349 (development; session 25's held-out) hyperbola trial 15 (far on an arm, 117 mm,
+    t 3.7–5.7, one place touched twice): answered cubical (χ² 80.9, BIC 272.9), a search miss:
+    the hyperbola's best fit, 98.7, lay more than 1 below its line limit (104.1), so its
+    asymptote starts were not refined, while the truth refined from itself fits 79.8 (BIC
+    271.8). A hyperbola that another class beats by more than ``NESTED_MARGIN`` also gets them."""
+    region, shape, ts, _, rs = B.draw_case("hyperbola", 15, 349, "wide")
+    touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
+    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert region == "far on an arm"
+    assert rec.cls == "hyperbola", [(r.cls, r.chi2) for r in rec.ranking]
+    assert rec.ranking[0].chi2 == pytest.approx(79.8, abs=0.3)
