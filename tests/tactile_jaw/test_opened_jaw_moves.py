@@ -133,15 +133,21 @@ def _face_goal(psi_deg: float) -> Goal:
 
 
 def _questions(monkeypatch) -> list:
-    """A counter of the questions put to any JawReach's ``finger``."""
+    """A counter of the places put to any JawReach: one per ``finger`` call, one per place of a
+    ``rolls`` call (the move search asks a batch of candidates at once)."""
     calls = [0]
-    finger = JawReach.finger
+    finger, rolls = JawReach.finger, JawReach.rolls
 
     def counted(self, *args, **kwargs):
         calls[0] += 1
         return finger(self, *args, **kwargs)
 
+    def counted_rolls(self, px, *args, **kwargs):
+        calls[0] += len(px)
+        return rolls(self, px, *args, **kwargs)
+
     monkeypatch.setattr(JawReach, "finger", counted)
+    monkeypatch.setattr(JawReach, "rolls", counted_rolls)
     return calls
 
 
