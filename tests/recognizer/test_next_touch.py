@@ -539,7 +539,8 @@ def test_a_line_leaders_landing_checks_in_batches_choose_as_checking_everywhere(
     """bench_wide --set wide seed 293, line trials 3, 6, 10: no place of the first
     ``LAND_FIRST`` provably wins, so the landing is checked in batches as large as all
     checked so far (session 25; before, at every other place at once) until one does: the
-    same suggestion as checking every place."""
+    same suggestion as checking every place (or one of the same gain within 1e-9: a tie that
+    the rounding of different array sizes breaks)."""
     import recognizer.next_touch as nt_mod
     from tools import bench_wide as bw
 
@@ -550,4 +551,7 @@ def test_a_line_leaders_landing_checks_in_batches_choose_as_checking_everywhere(
     rec, _, _ = bw._recognize(touches, nm)
     monkeypatch.setattr(nt_mod, "LAND_FIRST", 10 ** 6)
     full, _, _ = bw._recognize(touches, nm)
-    assert rec.cls == full.cls == "line" and rec.next_touch is not None and rec.next_touch == full.next_touch
+    assert rec.cls == full.cls == "line" and rec.next_touch is not None and full.next_touch is not None
+    if rec.next_touch != full.next_touch:  # a tie in gain, broken by rounding (array sizes differ):
+        # seen in the full suite on seed 293 trial 6, gains 0.33251723931427 and …39059
+        assert rec.next_touch["gain"] == pytest.approx(full.next_touch["gain"], rel=1e-9, abs=0)
