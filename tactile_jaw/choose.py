@@ -681,9 +681,11 @@ def _first_reaching(reach: JawReach, goal: Goal, cands: Sequence, fingers):
     first. A place is asked of a batch of candidates at once (:meth:`JawReach.rolls`, from
     ``MOVE_BATCH`` candidates, doubling), the first time one of the batch asks it."""
     order = list(range(len(goal.places)))
-    arcs = [(0.0, 0.0) if goal.curvature_of(j) is None else
-            (lambda arc: (arc.rho, arc.drho))(rolled_arc(0.0, 0.0, 0.0, *goal.curvature_of(j)))
-            for j in order]
+    arcs = []  # each place's arc radius and its rate (rolled_arc's; 0, 0: a contact that stays put)
+    for j in order:
+        curvature = goal.curvature_of(j)
+        arc = RolledArc(0.0, 0.0, 0.0, 0.0) if curvature is None else rolled_arc(0.0, 0.0, 0.0, *curvature)
+        arcs.append((arc.rho, arc.drho))
     asked, start, size = 0, 0, MOVE_BATCH
     while start < len(cands):
         batch = cands[start:start + size]

@@ -295,6 +295,13 @@ def reaches_lines(finger, model: ObjectModel, psi: np.ndarray, d: np.ndarray, p:
     return ok
 
 
+def roll_ends(psi: np.ndarray, settings: ExploreSettings) -> np.ndarray:
+    """Both end orientations of the rolls centred on every pad normal of ``psi`` (1-D): every
+    roll's first (hand_driver.motion.roll_angles' first), then every roll's last, (2·m,)."""
+    first, last = roll_angles(0.0, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]
+    return np.concatenate([psi + first, psi + last])
+
+
 def feasible(finger, model: ObjectModel, psi: float, settings: ExploreSettings, aim=None,
              pad_margin: float = PLAN_PAD_MARGIN) -> bool:
     """Every roll orientation around ψ has a predicted tangent (:func:`predicted_tangent`)
@@ -313,8 +320,7 @@ def feasible_many(finger, model: ObjectModel, psi: np.ndarray, settings: Explore
     """:func:`feasible` without an aim for rolls centred on every pad normal of ``psi`` (1-D) at
     once: the object model's tangent (:meth:`ObjectModel.tangent`) at both ends of each roll,
     :func:`reaches_lines` of all of them in one pass."""
-    ends = np.concatenate([roll_angles(float(c), settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]
-                           for c in psi]) if psi.size else np.zeros(0)
+    ends = roll_ends(psi, settings)
     predicted = [model.tangent(float(a)) for a in ends]
     known = np.array([t is not None for t in predicted], bool)
     ok = known.copy()
@@ -323,7 +329,7 @@ def feasible_many(finger, model: ObjectModel, psi: np.ndarray, settings: Explore
         d = np.array([predicted[k][0] for k in i])
         p = np.array([predicted[k][1] for k in i], float).reshape(-1, 2)
         ok[i] = reaches_lines(finger, model, ends[i], d, p, pad_margin)
-    return np.all(ok.reshape(-1, 2), axis=1)
+    return np.all(ok.reshape(2, -1), axis=0)
 
 
 def feasible_arcs(finger, model: ObjectModel, psi: np.ndarray, arc: RolledArc, settings: ExploreSettings,
@@ -331,8 +337,7 @@ def feasible_arcs(finger, model: ObjectModel, psi: np.ndarray, arc: RolledArc, s
     """:func:`feasible` for rolls centred on every pad normal of ``psi`` (1-D) at once, each
     aimed at its arc of ``arc`` (fields arrays of psi's length, or floats: the contact at either
     end of the roll where the arc has it, :meth:`RolledArc.contact`; ρ = 0: at (x, y))."""
-    first, last = roll_angles(0.0, settings.roll_span_rad, settings.samples_per_touch)[[0, -1]]
-    a = np.concatenate([psi + first, psi + last])  # both ends of every roll
+    a = roll_ends(psi, settings)
     both = np.concatenate([np.arange(psi.size)] * 2)
     p = arc.at(both).contact(a)
     return np.all(reaches_lines(finger, model, a, line_offset(a, p), p, pad_margin).reshape(2, -1), axis=0)
