@@ -682,11 +682,40 @@ def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: floa
         return optimize.least_squares(fun, z0, jac=jac, method="trf", **kw)
     # full_output for nfev and fvec; leastsq also forms its covariance (unused: ``_pinv_cov``),
     # which overflows on a badly scaled fit and printed a RuntimeWarning to the user's stderr
+    padded_fun, padded_jac = _pad_last_column(fun, jac)
     with np.errstate(over="ignore", invalid="ignore"):
-        x, _, info, _, _ = optimize.leastsq(fun, z0, Dfun=jac, full_output=True, ftol=tol, xtol=tol, gtol=tol,
-                                            maxfev=max_nfev, factor=100.0, diag=None)
-    f = info["fvec"]
-    return _Solved(x, 0.5 * float(np.dot(f, f)), f, int(info["nfev"]))
+        x, _, info, _, _ = optimize.leastsq(padded_fun, np.append(z0, 0.0), Dfun=padded_jac, full_output=True,
+                                            ftol=tol, xtol=tol, gtol=tol, maxfev=max_nfev, factor=100.0, diag=None)
+    f = info["fvec"][:-1]
+    return _Solved(x[:-1], 0.5 * float(np.dot(f, f)), f, int(info["nfev"]))
+
+
+#: the padding unknown's Jacobian entry (``_pad_last_column``): below any column norm a
+#: whitened Jacobian has, so column pivoting leaves it last
+PAD_COLUMN = 1e-300
+
+
+def _pad_last_column(fun, jac):
+    """``fun`` and ``jac`` with one more unknown and one more residual, always 0, whose
+    Jacobian column is ``PAD_COLUMN`` in the new row alone. SciPy's C MINPACK (1.15 to at
+    least 1.17.1) recomputes a column's norm in ``qrfac`` over one row too many: for the
+    last column it reads one double past the end of the Jacobian's memory, so the same
+    problem gave different iterates run to run (docs/estimation.md "Repeatable
+    refinements"). With the padding column last, that read stays inside the array and
+    reads the padding's 0; the padding is orthogonal to every other column and its
+    residual is 0, so its step is 0 and the other unknowns' iterates are those of the
+    unpadded problem without the stray read."""
+    def padded_fun(z: np.ndarray) -> np.ndarray:
+        return np.append(fun(z[:-1]), 0.0)
+
+    def padded_jac(z: np.ndarray) -> np.ndarray:
+        j = jac(z[:-1])
+        out = np.zeros((j.shape[0] + 1, j.shape[1] + 1))
+        out[:-1, :-1] = j
+        out[-1, -1] = PAD_COLUMN
+        return out
+
+    return padded_fun, padded_jac
 
 
 def _pinv_cov(jac: np.ndarray) -> np.ndarray:
