@@ -648,9 +648,11 @@ def move_for(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tu
     return _move_search(reach, goal, fingers)[0]
 
 
-def _move_search(reach: JawReach, goal: Goal, fingers) -> tuple[tuple[float, float, float] | None, list]:
+def _move_search(reach: JawReach, goal: Goal, fingers,
+                 turns: tuple[float, float] | None = None) -> tuple[tuple[float, float, float] | None, list]:
     """:func:`move_for`'s move, and the candidates (turn, shift, places) it passed over only because
-    they carry an opened pad where the object goes on (:meth:`JawReach.opened_clear`), in its order."""
+    they carry an opened pad where the object goes on (:meth:`JawReach.opened_clear`), in its order;
+    ``turns`` (lo, hi rad), if given, the only turns it tries (of its own steps)."""
     k = int(MOVE_MAX_MM // MOVE_STEP_MM)
     grid = np.arange(-k, k + 1) * MOVE_STEP_MM
     shift = np.stack([v.ravel() for v in np.meshgrid(grid, grid)], axis=-1)
@@ -661,6 +663,8 @@ def _move_search(reach: JawReach, goal: Goal, fingers) -> tuple[tuple[float, flo
     allowed = np.maximum(radius - MOVE_CLEAR_MM, np.hypot(here[:, 0] - cx, here[:, 1] - cy))
     cands, blocked = [], []
     for turn in np.radians(np.arange(-m, m + 1) * MOVE_TURN_STEP_DEG):
+        if turns is not None and not turns[0] - 1e-9 <= turn <= turns[1] + 1e-9:
+            continue
         places, keep = _moved(goal, float(turn), shift)
         every = np.concatenate([places, keep], axis=1)
         clear = np.all(np.hypot(every[..., 0] - cx, every[..., 1] - cy) <= allowed[None, :] + 1e-9, axis=1)
@@ -725,13 +729,16 @@ def _reaches(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float, fin
                is not None for j, p in enumerate(places[0]))
 
 
-def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None) -> tuple[str, dict | None]:
+def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None,
+                turns: tuple[float, float] | None = None) -> tuple[str, dict | None]:
     """What a person can do so that a pad rolls through every place of ``goal``: the move of
     :func:`move_for` in the hand frame's words (x away from the palm, y toward the left
     finger, turns counterclockwise positive) and as :class:`Stop`'s ``move``, or a general
     request (and None) when none is near, saying so when moves were near but each would carry
-    an opened pad where the object goes on unfelt (:meth:`JawReach.opened_clear`)."""
-    move, blocked = _move_search(reach, goal, fingers)
+    an opened pad where the object goes on unfelt (:meth:`JawReach.opened_clear`). ``turns``
+    (lo, hi rad): only moves turning the object within them (a flat press's seat,
+    tactile_jaw.flat_phase._face_advice)."""
+    move, blocked = _move_search(reach, goal, fingers, turns)
     # the search passed over every reaching move only for the opened pads: the candidates it had
     # asked about reach nowhere, so the moves without the probes' bound are those it passed over
     if move is None and _first_reaching(reach, goal, blocked, fingers) is not None:

@@ -465,16 +465,19 @@ def noted(reason: str | None, calibrated: bool) -> str | None:
 
 def refusal_kind(reason: str, move: dict | None = None) -> str:
     """What a refusal (its ``reason``, and the ``move`` its stop event names, if any) asks
-    of a person (``REFUSAL_KINDS``): finer angles when it names a resolution that would
-    settle it (:func:`finer_advice`, :func:`imprecision`); out of reach when it names a
-    move of the object after which a pad rolls where the deciding touch goes, or no pad
-    can roll there (tactile_jaw.choose); no class fits when the recognizer found none
-    consistent (``NO_CLASS_FITS``: no move is advised then); else another move or placement
-    of the object."""
+    of a person (``REFUSAL_KINDS``): out of reach when it names a move of the object after
+    which a pad rolls where the deciding touch goes (tactile_jaw.choose) — first: a move
+    this jaw can make is the more actionable advice, and a reason that also names a finer
+    resolution says both; finer angles when it names a resolution that would settle it
+    (:func:`finer_advice`, :func:`imprecision`); out of reach when no pad can roll where the
+    deciding touch goes; no class fits when the recognizer found none consistent
+    (``NO_CLASS_FITS``: no move is advised then); else another move or placement of the object."""
     if reason.startswith(NO_CLASS_FITS):
         return "no class fits"
+    if move is not None:
+        return "out of reach"
     if FINER in reason:
         return "needs finer angles"
-    if move is not None or "no pad can roll" in reason:
+    if "no pad can roll" in reason:
         return "out of reach"
     return "needs another move"

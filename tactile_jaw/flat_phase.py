@@ -427,8 +427,8 @@ def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, 
                  toward: np.ndarray, reach: JawReach | None = None) -> tuple[str, dict | None, np.ndarray, float]:
     """The move after which the pad of ``finger`` rolls through the face PQ's ends and middle
     with its tangent (the pad's normal along ``toward``: tactile_jaw.choose.move_advice) and its
-    first press seats there (the seat within ``SEATED_TURN_DEG`` of the pad's nominal normal,
-    else the turn that faces it to the finger, tactile_jaw.choose.facing_move, or no move), as
+    first press seats there (the seat within ``SEATED_TURN_DEG`` of the pad's nominal normal:
+    else the same search over only the turns that leave it so, shifts included, or no move), as
     (advice, move, the face's middle, the seated pad's normal ψ); ``out``'s probes bound the move
     (tactile_jaw.choose.JawReach.opened_clear; ``reach``, if given, holds them)."""
     normal = face_normal(p, q, toward)
@@ -445,11 +445,13 @@ def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, 
         return abs(math.degrees(math.remainder(psi + turn - nominal_psi(f), 2 * math.pi)))
 
     if (move is not None or advice == WITHIN_REACH) and off(move) > SEATED_TURN_DEG:
-        facing = facing_move(reach, goal, f)
-        if facing is not None and off(facing[1]) <= SEATED_TURN_DEG:
-            advice, move = facing
+        # the same search, over the turns that leave the seat within SEATED_TURN_DEG of the normal
+        facing, most = math.remainder(nominal_psi(f) - psi, 2 * math.pi), math.radians(SEATED_TURN_DEG)
+        seated = move_advice(reach, goal, [f], (facing - most, facing + most))
+        if seated[1] is not None:
+            advice, move = seated
         elif off(None) > SEATED_TURN_DEG:
-            way = "counterclockwise" if math.remainder(nominal_psi(f) - psi, 2 * math.pi) > 0 else "clockwise"
+            way = "counterclockwise" if facing > 0 else "clockwise"
             advice, move = (f"that face's seat lies {off(None):.0f} deg from the {finger} pad's nominal normal, past the "
                             f"{SEATED_TURN_DEG:g} deg a flat press seats from there: turn the object at least "
                             f"{off(None) - SEATED_TURN_DEG:.0f} deg {way} (hand frame) about ({mid[0]:.0f}, "

@@ -133,6 +133,10 @@ def test_round_up_and_refusal_kinds():
     assert finer_ticks(2.5, 4096, 10.0) == 8200  # 8192 up to 3 significant digits
     assert refusal_kind("…; move the object 4 mm away from the palm", {"dx": 4.0, "dy": 0.0}) == "out of reach"
     assert refusal_kind("no pad can roll beyond the vertex on that side") == "out of reach"
+    # a refusal naming both a finer jaw and a move: the move, which this jaw can make, counts first
+    finer = f"not decisive: cubical_parabola and parabola both fit; {FINER} 8,200 ticks per turn tells them apart"
+    assert refusal_kind(finer) == "needs finer angles"
+    assert refusal_kind(f"{finer}; turn the object 25 deg counterclockwise", {"dx": 16.0, "dy": -6.0}) == "out of reach"
     assert refusal_kind("only 0 usable touches of 8 tried") == "needs another move"
     assert set(REFUSAL_KINDS) == {"out of reach", "needs finer angles", "needs another move", "no class fits"}
     assert refusal_kind("no class of the scene fits: closest class parabola: …") == "no class fits"

@@ -188,14 +188,17 @@ def test_corner_faces_needs_a_corner_and_a_consistent_pad_end():
     assert felt == pytest.approx(16.0, abs=1e-6)
 
 
-def test_a_press_whose_pad_end_slid_along_a_face_beyond_its_seat_turn_names_no_move():
-    """X line 17 of bench_explore --finite 20 --seed 283 (a 40 mm block near the palm, its long
+def test_a_press_whose_pad_end_slid_along_a_face_beyond_its_seat_turn_names_a_move_that_seats():
+    """X line 17 of bench_explore --finite 20 --anywhere --seed 283 (a 40 mm block near the palm, its long
     face 78° from the right pad's nominal normal): the right press's proximal end slid 11.7 mm
-    along that face (within 0.04 mm) as the pad turned 48–146°, no seat. Before, seat_split put a
+    along that face (within 0.04 mm) as the pad turned 48–146°, no seat. Before session 24, seat_split put a
     6.5 mm face at pad normal 98° where the lines cross, one support 4.3 mm outside the block,
-    and named a move; moved so, the block was refused again. Now the face is the end's path
-    (flat_phase._slid_path) on the block's face, and no move is named whose press cannot seat
-    (SEATED_TURN_DEG): the stop asks for the turn."""
+    and named a move; moved so, the block was refused again. The face is the end's path
+    (flat_phase._slid_path) on the block's face, 78° from the normal, past SEATED_TURN_DEG, and
+    sessions 24–26 named no move (only choose.facing_move's 30° turn without a shift was tried,
+    which does not reach). Now the same search over the turns that leave the seat within
+    SEATED_TURN_DEG, shifts included, names 30° clockwise and a shift (fails before session 27):
+    the block moved so, the right press walk seats on its face (followed live, it is answered line)."""
     import json
     from pathlib import Path
 
@@ -218,5 +221,11 @@ def test_a_press_whose_pad_end_slid_along_a_face_beyond_its_seat_turn_names_no_m
     out = Exploration()
     out.touches = [felt]
     stop = short_face_stop(config, ExploreSettings.from_profile("balanced"), out)
-    assert stop is not None and stop.move is None
-    assert "pad normal 168 deg" in stop and f"past the {SEATED_TURN_DEG:g} deg" in stop and "clockwise" in stop
+    assert stop is not None and "pad normal 168 deg" in stop and stop.move is not None
+    assert stop.move["turn_deg"] == pytest.approx(-30.0) and math.hypot(stop.move["dx"], stop.move["dy"]) <= 22.0
+    assert abs(168.0 + stop.move["turn_deg"] - 90.0) <= SEATED_TURN_DEG  # the right pad's nominal normal: +90°
+    assert all(place["finger"] == "right" for place in stop.move["places"])
+    finger = CONFIG.finger("right")
+    moved = load_scene({"name": "b", "classes": ["line"], "object": moved_object(raw["truth"], stop.move)}).object
+    found, _ = _walk(ContactWorld(CONFIG, moved), finger, math.pi / 2)
+    assert found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * finger.pad.length_mm
