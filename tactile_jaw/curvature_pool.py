@@ -93,6 +93,7 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
             continue
         fingers.setdefault(t.finger, []).append(i)
     out = list(touches)
+    blends: dict[int, np.ndarray] = {}  # a corrected roll's weight w′ of the richer degree, κ and κ_s
     for members in fingers.values():
         for k in sorted({touches[i].fit.kappa_degree for i in members}):
             stating = [i for i in members if touches[i].fit.kappa_degree == k
@@ -117,6 +118,7 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
             for i in stating:
                 if any(c is not None for c in components[i]):
                     out[i] = _taken_out(touches[i], k, components[i])
+                    blends[i] = np.array([0.0 if c is None else c[1] for c in components[i]])
         for i, column, own in _truncation_columns([touches[i] for i in members]):
             s = out[members[i]].samples
             # the roll's own term (its fit's last column; a term of a higher degree may come first)
@@ -124,7 +126,40 @@ def pooled(touches: Sequence[Any]) -> list[Any]:
                 else s.noise_factor
             out[members[i]] = replace(out[members[i]], samples=replace(
                 s, noise_factor=np.hstack([kept, column[:, None]])))
+        for i, column in _kappa_truncation([touches[i] for i in members]):
+            s = out[members[i]].samples
+            kappa, kappa_s, cov = s.curvature
+            column = column * (1.0 - blends.get(members[i], np.zeros(2)))  # a blend's richer share has none
+            out[members[i]] = replace(out[members[i]], samples=replace(
+                s, curvature=(kappa, kappa_s, cov + np.outer(column, column))))
     return out
+
+
+def _kappa_truncation(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray]]:
+    """The truncation of one finger's ``rolls``' κ, κ_s (tactile_jaw.envelope.EnvelopeFit.kappa_terms:
+    the terms one and two degrees above κ's degree not stated there), pooled per degree as the
+    samples' (:func:`_truncation_columns`): √E[c²] times the term's κ, κ_s error per unit c, one
+    column per term. Its error is as systematic as the samples', and on the P-series jaw larger than
+    κ_s's own noise: a quartic's κ_s on a hyperbola's arm 10 of its σ's off with the readings exact
+    (the quintic's right). Not where κ, κ_s are not the fit's own (tactile_jaw.separation.exact_touches).
+    Returns (index in ``rolls``, (2,) column)."""
+    by_degree: dict[int, list[tuple[int, Any]]] = {}
+    for i, t in enumerate(rolls):
+        if getattr(t.samples, "curvature", None) is None:
+            continue
+        for term in getattr(t.fit, "kappa_terms", ()):
+            if term.variance > 0.0:
+                by_degree.setdefault(term.degree, []).append((i, term))
+    columns = []
+    for members in by_degree.values():
+        value = np.array([term.value for _, term in members])
+        var = np.array([term.variance for _, term in members])
+        bias = pool(value, var, tested=False)
+        if bias is None:
+            continue
+        for n, (i, term) in enumerate(members):
+            columns.append((i, math.sqrt(expected_square(value, var, bias, n)) * term.curvature))
+    return columns
 
 
 def _truncation_columns(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray, bool]]:

@@ -20,7 +20,7 @@ errors are correlated, rank degree + 1 + n). docs/exploration.md#the-stated-nois
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import linalg, stats
@@ -94,6 +94,9 @@ class EnvelopeFit:
     ladder: CurvatureLadder | None = None
     #: the next degrees' terms the contacts' degree leaves out (tactile_jaw.curvature_pool states them)
     next_terms: tuple[NextTerm, ...] = ()
+    #: the terms above ``kappa_degree`` its κ, κ_s leave out where :func:`curvature_degree` stated
+    #: none (tactile_jaw.curvature_pool states them in their covariance)
+    kappa_terms: tuple[NextTerm, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -116,6 +119,9 @@ class NextTerm:
     #: test found one (:func:`_with_truncation`: the noise factor's last column, |c|·√(1 − rank/χ²)·e
     #: in x, y), else 0; tactile_jaw.curvature_pool states the term once, in its place
     own: float = 0.0
+    #: (2,) the degree-k fit's κ, κ_s error at the contact per unit c (as ``pattern``, of the
+    #: κ, κ_s rows): tactile_jaw.curvature_pool states it for the terms above κ's own degree
+    curvature: np.ndarray = field(default_factory=lambda: np.zeros(2))
 
 
 @dataclass(frozen=True)
@@ -214,7 +220,17 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
                        float(np.sqrt(np.sum(lowest[2] ** 2))), float(np.sum((base.residual / sigma) ** 2)),
                        n - base.degree - 1, np.sqrt(np.sum(across**2, axis=1)), np.sqrt(np.sum(along**2, axis=1)),
                        factor[3:], sigma, np.sqrt(np.sum(fpsi**2, axis=1)), curved.degree, ladder,
-                       next_terms(fit_of, base.degree, top, own))
+                       next_terms(fit_of, base.degree, top, own), _kappa_terms(fit_of, curved, curved_factor, top))
+
+
+def _kappa_terms(fit_of, curved: kin.TouchEnvelope, factor: np.ndarray, top: int) -> tuple[NextTerm, ...]:
+    """The terms one and two degrees above κ's degree (:func:`next_terms`) whose truncation of κ, κ_s
+    is not yet stated: the k + 1 term not where :func:`curvature_degree` stated a truncation column
+    of its own (its factor wider than the plain fit's)."""
+    terms = next_terms(fit_of, curved.degree, top)
+    if factor.shape[1] > fit_of(curved.degree)[1].shape[1]:
+        terms = tuple(t for t in terms if t.degree > curved.degree + 1)
+    return terms
 
 
 def next_terms(fit_of, k: int, top: int, own: np.ndarray | None = None) -> tuple[NextTerm, ...]:
@@ -237,15 +253,17 @@ def next_terms(fit_of, k: int, top: int, own: np.ndarray | None = None) -> tuple
     out = []
     for j in richer:
         c_hi, f_hi = fit_of(j)
-        jac = (jac_k - _envelope_jacobian(c_hi)[1])[3:]
-        patterns = np.stack([jac @ (shifted**i / math.factorial(i)) for i in range(k + 1, j + 1)], axis=1)
+        jac = jac_k - _envelope_jacobian(c_hi)[1]
+        responses = np.stack([jac @ (shifted**i / math.factorial(i)) for i in range(k + 1, j + 1)], axis=1)
+        patterns = responses[3:]
         diff, dfac = _difference((c, f), (c_hi, f_hi))
         e = patterns[: 2 * n]
         if not (np.all(np.isfinite(e)) and np.linalg.matrix_rank(e) == e.shape[1]):
             break
         solve = np.linalg.pinv(e)[-1]  # the term j's row of the least squares
         stated = 0.0 if own is None or j > k + 1 else float(np.linalg.norm(own[: 2 * n]) / np.linalg.norm(e[:, 0]))
-        out.append(NextTerm(j, float(solve @ diff), float(np.sum((solve @ dfac) ** 2)), patterns[:, -1], stated))
+        out.append(NextTerm(j, float(solve @ diff), float(np.sum((solve @ dfac) ** 2)), patterns[:, -1], stated,
+                            responses[:2, -1].copy()))
     return tuple(out)
 
 
