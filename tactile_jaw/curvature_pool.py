@@ -143,23 +143,30 @@ def _kappa_truncation(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray]]:
     κ_s's own noise: a quartic's κ_s on a hyperbola's arm 10 of its σ's off with the readings exact
     (the quintic's right). Not where κ, κ_s are not the fit's own (tactile_jaw.separation.exact_touches).
     Returns (index in ``rolls``, (2,) column)."""
+    return [(i, math.sqrt(square) * term.curvature)
+            for i, term, square in _pooled_terms(rolls, "curvature", "kappa_terms")]
+
+
+def _pooled_terms(rolls: Sequence[Any], stated: str, terms: str) -> list[tuple[int, Any, float]]:
+    """Each term (tactile_jaw.envelope.NextTerm) of the ``rolls`` whose samples state ``stated``,
+    from their fits' ``terms``, with its expected square E[c²] pooled per degree across the rolls
+    (:func:`pool`, :func:`expected_square`): (index in ``rolls``, term, E[c²])."""
     by_degree: dict[int, list[tuple[int, Any]]] = {}
     for i, t in enumerate(rolls):
-        if getattr(t.samples, "curvature", None) is None:
+        if getattr(t.samples, stated, None) is None:
             continue
-        for term in getattr(t.fit, "kappa_terms", ()):
+        for term in getattr(t.fit, terms, ()):
             if term.variance > 0.0:
                 by_degree.setdefault(term.degree, []).append((i, term))
-    columns = []
+    out = []
     for members in by_degree.values():
         value = np.array([term.value for _, term in members])
         var = np.array([term.variance for _, term in members])
         bias = pool(value, var, tested=False)
         if bias is None:
             continue
-        for n, (i, term) in enumerate(members):
-            columns.append((i, math.sqrt(expected_square(value, var, bias, n)) * term.curvature))
-    return columns
+        out += [(i, term, expected_square(value, var, bias, n)) for n, (i, term) in enumerate(members)]
+    return out
 
 
 def _truncation_columns(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray, bool]]:
@@ -177,25 +184,12 @@ def _truncation_columns(rolls: Sequence[Any]) -> list[tuple[int, np.ndarray, boo
     own (X-series seed-283 ellipse 47, a roll of a finger's six: own column 4.5 mm over its samples,
     pooled 0.08 mm). Returns (index in
     ``rolls``, column, whether it replaces the roll's own column)."""
-    by_degree: dict[int, list[tuple[int, Any]]] = {}
-    for i, t in enumerate(rolls):
-        if getattr(t.samples, "noise_factor", None) is None:
-            continue
-        for term in getattr(t.fit, "next_terms", ()):
-            if term.variance > 0.0:
-                by_degree.setdefault(term.degree, []).append((i, term))
     columns = []
-    for members in by_degree.values():
-        value = np.array([term.value for _, term in members])
-        var = np.array([term.variance for _, term in members])
-        bias = pool(value, var, tested=False)
-        if bias is None:
-            continue
-        for n, (i, term) in enumerate(members):
-            column = math.sqrt(max(expected_square(value, var, bias, n), term.own**2)) * term.pattern
-            # A pattern's node (a vertex-centred roll's middle) comes out ~1e-17, not 0: below what
-            # any instrument resolves, which a written touches file may not state (recognizer.touches).
-            columns.append((i, np.where(np.abs(column) < MIN_NOISE, 0.0, column), term.own > 0.0))
+    for i, term, square in _pooled_terms(rolls, "noise_factor", "next_terms"):
+        column = math.sqrt(max(square, term.own**2)) * term.pattern
+        # A pattern's node (a vertex-centred roll's middle) comes out ~1e-17, not 0: below what
+        # any instrument resolves, which a written touches file may not state (recognizer.touches).
+        columns.append((i, np.where(np.abs(column) < MIN_NOISE, 0.0, column), term.own > 0.0))
     return columns
 
 
