@@ -32,6 +32,14 @@ def curve_points(cls: str, params: dict, pose: Pose, t_contacts: Sequence[float]
     return pose.apply(*curve.point(t))
 
 
+def _touch_points(touch: dict[str, Any]) -> tuple[list[float], list[float]]:
+    """A touch's points (docs/formats.md, touches): a samples touch's ``x``, ``y``, a contact
+    touch's (a flat press's seat: tactile_jaw.flat) one point."""
+    if "contact" in touch:
+        return [touch["contact"]["x"]], [touch["contact"]["y"]]
+    return touch["x"], touch["y"]
+
+
 def _draw_finite(ax, truth) -> None:
     """The whole finite object: solid, curved part, closing segments, corners."""
     x, y = truth.outline()
@@ -47,7 +55,7 @@ def _draw_finite(ax, truth) -> None:
 def plot_exploration(path: str | Path, *, touches: Sequence[dict[str, Any]], pad_segments: Sequence[dict[str, Any]],
                      recognition: dict[str, Any] | None, truth: Any | None, workspace: tuple[tuple[float, float], float],
                      title: str = "") -> Path:
-    """Write the plot. ``touches``: samples touches (docs/formats.md) (with ``finger``);
+    """Write the plot. ``touches``: samples or contact touches (docs/formats.md) (with ``finger``);
     ``pad_segments``: ``{"finger", "p0": (x, y), "p1": (x, y)}`` for each in-contact pad;
     ``recognition``: the answer mapping (docs/formats.md); ``truth``: a ``SceneObject`` or None."""
     import matplotlib
@@ -66,7 +74,8 @@ def plot_exploration(path: str | Path, *, touches: Sequence[dict[str, Any]], pad
         ax.plot([x0, x1], [y0, y1], color=color[seg["finger"]], lw=0.6, alpha=0.35)
     for k, touch in enumerate(touches):
         f = touch.get("finger", "")
-        ax.plot(touch["x"], touch["y"], ".", ms=4, color=color[f], label=f"{f} touches" if k == [
+        x, y = _touch_points(touch)
+        ax.plot(x, y, ".", ms=4, color=color[f], label=f"{f} touches" if k == [
             t.get("finger", "") for t in touches].index(f) else None)
     if truth is not None and getattr(truth, "extent", None) is not None:
         _draw_finite(ax, truth)
