@@ -22,7 +22,7 @@ from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
 from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, WITHIN_REACH, Goal, JawReach, Stop, facing_move, move_advice,
                                 place_goal)
-from tactile_jaw.flat import FACE_MISS_MM, bulged, curved_faces, face_groups, recognized_touches, same_face_rad
+from tactile_jaw.flat import BULGED_PRESSES, FACE_MISS_MM, bulged, curved_faces, face_groups, recognized_touches, same_face_rad
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
@@ -346,17 +346,22 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
     state = _booked(cfg, pressed, emit, say)
     checked = set() if checked is None else checked  # touches whose scans rolled on no curve (_curve_felt)
     if state.flat and (_curve_felt(cfg, settings, out, emit, say, checked)
-                       or _decided(out, state.flat, settings, recognize_touches, say)):
+                       or (not _bulge_pending(state, out.touches)
+                           and _decided(out, state.flat, settings, recognize_touches, say))):
         return  # the presses made during the rolls decide (or a curve was felt)
     for _ in range(max(FLAT_SPARE, settings.min_touches + FLAT_SPARE - len(pressed))):
-        if any(state.faces.values()):  # one face's touches make the answer: a finger without one stops
-            state.active = [name for name in state.active if state.faces[name] is not None]
+        if any(state.faces.values()):  # one face's touches make the answer: a finger without one stops,
+            # unless its press bulged once: it presses again first (_bulge_pending)
+            pending = _bulge_pending(state, out.touches)
+            state.active = [name for name in state.active if state.faces[name] is not None or name in pending]
         if not state.active or _curve_felt(cfg, settings, out, emit, say, checked):
             break
         spent: dict[str, float] = {}
         seated: set[str] = set()
+        pending = _bulge_pending(state, out.touches)
         plans = {name: _flat_plan(jaw, name, model, state.faces[name], state.misses[name], index + k, emit, spent,
-                                  _felt_stop(out, name, nominal_psi(cfg.finger(name))), seated,
+                                  _felt_stop(out, name, nominal_psi(cfg.finger(name))),
+                                  set() if name in pending else seated,  # not stopped by another pad's seat
                                   _felt_seat(out, name, cfg.finger(name).pad.length_mm, nominal_psi(cfg.finger(name))),
                                   state.sides[name])
                  for k, name in enumerate(state.active)}
@@ -369,6 +374,10 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
             state.book(name, felt, seated, emit, say)
         if _curve_felt(cfg, settings, out, emit, say, checked):
             break
+        if _bulge_pending(state, out.touches):
+            say(f"a flat press of the {' and '.join(sorted(_bulge_pending(state, out.touches)))} pad stopped short "
+                f"of its supports once: it presses again before one face is answered")
+            continue
         if _decided(out, state.flat, settings, recognize_touches, say):
             return
     if out.stopped is None:  # undecided, no curve felt: where a face was felt, the move after which a pad presses it
@@ -625,6 +634,19 @@ def _pivot(lines: kin.PadLine, tol_mm: float) -> np.ndarray | None:
     runs = [_run(seq, i, 1, tol_mm) for i in range(len(seq))]
     n, p, _ = max(runs, key=lambda r: r[0])
     return p if n > len(seq) // 2 else None
+
+
+def _bulge_pending(state: "_Faces", touches: Sequence[FeltTouch]) -> set[str]:
+    """The fingers still pressing (``state.active``) with no face seated whose presses of
+    ``touches`` bulged (tactile_jaw.flat.bulged) fewer than ``BULGED_PRESSES`` times but at
+    least once: their boundary may be a curved part (one bulge can be the encoders' rounding,
+    two are a curve: tactile_jaw.flat.bulged_presses), so no face is answered `line` before
+    they press again. The hyperbola example on a P-series jaw with 90/60 mm links and 44 mm
+    pads: the left pad's first press stopped +0.23 mm short, its second was stopped by the
+    right pad's seat and the left dropped (no face), and the right's three presses on the
+    closing segment were answered `line`."""
+    return {name for name in state.active if state.faces[name] is None
+            and 0 < sum(t.finger == name and bulged(t) for t in touches) < BULGED_PRESSES}
 
 
 def _decided(out: Exploration, flat: list[FeltTouch], settings: ExploreSettings, recognize_touches: RecognizeTouches,
