@@ -20,8 +20,8 @@ from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_MAX_TURN_DEG, FLAT_S
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
-from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, NOT_CLEAR, WITHIN_REACH, Goal, JawReach, Stop, facing_move, move_advice,
-                                place_goal)
+from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, NOT_CLEAR, WITHIN_REACH, Goal, JawReach, Stop, facing_move,
+                                move_advice, place_goal)
 from tactile_jaw.flat import FACE_MISS_MM, bulged, curved_faces, face_groups, recognized_touches, same_face_rad
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset

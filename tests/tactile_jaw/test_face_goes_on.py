@@ -13,6 +13,7 @@ import pytest
 from hand_driver.config import load_config
 from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult
+from hand_driver.sim.boundary import Boundary
 from hand_driver.sim.physics import ContactWorld
 from recognizer.scene import load_scene
 from tactile_jaw.choose import MOVE_CLEAR_MM, JawReach
@@ -42,7 +43,6 @@ def _felt(row):
 def _pads_gap(obj) -> float:
     """The least distance (mm) from the object's boundary to the opened pads' faces (negative: across one)."""
     (cx, cy), r = CONFIG.workspace.center_mm, CONFIG.workspace.radius_mm
-    from hand_driver.sim.boundary import Boundary
     pts = Boundary(load_scene({"name": "b", "classes": ["line"], "object": obj}).object).points((cx, cy), 4 * r)
     gap = math.inf
     for psi, u_lo, u_hi, d, _ in opened_strips(CONFIG, 0.0):
