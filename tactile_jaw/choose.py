@@ -79,6 +79,12 @@ MOVE_QUERIES = 6000
 #: as many each time after, up to MOVE_BATCH_MAX (:func:`_first_reaching`)
 MOVE_BATCH = 16
 MOVE_BATCH_MAX = 1024
+#: a boundary that goes on unfelt (:attr:`Goal.goes_on`) is followed this far (mm) at a step to
+#: where a pad swept free (:meth:`JawReach.go_on_length`)
+GO_ON_STEP_MM = 0.5
+#: how :func:`move_advice`'s advice begins when every move it found would carry an opened pad
+#: where the object goes on unfelt (:meth:`JawReach.opened_clear`)
+NOT_CLEAR = "no move found that keeps the pads clear"
 #: what :func:`move_advice` asks when a pad already reaches every place, yet its finger gave up there
 WITHIN_REACH = "move or turn the object so that more of its curved part faces a finger"
 #: a shift found is lengthened by this much (mm) when every place is still reached then
@@ -225,7 +231,7 @@ class JawReach:
         out[idx] = ok
         return out
 
-    def opened_clear(self, about, turn: float, shift: np.ndarray) -> np.ndarray:
+    def opened_clear(self, about, turn: float, shift: np.ndarray, goes_on: Sequence = ()) -> np.ndarray:
         """For each shift (k × 2) after turning by ``turn`` about ``about``: does the opened
         jaw keep its clearance from where the probes found the object going on unfelt? A pad
         end a probe rested on (tactile_jaw.plan.rested_ends) found the object there, going on
@@ -241,16 +247,17 @@ class JawReach:
         check that every such place be swept free (fc55cf9) refused 3 of 4 good moves of seed
         191, and the half-plane past every rested end refused 54 of 76 moves named in sessions
         20–22's held-out logs (those sampled 23–62 mm from the end); this check 3 of 106, all
-        blocks whose far side came to an opened pad. True for every shift when no probe rested
-        on a pad end."""
-        if self._free is None or self._free[0] != len(self.probes):
-            ends = rested_ends(self.config, self.probes)
-            # the opened pads' places are free as the object lies now (the exploration began
-            # there), and so is all behind their faces, the fingers' side
-            behind = opened_strips(self.config, MOVE_CLEAR_MM, 2.0 * self.disk.radius)
-            self._free = (len(self.probes), np.vstack([free_strips(self.config, self.probes), behind]), ends)
-        _, free, ends = self._free
-        if not len(ends):
+        blocks whose far side came to an opened pad. ``goes_on`` (rows x, y, bx, by mm: a point
+        of the boundary and the unit direction it goes on unfelt, :attr:`Goal.goes_on`): the
+        opened pads' places must also keep ``MOVE_CLEAR_MM`` from that ray, up to where it first
+        enters a place a pad swept free or the opened jaw stood (or the workspace's diameter,
+        :meth:`go_on_length`): P-series block 7 of bench_explore --finite 20 --anywhere --seed
+        347, moved 30° and (11, −11) mm for the face its left pad met, lay across the opened
+        right pad with that face's unfelt part. True for every shift when no probe rested on a
+        pad end and nothing goes on."""
+        free, ends = self._strips()
+        rays = [(np.array(row[:2], float), np.array(row[2:], float), self.go_on_length(row)) for row in goes_on]
+        if not len(ends) and not rays:
             return np.ones(len(shift), bool)
         points = np.vstack([_strip_points(*row) for row in opened_strips(self.config, MOVE_CLEAR_MM)])  # m × 2
         c, s = math.cos(turn), math.sin(turn)
@@ -261,6 +268,9 @@ class JawReach:
         for ex, ey, bx, by in ends:
             dx, dy = back[..., 0] - ex, back[..., 1] - ey
             beyond |= (dx * bx + dy * by > 0.0) & (np.hypot(dx, dy) <= MOVE_CLEAR_MM)
+        for e, b, length in rays:
+            u = (back - e) @ b
+            beyond |= (u >= 0.0) & (u <= length) & (np.abs((back - e) @ np.array([-b[1], b[0]])) <= MOVE_CLEAR_MM)
         near = back[beyond]  # only these can be refused: the swept strips are asked about them alone
         swept = np.zeros(len(near), bool)
         for psi, u_lo, u_hi, d_lo, d_hi in free:
@@ -269,6 +279,31 @@ class JawReach:
             swept |= (u >= u_lo - FREE_END_MM) & (u <= u_hi + FREE_END_MM) & (d >= d_lo - 1e-9) & (d <= d_hi + 1e-9)
         beyond[beyond] = ~swept
         return ~np.any(beyond, axis=1)
+
+    def _strips(self) -> tuple[np.ndarray, np.ndarray]:
+        """The free strips and the rested pad ends of :meth:`opened_clear`, read once per probe count."""
+        if self._free is None or self._free[0] != len(self.probes):
+            ends = rested_ends(self.config, self.probes)
+            # the opened pads' places are free as the object lies now (the exploration began
+            # there), and so is all behind their faces, the fingers' side
+            behind = opened_strips(self.config, MOVE_CLEAR_MM, 2.0 * self.disk.radius)
+            self._free = (len(self.probes), np.vstack([free_strips(self.config, self.probes), behind]), ends)
+        return self._free[1], self._free[2]
+
+    def go_on_length(self, row) -> float:
+        """How far (mm) the boundary may go on unfelt from (x, y) along the unit (bx, by) of
+        ``row``: to the first point (every ``GO_ON_STEP_MM``) a probe's pad swept free or the
+        opened jaw stood (:meth:`opened_clear`'s free strips, without ``FREE_END_MM``), at most
+        the workspace's diameter."""
+        most = 2.0 * self.disk.radius
+        s = np.arange(GO_ON_STEP_MM, most + GO_ON_STEP_MM / 2, GO_ON_STEP_MM)
+        pts = np.asarray(row[:2], float) + s[:, None] * np.asarray(row[2:], float)
+        swept = np.zeros(len(s), bool)
+        for psi, u_lo, u_hi, d_lo, d_hi in self._strips()[0]:
+            n, t = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
+            u, d = pts @ t, pts @ n
+            swept |= (u >= u_lo) & (u <= u_hi) & (d >= d_lo) & (d <= d_hi)
+        return float(s[np.argmax(swept)]) if np.any(swept) else most
 
     def to_json(self) -> dict:
         """The workspace disk (a request file's ``options.reach`` holds only a disk)."""
@@ -454,13 +489,17 @@ class Goal:
     the boundary's known points ``keep`` (2 × n, mm) kept clear of the opened jaw
     (``MOVE_CLEAR_MM``), turning about ``about``; ``where`` names it for people; ``curvature``
     per place (κ, κ_s) of the answered curve there, or None (:func:`with_curvature`; empty:
-    none known): a pad's contact travels along the curve over its roll (:meth:`JawReach.finger`)."""
+    none known): a pad's contact travels along the curve over its roll (:meth:`JawReach.finger`);
+    ``goes_on`` rows (x, y, bx, by): a known point where the boundary goes on unfelt along the
+    unit (bx, by), whose ray a move keeps clear of the opened jaw (:meth:`JawReach.opened_clear`:
+    a straight face past its felt ends, tactile_jaw.flat_phase._face_advice)."""
 
     places: tuple[tuple[float, float, float], ...]
     keep: np.ndarray
     about: tuple[float, float]
     where: str
     curvature: tuple[tuple[float, float] | None, ...] = ()
+    goes_on: tuple[tuple[float, float, float, float], ...] = ()
 
     def curvature_of(self, j: int) -> tuple[float, float] | None:
         """(κ, κ_s) at place ``j``, or None."""
@@ -668,7 +707,7 @@ def _move_search(reach: JawReach, goal: Goal, fingers,
         places, keep = _moved(goal, float(turn), shift)
         every = np.concatenate([places, keep], axis=1)
         clear = np.all(np.hypot(every[..., 0] - cx, every[..., 1] - cy) <= allowed[None, :] + 1e-9, axis=1)
-        opened = reach.opened_clear(goal.about, float(turn), shift)
+        opened = reach.opened_clear(goal.about, float(turn), shift, goal.goes_on)
         travel = np.max(np.hypot(*(every - here[None]).transpose(2, 0, 1)), axis=1)
         for i in np.flatnonzero(clear):
             (cands if opened[i] else blocked).append((float(travel[i]), abs(float(turn)), float(turn), shift[i], places[i]))
@@ -723,7 +762,7 @@ def _reaches(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float, fin
     here = np.asarray(goal.keep, float).T
     allowed = np.maximum(radius - MOVE_CLEAR_MM, np.hypot(here[:, 0] - cx, here[:, 1] - cy))
     if np.any(np.hypot(keep[0, :, 0] - cx, keep[0, :, 1] - cy) > allowed + 1e-9) \
-            or not reach.opened_clear(goal.about, turn, np.array([[dx, dy]]))[0]:
+            or not reach.opened_clear(goal.about, turn, np.array([[dx, dy]]), goal.goes_on)[0]:
         return False
     return all(reach.finger(float(p[0]), float(p[1]), goal.places[j][2] + turn, fingers, goal.curvature_of(j))
                is not None for j, p in enumerate(places[0]))
@@ -742,9 +781,10 @@ def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None,
     # the search passed over every reaching move only for the opened pads: the candidates it had
     # asked about reach nowhere, so the moves without the probes' bound are those it passed over
     if move is None and _first_reaching(reach, goal, blocked, fingers) is not None:
-        return (f"every move that brings a pad {goal.where} would carry an opened pad past a pad end a probe rested "
-                f"on, where the object goes on unfelt: place the object so that more of its curved part faces a "
-                f"finger, clear of the opened pads"), None
+        return (f"{NOT_CLEAR}: every move that brings a pad {goal.where} would carry an "
+                f"opened pad where the object goes on unfelt (past a pad end a probe rested on"
+                f"{', or along the face past its felt ends' if goal.goes_on else ''}): place the object so that more "
+                f"of its curved part faces a finger, clear of the opened pads"), None
     if move is None:
         return (f"no pad reaches {goal.where} with the object moved up to {MOVE_MAX_MM:g} mm and turned up to "
                 f"{MOVE_TURN_MAX_DEG:g} deg inside the workspace: place the object so that more of its curved part "

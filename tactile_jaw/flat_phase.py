@@ -20,9 +20,10 @@ from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_MAX_TURN_DEG, FLAT_S
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
-from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, WITHIN_REACH, Goal, JawReach, Stop, facing_move, move_advice,
-                                place_goal)
-from tactile_jaw.flat import BULGED_PRESSES, FACE_MISS_MM, bulged, curved_faces, face_groups, recognized_touches, same_face_rad
+from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, NOT_CLEAR, WITHIN_REACH, Goal, JawReach, Stop, facing_move,
+                                move_advice, place_goal)
+from tactile_jaw.flat import (BULGED_PRESSES, FACE_MISS_MM, bulged, curved_faces, face_groups, recognized_touches,
+                              same_face_rad)
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
 from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
@@ -433,18 +434,23 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
 
 
 def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, p: np.ndarray, q: np.ndarray,
-                 toward: np.ndarray, reach: JawReach | None = None) -> tuple[str, dict | None, np.ndarray, float]:
+                 toward: np.ndarray, reach: JawReach | None = None,
+                 corner: bool = False) -> tuple[str, dict | None, np.ndarray, float]:
     """The move after which the pad of ``finger`` rolls through the face PQ's ends and middle
     with its tangent (the pad's normal along ``toward``: tactile_jaw.choose.move_advice) and its
     first press seats there (the seat within ``SEATED_TURN_DEG`` of the pad's nominal normal:
     else the same search over only the turns that leave it so, shifts included, or no move), as
     (advice, move, the face's middle, the seated pad's normal ψ); ``out``'s probes bound the move
-    (tactile_jaw.choose.JawReach.opened_clear; ``reach``, if given, holds them)."""
+    (tactile_jaw.choose.JawReach.opened_clear; ``reach``, if given, holds them), and so does the
+    face itself: it goes on unfelt past Q, and past P unless P is the ``corner`` a pad turned
+    about (``Goal.goes_on``: the opened pads keep clear of its line there)."""
     normal = face_normal(p, q, toward)
     psi = math.atan2(normal[1], normal[0])
     mid = 0.5 * (p + q)
+    along = (q - p) / max(float(np.linalg.norm(q - p)), 1e-9)
+    goes_on = ((*map(float, q), *map(float, along)),) + (() if corner else ((*map(float, p), *map(float, -along)),))
     goal = Goal(tuple((float(x), float(y), psi - math.pi / 2) for x, y in (p, mid, q)), np.stack([p, q], axis=1),
-                (float(mid[0]), float(mid[1])), "across that face")
+                (float(mid[0]), float(mid[1])), "across that face", goes_on=goes_on)
     f = cfg.finger(finger)
     reach = reach or JawReach(cfg, settings, out.probes)
     advice, move = move_advice(reach, goal, [f])
@@ -457,7 +463,7 @@ def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, 
         # the same search, over the turns that leave the seat within SEATED_TURN_DEG of the normal
         facing, most = math.remainder(nominal_psi(f) - psi, 2 * math.pi), math.radians(SEATED_TURN_DEG)
         seated = move_advice(reach, goal, [f], (facing - most, facing + most))
-        if seated[1] is not None:
+        if seated[1] is not None or seated[0].startswith(NOT_CLEAR):
             advice, move = seated
         elif off(None) > SEATED_TURN_DEG:
             way = "counterclockwise" if facing > 0 else "clockwise"
@@ -483,7 +489,7 @@ def _corner_stop(cfg, settings: ExploreSettings, out: Exploration, head: str) ->
         found += [(face, f.name) for face in corner_faces([s.line for s in samples], f.pad.length_mm)]
     reach = JawReach(cfg, settings, out.probes)  # one for every face: the opened pads' bound read once
     for (felt, p, q, toward), finger in sorted(found, key=lambda c: -c[0][0]):
-        advice, move, _, psi = _face_advice(cfg, settings, out, finger, p, q, toward, reach)
+        advice, move, _, psi = _face_advice(cfg, settings, out, finger, p, q, toward, reach, corner=True)
         if move is not None:
             seen = f"met its face with a pad end {felt:.1f} mm from it" if felt > 0 else "turned on as far as it reached"
             return Stop(f"{head}; the {finger} pad turned about a corner at ({p[0]:.0f}, {p[1]:.0f}) mm and "

@@ -14,7 +14,7 @@ from hand_driver import kinematics as kin
 from hand_driver.config import load_config
 from hand_driver.cycle import LIMIT_MARGIN_RAD
 from hand_driver.motion import Sample, TouchResult
-from tactile_jaw.choose import MOVE_CLEAR_MM, Goal, JawReach, move_advice, move_for
+from tactile_jaw.choose import MOVE_CLEAR_MM, NOT_CLEAR, Goal, JawReach, move_advice, move_for
 from tactile_jaw.pipeline import FeltTouch
 from tactile_jaw.plan import opened_strips, rested_ends
 from tactile_jaw.settings import ExploreSettings
@@ -172,8 +172,10 @@ def test_moves_barred_only_by_the_opened_pads_are_named_so(monkeypatch):
     yet one reaches without them, the refusal says so, from the one search's record."""
     bar = JawReach.opened_clear
     monkeypatch.setattr(JawReach, "opened_clear",
-                        lambda self, about, turn, shift: bar(self, about, turn, shift) & (len(self.probes) == 0))
+                        lambda self, about, turn, shift, goes_on=(): bar(self, about, turn, shift, goes_on)
+                        & (len(self.probes) == 0))
     text, move = move_advice(JawReach(CONFIG, SETTINGS, PROBES), _face_goal(-83.0), [CONFIG.finger("left")])
-    assert move is None and text.startswith("every move that brings a pad across that face would carry an opened pad")
+    assert move is None and text.startswith(f"{NOT_CLEAR}: every move that brings a pad across that face would carry "
+                                            f"an opened pad")
     _, free = move_advice(JawReach(CONFIG, SETTINGS), _face_goal(-83.0), [CONFIG.finger("left")])
     assert free is not None

@@ -198,11 +198,16 @@ def test_a_press_whose_pad_end_slid_along_a_face_beyond_its_seat_turn_names_a_mo
     sessions 24–26 named no move (only choose.facing_move's 30° turn without a shift was tried,
     which does not reach). Now the same search over the turns that leave the seat within
     SEATED_TURN_DEG, shifts included, names 30° clockwise and a shift (fails before session 27):
-    the block moved so, the right press walk seats on its face (followed live, it is answered line)."""
+    the block moved so, the right press walk seats on its face (followed live, it is answered line).
+    The run's probes bound where the face goes on unfelt (session 28, Goal.goes_on): without
+    them nothing shows that its line is clear of the opened pads past its felt ends, and no move
+    is named."""
     import json
     from pathlib import Path
 
     from hand_driver.config import load_config
+    from hand_driver.motion import TouchResult
+    from tactile_jaw.choose import NOT_CLEAR
     from tactile_jaw.flat_phase import SEATED_TURN_DEG, _slid_path
     from tactile_jaw.pipeline import feel, logged_samples
     raw = json.loads((Path(__file__).parent / "data" / "x_line_17_press.json").read_text())
@@ -220,6 +225,12 @@ def test_a_press_whose_pad_end_slid_along_a_face_beyond_its_seat_turn_names_a_mo
     assert 11.0 < float(np.linalg.norm(q - p)) < 12.5 and float(toward @ np.array([-s, c])) < 0  # into the block
     out = Exploration()
     out.touches = [felt]
+    alone = short_face_stop(config, ExploreSettings.from_profile("balanced"), out)
+    assert alone is not None and alone.move is None and f"168 deg, over 11.7 mm of the pad: {NOT_CLEAR}" in alone
+    out.probes = [feel(config, TouchResult(r["finger"], r["touch"], r["psi_center"],
+                                           logged_samples(config, r["finger"], r["ticks"], r["psi"])
+                                           if r["ticks"] else [],
+                                           outcome=r["outcome"]), 9) for r in raw["probes"]]
     stop = short_face_stop(config, ExploreSettings.from_profile("balanced"), out)
     assert stop is not None and "pad normal 168 deg" in stop and stop.move is not None
     assert stop.move["turn_deg"] == pytest.approx(-30.0) and math.hypot(stop.move["dx"], stop.move["dy"]) <= 22.0
