@@ -20,7 +20,7 @@ errors are correlated, rank degree + 1 + n). docs/exploration.md#the-stated-nois
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy import linalg, stats
@@ -49,6 +49,20 @@ class JointNoise:
     def quantization(self) -> np.ndarray:
         """σ of each joint's quantization (rad)."""
         return np.asarray(self.tick_rad, dtype=float) / math.sqrt(12.0)
+
+    def order_test(self) -> JointNoise:
+        """The noise the order rule's truncation test (:func:`truncation`) weighs the fits'
+        difference by: every joint quantized at least as coarsely as the finger's coarsest joint.
+        That test is first order, and ψ, the sum of the finger's joint angles, carries the coarsest
+        joint's error into every reading: the fits' response to ψ is not linear (their design
+        moves with ψ, their residuals are about |base − centre of curvature| × that error), and
+        at 4,096 ticks per turn its second-order part (~13 % of the first on a 20 mm circle) lies
+        also in the one direction of the difference that only a fine joint's first-order noise
+        reaches; a fine joint (a PH42's 607,500 ticks) states that noise ~150 times smaller than
+        that part, and the test called its χ² ~10⁴ on exact circle rolls (every one took degree
+        4–5 where a jaw of two coarse or two fine joints takes 3). docs/exploration.md#the-stated-noise."""
+        floor = max(self.tick_rad)
+        return replace(self, tick_rad=(floor,) * len(self.tick_rad))
 
 
 def joint_noise(finger, load_known=None) -> JointNoise:
@@ -185,7 +199,8 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
     noise = joint_noise(finger) if noise is None else noise
     first = kin.touch_from_pad_lines(lines.psi, lines.d, degree=degree)
     weighed = degrees(q.shape[0]) if degree is None else range(first.degree, first.degree + 1)
-    fits = {}
+    fits, tests = {}, {}
+    tested = noise.order_test()
 
     def fit_of(k):
         if k not in fits:
@@ -195,12 +210,20 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
                                  f"(their pad lines are degenerate)")
         return fits[k]
 
+    def test_of(k):
+        """The fit of degree k with the noise its order test weighs (:meth:`JointNoise.order_test`)."""
+        if tested == noise:
+            return fit_of(k)
+        if k not in tests:
+            tests[k] = (fit_of(k)[0], _propagate(finger, q, first.origin, k, tested)[1])
+        return tests[k]
+
     capped = degree is None  # the order rule's cap: the next degree's truncation is stated
     top = kin.determined_degree(lines.psi)  # no degree the readings do not determine
-    base, factor = choose_degree(fit_of, weighed, capped, top)
+    base, factor = choose_degree(fit_of, weighed, capped, top, test_of)
     # choose_degree's truncation column, if it stated one
     own = factor[3:, -1] if factor.shape[1] > fit_of(base.degree)[1].shape[1] else None
-    curved, curved_factor = curvature_degree(fit_of, weighed, base.degree, capped, top)
+    curved, curved_factor = curvature_degree(fit_of, weighed, base.degree, capped, top, test_of)
     lowest = fit_of(weighed.start)[1]  # the corner test's ρ: the most precise one
     n = q.shape[0]
     m = n // 2
@@ -281,7 +304,7 @@ ORDER_ALPHA = 1e-2
 TRUNCATION_ALPHA = 0.05
 
 
-def choose_degree(fit_of, weighed: range, capped: bool = False, top: int | None = None):
+def choose_degree(fit_of, weighed: range, capped: bool = False, top: int | None = None, test_of=None):
     """The order rule: from the lowest degree ``weighed``, step up to a richer one (one or two
     degrees up: d(ψ)'s truncation may be even or odd) while it changes the contacts
     significantly (:func:`truncation`: the χ² of the difference above its limit at
@@ -290,33 +313,35 @@ def choose_degree(fit_of, weighed: range, capped: bool = False, top: int | None 
     the readings still fit one degree more, and a far arm's truncation at the cap made "no
     class fits" on the P-series hyperbola example). No degree above ``top`` is fitted: the
     readings do not determine it (kinematics.determined_degree). ``fit_of(k)`` is
-    :func:`_propagate` at degree k; returns the chosen (contacts, factor)."""
+    :func:`_propagate` at degree k, ``test_of(k)`` the same with the noise the test weighs
+    (:meth:`JointNoise.order_test`; default ``fit_of``); returns the chosen (contacts, factor)."""
+    test_of = fit_of if test_of is None else test_of
     k = weighed.start
     top = fit_of(k)[0].x.size - 1 if top is None else top
     while True:
         richer = range(k + 1, min(k + 2, weighed.stop - 1, top) + 1)
-        steps = [j for j in richer if _significant(*truncation(fit_of(k), fit_of(j)))]
+        steps = [j for j in richer if _significant(*truncation(test_of(k), test_of(j)))]
         if not steps:
             beyond = capped and k + 2 < fit_of(k)[0].x.size and k + 1 <= top  # at the cap, the next degree still fits
-            return _with_truncation(fit_of(k), fit_of(k + 1)) if richer or beyond else fit_of(k)
+            return _with_truncation(fit_of(k), fit_of(k + 1), test_of) if richer or beyond else fit_of(k)
         k = steps[0]
 
 
-def curvature_degree(fit_of, weighed: range, k: int, capped: bool = False, top: int | None = None):
+def curvature_degree(fit_of, weighed: range, k: int, capped: bool = False, top: int | None = None, test_of=None):
     """The degree κ and κ_s at the contact come from: from the contacts' degree ``k`` (:func:`choose_degree`)
     step up while the next degree states them with less expected squared error
     (:func:`_less_error`). Fine encoders make a low degree's κ precise but biased while its
     contacts pass the position test (the P-series cubical example's cubic: κ 1 % off, σ 0.1 %;
     the quartic's −0.1 %, σ 0.5 %); the contacts keep their own degree, whose arc length a
     noisier one could fold. Returns (contacts, factor) of that degree, its truncation against
-    the next one stated as in :func:`choose_degree`; none above ``top`` (as there)."""
+    the next one stated as in :func:`choose_degree`; none above ``top`` (as there; ``test_of`` too)."""
     top = fit_of(k)[0].x.size - 1 if top is None else top
     while k + 1 < min(weighed.stop, top + 1) and _less_error(fit_of(k), fit_of(k + 1)):
         k += 1
     if k + 1 > top:
         return fit_of(k)
     if k + 1 < weighed.stop:
-        return _with_truncation(fit_of(k), fit_of(k + 1))
+        return _with_truncation(fit_of(k), fit_of(k + 1), test_of)
     if capped and len(weighed) == 1 and k + 1 < fit_of(k)[0].x.size:
         # the readings leave the order rule one degree: the next one, through them, states κ,
         # κ_s when it shows a bias worth its noise (:func:`_less_error`: dev seed 13 cubical 11,
@@ -424,12 +449,13 @@ def _difference(fit, richer) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate([c.x - c_hi.x, c.y - c_hi.y]), f[rows, :width] - f_hi[rows, :width]
 
 
-def _with_truncation(fit, richer):
+def _with_truncation(fit, richer, test_of=None):
     """``fit`` with its truncation as one more column of its noise factor: every output's
     difference to the ``richer`` degree's, scaled by the share of the difference's χ² above
-    its expectation under noise alone (none when it is within: :func:`truncation`)."""
+    its expectation under noise alone (none when it is within: :func:`truncation`, weighed as
+    ``test_of`` of the two degrees states, :func:`choose_degree`)."""
     (c, f), (c_hi, _) = fit, richer
-    chi2, rank = truncation(fit, richer)
+    chi2, rank = truncation(fit, richer) if test_of is None else truncation(test_of(c.degree), test_of(c_hi.degree))
     if rank == 0 or chi2 <= stats.chi2.isf(TRUNCATION_ALPHA, rank):
         return fit
     n, m = c.x.size, c.x.size // 2
