@@ -60,9 +60,21 @@ class JointNoise:
         also in the one direction of the difference that only a fine joint's first-order noise
         reaches; a fine joint (a PH42's 607,500 ticks) states that noise ~150 times smaller than
         that part, and the test called its χ² ~10⁴ on exact circle rolls (every one took degree
-        4–5 where a jaw of two coarse or two fine joints takes 3). docs/exploration.md#the-stated-noise."""
+        4–5 where a jaw of two coarse or two fine joints takes 3). Only where that second-order part
+        (``SECOND_ORDER_PER_RAD`` × tick²) exceeds the finest joint's tick; else the noise itself.
+        docs/exploration.md#the-stated-noise."""
         floor = max(self.tick_rad)
+        if min(self.tick_rad) >= SECOND_ORDER_PER_RAD * floor**2:
+            return self  # the finest joint's tick exceeds the coarsest one's second-order part
         return replace(self, tick_rad=(floor,) * len(self.tick_rad))
+
+
+#: the coarsest joint's second-order effect through ψ relative to its first-order one, per rad
+#: of its tick (:meth:`JointNoise.order_test`): 13 % at 4,096 ticks per turn (1.53 mrad) on the
+#: circle example's 20 mm rolls (session 28). Floored only where that part, this × tick², exceeds
+#: the finest joint's tick: an XM430 base (0.2 mrad) beside a PH42 (0.010 mrad), not the
+#: P-series jaw's PH54 and PH42 (9e-9 rad beside 0.006 mrad), whose order rule is unchanged
+SECOND_ORDER_PER_RAD = 85.0
 
 
 def joint_noise(finger, load_known=None) -> JointNoise:

@@ -56,3 +56,11 @@ def test_order_test_noise_floors_every_joint_at_the_coarsest_tick():
     assert (tested.offset_rad, tested.link_mm, tested.pad_mm) == (noise.offset_rad, noise.link_mm, noise.pad_mm)
     same = JointNoise((1e-3, 1e-3))
     assert same.order_test() == same
+
+
+def test_the_p_series_jaw_keeps_its_order_test():
+    """PH54 and PH42 (1,003,846 and 607,500 ticks per turn): the coarser one's second-order
+    part (SECOND_ORDER_PER_RAD × tick², 9e-9 rad) lies far below the finer one's tick (6.3e-6):
+    no floor, the order rule as before (tests/tactile_jaw/test_at_orientation.py's P roll)."""
+    noise = JointNoise((2.0 * math.pi / 1_003_846, 2.0 * math.pi / 607_500))
+    assert noise.order_test() is noise
