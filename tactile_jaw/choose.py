@@ -172,6 +172,18 @@ def last_stop(events) -> dict | None:
     return next((e for e in reversed(events) if e.get("kind") in STOP_EVENTS), None)
 
 
+def _in_strips(points: np.ndarray, strips, end_mm: float = 0.0) -> np.ndarray:
+    """Which ``points`` (k × 2, mm) lie in one of the ``strips`` (ψ, u_lo, u_hi, d_lo, d_hi:
+    along the pad line of normal ψ from u_lo to u_hi, lengthened ``end_mm`` each way, and
+    between the offsets d_lo and d_hi; tactile_jaw.plan.free_strips)."""
+    inside = np.zeros(len(points), bool)
+    for psi, u_lo, u_hi, d_lo, d_hi in strips:
+        n, t = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
+        u, d = points @ t, points @ n
+        inside |= (u >= u_lo - end_mm) & (u <= u_hi + end_mm) & (d >= d_lo - 1e-9) & (d <= d_hi + 1e-9)
+    return inside
+
+
 class JawReach:
     """Where the jaw's pads can roll (module docstring); the recognizer's ``options.reach``."""
 
@@ -272,12 +284,7 @@ class JawReach:
             u = (back - e) @ b
             beyond |= (u >= 0.0) & (u <= length) & (np.abs((back - e) @ np.array([-b[1], b[0]])) <= MOVE_CLEAR_MM)
         near = back[beyond]  # only these can be refused: the swept strips are asked about them alone
-        swept = np.zeros(len(near), bool)
-        for psi, u_lo, u_hi, d_lo, d_hi in free:
-            n, t = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
-            u, d = near @ t, near @ n
-            swept |= (u >= u_lo - FREE_END_MM) & (u <= u_hi + FREE_END_MM) & (d >= d_lo - 1e-9) & (d <= d_hi + 1e-9)
-        beyond[beyond] = ~swept
+        beyond[beyond] = ~_in_strips(near, free, FREE_END_MM)
         return ~np.any(beyond, axis=1)
 
     def _strips(self) -> tuple[np.ndarray, np.ndarray]:
@@ -298,11 +305,7 @@ class JawReach:
         most = 2.0 * self.disk.radius
         s = np.arange(GO_ON_STEP_MM, most + GO_ON_STEP_MM / 2, GO_ON_STEP_MM)
         pts = np.asarray(row[:2], float) + s[:, None] * np.asarray(row[2:], float)
-        swept = np.zeros(len(s), bool)
-        for psi, u_lo, u_hi, d_lo, d_hi in self._strips()[0]:
-            n, t = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
-            u, d = pts @ t, pts @ n
-            swept |= (u >= u_lo) & (u <= u_hi) & (d >= d_lo) & (d <= d_hi)
+        swept = _in_strips(pts, self._strips()[0])
         return float(s[np.argmax(swept)]) if np.any(swept) else most
 
     def to_json(self) -> dict:
