@@ -375,9 +375,10 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
             state.book(name, felt, seated, emit, say)
         if _curve_felt(cfg, settings, out, emit, say, checked):
             break
-        if _bulge_pending(state, out.touches):
-            say(f"a flat press of the {' and '.join(sorted(_bulge_pending(state, out.touches)))} pad stopped short "
-                f"of its supports once: it presses again before one face is answered")
+        pending = _bulge_pending(state, out.touches)
+        if pending:
+            say(f"a flat press of the {' and '.join(sorted(pending))} pad stopped short of its supports once: it "
+                f"presses again before one face is answered")
             continue
         if _decided(out, state.flat, settings, recognize_touches, say):
             return
