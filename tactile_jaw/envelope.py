@@ -232,10 +232,10 @@ def _fit_envelope(finger, q, lines: kin.PadLine, degree: int | None, noise: Join
 
     capped = degree is None  # the order rule's cap: the next degree's truncation is stated
     top = kin.determined_degree(lines.psi)  # no degree the readings do not determine
-    base, factor = choose_degree(fit_of, weighed, capped, top, test_of)
+    base, factor = choose_degree(fit_of, test_of, weighed, capped, top)
     # choose_degree's truncation column, if it stated one
     own = factor[3:, -1] if factor.shape[1] > fit_of(base.degree)[1].shape[1] else None
-    curved, curved_factor = curvature_degree(fit_of, weighed, base.degree, capped, top, test_of)
+    curved, curved_factor = curvature_degree(fit_of, test_of, weighed, base.degree, capped, top)
     lowest = fit_of(weighed.start)[1]  # the corner test's ρ: the most precise one
     n = q.shape[0]
     m = n // 2
@@ -316,7 +316,7 @@ ORDER_ALPHA = 1e-2
 TRUNCATION_ALPHA = 0.05
 
 
-def choose_degree(fit_of, weighed: range, capped: bool = False, top: int | None = None, test_of=None):
+def choose_degree(fit_of, test_of, weighed: range, capped: bool = False, top: int | None = None):
     """The order rule: from the lowest degree ``weighed``, step up to a richer one (one or two
     degrees up: d(ψ)'s truncation may be even or odd) while it changes the contacts
     significantly (:func:`truncation`: the χ² of the difference above its limit at
@@ -326,8 +326,8 @@ def choose_degree(fit_of, weighed: range, capped: bool = False, top: int | None 
     class fits" on the P-series hyperbola example). No degree above ``top`` is fitted: the
     readings do not determine it (kinematics.determined_degree). ``fit_of(k)`` is
     :func:`_propagate` at degree k, ``test_of(k)`` the same with the noise the test weighs
-    (:meth:`JointNoise.order_test`; default ``fit_of``); returns the chosen (contacts, factor)."""
-    test_of = fit_of if test_of is None else test_of
+    (:meth:`JointNoise.order_test`: ``fit_of`` itself where no joint is floored); returns the chosen
+    (contacts, factor)."""
     k = weighed.start
     top = fit_of(k)[0].x.size - 1 if top is None else top
     while True:
@@ -339,7 +339,7 @@ def choose_degree(fit_of, weighed: range, capped: bool = False, top: int | None 
         k = steps[0]
 
 
-def curvature_degree(fit_of, weighed: range, k: int, capped: bool = False, top: int | None = None, test_of=None):
+def curvature_degree(fit_of, test_of, weighed: range, k: int, capped: bool = False, top: int | None = None):
     """The degree κ and κ_s at the contact come from: from the contacts' degree ``k`` (:func:`choose_degree`)
     step up while the next degree states them with less expected squared error
     (:func:`_less_error`). Fine encoders make a low degree's κ precise but biased while its
@@ -461,13 +461,13 @@ def _difference(fit, richer) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate([c.x - c_hi.x, c.y - c_hi.y]), f[rows, :width] - f_hi[rows, :width]
 
 
-def _with_truncation(fit, richer, test_of=None):
+def _with_truncation(fit, richer, test_of):
     """``fit`` with its truncation as one more column of its noise factor: every output's
     difference to the ``richer`` degree's, scaled by the share of the difference's χ² above
     its expectation under noise alone (none when it is within: :func:`truncation`, weighed as
     ``test_of`` of the two degrees states, :func:`choose_degree`)."""
     (c, f), (c_hi, _) = fit, richer
-    chi2, rank = truncation(fit, richer) if test_of is None else truncation(test_of(c.degree), test_of(c_hi.degree))
+    chi2, rank = truncation(test_of(c.degree), test_of(c_hi.degree))
     if rank == 0 or chi2 <= stats.chi2.isf(TRUNCATION_ALPHA, rank):
         return fit
     n, m = c.x.size, c.x.size // 2
