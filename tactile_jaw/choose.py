@@ -197,6 +197,8 @@ class JawReach:
         self.probes = probes
         #: (how many probes, the free strips, the rested pad ends) as :meth:`opened_clear` last read them
         self._free: tuple[int, np.ndarray, np.ndarray] | None = None
+        #: :meth:`go_on_length` of each ray asked, for the same free strips (a move search asks it every turn)
+        self._go_on: dict[tuple[float, ...], float] = {}
         self.disk = Reach(float(ws.center_mm[0]), float(ws.center_mm[1]), float(ws.radius_mm))
         self._model = ObjectModel(ws.center_mm, ws.radius_mm)  # nothing felt: only its workspace edge is used
 
@@ -295,6 +297,7 @@ class JawReach:
             # there), and so is all behind their faces, the fingers' side
             behind = opened_strips(self.config, MOVE_CLEAR_MM, 2.0 * self.disk.radius)
             self._free = (len(self.probes), np.vstack([free_strips(self.config, self.probes), behind]), ends)
+            self._go_on = {}
         return self._free[1], self._free[2]
 
     def go_on_length(self, row) -> float:
@@ -302,11 +305,14 @@ class JawReach:
         ``row``: to the first point (every ``GO_ON_STEP_MM``) a probe's pad swept free or the
         opened jaw stood (:meth:`opened_clear`'s free strips, without ``FREE_END_MM``), at most
         the workspace's diameter."""
-        most = 2.0 * self.disk.radius
-        s = np.arange(GO_ON_STEP_MM, most + GO_ON_STEP_MM / 2, GO_ON_STEP_MM)
-        pts = np.asarray(row[:2], float) + s[:, None] * np.asarray(row[2:], float)
-        swept = _in_strips(pts, self._strips()[0])
-        return float(s[np.argmax(swept)]) if np.any(swept) else most
+        free = self._strips()[0]
+        key = tuple(float(v) for v in row)
+        if key not in self._go_on:
+            most = 2.0 * self.disk.radius
+            s = np.arange(GO_ON_STEP_MM, most + GO_ON_STEP_MM / 2, GO_ON_STEP_MM)
+            swept = _in_strips(np.asarray(key[:2]) + s[:, None] * np.asarray(key[2:]), free)
+            self._go_on[key] = float(s[np.argmax(swept)]) if np.any(swept) else most
+        return self._go_on[key]
 
     def to_json(self) -> dict:
         """The workspace disk (a request file's ``options.reach`` holds only a disk)."""
