@@ -351,15 +351,14 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
                            and _decided(out, state.flat, settings, recognize_touches, say))):
         return  # the presses made during the rolls decide (or a curve was felt)
     for _ in range(max(FLAT_SPARE, settings.min_touches + FLAT_SPARE - len(pressed))):
+        pending = _bulge_pending(state, out.touches)
         if any(state.faces.values()):  # one face's touches make the answer: a finger without one stops,
-            # unless its press bulged once: it presses again first (_bulge_pending)
-            pending = _bulge_pending(state, out.touches)
+            # unless its press bulged once: it presses again first
             state.active = [name for name in state.active if state.faces[name] is not None or name in pending]
         if not state.active or _curve_felt(cfg, settings, out, emit, say, checked):
             break
         spent: dict[str, float] = {}
         seated: set[str] = set()
-        pending = _bulge_pending(state, out.touches)
         plans = {name: _flat_plan(jaw, name, model, state.faces[name], state.misses[name], index + k, emit, spent,
                                   _felt_stop(out, name, nominal_psi(cfg.finger(name))),
                                   set() if name in pending else seated,  # not stopped by another pad's seat
