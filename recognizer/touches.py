@@ -25,7 +25,7 @@ from tactile_common.errors import InputError, check_keys
 from tactile_common.inputs import finite_number
 
 __all__ = ["NoiseModel", "Reach", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
-           "MIN_TOUCHES", "check_touch_count", "finite_number"]
+           "MIN_TOUCHES", "check_touch_count", "finite_number", "touch_points"]
 
 #: touches a class needs before its invariants can be cross-checked (>= 2 pairs for the
 #: two-parameter and cubic classes, >= 1 pair for the others)
@@ -259,6 +259,15 @@ def _parse_options(raw, where: str = "options") -> dict:
     if "timeout_s" in out and not 0.0 < out["timeout_s"] <= limits.MAX_TIMEOUT_S:
         raise InputError(f"{where}.timeout_s: must be in (0, {limits.MAX_TIMEOUT_S:g}] s, got {out['timeout_s']}")
     return out
+
+
+def touch_points(touch: Mapping) -> dict[str, list[float]]:
+    """The ``x``, ``y``, ``phi`` lists of a touch mapping as written (module docstring): a
+    samples touch's own, a contact touch's (a flat press's seat) as one sample. Not
+    validated: for drawing what a run recorded (tools.plot, tools.ros_bag)."""
+    if "contact" in touch:
+        return {k: [touch["contact"][k]] for k in ("x", "y", "phi")}
+    return {k: list(touch.get(k) or []) for k in ("x", "y", "phi")}
 
 
 def check_touch_count(n: int, classes, source: str = "request") -> None:

@@ -13,6 +13,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from recognizer.curves import CURVES, Pose
+from recognizer.touches import touch_points
 from tactile_common.files import atomic_path
 
 _FINGER_COLORS = ("tab:blue", "tab:orange", "tab:purple", "tab:brown")
@@ -30,14 +31,6 @@ def curve_points(cls: str, params: dict, pose: Pose, t_contacts: Sequence[float]
         hi = float(curve.t_at_arc_length(float(ts.max()), reach_mm))
         t = np.linspace(lo, hi, 721)
     return pose.apply(*curve.point(t))
-
-
-def _touch_points(touch: dict[str, Any]) -> tuple[list[float], list[float]]:
-    """A touch's points (docs/formats.md, touches): a samples touch's ``x``, ``y``, a contact
-    touch's (a flat press's seat: tactile_jaw.flat) one point."""
-    if "contact" in touch:
-        return [touch["contact"]["x"]], [touch["contact"]["y"]]
-    return touch["x"], touch["y"]
 
 
 def _draw_finite(ax, truth) -> None:
@@ -74,8 +67,8 @@ def plot_exploration(path: str | Path, *, touches: Sequence[dict[str, Any]], pad
         ax.plot([x0, x1], [y0, y1], color=color[seg["finger"]], lw=0.6, alpha=0.35)
     for k, touch in enumerate(touches):
         f = touch.get("finger", "")
-        x, y = _touch_points(touch)
-        ax.plot(x, y, ".", ms=4, color=color[f], label=f"{f} touches" if k == [
+        points = touch_points(touch)
+        ax.plot(points["x"], points["y"], ".", ms=4, color=color[f], label=f"{f} touches" if k == [
             t.get("finger", "") for t in touches].index(f) else None)
     if truth is not None and getattr(truth, "extent", None) is not None:
         _draw_finite(ax, truth)

@@ -30,6 +30,7 @@ from hand_driver import kinematics as kin
 from hand_driver.config import parse_config
 from hand_driver.log import RunLog
 from recognizer.curves import CURVES, Pose
+from recognizer.touches import touch_points
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_path, create_exclusive
 
@@ -293,10 +294,8 @@ class BagWriter:
 
     def _touch(self, rec: dict) -> None:
         """A touch the recognizer got: its contact points, and its tangent lines through them."""
-        samples = rec.get("samples") or {}
-        if "contact" in samples:  # a flat press's contact touch
-            samples = {k: [samples["contact"][k]] for k in ("x", "y", "phi")}
-        xs, ys, phis = (samples.get(k) or [] for k in ("x", "y", "phi"))
+        points = touch_points(rec.get("samples") or {})  # a flat press's contact touch as one sample
+        xs, ys, phis = points["x"], points["y"], points["phi"]
         ident = int(rec["touch"])
         ns = self.touch_ns.get(ident, self.last_ns)
         tangents = []
