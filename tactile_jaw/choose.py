@@ -147,6 +147,18 @@ VERTEX_ENDS, VERTEX_OFF = "ends", "off"
 STOP_EVENTS = ("stopped_early", "budget_spent")
 
 
+@dataclass(frozen=True)
+class Advice:
+    """What :func:`move_advice` tells a person: its ``words``, the ``move`` (as :class:`Stop`'s;
+    None when no small move is known) and its ``kind``: ``"move"``, ``"within_reach"`` (a pad
+    already reaches every place: ``WITHIN_REACH``), ``"not_clear"`` (every move found would carry
+    an opened pad where the object goes on: ``NOT_CLEAR``) or ``"out_of_reach"``."""
+
+    words: str
+    move: dict | None
+    kind: str
+
+
 class Stop(str):
     """Why exploration stops before its budget is spent (for people), with ``move``: the move
     of the object after which a pad rolls where the touch would have to go (:func:`move_for`:
@@ -620,18 +632,18 @@ def _goal_stop(message: str, goal: Goal | Sequence[Goal], reach: JawReach,
     first = None
     for g in goals:
         if also:
-            advice, move = move_advice(reach, with_curvature(with_places(g, also), recognition))
-            if move is not None:
-                return Stop(f"{message}: {advice}", move)
-        advice, move = move_advice(reach, with_curvature(g, recognition))
-        if move is not None or advice == WITHIN_REACH:
-            return Stop(f"{message}: {advice}", move)
-        first = advice if first is None else first
+            advice = move_advice(reach, with_curvature(with_places(g, also), recognition))
+            if advice.move is not None:
+                return Stop(f"{message}: {advice.words}", advice.move)
+        advice = move_advice(reach, with_curvature(g, recognition))
+        if advice.kind in ("move", "within_reach"):
+            return Stop(f"{message}: {advice.words}", advice.move)
+        first = advice.words if first is None else first
     if also:
-        side, side_move = move_advice(reach, with_curvature(side_goal(goals[0], also), recognition))
-        if side_move is not None:
+        side = move_advice(reach, with_curvature(side_goal(goals[0], also), recognition))
+        if side.move is not None:
             return Stop(f"{message}: no pad reaches that touch with the object moved up to {MOVE_MAX_MM:g} mm and "
-                        f"turned up to {MOVE_TURN_MAX_DEG:g} deg; {side}", side_move)
+                        f"turned up to {MOVE_TURN_MAX_DEG:g} deg; {side.words}", side.move)
     return Stop(f"{message}: {first}", None)
 
 
@@ -646,11 +658,11 @@ def other_side_stop(head: str, touched, reach: JawReach, also: Sequence[tuple[fl
     again, ellipse and semicubical within 0.1 in χ²; turned 10° about the left pad's place
     instead, the left pad rolls there and it is answered ellipse, a −0.07 %)."""
     keep = Goal((), _thinned(touched), (0.0, 0.0), "")
-    advice, move = move_advice(reach, with_curvature(side_goal(keep, also), recognition))
-    if move is None:
+    advice = move_advice(reach, with_curvature(side_goal(keep, also), recognition))
+    if advice.move is None:
         return None
     return Stop(f"{head}; the rolls on this side cannot tell the classes apart at this jaw's angle resolution, "
-                f"the object's other side can: {advice}", move)
+                f"the object's other side can: {advice.words}", advice.move)
 
 
 def side_goal(goal: Goal, also: Sequence[tuple[float, float, float]]) -> Goal:
@@ -778,11 +790,11 @@ def _reaches(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float, fin
 
 
 def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None,
-                turns: tuple[float, float] | None = None) -> tuple[str, dict | None]:
-    """What a person can do so that a pad rolls through every place of ``goal``: the move of
-    :func:`move_for` in the hand frame's words (x away from the palm, y toward the left
-    finger, turns counterclockwise positive) and as :class:`Stop`'s ``move``, or a general
-    request (and None) when none is near, saying so when moves were near but each would carry
+                turns: tuple[float, float] | None = None) -> Advice:
+    """What a person can do so that a pad rolls through every place of ``goal``, as an
+    :class:`Advice`: the move of :func:`move_for` in the hand frame's words (x away from the
+    palm, y toward the left finger, turns counterclockwise positive) and as :class:`Stop`'s
+    ``move``, or a general request (and no move) when none is near, saying so when moves were near but each would carry
     an opened pad where the object goes on unfelt (:meth:`JawReach.opened_clear`). ``turns``
     (lo, hi rad): only moves turning the object within them (a flat press's seat,
     tactile_jaw.flat_phase._face_advice)."""
@@ -790,22 +802,22 @@ def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None,
     # the search passed over every reaching move only for the opened pads: the candidates it had
     # asked about reach nowhere, so the moves without the probes' bound are those it passed over
     if move is None and _first_reaching(reach, goal, blocked, fingers) is not None:
-        return (f"{NOT_CLEAR}: every move that brings a pad {goal.where} would carry an "
-                f"opened pad where the object goes on unfelt (past a pad end a probe rested on"
-                f"{', or along the face past its felt ends' if goal.goes_on else ''}): place the object so that more "
-                f"of its curved part faces a finger, clear of the opened pads"), None
+        return Advice(f"{NOT_CLEAR}: every move that brings a pad {goal.where} would carry an "
+                      f"opened pad where the object goes on unfelt (past a pad end a probe rested on"
+                      f"{', or along the face past its felt ends' if goal.goes_on else ''}): place the object so "
+                      f"that more of its curved part faces a finger, clear of the opened pads", None, "not_clear")
     if move is None:
-        return (f"no pad reaches {goal.where} with the object moved up to {MOVE_MAX_MM:g} mm and turned up to "
-                f"{MOVE_TURN_MAX_DEG:g} deg inside the workspace: place the object so that more of its curved part "
-                f"faces a finger"), None
+        return Advice(f"no pad reaches {goal.where} with the object moved up to {MOVE_MAX_MM:g} mm and turned up "
+                      f"to {MOVE_TURN_MAX_DEG:g} deg inside the workspace: place the object so that more of its "
+                      f"curved part faces a finger", None, "out_of_reach")
     if move == (0.0, 0.0, 0.0):  # within reach, yet its finger gave up there (corners, closing segments)
-        return WITHIN_REACH, None
+        return Advice(WITHIN_REACH, None, "within_reach")
     dx, dy, a = move
     grow = (math.hypot(dx, dy) + MOVE_MARGIN_MM) / max(math.hypot(dx, dy), 1e-9)
     if (dx or dy) and _reaches(reach, goal, grow * dx, grow * dy, a, fingers):
         dx, dy = grow * dx, grow * dy  # clear of the reach's edge, which a fitted curve knows only so well
     words, out = _move_words(goal, dx, dy, a)
-    return words, {**out, "places": moved_places(reach, goal, dx, dy, a, fingers)}
+    return Advice(words, {**out, "places": moved_places(reach, goal, dx, dy, a, fingers)}, "move")
 
 
 def moved_places(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float,

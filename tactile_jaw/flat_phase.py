@@ -20,7 +20,7 @@ from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_MAX_TURN_DEG, FLAT_S
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
-from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, NOT_CLEAR, WITHIN_REACH, Goal, JawReach, Stop, facing_move,
+from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, Goal, JawReach, Stop, facing_move,
                                 move_advice, place_goal)
 from tactile_jaw.flat import (BULGED_PRESSES, FACE_MISS_MM, bulged, curved_faces, face_groups, recognized_touches,
                               same_face_rad)
@@ -198,8 +198,9 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
         x, y = (float(v) for v in curve.face.middle)
         where = f"the curved part the {curve.finger} pad pressed near ({x:.1f}, {y:.1f}) mm"
         goal = place_goal(x, y, curve.face.psi - math.pi / 2, np.stack([curve.face.p, curve.face.q], axis=1))
-        advice, move = move_advice(reach, replace(goal, where=where), [cfg.finger(curve.finger)])
-        return Stop(f"{advice} ({where}; the rolls there met its corners)" if advice == WITHIN_REACH else advice, move)
+        advice = move_advice(reach, replace(goal, where=where), [cfg.finger(curve.finger)])
+        return Stop(f"{advice.words} ({where}; the rolls there met its corners)" if advice.kind == "within_reach"
+                    else advice.words, advice.move)
     c, m = curve.contacts, len(curve.contacts.x) // 2
     psi = np.asarray(c.psi, dtype=float)
     whole = np.array([smp.psi for smp in felt.touch.samples] if not isinstance(felt.touch, FlatResult) else [])
@@ -210,15 +211,15 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
         finger = cfg.finger(felt.finger)
         goal = replace(place_goal(float(c.x[m]), float(c.y[m]), float(psi[m]) - math.pi / 2, (c.x, c.y)),
                        where=f"on its curved part, {near}")
-        advice, move = move_advice(reach, goal, [finger])
-        if move is None and advice == WITHIN_REACH:  # reached there, yet its rolls met the corners
+        advice = move_advice(reach, goal, [finger])
+        if advice.kind == "within_reach":  # reached there, yet its rolls met the corners
             facing = facing_move(reach, goal, finger)
             if facing is not None:
                 return Stop(f"{facing[0]}, facing the {felt.finger} pad's first rolls", facing[1])
             return Stop(f"the {felt.finger} pad reaches its curved part, {near}, and no turn up to "
                         f"{MOVE_TURN_MAX_DEG:g} deg makes it face that pad's first rolls: move or turn the object so "
                         f"that more of its curved part, clear of its corners, faces a finger")
-        return Stop(advice, move)
+        return Stop(advice.words, advice.move)
     end = -1 if low > high else 0  # on past the end away from where the roll left the curved part
     way = 1.0 if low > high else -1.0  # ψ (and the tangent) grow toward the contacts' last
     back = end - int(way)  # the contact before the end, toward the stretch's other end
@@ -230,8 +231,8 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
     goal = Goal(((float(x), float(y), phi),), np.array([c.x, c.y], dtype=float), (float(c.x[m]), float(c.y[m])),
                 f"on along its curved part, {near}, past the end of that stretch away from the corner "
                 f"{felt.finger} roll {felt.touch.touch} ran onto")
-    advice, move = move_advice(reach, goal)
-    return Stop(advice, move)
+    advice = move_advice(reach, goal)
+    return Stop(advice.words, advice.move)
 
 
 def early_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, touch_index: int, emit,
@@ -453,18 +454,19 @@ def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, 
                 (float(mid[0]), float(mid[1])), "across that face", goes_on=goes_on)
     f = cfg.finger(finger)
     reach = reach or JawReach(cfg, settings, out.probes)
-    advice, move = move_advice(reach, goal, [f])
+    found = move_advice(reach, goal, [f])
+    advice, move = found.words, found.move
 
     def off(move: dict | None) -> float:  # the seat's angle from the pad's nominal normal after ``move``
         turn = 0.0 if move is None else math.radians(move["turn_deg"])
         return abs(math.degrees(math.remainder(psi + turn - nominal_psi(f), 2 * math.pi)))
 
-    if (move is not None or advice == WITHIN_REACH) and off(move) > SEATED_TURN_DEG:
+    if found.kind in ("move", "within_reach") and off(move) > SEATED_TURN_DEG:
         # the same search, over the turns that leave the seat within SEATED_TURN_DEG of the normal
         facing, most = math.remainder(nominal_psi(f) - psi, 2 * math.pi), math.radians(SEATED_TURN_DEG)
         seated = move_advice(reach, goal, [f], (facing - most, facing + most))
-        if seated[1] is not None or seated[0].startswith(NOT_CLEAR):
-            advice, move = seated
+        if seated.kind in ("move", "not_clear"):
+            advice, move = seated.words, seated.move
         elif off(None) > SEATED_TURN_DEG:
             way = "counterclockwise" if facing > 0 else "clockwise"
             advice, move = (f"that face's seat lies {off(None):.0f} deg from the {finger} pad's nominal normal, past the "

@@ -15,7 +15,7 @@ from recognizer.classify import NONE_TESTED_FITS, recognize
 from recognizer.result import Ranked, Recognition
 from recognizer.touches import parse_request
 from tactile_jaw.choose import (MOVE_CLEAR_MM, MOVE_MAX_MM, MOVE_TURN_MAX_DEG, VERTEX_ENDS, VERTEX_OFF, JawReach, Stop,
-                                budget_advice, curvature_at, move_advice, move_for, next_aim, place_goal, vertex_aim, vertex_goal)
+                                Advice, budget_advice, curvature_at, move_advice, move_for, next_aim, place_goal, vertex_aim, vertex_goal)
 from tactile_jaw.decide import NO_CLASS_FITS, VERTEX_SIDE_DEG, Why, refusal_kind, vertex_sides
 from tactile_jaw.plan import ObjectModel, feasible
 from tactile_jaw.settings import ExploreSettings
@@ -168,13 +168,15 @@ def test_move_advice_turns_the_object_when_no_shift_brings_the_tangent_within_re
     x, y, phi = 105.0, 12.0, math.radians(60.0) - math.pi / 2
     goal = place_goal(x, y, phi)
     assert move_for(REACH, goal) is not None
-    words, move = move_advice(REACH, goal)
+    advice = move_advice(REACH, goal)
+    words, move = advice.words, advice.move
+    assert advice.kind == "move"
     dx, dy, turn = move["dx"], move["dy"], math.radians(move["turn_deg"])
     assert turn != 0.0 and REACH.finger(x + dx, y + dy, phi + turn) is not None
     assert ("counterclockwise" if turn > 0 else "clockwise") in words
     # within reach already: nothing to move, the general request
-    assert move_advice(REACH, place_goal(105.0, 12.0, -math.pi)) == (
-        "move or turn the object so that more of its curved part faces a finger", None)
+    assert move_advice(REACH, place_goal(105.0, 12.0, -math.pi)) == Advice(
+        "move or turn the object so that more of its curved part faces a finger", None, "within_reach")
 
 
 def test_no_move_is_advised_when_no_class_fits():
@@ -363,7 +365,7 @@ def test_a_move_says_where_it_was_for_and_which_finger_rolls_there_after_it():
     from tactile_jaw.choose import moved_places
 
     x, y, phi = 105.0, 12.0, math.radians(60.0) - math.pi / 2
-    _, move = move_advice(REACH, place_goal(x, y, phi))
+    move = move_advice(REACH, place_goal(x, y, phi)).move
     (place,) = move["places"]
     turn = math.radians(move["turn_deg"])
     assert (place["x"], place["y"]) == (round(x + move["dx"], 3), round(y + move["dy"], 3))

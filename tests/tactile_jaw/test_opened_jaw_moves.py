@@ -117,9 +117,9 @@ def test_the_move_named_with_the_probes_keeps_its_clearance_from_the_rested_ends
         return bool(reach.opened_clear(move["about"], math.radians(move["turn_deg"]),
                                        np.array([[move["dx"], move["dy"]]]))[0])
 
-    _, before = move_advice(JawReach(CONFIG, SETTINGS), goal, left)
+    before = move_advice(JawReach(CONFIG, SETTINGS), goal, left).move
     assert before is not None and not clear(before)
-    _, move = move_advice(reach, goal, left)
+    move = move_advice(reach, goal, left).move
     assert move is not None and move != before and clear(move)
 
 
@@ -162,8 +162,9 @@ def test_a_refusal_without_a_move_asks_each_candidate_once(monkeypatch):
     assert move_for(JawReach(CONFIG, SETTINGS), goal, left) is None
     unbound = calls[0]
     calls[0] = 0
-    text, move = move_advice(JawReach(CONFIG, SETTINGS, PROBES), goal, left)
-    assert move is None and text.startswith("no pad reaches across that face")
+    advice = move_advice(JawReach(CONFIG, SETTINGS, PROBES), goal, left)
+    assert advice.kind == "out_of_reach" and advice.move is None
+    assert advice.words.startswith("no pad reaches across that face")
     assert 0 < calls[0] <= unbound
 
 
@@ -174,8 +175,9 @@ def test_moves_barred_only_by_the_opened_pads_are_named_so(monkeypatch):
     monkeypatch.setattr(JawReach, "opened_clear",
                         lambda self, about, turn, shift, goes_on=(): bar(self, about, turn, shift, goes_on)
                         & (len(self.probes) == 0))
-    text, move = move_advice(JawReach(CONFIG, SETTINGS, PROBES), _face_goal(-83.0), [CONFIG.finger("left")])
-    assert move is None and text.startswith(f"{NOT_CLEAR}: every move that brings a pad across that face would carry "
+    advice = move_advice(JawReach(CONFIG, SETTINGS, PROBES), _face_goal(-83.0), [CONFIG.finger("left")])
+    assert advice.kind == "not_clear" and advice.move is None
+    assert advice.words.startswith(f"{NOT_CLEAR}: every move that brings a pad across that face would carry "
                                             f"an opened pad")
-    _, free = move_advice(JawReach(CONFIG, SETTINGS), _face_goal(-83.0), [CONFIG.finger("left")])
+    free = move_advice(JawReach(CONFIG, SETTINGS), _face_goal(-83.0), [CONFIG.finger("left")]).move
     assert free is not None
