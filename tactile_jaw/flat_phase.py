@@ -14,7 +14,7 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
-from hand_driver.flat_press import (END_SUPPORT_MM, FACE_MIN_FRACTION, FLAT_MAX_TURN_DEG, FLAT_STEP_DEG, SEAT_TOL_MM,
+from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_MAX_TURN_DEG, FLAT_STEP_DEG, SEAT_TOL_MM,
                                      SPLIT_APART, FlatResult, _run, face_normal, flat_press, lowering_turn, seat_split)
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from recognizer.result import Recognition
@@ -67,15 +67,18 @@ def _felt_stop(out: Exploration, finger: str, psi: float, length_mm: float,
     in-contact sample (probes and rolling touches so far) whose orientation is nearest
     ``psi`` (the pad's nominal normal) — a guarded approach at that ψ stops there again, so
     the press starts from just outside it instead of the workspace edge — or, when that
-    normal lies among ≥ 3 of the finger's lines through one corner on the pad (not a pad
-    end: ``END_SUPPORT_MM``), the end of those lines' ψ range the press would walk to, turning
-    that way first: every normal between two of a corner's pad normals is its normal too (its
-    normal cone is one arc), so a press from ``psi`` pivots about that corner, lowering the
-    pad's part :func:`hand_driver.flat_press.lowering_turn` names (``toward``: the workspace
-    centre, as the press turns), one step at a time until it leaves the known range; from its
-    end it goes on as it would have (P line 2 of bench_explore --finite 20 --anywhere --seed
-    313: the left pad's rolls pivoted about one corner from −109° to −83°, its first press
-    walked from −91° to its seat at −115°, 7 steps)."""
+    normal lies among ≥ 3 of the finger's lines through one corner on the pad (more than
+    SEAT_TOL_MM from either end: not a pad end resting on the object), FLAT_RESTART_STEPS
+    before the end of those lines' ψ range the press would walk to, turning that way first,
+    at the stop those lines give there. Every normal between two of a corner's pad normals
+    is its normal too (its normal cone is one arc), so a press from ``psi`` pivots about that
+    corner, lowering the part of the pad hand_driver.flat_press.lowering_turn names
+    (``toward``: the workspace centre, as the press turns), step by step through the known
+    range; from 2.5 steps before its end the press still has three lines through the corner,
+    the seat's first support, and goes on as it would have. Not when that skips less than a
+    step. P line 2 of bench_explore --finite 20 --anywhere --seed 313: the left pad's lines
+    passed through one corner from −113° to −27°, its first press walked from −91° to its
+    seat at −115° (7 scan steps, 4.8 s); from −105.5°, 1 step, 2.8 s (docs/exploration.md)."""
     samples = [s for t in (*out.probes, *out.touches) if t.touch.finger == finger
                and not isinstance(t.touch, FlatResult) for s in t.touch.samples]
     if not samples:
