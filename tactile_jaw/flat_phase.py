@@ -14,9 +14,8 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
-from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_MAX_TURN_DEG, FLAT_STEP_DEG, SEAT_TOL_MM, SPLIT_APART,
-                                     FlatResult, _run,
-                                     face_normal, flat_press, seat_split)
+from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_MAX_TURN_DEG, FLAT_STEP_DEG, SEAT_TOL_MM,
+                                     SPLIT_APART, FlatResult, _run, face_normal, flat_press, lowering_turn, seat_split)
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
@@ -62,15 +61,48 @@ PIVOT_AGAIN_MM = 1.0
 SEATED_TURN_DEG = FLAT_MAX_TURN_DEG - 3 * FLAT_STEP_DEG
 
 
-def _felt_stop(out: Exploration, finger: str, psi: float) -> tuple[float, float] | None:
-    """(ψ, d) of the in-contact sample of ``finger`` (probes and rolling touches so far)
-    whose orientation is nearest ``psi``, or None: a guarded approach at that ψ stops there
-    again, so a flat press can start from just outside it instead of the workspace edge."""
-    samples = [s for t in (*out.probes, *out.touches) if t.touch.finger == finger for s in t.touch.samples]
+def _felt_stop(out: Exploration, finger: str, psi: float, length_mm: float,
+               toward: np.ndarray) -> tuple[float, float, int] | None:
+    """Where ``finger``'s first flat press starts, as (ψ, d, first turn ±1), or None: the
+    in-contact sample (probes and rolling touches so far) whose orientation is nearest
+    ``psi`` (the pad's nominal normal) — a guarded approach at that ψ stops there again, so
+    the press starts from just outside it instead of the workspace edge — or, when that
+    normal lies among ≥ 3 of the finger's lines through one corner on the pad (more than
+    SEAT_TOL_MM from either end: not a pad end resting on the object), FLAT_RESTART_STEPS
+    before the end of those lines' ψ range the press would walk to, turning that way first,
+    at the stop those lines give there. Every normal between two of a corner's pad normals
+    is its normal too (its normal cone is one arc), so a press from ``psi`` pivots about that
+    corner, lowering the part of the pad hand_driver.flat_press.lowering_turn names
+    (``toward``: the workspace centre, as the press turns), step by step through the known
+    range; from 2.5 steps before its end the press still has three lines through the corner,
+    the seat's first support, and goes on as it would have. Not when that skips less than a
+    step. P line 2 of bench_explore --finite 20 --anywhere --seed 313: the left pad's lines
+    passed through one corner from −113° to −27°, its first press walked from −91° to its
+    seat at −115° (7 scan steps, 4.8 s); from −105.5°, 1 step, 2.8 s (docs/exploration.md)."""
+    samples = [s for t in (*out.probes, *out.touches) if t.touch.finger == finger
+               and not isinstance(t.touch, FlatResult) for s in t.touch.samples]
     if not samples:
         return None
+    samples.sort(key=lambda s: math.remainder(float(s.line.psi) - psi, 2 * math.pi))
+    rel = [math.remainder(float(s.line.psi) - psi, 2 * math.pi) for s in samples]
+    lines = [s.line for s in samples]
+    step = math.radians(FLAT_STEP_DEG)
+    for i in range(len(lines)):
+        n, corner, _ = _run(lines, i, 1, SEAT_TOL_MM)
+        if n < 3 or not rel[i] - 0.5 * step <= 0.0 <= rel[i + n - 1] + 0.5 * step:
+            continue
+        if not all(SEAT_TOL_MM < float(lines[j].pad_coordinate(corner)) < length_mm - SEAT_TOL_MM
+                   for j in range(i, i + n)):
+            break  # a pad end resting on the object: its lines say nothing of a corner's normals
+        turn = lowering_turn(lines[min(range(i, i + n), key=lambda j: abs(rel[j]))], corner, length_mm, toward)
+        if turn is None:
+            break
+        start = rel[i + n - 1 if turn == 1 else i] - turn * FLAT_RESTART_STEPS * step
+        if turn * start < step:
+            break
+        return psi + start, float(kin.unit(psi + start) @ corner), turn
     s = min(samples, key=lambda s: abs(math.remainder(s.psi - psi, 2 * math.pi)))
-    return float(s.psi), float(s.line.d)
+    return float(s.psi), float(s.line.d), 1
 
 
 def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> tuple[float, np.ndarray, np.ndarray] | None:
@@ -94,12 +126,12 @@ def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> t
 
 
 def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, touch_index: int, emit,
-               spent: dict[str, float], felt: tuple[float, float] | None = None, seated: set[str] | None = None,
+               spent: dict[str, float], felt: tuple[float, float, int] | None = None, seated: set[str] | None = None,
                seat: tuple[float, np.ndarray, np.ndarray] | None = None, side: int = 1):
     """One flat press of ``finger``: the first at the pad's nominal normal (after a transit)
-    from the workspace edge, or — ``felt``, an earlier stop (ψ, d) near that normal — at that
-    ψ from FLAT_RESTART_MM outside that stop (1.4 s less of guarded approach on the line
-    example) — or ``seat``, one the rolls already show (:func:`_felt_seat`), as a later press
+    from the workspace edge, or — ``felt``, an earlier stop (ψ, d) near that normal and the
+    way to turn first (:func:`_felt_stop`) — at that ψ from FLAT_RESTART_MM outside that stop
+    (1.4 s less of guarded approach on the line example) — or ``seat``, one the rolls already show (:func:`_felt_seat`), as a later press
     starts at its face; a later one close to the ``face`` it seated on (module constants),
     on the ``side`` of it (+1: below its normal, turning up; −1: above) the finger's first
     seated press came from (the other side may lie beyond a joint limit); after
@@ -113,7 +145,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     f = jaw.config.finger(finger)
     if face is None and seat is not None and misses == 0:  # a seat the rolls showed (_felt_seat): as a later press
         start = seat[0] - FLAT_RESTART_STEPS * step
-        felt = (start, min(float(kin.unit(start) @ seat[1]), float(kin.unit(start) @ seat[2])))  # where it stops there
+        felt = (start, min(float(kin.unit(start) @ seat[1]), float(kin.unit(start) @ seat[2])), 1)  # where it stops there
     if face is None:
         start = felt[0] if felt is not None and misses == 0 else nominal_psi(f) + 0.5 * misses * step
         problem = yield from transit_or_problem(jaw, finger, model, start, spent)
@@ -150,7 +182,8 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
         return seated_other() or (f"no seat found within {FLAT_MAX_S:g} s" if jaw.robot_time() - t0 > FLAT_MAX_S
                                   else None)
 
-    result = yield from flat_press(jaw, finger, touch_index, start, side if face is not None else 1, d_start, travel,
+    first_turn = side if face is not None else felt[2] if felt is not None and misses == 0 else 1
+    result = yield from flat_press(jaw, finger, touch_index, start, first_turn, d_start, travel,
                                    toward=model.workspace_center, on_event=emit, give_up=give_up,
                                    interrupt=seated_other, face=None if face is None else (face.p, face.q))
     if result.outcome == "ok":
@@ -281,7 +314,8 @@ def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pr
     if state.faces[finger] is None and (state.misses[finger] or (seat_only and seat is None)):
         return None  # a retry is the flat phase's, which stops it once another pad seats
     return _flat_plan(jaw, finger, model, state.faces[finger], state.misses[finger], touch_index, emit, spent,
-                      _felt_stop(out, finger, nominal_psi(f)), set(), seat, state.sides[finger])
+                      _felt_stop(out, finger, nominal_psi(f), f.pad.length_mm, model.workspace_center), set(), seat,
+                      state.sides[finger])
 
 
 def _booked(cfg, pressed: Sequence[FeltTouch], emit=None, say=None) -> "_Faces":
@@ -361,7 +395,8 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
         spent: dict[str, float] = {}
         seated: set[str] = set()
         plans = {name: _flat_plan(jaw, name, model, state.faces[name], state.misses[name], index + k, emit, spent,
-                                  _felt_stop(out, name, nominal_psi(cfg.finger(name))),
+                                  _felt_stop(out, name, nominal_psi(cfg.finger(name)), cfg.finger(name).pad.length_mm,
+                                             model.workspace_center),
                                   set() if name in pending else seated,  # not stopped by another pad's seat
                                   _felt_seat(out, name, cfg.finger(name).pad.length_mm, nominal_psi(cfg.finger(name))),
                                   state.sides[name])

@@ -377,6 +377,43 @@ def test_the_rolls_lines_give_the_seat_to_start_from():
     assert _felt_seat(rolls(truth - math.radians(20.0)), "left", finger.pad.length_mm, -math.pi / 2) is None
 
 
+def test_a_first_press_starts_where_the_rolls_pivoted_about_one_corner_end():
+    """tactile_jaw.flat_phase._felt_stop: the left pad's rolls at −90° and −76° (9 exact stops
+    each over 18°) pivot about one corner of a face turned 30° (its seat at −60°), the pad's
+    nominal normal −90° among them: every normal between two of a corner's is its normal too,
+    so the first press starts FLAT_RESTART_STEPS before the end of those lines' range toward
+    the seat (−74.5°), turning that way first, at the stop its lines give, and seats on the
+    same face with fewer approaches than from −90° (which turns through the known range
+    step by step)."""
+    from types import SimpleNamespace
+
+    from tactile_jaw.flat_phase import FLAT_RESTART_STEPS, _felt_stop
+
+    finger = CONFIG.finger("left")
+    world = ContactWorld(CONFIG, _block_turned(30.0).object)
+    psi0, truth = -math.pi / 2, math.radians(-60.0)
+    touches = [SimpleNamespace(touch=SimpleNamespace(finger="left", samples=[
+        SimpleNamespace(psi=c + math.radians(a), line=_stop(world, finger, c + math.radians(a)))
+        for a in np.linspace(-9, 9, 9)])) for c in (psi0, math.radians(-76.0))]
+    psi, d, turn = _felt_stop(SimpleNamespace(probes=[], touches=touches), "left", psi0, finger.pad.length_mm,
+                              np.array(CONFIG.workspace.center_mm))
+    assert turn == 1
+    assert psi == pytest.approx(math.radians(-67.0 - FLAT_RESTART_STEPS * FLAT_STEP_DEG), abs=1e-9)
+    assert d == pytest.approx(_stop(world, finger, psi).d, abs=SEAT_TOL_MM)
+    seats = []
+    for start, first in ((psi0, 1), (psi, turn)):
+        found, lines = _walk(world, finger, start, first)
+        assert found is not None
+        n = face_normal(found[1], found[2], lines[max(lines)].normal)
+        assert math.atan2(n[1], n[0]) == pytest.approx(truth, abs=5e-3)
+        seats.append(len(lines))
+    assert seats[1] <= seats[0] - 3
+    # one roll about the nominal normal leaves less than a step to skip: the nearest stop, as before
+    near = _felt_stop(SimpleNamespace(probes=[], touches=touches[:1]), "left", psi0, finger.pad.length_mm,
+                      np.array(CONFIG.workspace.center_mm))
+    assert near[0] == pytest.approx(psi0, abs=1e-9) and near[2] == 1
+
+
 def test_a_seat_on_a_corner_under_the_pads_middle_lowers_the_shorter_part():
     """Block 8 of ``bench_explore --finite 10 --anywhere --classes line --config
     config/jaw-p.yaml --seed 11`` (development): seated, the left pad's distal end rests on
