@@ -860,7 +860,8 @@ def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = fr
     """The first of the ``felt`` touches that rolled on a curved part of the boundary, or
     None: a flat press whose scan (the pad turning toward a seat, 20 lines over up to 60°)
     :func:`feel` accepts as a roll (its pad lines a smooth curve's tangents, its radius of
-    curvature clear of a corner's, its contacts on the pad's face). Short rolling touches
+    curvature clear of a corner's, its contacts on the pad's face), or does once the lines
+    past the pad's end are left out (:func:`on_pad_face`). Short rolling touches
     beside a corner are not counted: at 4,096 ticks a pivot passed for radius 18.6 ± 4.2 mm
     (tests/tools/test_demo_block_corner.py). A finite
     object of a curved class has straight segments only where it is closed, so once a curved
@@ -873,7 +874,9 @@ def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = fr
     the corners it crossed are a finite curved object's, and its straight faces are closing
     segments (P cubical 116 of bench_explore --finite 20 --anywhere --seed 139: the left pad's
     two rolls kept 5 smooth samples of 9, ρ 43.9 ± 0.07 mm, beside the curve's end corner,
-    and the right pad's presses on a closing segment were answered line). So do one finger's
+    and the right pad's presses on a closing segment were answered line); without such a
+    stretch, one on which its contact moved along a convex boundary (:func:`moving_stretch`:
+    a pivot keeps it fixed). So do one finger's
     presses whose seats stopped short of their supports by a bulge, twice on one face
     (tactile_jaw.flat.bulged_presses), as the last of them: P hyperbola 93 of --seed 191, the
     left pad's presses +0.26 mm on its curved part, its rolls on the corners, the right pad's
