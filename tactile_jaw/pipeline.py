@@ -40,6 +40,13 @@ from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
 #: rejected the cubical example's hump, ρ 14.5 mm measured 8.25 ± 3.77 mm)
 CORNER_RADIUS_MM = 1.0
 CORNER_SIGMAS = 2.0
+#: a stretch that no usable touch measured (:func:`moving_stretch`, :func:`on_pad_face`) shows
+#: a curved part only when its radius of curvature is at least this many of its deviations:
+#: beside a corner coarse encoders made pivots pass for 18.6 ± 4.2 mm (4.4 σ; a roll of the
+#: block in tests/tools/test_demo_block_corner.py) and 11.6 ± 5.1 mm (the scan of X line 8 of
+#: bench_explore --finite 20 --anywhere --seed 313 --classes line, its pad's end cut off); the
+#: curves those rules exist for measured 15.7 ± 0.31 mm (50 σ) and 27–96 ± 0.3 mm
+MOVED_SIGMAS = 10.0
 #: a roll judged a corner whose radius could, within CORNER_SIGMAS σ_ρ, be one a wider roll
 #: would not judge a corner (:func:`corner_in_doubt`) may be boundary bent tightly (an
 #: X-series jaw's 18° roll on an ellipse's end, ρ = b²/a = 6.8 mm, measured 5.2 ± 4.1 mm; one
@@ -796,13 +803,17 @@ def slid_end(lines: kin.PadLine, fit: EnvelopeFit) -> tuple[str, float, int] | N
     10 --anywhere --classes line --config config/jaw-p.yaml --seed 11``: ρ 13.5 ± 0.014 and
     20.3 ± 0.014 mm, the proximal end on one line within 0.2 µm), which was taken for two
     touches of a curve: no class fit them, and no flat press followed."""
-    sigma = np.asarray(fit.line_sigma, dtype=float)
+    return sliding_end(lines.at(np.asarray(fit.contacts.order)), fit.line_sigma)
+
+
+def sliding_end(lines: kin.PadLine, sigma) -> tuple[str, float, int] | None:
+    """:func:`slid_end` of pad ``lines`` (ψ order) of deviations ``sigma`` (mm, the same order)."""
+    sigma = np.asarray(sigma, dtype=float)
     n = sigma.size
     if n < 4 or not np.all(np.isfinite(sigma)) or np.any(sigma <= 0.0) or np.max(sigma) > SLIDE_MAX_SIGMA_MM:
         return None
-    order = np.asarray(fit.contacts.order)
     for name in ("proximal", "distal"):
-        chi2 = float(np.sum((kin.straight_line(np.asarray(getattr(lines, name), dtype=float)[order]).v / sigma) ** 2))
+        chi2 = float(np.sum((kin.straight_line(np.asarray(getattr(lines, name), dtype=float)).v / sigma) ** 2))
         if chi2 <= chi2_limit(SMOOTH_ALPHA, n - 2):
             return name, chi2, n - 2
     return None
@@ -849,7 +860,8 @@ def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = fr
     """The first of the ``felt`` touches that rolled on a curved part of the boundary, or
     None: a flat press whose scan (the pad turning toward a seat, 20 lines over up to 60°)
     :func:`feel` accepts as a roll (its pad lines a smooth curve's tangents, its radius of
-    curvature clear of a corner's, its contacts on the pad's face). Short rolling touches
+    curvature clear of a corner's, its contacts on the pad's face), or does once the lines
+    past the pad's end are left out (:func:`on_pad_face`). Short rolling touches
     beside a corner are not counted: at 4,096 ticks a pivot passed for radius 18.6 ± 4.2 mm
     (tests/tools/test_demo_block_corner.py). A finite
     object of a curved class has straight segments only where it is closed, so once a curved
@@ -862,7 +874,9 @@ def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = fr
     the corners it crossed are a finite curved object's, and its straight faces are closing
     segments (P cubical 116 of bench_explore --finite 20 --anywhere --seed 139: the left pad's
     two rolls kept 5 smooth samples of 9, ρ 43.9 ± 0.07 mm, beside the curve's end corner,
-    and the right pad's presses on a closing segment were answered line). So do one finger's
+    and the right pad's presses on a closing segment were answered line); without such a
+    stretch, one on which its contact moved along a convex boundary (:func:`moving_stretch`:
+    a pivot keeps it fixed). So do one finger's
     presses whose seats stopped short of their supports by a bulge, twice on one face
     (tactile_jaw.flat.bulged_presses), as the last of them: P hyperbola 93 of --seed 191, the
     left pad's presses +0.26 mm on its curved part, its rolls on the corners, the right pad's
@@ -873,16 +887,18 @@ def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = fr
         if id(t) in checked:
             continue
         if not isinstance(t.touch, FlatResult):  # a usable roll beside a corner can be a pivot at 4,096 ticks
-            stretch = curved_stretch(config, t) if t.curve_at is not None else None
+            stretch = (curved_stretch(config, t) if t.curve_at is not None
+                       else moving_stretch(config, t) if t.off_curve else None)
             if stretch is not None:
                 return stretch
             continue
         scans = [s for s, role in zip(t.touch.samples, t.touch.roles) if role == "scan"]
         if len(scans) < MIN_SAMPLES_PER_TOUCH:
             continue
-        roll = feel(config, TouchResult(t.finger, t.touch.touch, float(np.mean([s.psi for s in scans])), scans,
-                                        outcome="ok"), len(scans))
-        if roll.problem is None:
+        roll = on_pad_face(config, feel(config, TouchResult(t.finger, t.touch.touch,
+                                                            float(np.mean([s.psi for s in scans])), scans,
+                                                            outcome="ok"), len(scans)))
+        if roll is not None:
             return roll
     presses = bulged_presses(felt)
     return None if presses is None else presses[-1]
@@ -897,6 +913,79 @@ def curved_stretch(config, felt: FeltTouch) -> FeltTouch | None:
     touch = replace(felt.touch, outcome="ok") if felt.touch.outcome == "rejected" else felt.touch
     found = _felt_run(config, touch)
     return None if found is None else found[2]
+
+
+def moving_stretch(config, felt: FeltTouch) -> FeltTouch | None:
+    """The stretch of a roll ``felt`` off the curved part on which its contact still moved
+    along a convex boundary, felt alone (:func:`feel`, untrimmed: its envelope may still fail
+    the smoothness test), or None: the longest run of at least ``CURVE_HINT_SAMPLES``
+    consecutive pad lines (ψ order), each with its two neighbours touching a circle —
+    d_i = n_i·c − ρ solved exactly, σ_ρ from the lines' deviations — of radius clear of a
+    corner's, ρ ≥ ``CORNER_RADIUS_MM`` and ≥ ``MOVED_SIGMAS`` σ_ρ, at a contact on the pad's
+    face (``EDGE_MARGIN_MM`` from its ends), and whose pad ends slid along no straight line
+    (:func:`sliding_end`); the neighbours at the run's ends are left out (a line through the
+    end corner beside two on the curve passes too: 70 ± 0.4 mm on hyperbola 45 below, and
+    the envelope fit with it placed a contact 2.3 mm past that corner); a touch the exploration marked ``rejected`` is felt as taken
+    (:func:`curved_stretch`). A pivot keeps the contact fixed (ρ ≈ 0), a roll across a closing
+    segment changes pivots between two lines (two windows straddle the change), a pad end
+    sliding on a face is the pad end's path: a block shows no such run. With fine encoders
+    a curve whose ρ changes fast is no polynomial envelope within the lines' µm
+    (:func:`_felt_run` finds no passing run): calibrated P hyperbola 45 of bench_explore
+    --finite 10 --anywhere --calibrate --seed 433, whose left roll kept 8 lines on the branch
+    (ρ of its lines' triples 27–96 ± 0.3 mm) before its end corner; with coarse ones σ_ρ of three lines
+    is tens of mm and no run qualifies."""
+    lines, fit = felt.lines, felt.fit
+    if lines is None or fit is None or felt.slid is not None:
+        return None
+    order = np.asarray(fit.contacts.order)
+    normal, d = np.asarray(lines.normal, dtype=float)[order], np.asarray(lines.d, dtype=float)[order]
+    sigma = np.asarray(fit.line_sigma, dtype=float)
+    moved = np.zeros(d.size, dtype=bool)  # a window's middle line: the contact there moved
+    length = config.finger(felt.finger).pad.length_mm
+    for k in range(1, d.size - 1):
+        part = slice(k - 1, k + 2)
+        a = np.column_stack((normal[part], -np.ones(3))) / sigma[part, None]
+        if abs(np.linalg.det(a)) < 1e-12:
+            continue
+        c = np.linalg.solve(a, d[part] / sigma[part])
+        sigma_rho = math.sqrt(max(float(np.linalg.inv(a.T @ a)[2, 2]), 0.0))
+        u = float(lines.at(order[k]).pad_coordinate(c[:2] - c[2] * normal[k]))
+        moved[k] = (c[2] >= max(CORNER_RADIUS_MM, MOVED_SIGMAS * sigma_rho)
+                    and EDGE_MARGIN_MM <= u <= length - EDGE_MARGIN_MM)
+    run = longest_run(moved)
+    if run.size < CURVE_HINT_SAMPLES:
+        return None
+    taken = order[run]
+    if sliding_end(lines.at(taken), sigma[run]) is not None:
+        return None
+    touch = replace(felt.touch, outcome="ok") if felt.touch.outcome == "rejected" else felt.touch
+    stretch = feel(config, _subset(touch, taken), taken.size, trim=False)
+    return stretch if stretch.fit is not None else None
+
+
+def on_pad_face(config, felt: FeltTouch) -> FeltTouch | None:
+    """A flat press's scan (``felt``, felt as a roll) that rolled on a curved part: as felt
+    when usable, else felt again without the samples at either end of its ψ range whose
+    contact lies off the pad's face (``EDGE_MARGIN_MM`` from its ends) and one beside each cut
+    (the contact ran off the pad within that step; past it the pad end rests on the object),
+    as often as that leaves fewer, when it is then usable and its radius of curvature at least
+    ``MOVED_SIGMAS`` of its deviation; else None. A pad turning toward a
+    seat on a curved part rolls on it until the contact reaches the pad's end: mixed jaw
+    (XM430 base, PH42 distal) hyperbola 18 of bench_explore --finite 4 --anywhere --seed
+    191, the left press's scan rolled 50° on the branch (ρ 15.7 ± 0.3 mm, 18 of 24 lines)
+    before its proximal end met it, and the right pad's presses on the closing segment were
+    answered line."""
+    length = config.finger(felt.finger).pad.length_mm
+    while felt.problem is not None and felt.pad_u is not None and felt.contacts is not None:
+        on = (felt.pad_u >= EDGE_MARGIN_MM) & (felt.pad_u <= length - EDGE_MARGIN_MM)
+        if np.all(on) or not np.any(on):
+            return None
+        first, last = int(np.argmax(on)), on.size - int(np.argmax(on[::-1]))
+        keep = np.asarray(felt.contacts.order)[first + (first > 0) : last - (last < on.size)]
+        if keep.size < MIN_SAMPLES_PER_TOUCH or keep.size == on.size:
+            return None
+        felt = feel(config, _subset(felt.touch, keep), keep.size, trim=False)
+    return felt if felt.problem is None and felt.fit.rho >= MOVED_SIGMAS * felt.fit.sigma_rho else None
 
 
 def curve_refusal(curve: FeltTouch) -> Recognition:

@@ -1,0 +1,118 @@
+"""What one finger felt can contradict a straight boundary when no touch of it was usable: a
+roll whose contact moved along the object over a stretch (tactile_jaw.pipeline.moving_stretch)
+and a flat press whose scan rolled on a curve until the contact ran off the pad's end
+(tactile_jaw.pipeline.on_pad_face). Either makes the faces the other pad pressed closing
+segments (tactile_jaw.pipeline.curved_part), not a line. The logged readings of two runs that
+answered `line` for a hyperbola; exact rolls about a block's corners feel neither."""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hand_driver import kinematics as kin
+from hand_driver.config import load_config
+from hand_driver.flat_press import FlatResult
+from hand_driver.motion import TouchResult
+from recognizer.scene import load_scene
+from tactile_jaw.pipeline import curve_refusal, curved_part, feel, logged_samples, moving_stretch
+from tests.tactile_jaw.test_envelope_order import FINE, roll
+from tests.tactile_jaw.test_flat import _face, _flat
+
+DATA = Path(__file__).parent / "data"
+CLASSES = ["line", "circle", "ellipse", "parabola", "hyperbola", "cubical_parabola", "semicubical_parabola"]
+
+
+def _hyperbola(a: float, theta: float, x: float, y: float):
+    """The scene object: a rectangular hyperbola over t in −1.3..1.3, closed by its chord."""
+    return load_scene({"classes": CLASSES, "object": {"class": "hyperbola", "extent": [-1.3, 1.3],
+                                                      "params": {"a": a, "b": a},
+                                                      "pose": {"theta": theta, "x": x, "y": y}}}).object
+
+
+def _miss(obj, x, y) -> float:
+    """The farthest of the points (x, y) from the object's curve (mm)."""
+    px, py = obj.pose.apply(*obj.curve().point(np.linspace(*obj.extent, 200001)))
+    return max(float(np.min(np.hypot(px - a, py - b))) for a, b in zip(x, y))
+
+
+def _logged(config, raw: dict, kind=TouchResult, **extra):
+    samples = logged_samples(config, raw["finger"], raw["ticks"], raw["psi"])
+    return feel(config, kind(raw["finger"], raw["touch"], raw["psi_center"], samples, **extra), 9)
+
+
+def test_a_roll_whose_contact_moved_on_the_branch_makes_the_faces_closing_segments():
+    """P hyperbola 45 (a = b = 9.9 mm): the left pad's roll kept 8 lines on the branch, where ρ
+    grows from 24 to 130 mm, then turned about the end corner; its lines' few-µm errors (the
+    truth jaw's backlash and zero errors) leave no run of them a polynomial envelope within
+    their stated noise, so the roll showed no curve (curve_at None) and the right pad's three
+    presses on the chord were answered line. Every three consecutive lines on the branch touch
+    a circle of radius 27–96 ± 0.3 mm: the contact moved, the object is no block."""
+    config = load_config("config/jaw-p.yaml")
+    raw = json.loads((DATA / "p_hyperbola_45_rolls.json").read_text())["rolls"]
+    branch, corner = (_logged(config, r, outcome="ok") for r in raw)
+    assert branch.off_curve and branch.curve_at is None, branch.problem  # the stretch rule of session 16 finds none
+    branch.touch.outcome = corner.touch.outcome = "rejected"  # as the exploration marks them: felt as taken
+    stretch = moving_stretch(config, branch)
+    assert stretch is not None and len(stretch.contacts.x) >= 5
+    obj = _hyperbola(9.913058884762528, -0.9380753485688964, 88.53656810149093, 21.238957381245562)
+    # on the branch: a cubic envelope over ρ 27–96 mm places its contacts up to 0.2 mm along the pads
+    assert _miss(obj, stretch.contacts.x, stretch.contacts.y) < 0.3
+    assert 20.0 < stretch.fit.rho < 130.0 and stretch.fit.rho > 100.0 * stretch.fit.sigma_rho
+    assert corner.corner is not None and moving_stretch(config, corner) is None  # a pivot: the contact stayed
+    chord = [_flat(_face(5.0, math.radians(36.25), x0=86.5, x1=113.7), "right") for _ in range(3)]
+    found = curved_part(config, [*chord, corner, branch])
+    assert found is not None and found.finger == "left" and found.touch.touch == 4
+    assert "closing segments, not a line" in curve_refusal(found).reason
+
+
+def test_a_press_scan_that_rolled_on_the_branch_until_the_pad_end_is_a_curve():
+    """Mixed jaw (XM430 base joint, PH42 distal), hyperbola 18 (a = b = 12.9 mm): the left
+    pad's press turned 69° without seating; its scan rolled on the branch over its first 18
+    lines, then the contact ran off the pad's proximal end (contacts −3 mm along it). The
+    whole scan failed on that pad end and showed no curve; without the lines past the pad's
+    end (and one beside the cut) it is a usable roll of the branch, ρ ≈ 16 mm."""
+    p = load_config("config/jaw-p.yaml")
+    left, right = p.finger("left"), p.finger("right")
+    mixed = replace(p, fingers=tuple(replace(f, joints=(replace(f.joints[0], model="XM430-W350", zero_tick=2048.0),
+                                                        f.joints[1])) for f in (left, right)))
+    raw = json.loads((DATA / "mixed_hyperbola_18_press.json").read_text())["press"]
+    press = _logged(mixed, raw, FlatResult, outcome=raw["outcome"], roles=raw["roles"])
+    whole = feel(mixed, TouchResult("left", 6, raw["psi_center"], press.touch.samples, outcome="ok"), 24)
+    assert whole.problem is not None and "pad end" in whole.problem and np.min(whole.pad_u) < 0.0
+    found = curved_part(mixed, [press])
+    assert found is not None and found.problem is None and not isinstance(found.touch, FlatResult)
+    obj = _hyperbola(12.907617658694114, -2.1132519479393075, 101.13491685026267, 4.130128557351055)
+    assert _miss(obj, found.contacts.x, found.contacts.y) < 0.5
+    assert 10.0 < found.fit.rho < 25.0 and len(found.contacts.x) >= 12
+    assert np.min(found.pad_u) > 1.0
+
+
+def _block_rolls(config, ticks: int, rng):
+    """The left pad's 18° rolls of 9 lines on a block: about one corner, and across the straight
+    segment between two, each joint rounded to a tick of ``ticks`` per turn (the jaw
+    ``config``'s resolution, whose noise its fit states)."""
+    psis = np.radians(-97.5 + np.linspace(-9.0, 9.0, 9))
+    a, b = np.array([96.0, -2.4]), np.array([112.0, -6.0])
+    for contact in (lambda psi: a, lambda psi: min((a, b), key=lambda p: math.cos(psi) * p[0] + math.sin(psi) * p[1])):
+        q = roll(contact, psis, ticks, rng)
+        left = config.finger("left")
+        samples = logged_samples(config, "left", np.rint(kin.angles_to_ticks(left.joints, q)), psis)
+        yield feel(config, TouchResult("left", 0, float(np.mean(psis)), samples, outcome="ok"), 9)
+
+
+@pytest.mark.parametrize("jaw, ticks", [("config/jaw-p.yaml", FINE), ("config/jaw.yaml", 4096)], ids=["P", "X"])
+def test_rolls_about_a_blocks_corners_show_no_moving_contact(jaw, ticks):
+    """A block's rolls: about one corner (the contact stays put), and across a straight
+    segment between two corners (the pivot changes between two lines, two triples straddle
+    it): no stretch of a moved contact, on either jaw."""
+    config = load_config(jaw)
+    for seed in range(5):
+        for felt in _block_rolls(config, ticks, np.random.default_rng(seed)):
+            assert felt.off_curve, felt.problem
+            assert moving_stretch(config, felt) is None
