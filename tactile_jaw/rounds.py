@@ -87,7 +87,7 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None, 
             raise kin.Unreachable(f"finger {finger}: no pad line of psi={math.degrees(a):.1f} deg within the joint "
                                   f"limits keeps clear of the object")
         via.append((a, d))
-    yield from move_line(jaw, finger, *via[-1], via=via[:-1])
+    yield from move_line(jaw, finger, *via[-1], via=via[:-1], paced=True)
 
 
 def transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float,
