@@ -40,6 +40,7 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw, Motion
+from hand_driver.units import velocity_to_rad_s
 
 #: between the samples of a rolling touch the pad backs off this far (mm) before it turns;
 #: the turn about the last contact estimate opens a gap of only ~R·Δψ²/2 (< 0.1 mm for
@@ -120,17 +121,49 @@ def move_to(jaw: Jaw, finger: str, q_goal, max_cycles: int = 200) -> Motion:
     return False
 
 
+def joint_cycle_turns(jaw: Jaw, finger: str) -> np.ndarray | None:
+    """What each joint of ``finger`` turns in one cycle (rad) at the config's
+    ``motion.profile_velocity`` (in each joint's model's unit); None when it is 0 (no limit)."""
+    raw = jaw.config.motion.profile_velocity
+    if raw <= 0:
+        return None
+    joints = jaw.config.finger(finger).joints
+    return np.array([float(velocity_to_rad_s(raw, j.spec)) for j in joints]) * jaw.period_s
+
+
+#: a paced :func:`move_line` splits its steps at most this many times over (each time as finely
+#: as its fastest joint asks, the inverse kinematics being nonlinear)
+PACE_ROUNDS = 4
+
+
+def _line_goals(jaw: Jaw, finger: str, q, center, psi0: float, shift0: float, turn: float, shift1: float,
+                steps: int) -> list[np.ndarray]:
+    """The joint goals of ``steps`` equal steps from the pad line (ψ0, shift0) to (ψ0 + turn,
+    shift1), shifts measured from ``center`` (:func:`move_line`), each nearest the one before."""
+    goals = []
+    for k in range(1, steps + 1):
+        a = psi0 + turn * k / steps
+        q = jaw.solve(finger, a, shift0 + (shift1 - shift0) * k / steps + float(kin.unit(a) @ center), q)
+        goals.append(q)
+    return goals
+
+
 def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tuple[float, float]] = (),
-              shift_mm_s: float | None = None, turn_deg_s: float | None = None) -> Motion:
+              shift_mm_s: float | None = None, turn_deg_s: float | None = None, paced: bool = False) -> Motion:
     """Put the pad on the line (ψ, d) by a coordinated Cartesian move, through the pad
     lines ``via`` (ψ, d) in turn without stopping: the pad line is interpolated from where
     it is, turning about the pad's middle at ``turn_deg_s`` and shifting at ``shift_mm_s``
     (default: the config's ``motion.turn_speed_deg_s``, ``motion.move_speed_mm_s``) per
     second of robot time (a straight joint-space move would sweep the pad off the path
-    between the two lines); then :func:`move_to` the final goal. Returns True when reached."""
+    between the two lines); then :func:`move_to` the final goal. ``paced``: the steps are
+    split further until no joint's goal moves more in a cycle than its servo turns at the
+    profile velocity (:func:`joint_cycle_turns`): a goal that outruns its servo is reached on
+    the servo's own profile, the joints turning alike, and the pad leaves the path (slides
+    along its normal). Returns True when reached."""
     m = jaw.config.motion
     max_turn = math.radians(turn_deg_s if turn_deg_s is not None else m.turn_speed_deg_s) * jaw.period_s
     max_shift = (shift_mm_s if shift_mm_s is not None else m.move_speed_mm_s) * jaw.period_s
+    most = joint_cycle_turns(jaw, finger) if paced else None
     line = jaw.pad_line(jaw.last_state, finger)
     center = 0.5 * (line.proximal + line.distal)
     psi0 = float(line.psi)
@@ -141,11 +174,17 @@ def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tupl
         turn = math.remainder(psi1 - psi0, 2 * math.pi)
         shift1 = d1 - float(kin.unit(psi1) @ center)
         steps = max(1, math.ceil(max(abs(turn) / max_turn, abs(shift1 - shift0) / max_shift)))
-        for k in range(1, steps + 1):
-            a = psi0 + turn * k / steps
-            q = jaw.solve(finger, a, shift0 + (shift1 - shift0) * k / steps + float(kin.unit(a) @ center), q)
+        goals = _line_goals(jaw, finger, q, center, psi0, shift0, turn, shift1, steps)
+        for _ in range(PACE_ROUNDS if most is not None else 0):
+            need = float(np.max(np.abs(np.diff(np.vstack([q, *goals]), axis=0)) / most))
+            if need <= 1.0:
+                break
+            steps = math.ceil(steps * need)
+            goals = _line_goals(jaw, finger, q, center, psi0, shift0, turn, shift1, steps)
+        for k, goal in enumerate(goals, start=1):
             if k < steps or i < len(lines) - 1:
-                yield q
+                yield goal
+        q = goals[-1]
         psi0, shift0 = psi0 + turn, shift1
     return (yield from move_to(jaw, finger, q))
 

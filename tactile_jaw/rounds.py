@@ -57,7 +57,11 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None, 
     such pose made every later transit of the finger fail and spent the touch budget.
     With ``hug`` (between rolling touches) the pad keeps only ``APPROACH_MARGIN_MM`` outside
     the tangent the felt lines predict where they interpolate (tactile_jaw.plan.hug_offset)
-    instead of going out to the edge there."""
+    instead of going out to the edge there. The turn is paced so that no joint's goal outruns
+    its servo (hand_driver.motion.move_line ``paced``): unpaced, a distal joint asked for more
+    than its profile velocity ran alike with the proximal one and the pad slid along its normal
+    back onto the object it had just rolled on, wedged there for every later touch (random P
+    cubical 109 of bench_explore --finite 20 --anywhere --seed 419)."""
     line = jaw.pad_line(jaw.last_state, finger)
     psi_from = float(line.psi)
     f = jaw.config.finger(finger)
@@ -87,7 +91,7 @@ def transit(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float, aim=None, 
             raise kin.Unreachable(f"finger {finger}: no pad line of psi={math.degrees(a):.1f} deg within the joint "
                                   f"limits keeps clear of the object")
         via.append((a, d))
-    yield from move_line(jaw, finger, *via[-1], via=via[:-1])
+    yield from move_line(jaw, finger, *via[-1], via=via[:-1], paced=True)
 
 
 def transit_or_problem(jaw: Jaw, finger: str, model: ObjectModel, psi_to: float,

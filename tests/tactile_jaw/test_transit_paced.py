@@ -1,0 +1,77 @@
+"""A transit's turn along the pad lines keeps clear of the object (tactile_jaw.rounds.transit):
+its Cartesian steps are paced so that no joint's goal outruns its servo's profile velocity
+(hand_driver.motion.move_line, ``paced``). Unpaced, the P-series right finger after a roll
+ending at ψ 121.5° beside a cubical's end asked its distal joint for ~2.2° a cycle per 1° of
+pad turn, beyond the 2.75° a cycle its servo turns: both joints ran at that speed, alike and
+opposite, the pad kept ψ and slid 10 mm along its normal back onto the object and stayed
+wedged there, so every later roll of that finger met "no contact" (random P cubical 109 of
+bench_explore --finite 20 --anywhere --seed 419: refused, no move named)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hand_driver import kinematics as kin
+from hand_driver.bus import JointBus
+from hand_driver.config import load_config
+from hand_driver.cycle import Jaw, LockstepClock, run_together
+from hand_driver.motion import joint_cycle_turns, move_to
+from hand_driver.sim.server import EmulatedBus
+from recognizer.curves import CURVES
+from recognizer.scene import load_scene
+from tactile_jaw.plan import ObjectModel, open_pose
+from tactile_jaw.rounds import transit
+
+CONFIG = load_config("config/jaw-p.yaml")
+PARAMS = {"a": 0.00100193324609733, "c": -0.5}
+EXTENT = (-21.44553284690972, 1.7871277372424768)
+POSE = {"theta": -3.009447528518562, "x": 94.40755315368767, "y": -36.32016640189216}
+SCENE = {"name": "cubical109", "classes": ["cubical_parabola"],
+         "object": {"class": "cubical_parabola", "params": PARAMS, "extent": list(EXTENT),
+                    "closure": [[EXTENT[1], -17.871277372424768], [EXTENT[0], -17.871277372424768]],
+                    "pose": POSE}}
+Q_AFTER_ROLL = np.radians([-25.88, 57.38])  # the right pad backed off its roll's end, normal 121.5°
+FELT_PSI = np.radians(np.arange(103.5, 121.6, 2.25))  # that roll's pad normals
+
+
+def _support(psi: np.ndarray) -> np.ndarray:
+    """The first pad line of each normal ψ that meets the exact curve (n(ψ)·p = d, min over p)."""
+    x, y = CURVES["cubical_parabola"](PARAMS).point(np.linspace(*EXTENT, 4001))
+    c, s = math.cos(POSE["theta"]), math.sin(POSE["theta"])
+    px, py = POSE["x"] + c * x - s * y, POSE["y"] + s * x + c * y
+    return np.min(np.cos(psi)[:, None] * px[None] + np.sin(psi)[:, None] * py[None], axis=1)
+
+
+def test_the_joints_are_paced_at_the_profile_velocity():
+    """2290 × 0.01 rev/min = 137.4 °/s, 20 ms a cycle: 2.75° a cycle for each P-series joint."""
+    with EmulatedBus(CONFIG, load_scene(SCENE), time_scale=0.0) as sim:
+        with JointBus(sim.port, CONFIG.bus.baudrate, CONFIG, retries=CONFIG.bus.retries, timeout_s=1.0) as bus:
+            jaw = Jaw(bus, CONFIG, None, clock=LockstepClock(sim))
+            turns = joint_cycle_turns(jaw, "right")
+    assert np.degrees(turns) == pytest.approx([2.748, 2.748], abs=1e-3)
+
+
+def test_the_turn_after_a_roll_does_not_slide_the_pad_back_onto_the_object(peak_current):
+    config = CONFIG
+    ticks = np.rint(kin.angles_to_ticks(config.joints, open_pose(config))).astype(int).tolist()
+    with EmulatedBus(config, load_scene(SCENE), time_scale=0.0, initial_ticks=ticks) as sim:
+        with JointBus(sim.port, config.bus.baudrate, config, retries=config.bus.retries, timeout_s=1.0) as bus:
+            bus.set_goal_current(config.motion.goal_current_ma)
+            bus.set_profile_raw(config.motion.profile_velocity, config.motion.profile_acceleration)
+            jaw = Jaw(bus, config, None, clock=LockstepClock(sim))
+            assert run_together(jaw, {"right": move_to(jaw, "right", Q_AFTER_ROLL)})["right"]
+            start = jaw.pad_line(jaw.last_state, "right")
+            assert math.degrees(float(start.psi)) == pytest.approx(121.5, abs=0.3)
+            assert (jaw.finger_current(jaw.last_state, "right") or 0.0) < config.motion.contact_current_ma
+            ws = config.workspace
+            model = ObjectModel(ws.center_mm, ws.radius_mm)
+            model.add(FELT_PSI, _support(FELT_PSI))
+            assert float(start.d) < model.tangent(float(start.psi))[0] - 2.0  # the premise: clear of it
+            motion, peak = peak_current(jaw, "right", transit(jaw, "right", model, math.radians(66.0), hug=True))
+            run_together(jaw, {"right": motion})
+            line = jaw.pad_line(jaw.last_state, "right")
+    assert peak[0] < config.motion.contact_current_ma  # never pressed on the object on the way
+    assert math.degrees(float(line.psi)) == pytest.approx(66.0, abs=0.5)
