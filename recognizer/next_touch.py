@@ -74,11 +74,22 @@ when its class gain is at least ``CLASS_GAIN_MIN`` nats or it shrinks the leader
 ``SHRINK_MIN`` while that σ is above ``REL_SIGMA_ENOUGH``; ``None`` when no place helps.
 Places: the leader's curve over its touched span widened by the span on each side (a closed
 curve all round; a semicubical parabola's also mirrored onto its other branch, the same t's
-of the other sign: the one stretch no other class has), no farther than the touches' extent
-from the nearest touch, inside
+of the other sign: the one stretch no other class has), no farther than the touches'
+extent from the nearest touch on a line, ``PLACE_EXTENTS`` extents on another open curve (a
+parabola's, hyperbola's or cubical's places also one to ``PLACE_EXTENTS`` spans out,
+``_far_span``, where a pad lands within ``_pad_span``'s two), inside
 ``options.reach`` when given (any object with ``contains(x, y, phi)``, phi the place's
 tangent in the touches' direction of travel: a hand-frame disk, recognizer.touches.Reach,
 or a robot's own reach, which depends on the orientation its pad must take there).
+A place beyond one extent, where the leader's curve is extrapolated, is suggested only
+while some rival at least ``LAND_WEIGHT_MIN`` likely is told from the leader by no place
+within one extent where the pad lands on it (expected χ² below ``FAR_SEPARATION``: a
+semicubical far out on a branch against a parabola, bench_wide seed 349 trial 11), only to
+tell classes apart (class gain at least ``CLASS_GAIN_MIN``) and only where the pad lands
+whichever likely class is true: never for the leader's parameters alone (bench_wide seed 5
+cubical trial 0, no rival: at two extents the pad landed 100 mm, 0.08 L, from where the
+leader's extrapolation put the place) nor for a rival a nearer place tells apart (seed 179
+parabola trial 6: the place across the vertex decides).
 """
 
 from __future__ import annotations
@@ -124,6 +135,14 @@ LAND_FIRST = 16
 (then batches as large as all checked so far)."""
 SEPARATION_MIN = 0.1
 """an expected χ² separation below this (1.2 % of a pair's entropy) is not checked the other way round."""
+PLACE_EXTENTS = 3.0
+"""how far places are proposed, in touched spans beyond the touches and in extents from the
+nearest touch (an open curve; beyond one extent, to tell classes apart only): far out on a
+semicubical's branch it and a parabola differ most there, and toward the cusp no pad has
+room to roll (docs/benchmarks.md, sessions 28 and 29)."""
+FAR_SEPARATION = 1.0
+"""the expected χ² separation (one measurement's noise) a rival must lack at every place within
+one extent where the pad lands on it before places beyond tell it from the leader."""
 
 
 def _wrap_half(a):
@@ -180,6 +199,21 @@ def _t_span(c: Candidate, widen: float = 1.0, n: int = N_PLACES) -> np.ndarray:
     lo, hi = float(t.min()), float(t.max())
     w = max(hi - lo, 1e-9)
     return np.linspace(lo - widen * w, hi + widen * w, n)
+
+
+def _far_span(c: Candidate, n: int = N_PLACES // 4) -> np.ndarray:
+    """t's of an open curve one to ``PLACE_EXTENTS`` touched spans beyond its touches, n each
+    side: none on a closed curve (``_t_span`` is all round), a line (whose places stay within
+    one extent: its rivals are one alternative, the landing checks run in batches) or a
+    semicubical parabola, whose other branch, which no rival has, tells it apart (bench_wide
+    seed 149 semicubical 1)."""
+    if CURVES[c.cls].t_period is not None or c.cls in ("line", "semicubical_parabola"):
+        return np.zeros(0)
+    t = np.asarray(c.t, float)
+    lo, hi = float(t.min()), float(t.max())
+    w = max(hi - lo, 1e-9)
+    step = np.linspace(w, PLACE_EXTENTS * w, n + 1)[1:]
+    return np.concatenate((lo - step, hi + step))
 
 
 def _pad_span(c: Candidate, n: int = N_DENSE) -> np.ndarray:
@@ -511,15 +545,17 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
 
     # places on the leader's curve (a semicubical's other branch too, as far from the cusp)
     curve = leader.curve()
-    t = _t_span(leader)
+    t = np.concatenate((_t_span(leader), _far_span(leader)))
     if curve.name == "semicubical_parabola":
         t = np.concatenate((t, -t))
     px, py = leader.pose.apply(*curve.point(t))
     phi = np.asarray(curve.tangent_angle(t), float) + leader.pose.theta
     keep = np.isfinite(px) & np.isfinite(py) & np.isfinite(phi)
+    far = np.zeros(px.size, bool)  # beyond one extent of the touches: for telling classes apart only
     if curve.t_period is None:
         near = np.min(np.hypot(px[:, None] - d.x[None, :], py[:, None] - d.y[None, :]), axis=1)
-        keep &= near <= d.scale
+        far = near > d.scale
+        keep &= near <= (d.scale if curve.name == "line" else PLACE_EXTENTS * d.scale)
     flip = np.pi if travel_direction(curve, leader.pose, leader.t, d.phi) < 0 else 0.0  # to the direction of travel
     if reach is not None:  # the place's tangent in the touches' direction of travel: a robot's reach may depend on it
         keep &= reach.contains(px, py, phi + flip)
@@ -528,10 +564,10 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         keep[keep] = lands(leader, px[keep], py[keep], phi[keep] + flip)
     if not keep.any():
         return None
-    px, py, phi = px[keep], py[keep], phi[keep]
+    px, py, phi, far = px[keep], py[keep], phi[keep], far[keep]
     nx, ny = -np.sin(phi), np.cos(phi)
     W = _whitener(noise, samples, roll_cov(d))
-    span_lead = _t_span(leader, 1.0, N_DENSE)
+    span_lead = np.concatenate((_t_span(leader, 1.0, N_DENSE), _far_span(leader, N_DENSE // 2)))
     mean_lead, P_lead, G_lead, _, _ = _prediction(leader, span_lead, px, py, nx, ny, phi, W, d.scale)
     own = np.all(np.isfinite(mean_lead), axis=1)  # the leader's κ, κ_s defined there
     # parameters: entropy lost, and the shrink of the largest relative σ (whitened: R = I)
@@ -558,6 +594,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     best_sep = {}
     landed = w_lead * seat_lead
     line_lead = leader.cls == "line"
+    untold = False  # some likely rival no place within one extent tells from the leader
     curved = []  # a line leader's rivals: (c, weight, clear of a cusp, seats, resolved), landing checked below
     for c, wc in others:
         mean_c, P_c, _, ok_c, posed_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, d.scale, roll)
@@ -587,6 +624,9 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
             if wc >= LAND_WEIGHT_MIN:
                 on_all &= on_c
             landed += wc * on_c * seats
+            near_c = ~far & on_c
+            if wc >= LAND_WEIGHT_MIN and not (near_c.any() and float(np.max(chi2[near_c])) >= FAR_SEPARATION):
+                untold = True  # no place within one extent tells this likely rival from the leader
             ig_class += (w_lead + wc) * _entropy2(w_lead / (w_lead + wc)) * resolved
         best_sep[c.cls] = chi2
     w_rivals = sum(wc for _, wc in others)
@@ -621,6 +661,9 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         ig_class *= landed / (w_lead + w_rivals)
     gain = ig_class + w_lead * seat_lead * np.where(np.isfinite(ig_param), ig_param, 0.0)
     helps = (ig_class >= CLASS_GAIN_MIN) | ((shrink >= SHRINK_MIN) & (rel_now >= REL_SIGMA_ENOUGH))
+    # beyond one extent, where the leader's extrapolation drifts: only a place that tells
+    # likely classes apart and where the pad lands whichever likely class is true
+    helps &= ~far | ((ig_class >= CLASS_GAIN_MIN) & on_all & untold)
     if not helps.any():
         return None
     # a lost touch tells nothing: where it lands for every likely class, but on a semicubical

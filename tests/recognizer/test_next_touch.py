@@ -555,3 +555,34 @@ def test_a_line_leaders_landing_checks_in_batches_choose_as_checking_everywhere(
     if rec.next_touch != full.next_touch:  # a tie in gain, broken by rounding (array sizes differ):
         # seen in the full suite on seed 293 trial 6, gains 0.33251723931427 and …39059
         assert rec.next_touch["gain"] == pytest.approx(full.next_touch["gain"], rel=1e-9, abs=0)
+
+
+def test_a_semicubical_far_out_on_a_branch_is_told_from_the_parabola_farther_out():
+    """bench_wide --set wide seed 349 (development), semicubical trial 11 (far out on a
+    branch, L 25.9 mm, touches at t −1.35 … −0.72; the random touches drawn as this helper
+    draws them), answered parabola from 3 touches, the semicubical rival 9 % likely: toward
+    the cusp no place leaves a pad room to roll (docs/benchmarks.md, session 28), and within
+    one touches' extent the two differ by an expected χ² of 0.75 at most where the pad lands
+    on the semicubical; the suggestions went there and the answer stayed parabola (ellipse
+    with the bench's own draws). A likely
+    rival no place within one extent tells from the leader (``FAR_SEPARATION``) opens places
+    up to ``PLACE_EXTENTS`` extents out where the pad lands for every likely class (χ² 2.0
+    there): the suggestion lands on the true curve where it was sent, farther out along the
+    branch, and the answer is the semicubical (its own next suggestion, on its other branch,
+    is lost, which ends the suggestions as in the bench)."""
+    from tools import bench_wide as bw
+
+    shape, ts, (lo, hi, clear), rs, direction, left, touches, nm, rec = _wide_case_after_random(
+        "semicubical_parabola", 11, 349)
+    assert rec.cls == "parabola"
+    nt = rec.next_touch
+    first = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach", left, direction)
+    assert first.t is not None and first.miss_mm < 0.01 * shape.size, first
+    tl = list(touches) + [bw._extra_touch(shape, first.t, rs, direction)]
+    rec, _, _ = bw._recognize(tl, nm)
+    got = bw._send(shape, rec.next_touch["x"], rec.next_touch["y"], rec.next_touch["phi"], lo, hi, clear, "approach",
+                   left, direction) if rec.next_touch else None
+    if got is not None and got.t is not None:
+        rec, _, _ = bw._recognize(tl + [bw._extra_touch(shape, got.t, rs, direction)], nm)
+    assert rec.cls == "semicubical_parabola", (rec.cls, first)
+    assert first.t < min(ts) - 0.5 * (max(ts) - min(ts)), first  # beyond the farthest touch by half their span
