@@ -131,19 +131,20 @@ def joint_cycle_turns(jaw: Jaw, finger: str) -> np.ndarray | None:
     return np.array([float(velocity_to_rad_s(raw, j.spec)) for j in joints]) * jaw.period_s
 
 
-#: a paced :func:`move_line` splits its steps at most this many times over (each time as finely
-#: as its fastest joint asks, the inverse kinematics being nonlinear)
+#: a paced :func:`move_line` splits its steps at most this many times over (each step as finely
+#: as its fastest joint asks there, the inverse kinematics being nonlinear)
 PACE_ROUNDS = 4
 
 
 def _line_goals(jaw: Jaw, finger: str, q, center, psi0: float, shift0: float, turn: float, shift1: float,
-                steps: int) -> list[np.ndarray]:
-    """The joint goals of ``steps`` equal steps from the pad line (ψ0, shift0) to (ψ0 + turn,
-    shift1), shifts measured from ``center`` (:func:`move_line`), each nearest the one before."""
+                fractions: np.ndarray) -> list[np.ndarray]:
+    """The joint goals at ``fractions`` (increasing, in (0, 1]) of the way from the pad line
+    (ψ0, shift0) to (ψ0 + turn, shift1), shifts measured from ``center`` (:func:`move_line`),
+    each nearest the one before."""
     goals = []
-    for k in range(1, steps + 1):
-        a = psi0 + turn * k / steps
-        q = jaw.solve(finger, a, shift0 + (shift1 - shift0) * k / steps + float(kin.unit(a) @ center), q)
+    for f in fractions:
+        a = psi0 + turn * f
+        q = jaw.solve(finger, a, shift0 + (shift1 - shift0) * f + float(kin.unit(a) @ center), q)
         goals.append(q)
     return goals
 
@@ -155,9 +156,9 @@ def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tupl
     it is, turning about the pad's middle at ``turn_deg_s`` and shifting at ``shift_mm_s``
     (default: the config's ``motion.turn_speed_deg_s``, ``motion.move_speed_mm_s``) per
     second of robot time (a straight joint-space move would sweep the pad off the path
-    between the two lines); then :func:`move_to` the final goal. ``paced``: the steps are
-    split further until no joint's goal moves more in a cycle than its servo turns at the
-    profile velocity (:func:`joint_cycle_turns`): a goal that outruns its servo is reached on
+    between the two lines); then :func:`move_to` the final goal. ``paced``: each step is
+    split further, where it must be, until no joint's goal moves more in a cycle than its servo
+    turns at the profile velocity (:func:`joint_cycle_turns`): a goal that outruns its servo is reached on
     the servo's own profile, the joints turning alike, and the pad leaves the path (slides
     along its normal). Returns True when reached."""
     m = jaw.config.motion
@@ -174,13 +175,17 @@ def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tupl
         turn = math.remainder(psi1 - psi0, 2 * math.pi)
         shift1 = d1 - float(kin.unit(psi1) @ center)
         steps = max(1, math.ceil(max(abs(turn) / max_turn, abs(shift1 - shift0) / max_shift)))
-        goals = _line_goals(jaw, finger, q, center, psi0, shift0, turn, shift1, steps)
+        fractions = np.arange(1, steps + 1) / steps
+        goals = _line_goals(jaw, finger, q, center, psi0, shift0, turn, shift1, fractions)
         for _ in range(PACE_ROUNDS if most is not None else 0):
-            need = float(np.max(np.abs(np.diff(np.vstack([q, *goals]), axis=0)) / most))
-            if need <= 1.0:
+            need = np.max(np.abs(np.diff(np.vstack([q, *goals]), axis=0)) / most, axis=1)  # per step
+            if np.all(need <= 1.0):
                 break
-            steps = math.ceil(steps * need)
-            goals = _line_goals(jaw, finger, q, center, psi0, shift0, turn, shift1, steps)
+            starts = np.concatenate([[0.0], fractions[:-1]])
+            fractions = np.concatenate([a + (b - a) * np.arange(1, n + 1) / n for a, b, n in
+                                        zip(starts, fractions, np.ceil(np.maximum(need, 1.0)).astype(int))])
+            goals = _line_goals(jaw, finger, q, center, psi0, shift0, turn, shift1, fractions)
+        steps = len(goals)
         for k, goal in enumerate(goals, start=1):
             if k < steps or i < len(lines) - 1:
                 yield goal
