@@ -292,7 +292,8 @@ def _restarted(cands: list[Candidate], request: Request, options: RecognizeOptio
     better. The solve over shape, pose and every sample's t can stall with samples' t in a
     poor configuration on a flat valley; projected afresh, they let it go on (tools.bench_wide
     seed 11, ellipse trial 0, a short stretch: the ellipse stalled at χ² 53.7 and the answer
-    was semicubical at 42.4; restarted, 39.1 in 40 evaluations, the truth's valley 38.1)."""
+    was semicubical at 42.4; restarted, 39.1 in 40 evaluations, the truth's valley 38.1). The
+    semicubical's fit on its other branch, where that one stopped at its budget, too (:func:`_other_branch`)."""
     top = min((c.bic for c in cands if math.isfinite(c.bic)), default=math.inf) + RESTART_BIC
     again = [i for i in _lowest_chi2(cands).values() if isinstance(cands[i], RefinedCandidate) and cands[i].bic <= top]
     again += [i for i in _other_branch(cands) if i not in again]
