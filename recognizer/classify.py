@@ -267,15 +267,36 @@ RESTART_BIC = 15.0
 RESTART_ROUNDS, RESTART_GAIN = 3, 0.5
 
 
+def _other_branch(cands: list[Candidate]) -> list[int]:
+    """When no semicubical fit is consistent: the semicubical's lowest-χ² refined fit on the branch
+    (the sign of its t's) its best fit is not on, if it stopped at its evaluation budget. The solve
+    never crosses the cusp (``SemicubicalParabola.keep_branch``), so each branch is a valley of its
+    own, and a fit stopped on one while still moving says nothing of it (P-jaw semicubical far out
+    on its branch, docs/recognition.md session 29: that branch's best start stopped at χ² 425 at
+    its budget and, refined on, went 94, 16, 14.3 on 27 dof; only the other branch's 166 was
+    restarted, and the answer was an ellipse at 48)."""
+    cls = "semicubical_parabola"
+    own = [i for i, c in enumerate(cands) if c.cls == cls and isinstance(c, RefinedCandidate) and math.isfinite(c.chi2)]
+    if not own or any(cands[i].consistent for i in own):
+        return []
+    lowest = min(own, key=lambda i: cands[i].chi2)
+    sign = -np.sign(np.asarray(cands[lowest].t, float)[0])
+    branch = [i for i in own if np.all(np.sign(np.asarray(cands[i].t, float)) == sign)]
+    best = min(branch, key=lambda i: cands[i].chi2, default=None)
+    return [best] if best is not None and cands[best].nfev >= MAX_NFEV else []
+
+
 def _restarted(cands: list[Candidate], request: Request, options: RecognizeOptions) -> list[Candidate]:
     """``cands`` with each class's best refined fit near the best BIC (``RESTART_BIC``)
     refined once more from its own parameters and pose; the new fit is kept where it fits
     better. The solve over shape, pose and every sample's t can stall with samples' t in a
     poor configuration on a flat valley; projected afresh, they let it go on (tools.bench_wide
     seed 11, ellipse trial 0, a short stretch: the ellipse stalled at χ² 53.7 and the answer
-    was semicubical at 42.4; restarted, 39.1 in 40 evaluations, the truth's valley 38.1)."""
+    was semicubical at 42.4; restarted, 39.1 in 40 evaluations, the truth's valley 38.1). The
+    semicubical's fit on its other branch, where that one stopped at its budget, too (:func:`_other_branch`)."""
     top = min((c.bic for c in cands if math.isfinite(c.bic)), default=math.inf) + RESTART_BIC
     again = [i for i in _lowest_chi2(cands).values() if isinstance(cands[i], RefinedCandidate) and cands[i].bic <= top]
+    again += [i for i in _other_branch(cands) if i not in again]
     out = list(cands)
     for i, c in zip(again, refine_candidates([cands[i] for i in again], request, options)):
         if c.chi2 < out[i].chi2:
