@@ -2,10 +2,17 @@
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
+import numpy as np
 import pytest
 
+from hand_driver import kinematics as kin
+from hand_driver.bus import JointBus
 from hand_driver.config import JawConfig, JointConfig, load_config
+from hand_driver.cycle import Jaw, LockstepClock
 from hand_driver.sim.server import EmulatedBus
+from recognizer.scene import load_scene
 
 
 def _joint(id: int, model: str = "XM430-W350", zero_tick: float = 2048.0, direction: int = 1,
@@ -42,6 +49,25 @@ def sim(bus_joints):
 def jaw_config() -> JawConfig:
     """The repository's jaw config (config/jaw.yaml)."""
     return load_config("config/jaw.yaml")
+
+
+@pytest.fixture
+def opened_jaw():
+    """``with opened_jaw(config, scene) as jaw``: the emulated jaw ``config`` in lockstep
+    (no real time), its fingers at the opened pose (tactile_jaw.plan.open_pose) beside the
+    scene mapping's object, Goal Current and the profile set from ``config.motion`` as the
+    exploration sets them."""
+    from tactile_jaw.plan import open_pose
+
+    @contextmanager
+    def opened(config: JawConfig, scene: dict):
+        ticks = np.rint(kin.angles_to_ticks(config.joints, open_pose(config))).astype(int).tolist()
+        with EmulatedBus(config, load_scene(scene), time_scale=0.0, initial_ticks=ticks) as sim:
+            with JointBus(sim.port, config.bus.baudrate, config, retries=config.bus.retries, timeout_s=1.0) as bus:
+                bus.set_goal_current(config.motion.goal_current_ma)
+                bus.set_profile_raw(config.motion.profile_velocity, config.motion.profile_acceleration)
+                yield Jaw(bus, config, None, clock=LockstepClock(sim))
+    return opened
 
 
 @pytest.fixture

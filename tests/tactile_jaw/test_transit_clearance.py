@@ -13,13 +13,10 @@ import numpy as np
 import pytest
 
 from hand_driver import kinematics as kin
-from hand_driver.bus import JointBus
 from hand_driver.config import load_config
-from hand_driver.cycle import Jaw, LockstepClock, run_together
+from hand_driver.cycle import run_together
 from hand_driver.motion import move_line
-from hand_driver.sim.server import EmulatedBus
-from recognizer.scene import load_scene
-from tactile_jaw.plan import APPROACH_MARGIN_MM, ObjectModel, clear_offset, open_pose
+from tactile_jaw.plan import APPROACH_MARGIN_MM, ObjectModel, clear_offset
 from tactile_jaw.rounds import transit
 
 CONFIG = load_config("config/jaw.yaml")
@@ -59,21 +56,16 @@ def test_the_line_keeps_the_margin_where_the_edge_is_nearer_the_object():
     assert clear_offset(RIGHT, model, math.radians(90.0), None) is None
 
 
-def test_a_transit_from_beside_the_circle_turns_without_meeting_it(peak_current):
+def test_a_transit_from_beside_the_circle_turns_without_meeting_it(opened_jaw, peak_current):
     config = CONFIG
     model = _model()
     psi_from, psi_to = math.radians(112.9), math.radians(78.5)
-    ticks = np.rint(kin.angles_to_ticks(config.joints, open_pose(config))).astype(int).tolist()  # the opened jaw
-    with EmulatedBus(config, load_scene(SCENE), time_scale=0.0, initial_ticks=ticks) as sim:
-        with JointBus(sim.port, config.bus.baudrate, config, retries=config.bus.retries, timeout_s=1.0) as bus:
-            bus.set_goal_current(config.motion.goal_current_ma)
-            bus.set_profile_raw(config.motion.profile_velocity, config.motion.profile_acceleration)
-            jaw = Jaw(bus, config, None, clock=LockstepClock(sim))
-            # backed off 2.9 mm after a probe at ψ 113°, as in the run
-            assert run_together(jaw, {"right": move_line(jaw, "right", psi_from, _support(psi_from) - 2.9,
-                                                         via=[(psi_from, model.edge(psi_from))])})["right"]
-            motion, peak = peak_current(jaw, "right", transit(jaw, "right", model, psi_to, hug=True))
-            run_together(jaw, {"right": motion})
-            line = jaw.pad_line(jaw.last_state, "right")
+    with opened_jaw(config, SCENE) as jaw:
+        # backed off 2.9 mm after a probe at ψ 113°, as in the run
+        assert run_together(jaw, {"right": move_line(jaw, "right", psi_from, _support(psi_from) - 2.9,
+                                                     via=[(psi_from, model.edge(psi_from))])})["right"]
+        motion, peak = peak_current(jaw, "right", transit(jaw, "right", model, psi_to, hug=True))
+        run_together(jaw, {"right": motion})
+        line = jaw.pad_line(jaw.last_state, "right")
     assert peak[0] < config.motion.contact_current_ma  # never pressed on the circle on the way
     assert math.degrees(float(line.psi)) == pytest.approx(78.5, abs=0.5)  # and arrived (wedged at 112.4° before)

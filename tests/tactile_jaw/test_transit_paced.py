@@ -14,7 +14,6 @@ import math
 import numpy as np
 import pytest
 
-from hand_driver import kinematics as kin
 from hand_driver.bus import JointBus
 from hand_driver.config import load_config
 from hand_driver.cycle import Jaw, LockstepClock, run_together
@@ -22,7 +21,7 @@ from hand_driver.motion import joint_cycle_turns, move_to
 from hand_driver.sim.server import EmulatedBus
 from recognizer.curves import CURVES
 from recognizer.scene import load_scene
-from tactile_jaw.plan import ObjectModel, open_pose
+from tactile_jaw.plan import ObjectModel
 from tactile_jaw.rounds import transit
 
 CONFIG = load_config("config/jaw-p.yaml")
@@ -54,24 +53,19 @@ def test_the_joints_are_paced_at_the_profile_velocity():
     assert np.degrees(turns) == pytest.approx([2.748, 2.748], abs=1e-3)
 
 
-def test_the_turn_after_a_roll_does_not_slide_the_pad_back_onto_the_object(peak_current):
+def test_the_turn_after_a_roll_does_not_slide_the_pad_back_onto_the_object(opened_jaw, peak_current):
     config = CONFIG
-    ticks = np.rint(kin.angles_to_ticks(config.joints, open_pose(config))).astype(int).tolist()
-    with EmulatedBus(config, load_scene(SCENE), time_scale=0.0, initial_ticks=ticks) as sim:
-        with JointBus(sim.port, config.bus.baudrate, config, retries=config.bus.retries, timeout_s=1.0) as bus:
-            bus.set_goal_current(config.motion.goal_current_ma)
-            bus.set_profile_raw(config.motion.profile_velocity, config.motion.profile_acceleration)
-            jaw = Jaw(bus, config, None, clock=LockstepClock(sim))
-            assert run_together(jaw, {"right": move_to(jaw, "right", Q_AFTER_ROLL)})["right"]
-            start = jaw.pad_line(jaw.last_state, "right")
-            assert math.degrees(float(start.psi)) == pytest.approx(121.5, abs=0.3)
-            assert (jaw.finger_current(jaw.last_state, "right") or 0.0) < config.motion.contact_current_ma
-            ws = config.workspace
-            model = ObjectModel(ws.center_mm, ws.radius_mm)
-            model.add(FELT_PSI, _support(FELT_PSI))
-            assert float(start.d) < model.tangent(float(start.psi))[0] - 2.0  # the premise: clear of it
-            motion, peak = peak_current(jaw, "right", transit(jaw, "right", model, math.radians(66.0), hug=True))
-            run_together(jaw, {"right": motion})
-            line = jaw.pad_line(jaw.last_state, "right")
+    with opened_jaw(config, SCENE) as jaw:
+        assert run_together(jaw, {"right": move_to(jaw, "right", Q_AFTER_ROLL)})["right"]
+        start = jaw.pad_line(jaw.last_state, "right")
+        assert math.degrees(float(start.psi)) == pytest.approx(121.5, abs=0.3)
+        assert (jaw.finger_current(jaw.last_state, "right") or 0.0) < config.motion.contact_current_ma
+        ws = config.workspace
+        model = ObjectModel(ws.center_mm, ws.radius_mm)
+        model.add(FELT_PSI, _support(FELT_PSI))
+        assert float(start.d) < model.tangent(float(start.psi))[0] - 2.0  # the premise: clear of it
+        motion, peak = peak_current(jaw, "right", transit(jaw, "right", model, math.radians(66.0), hug=True))
+        run_together(jaw, {"right": motion})
+        line = jaw.pad_line(jaw.last_state, "right")
     assert peak[0] < config.motion.contact_current_ma  # never pressed on the object on the way
     assert math.degrees(float(line.psi)) == pytest.approx(66.0, abs=0.5)
