@@ -13,6 +13,7 @@ from hand_driver.config import JawConfig, JointConfig, load_config
 from hand_driver.cycle import Jaw, LockstepClock
 from hand_driver.sim.server import EmulatedBus
 from recognizer.scene import load_scene
+from tactile_jaw.plan import open_pose
 
 
 def _joint(id: int, model: str = "XM430-W350", zero_tick: float = 2048.0, direction: int = 1,
@@ -57,8 +58,6 @@ def opened_jaw():
     (no real time), its fingers at the opened pose (tactile_jaw.plan.open_pose) beside the
     scene mapping's object, Goal Current and the profile set from ``config.motion`` as the
     exploration sets them."""
-    from tactile_jaw.plan import open_pose
-
     @contextmanager
     def opened(config: JawConfig, scene: dict):
         ticks = np.rint(kin.angles_to_ticks(config.joints, open_pose(config))).astype(int).tolist()
