@@ -131,8 +131,8 @@ def joint_cycle_turns(jaw: Jaw, finger: str) -> np.ndarray | None:
     return np.array([float(velocity_to_rad_s(raw, j.spec)) for j in joints]) * jaw.period_s
 
 
-#: a paced :func:`move_line` splits its steps at most this many times over (each step as finely
-#: as its fastest joint asks there, the inverse kinematics being nonlinear)
+#: a paced :func:`move_line` places its steps anew at most this many times (each time along what
+#: its steps asked, the inverse kinematics being nonlinear)
 PACE_ROUNDS = 4
 
 
@@ -149,6 +149,18 @@ def _line_goals(jaw: Jaw, finger: str, q, center, psi0: float, shift0: float, tu
     return goals
 
 
+def _paced_fractions(fractions: np.ndarray, need: np.ndarray) -> np.ndarray:
+    """Fractions of a move (increasing, in (0, 1]) whose steps each ask about one cycle, from the
+    cycles ``need`` each step between ``fractions`` asks (its fastest joint's turn over what its
+    servo turns in a cycle, or the set Cartesian speed's share): ⌈Σ need⌉ steps, at least one more
+    than before, placed evenly along the need accumulated over the move (linear within each step).
+    A step split only in whole parts asks 1.3 cycles' turn in two cycles; over a P-series transit's
+    turn that is ~0.2 s of robot time (docs/exploration.md, session 30)."""
+    total = np.concatenate([[0.0], np.cumsum(need)])
+    count = max(math.ceil(total[-1] - 1e-9), len(fractions) + 1)
+    return np.interp(total[-1] * np.arange(1, count + 1) / count, total, np.concatenate([[0.0], fractions]))
+
+
 def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tuple[float, float]] = (),
               shift_mm_s: float | None = None, turn_deg_s: float | None = None, paced: bool = False) -> Motion:
     """Put the pad on the line (ψ, d) by a coordinated Cartesian move, through the pad
@@ -156,9 +168,10 @@ def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tupl
     it is, turning about the pad's middle at ``turn_deg_s`` and shifting at ``shift_mm_s``
     (default: the config's ``motion.turn_speed_deg_s``, ``motion.move_speed_mm_s``) per
     second of robot time (a straight joint-space move would sweep the pad off the path
-    between the two lines); then :func:`move_to` the final goal. ``paced``: each step is
-    split further, where it must be, until no joint's goal moves more in a cycle than its servo
-    turns at the profile velocity (:func:`joint_cycle_turns`): a goal that outruns its servo is reached on
+    between the two lines); then :func:`move_to` the final goal. ``paced``: the steps are
+    placed anew, more of them, until no joint's goal moves more in a cycle than its servo turns
+    at the profile velocity (:func:`joint_cycle_turns`), each step asking about one cycle of its
+    fastest joint or of the set speeds (:func:`_paced_fractions`): a goal that outruns its servo is reached on
     the servo's own profile, the joints turning alike, and the pad leaves the path (slides
     along its normal). Returns True when reached."""
     m = jaw.config.motion
@@ -174,16 +187,16 @@ def move_line(jaw: Jaw, finger: str, psi: float, d: float, *, via: Sequence[tupl
     for i, (psi1, d1) in enumerate(lines):
         turn = math.remainder(psi1 - psi0, 2 * math.pi)
         shift1 = d1 - float(kin.unit(psi1) @ center)
-        steps = max(1, math.ceil(max(abs(turn) / max_turn, abs(shift1 - shift0) / max_shift)))
+        cartesian = max(abs(turn) / max_turn, abs(shift1 - shift0) / max_shift)  # cycles at the set speeds
+        steps = max(1, math.ceil(cartesian))
         fractions = np.arange(1, steps + 1) / steps
         goals = _line_goals(jaw, finger, q, center, psi0, shift0, turn, shift1, fractions)
         for _ in range(PACE_ROUNDS if most is not None else 0):
-            need = np.max(np.abs(np.diff(np.vstack([q, *goals]), axis=0)) / most, axis=1)  # per step
-            if np.all(need <= 1.0):
+            joint = np.max(np.abs(np.diff(np.vstack([q, *goals]), axis=0)) / most, axis=1)  # per step
+            if np.all(joint <= 1.0):
                 break
-            starts = np.concatenate([[0.0], fractions[:-1]])
-            fractions = np.concatenate([a + (b - a) * np.arange(1, n + 1) / n for a, b, n in
-                                        zip(starts, fractions, np.ceil(np.maximum(need, 1.0)).astype(int))])
+            need = np.maximum(joint, cartesian * np.diff(np.concatenate([[0.0], fractions])))
+            fractions = _paced_fractions(fractions, need)
             goals = _line_goals(jaw, finger, q, center, psi0, shift0, turn, shift1, fractions)
         steps = len(goals)
         for k, goal in enumerate(goals, start=1):
