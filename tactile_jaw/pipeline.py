@@ -224,10 +224,11 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
                 if shorter is not None:
                     return shorter
                 hint, span = curve_hint(config, touch, samples)
-            return out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
+            felt = out(f"{finger}: {off_curve}", c, u, fit, off_curve=True,
                        corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint, curve_span=span,
                        segment_corners=segment[2] if segment is not None else (),
                        pivot=pivot_run(lines, c, fit.line_sigma) if segment is None else None)
+            return moving_hint(config, felt, samples) if trim and rough(fit) and hint is None else felt
     if curve_checks:
         slid = slid_end(lines, fit)
         if slid is not None:
@@ -243,7 +244,8 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
         # (degree 2); κ, κ_s stay the cubic's
         smooth = fit_envelope(f, q, lines, degree=SMOOTH_DEGREE, noise=noise)
         if rough(smooth) is not None:  # fine encoders: a constant ρ does not explain the lines
-            return out(f"{finger}: arc length not increasing, and {rough(smooth)}", c, u, fit, off_curve=True)
+            felt = out(f"{finger}: arc length not increasing, and {rough(smooth)}", c, u, fit, off_curve=True)
+            return moving_hint(config, felt, samples) if trim else felt
         fit = replace(fit, contacts=smooth.contacts, sigma_across=smooth.sigma_across,
                       sigma_along=smooth.sigma_along, noise_factor=smooth.noise_factor, next_terms=smooth.next_terms)
         c = fit.contacts
@@ -376,6 +378,35 @@ def curve_hint(config, touch: TouchResult,
         return _roll_beside(felt, np.arange(c.x.size), c.x.size - 1, -1.0, step * (samples - 1), samples), span
     m = c.x.size // 2
     return (float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2), span
+
+
+def moving_hint(config, felt: FeltTouch, samples: int) -> FeltTouch:
+    """``felt``, a roll off the curved part with no run that passes every check
+    (:func:`curve_hint` found none), with its ``curve_at`` where its stretch on which the
+    contact still moved along a convex boundary (:func:`moving_stretch`) says the curve goes
+    on: a roll of ``samples`` readings beside that stretch, away from the end of the roll
+    that left it more (more samples outside the stretch's ψ range; :func:`_roll_beside`), or
+    the stretch's middle when both ends left it alike. With fine encoders a curve whose ρ
+    changes fast is no polynomial envelope within the lines' µm, so only this finds it: P
+    hyperbola 92 of bench_explore --finite 20 --anywhere --seed 439 (the right pad's roll,
+    5 of 9 lines on the branch, ρ 68 mm, then the end corner) rolled next about the other
+    corner, retired, and was refused "closing segments, not a line" with no move (a pad
+    already reached the curve). No ``curve_span``: the stretch leaves out the lines beside
+    its ends, so its last contact is not where the curve ends."""
+    stretch = moving_stretch(config, felt)
+    if stretch is None:
+        return felt
+    c = stretch.contacts
+    psi = np.sort([s.psi for s in felt.touch.samples])
+    step = float(np.median(np.diff(psi)))
+    low = int(np.sum(psi < float(np.min(c.psi)) - 1e-9))
+    high = int(np.sum(psi > float(np.max(c.psi)) + 1e-9))
+    if low == high:
+        m = c.x.size // 2
+        return replace(felt, curve_at=(float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2))
+    edge, sign = (0, 1.0) if low > high else (c.x.size - 1, -1.0)
+    hint = _roll_beside(stretch, np.arange(c.x.size), edge, sign, step * (samples - 1), samples)
+    return felt if hint is None else replace(felt, curve_at=hint)
 
 
 def _felt_run(config, touch: TouchResult) -> tuple[int, int, FeltTouch] | None:
@@ -887,8 +918,9 @@ def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = fr
         if id(t) in checked:
             continue
         if not isinstance(t.touch, FlatResult):  # a usable roll beside a corner can be a pivot at 4,096 ticks
-            stretch = (curved_stretch(config, t) if t.curve_at is not None
-                       else moving_stretch(config, t) if t.off_curve else None)
+            stretch = curved_stretch(config, t) if t.curve_at is not None else None
+            if stretch is None and t.off_curve:  # its hint may be moving_hint's
+                stretch = moving_stretch(config, t)
             if stretch is not None:
                 return stretch
             continue

@@ -2,7 +2,8 @@
 roll whose contact moved along the object over a stretch (tactile_jaw.pipeline.moving_stretch)
 and a flat press whose scan rolled on a curve until the contact ran off the pad's end
 (tactile_jaw.pipeline.on_pad_face). Either makes the faces the other pad pressed closing
-segments (tactile_jaw.pipeline.curved_part), not a line. The logged readings of two runs that
+segments (tactile_jaw.pipeline.curved_part), not a line, and a roll's such stretch is where the
+finger rolls next (tactile_jaw.pipeline.moving_hint). The logged readings of two runs that
 answered `line` for a hyperbola; exact rolls about a block's corners feel neither."""
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from hand_driver.config import load_config
 from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult
 from recognizer.scene import load_scene
-from tactile_jaw.pipeline import curve_refusal, curved_part, feel, logged_samples, moving_stretch
+from tactile_jaw.pipeline import curve_refusal, curved_part, curved_stretch, feel, logged_samples, moving_stretch
 from tests.tactile_jaw.test_envelope_order import FINE, roll
 from tests.tactile_jaw.test_flat import _face, _flat
 
@@ -56,7 +57,7 @@ def test_a_roll_whose_contact_moved_on_the_branch_makes_the_faces_closing_segmen
     config = load_config("config/jaw-p.yaml")
     raw = json.loads((DATA / "p_hyperbola_45_rolls.json").read_text())["rolls"]
     branch, corner = (_logged(config, r, outcome="ok") for r in raw)
-    assert branch.off_curve and branch.curve_at is None, branch.problem  # the stretch rule of session 16 finds none
+    assert branch.off_curve and curved_stretch(config, branch) is None, branch.problem  # session 16's rule finds none
     branch.touch.outcome = corner.touch.outcome = "rejected"  # as the exploration marks them: felt as taken
     stretch = moving_stretch(config, branch)
     assert stretch is not None and len(stretch.contacts.x) >= 5
@@ -116,3 +117,28 @@ def test_rolls_about_a_blocks_corners_show_no_moving_contact(jaw, ticks):
         for felt in _block_rolls(config, ticks, np.random.default_rng(seed)):
             assert felt.off_curve, felt.problem
             assert moving_stretch(config, felt) is None
+
+
+def test_the_next_roll_goes_on_along_the_branch_past_the_moving_stretch():
+    """The same roll (P hyperbola 45): no run of its lines passes every check, yet its contact
+    moved along the branch (t 0.67–1.26 of the extent's 1.3, then the end corner), so the
+    finger's next roll aims past that stretch away from the corner (tactile_jaw.pipeline.moving_hint,
+    ``curve_at``): on the branch, with its tangent, nearer the vertex than any of the stretch's
+    contacts. Before, ``curve_at`` was None, the finger rolled about the corner next, retired,
+    and the run was refused "closing segments, not a line" with no move; with the aim it is
+    answered hyperbola. A pivot about the corner aims nowhere."""
+    config = load_config("config/jaw-p.yaml")
+    raw = json.loads((DATA / "p_hyperbola_45_rolls.json").read_text())["rolls"]
+    branch, corner = (_logged(config, r, outcome="ok") for r in raw)
+    assert branch.curve_at is not None and corner.curve_at is None
+    x, y, phi = branch.curve_at
+    obj = _hyperbola(9.913058884762528, -0.9380753485688964, 88.53656810149093, 21.238957381245562)
+    t = np.linspace(*obj.extent, 200001)
+    px, py = obj.pose.apply(*obj.curve().point(t))
+    i = int(np.argmin(np.hypot(px - x, py - y)))
+    assert math.hypot(px[i] - x, py[i] - y) < 0.3  # on the branch (a circle of the stretch's ρ predicts it)
+    tangent = math.atan2(py[i + 1] - py[i - 1], px[i + 1] - px[i - 1])
+    assert abs(math.remainder(tangent - phi, math.pi)) < math.radians(5.0)
+    stretch = moving_stretch(config, branch)
+    reached = [float(t[np.argmin(np.hypot(px - a, py - b))]) for a, b in zip(stretch.contacts.x, stretch.contacts.y)]
+    assert t[i] < min(reached) < max(reached) < obj.extent[1]  # past the stretch, away from the end corner
