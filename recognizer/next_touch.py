@@ -43,12 +43,15 @@ nothing whichever candidate is true, so the class gain is weighted by the chance
 lands and seats: Σ w_c·p_c over the leader and the rivals (normalized), p_c = 0 where the
 pad does not land on c's curve there, or, on a semicubical rival, where the place lies toward
 its cusp from its touches (``_toward_cusp``: far out on a branch the cusp's place is barely
-measured), else the chance that c's tangent, in c's own direction of travel, lies within the
+measured), or, where its fit puts no cusp beyond the touches on the end where the leader's |κ|
+grows, at the places there (``_cusp_side``: the class's cusp lies that way whatever that fit
+says), else the chance that c's tangent, in c's own direction of travel, lies within the
 pad's tolerance of the pad's orientation (``_seats``: c's predicted tilt and its σ_φ; a tilt
 δφ puts the contact δφ/|κ| along the pad, which must leave room for the roll, and a pad
 turns ``SEAT_RAD`` to seat). The leader's parameter gain counts with the leader's own p.
 Where some helpful place lands for every candidate at least ``LAND_WEIGHT_MIN`` likely, only
-such places are chosen, a semicubical leader's other branch, which no rival has, excepted.
+such places are chosen, a semicubical leader's other branch, which no rival has, excepted;
+where none does, still none on ``_cusp_side`` while such a semicubical rival is a candidate.
 A line leader's rivals are all curved, one alternative "curved, not line" of weight their
 sum W: its entropy with the leader is resolved in proportion to Σ w_c·p_c·(1 − exp(−χ²_c/8))/W,
 and the places kept are where the pad lands for at least ``CURVED_LAND_MIN`` of W (rival by
@@ -357,6 +360,28 @@ def _toward_cusp(c: Candidate, t: np.ndarray) -> np.ndarray:
     return (np.sign(t) != side[0]) | (np.abs(t) < np.min(np.abs(touched)))
 
 
+def _cusp_side(leader: Candidate, t: np.ndarray) -> np.ndarray:
+    """Whether each of an open, curved leader's places t lies beyond its touches on the end
+    where its |κ| grows (monotonically over the touches): there a semicubical parabola through
+    the same touches has its cusp (its |κ| falls monotonically away from the cusp, so the cusp
+    lies where the touches' curvature grows), wherever its own fit put it, and a pad sent
+    there may meet that cusp, or its other branch beside it, and be lost when the semicubical
+    is true (bench_wide --set wide seed 443, semicubical trials 5 and 13, answered parabola:
+    the rival's fit had its cusp beyond the other end of the touches, and the place lay
+    0.05–0.11 extents from the true cusp; across the parabola's vertex, 0.2 L from it, the pad
+    still met the cusp)."""
+    touched = np.asarray(leader.t, float)
+    t = np.asarray(t, float)
+    curve = leader.curve()
+    if curve.t_period is not None or leader.cls in ("line", "semicubical_parabola") or touched.size < 2:
+        return np.zeros(t.shape, bool)
+    lo, hi = float(touched.min()), float(touched.max())
+    k = np.abs(np.asarray(curve.kappa(np.linspace(lo, hi, 33)), float))
+    if not np.all(np.isfinite(k)) or k[0] == k[-1] or not np.all(np.diff(k) >= 0 if k[-1] > k[0] else np.diff(k) <= 0):
+        return np.zeros(t.shape, bool)  # |κ| peaks between the touches (a vertex touched): no one branch
+    return t > hi if k[-1] > k[0] else t < lo
+
+
 def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, scale: float, roll: float = 0.0):
     """(whitened mean (m, 4), whitened covariance (m, 4, 4), whitened G, touchable (m,)) of
     candidate c's measurement at every place (W whitens R): where c's closest point is too
@@ -565,6 +590,8 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     if not keep.any():
         return None
     px, py, phi, far = px[keep], py[keep], phi[keep], far[keep]
+    cusp_side = _cusp_side(leader, t[keep])
+    misplaced = False  # a semicubical rival whose fit puts no cusp on the touches' growing side
     nx, ny = -np.sin(phi), np.cos(phi)
     W = _whitener(noise, samples, roll_cov(d))
     span_lead = np.concatenate((_t_span(leader, 1.0, N_DENSE), _far_span(leader, N_DENSE // 2)))
@@ -612,7 +639,11 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
         # c true: the pad lands on c's curve, never toward a semicubical rival's cusp from its
         # touches, and seats there, or the touch is lost
-        on_c = ~_toward_cusp(c, posed_c[2])
+        toward = _toward_cusp(c, posed_c[2])
+        on_c = ~toward
+        if c.cls == "semicubical_parabola" and not (toward & cusp_side).any():
+            on_c &= ~cusp_side  # its fit puts its cusp elsewhere: nor where the touches' curvature grows
+            misplaced = True
         seats = _seats(_tilt(c, d, posed_c, phi + flip), mean_c, P_c, W, roll) if padded else 1.0
         resolved = 1.0 - np.exp(-chi2 / 8.0)
         if line_lead:
@@ -672,6 +703,8 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         on_all |= np.sign(t[keep]) != np.sign(np.median(leader.t))
     if (helps & on_all).any():
         helps &= on_all
+    elif misplaced and (helps & ~cusp_side).any():  # no place lands for all (a degenerate
+        helps &= ~cusp_side  # semicubical rival lands nowhere): still never on the cusp's side
     # while the class is in doubt, the place that tells the classes apart best; else the
     # place of largest gain (parameters)
     score = ig_class if float(np.max(ig_class)) >= CLASS_GAIN_MIN else gain

@@ -586,3 +586,48 @@ def test_a_semicubical_far_out_on_a_branch_is_told_from_the_parabola_farther_out
         rec, _, _ = bw._recognize(tl + [bw._extra_touch(shape, got.t, rs, direction)], nm)
     assert rec.cls == "semicubical_parabola", (rec.cls, first)
     assert first.t < min(ts) - 0.5 * (max(ts) - min(ts)), first  # beyond the farthest touch by half their span
+
+
+def test_the_cusp_side_is_where_the_touches_curvature_grows():
+    """``_cusp_side`` on exact curves: a parabola y = a x² touched on one arm (t 2–3) has its
+    |κ| growing toward the vertex, so a semicubical through those touches has its cusp that
+    way: places with t < 2 (across the vertex too) are on the cusp's side; those within the
+    touches or beyond t = 3 are not; touched across the vertex (|κ| peaks between the
+    touches) no side is; a semicubical or closed leader has none."""
+    from recognizer.next_touch import _cusp_side
+    from recognizer.result import Candidate
+
+    pose = Pose(0.3, 10.0, -5.0)
+    t = np.array([-1.0, 0.0, 0.5, 1.99, 2.5, 3.01, 6.0])
+    side = [True, True, True, True, False, False, False]
+    arm = Candidate("parabola", {"a": 0.05}, pose, np.array([2.0, 2.4, 3.0]), 0.0, 0, 0)
+    assert _cusp_side(arm, t).tolist() == side
+    mirrored = Candidate("parabola", {"a": 0.05}, pose, np.array([-3.0, -2.4, -2.0]), 0.0, 0, 0)
+    assert _cusp_side(mirrored, -t).tolist() == side
+    across = Candidate("parabola", {"a": 0.05}, pose, np.array([-1.0, 0.2, 1.5]), 0.0, 0, 0)
+    assert not _cusp_side(across, t).any()
+    semi = Candidate("semicubical_parabola", {"a": 1.0, "b": 1.0}, pose, np.array([2.0, 2.4, 3.0]), 0.0, 0, 0)
+    assert not _cusp_side(semi, t).any()
+    assert not _cusp_side(Candidate("ellipse", ELLIPSE, pose, np.array([0.2, 0.5]), 0.0, 0, 0), t).any()
+
+
+@pytest.mark.parametrize("i", [5, 13])
+def test_a_suggestion_lands_where_a_semicubicals_cusp_may_be(i):
+    """bench_wide --set wide seed 443 (development since session 30), semicubical trials 5 and
+    13 (one branch far), answered parabola: the suggestion went beyond the touches toward the
+    parabola's vertex, 0.05–0.11 extents from the true cusp, and was lost (the pad's end met
+    the boundary); the semicubical rival's fit had its cusp beyond the other end of the
+    touches, so it said the pad lands. Now such a rival is not landed on where the touches'
+    curvature grows, and the pad lands on the true curve."""
+    from tools import bench_wide as bw
+    from tools.pad_approach import solid_left
+
+    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("semicubical_parabola", i, 443, "wide")
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    rec, _, _ = bw._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert rec.cls == "parabola" and rec.next_touch
+    nt = rec.next_touch
+    got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
+                   solid_left(shape.curve, ts, direction), direction)
+    assert got.why == "" and got.miss_mm < 0.05 * shape.size, got  # lost before (the pad's end met the cusp)
