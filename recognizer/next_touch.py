@@ -231,19 +231,19 @@ def _pad_span(c: Candidate, n: int = N_DENSE) -> np.ndarray:
     return t
 
 
-def _closest(curve, pose: Pose, t_dense: np.ndarray, px: np.ndarray, py: np.ndarray) -> np.ndarray:
+def _closest(curve, pose: Pose, t_dense: np.ndarray, dense: tuple, px: np.ndarray, py: np.ndarray) -> np.ndarray:
     """t of the curve's point closest to each hand-frame (px, py): the nearest dense
-    sample, then three Newton steps (``Curve.project``)."""
-    cx, cy = pose.apply(*curve.point(t_dense))
+    sample (``dense``: the hand-frame points at ``t_dense``), then three Newton steps
+    (``Curve.project``)."""
+    cx, cy = dense
     d2 = (px[:, None] - cx[None, :]) ** 2 + (py[:, None] - cy[None, :]) ** 2
     t = t_dense[np.argmin(d2, axis=1)]
     return curve.project(t, *pose.inverse(px, py), steps=3)
 
 
-def _measure(cls: str, vec: np.ndarray, t: np.ndarray, px, py, nx, ny, lead_phi) -> np.ndarray:
+def _measure(curve, pose: Pose, t: np.ndarray, px, py, nx, ny, lead_phi) -> np.ndarray:
     """(offset along the leader's normal, tangent angle − leader's mod π, κ signed along the
     leader's tangent, κ_s; the leader's own: 0, 0, its κ, κ_s) of the posed curve at its points t near the places (px, py)."""
-    curve, pose = _posed(cls, vec)
     qx, qy = pose.apply(*curve.point(t))
     ang = np.asarray(curve.tangent_angle(t), float) + pose.theta
     along = np.where(np.cos(ang - lead_phi) >= 0.0, 1.0, -1.0)
@@ -382,30 +382,45 @@ def _cusp_side(leader: Candidate, t: np.ndarray) -> np.ndarray:
     return t > hi if k[-1] > k[0] else t < lo
 
 
-def _prediction(c: Candidate, t_dense, px, py, nx, ny, lead_phi, W: np.ndarray, scale: float, roll: float = 0.0):
+class _Predictor:
+    """What a candidate's predictions (``_prediction``) share, made once per ``next_touch``
+    call (the leader is predicted at the places and again at every rival's contacts): its
+    unknowns (shape, θ, x, y), their covariance (``_cov``), its posed curve, its dense points
+    ``t_dense`` in the hand frame (``_closest``) and, for each unknown of nonzero variance,
+    the finite-difference step h (a millionth of the unknown's own size, ``_natural``, not
+    of its σ: an undetermined one's is 1e3 sizes) and the curve posed with it moved by h."""
+
+    def __init__(self, c: Candidate, t_dense: np.ndarray, scale: float):
+        self.vec, self.C = c.vector(), _cov(c, scale)
+        size = _natural(c, scale)
+        self.curve, self.pose = _posed(c.cls, self.vec)
+        self.t_dense = t_dense
+        self.dense = self.pose.apply(*self.curve.point(t_dense))
+        self.steps = []
+        for i in range(self.vec.size):
+            if self.C[i, i] <= 0:
+                continue
+            h = 1e-6 * max(abs(self.vec[i]), min(size[i], 1e-3 * math.sqrt(self.C[i, i])), 1e-12)
+            vp = self.vec.copy()
+            vp[i] += h
+            self.steps.append((i, h, *_posed(c.cls, vp)))
+
+
+def _prediction(pr: _Predictor, px, py, nx, ny, lead_phi, W: np.ndarray, roll: float = 0.0):
     """(whitened mean (m, 4), whitened covariance (m, 4, 4), whitened G, touchable (m,)) of
-    candidate c's measurement at every place (W whitens R): where c's closest point is too
-    near its cusp for a touch, c's prediction tells nothing (not touchable). G's steps are
-    a millionth of each unknown's own size (``_natural``), not of its σ (an undetermined
-    one's is 1e3 sizes)."""
-    vec, C = c.vector(), _cov(c, scale)
-    size = _natural(c, scale)
-    curve, pose = _posed(c.cls, vec)
-    t = _closest(curve, pose, t_dense, px, py)
-    mean = _measure(c.cls, vec, t, px, py, nx, ny, lead_phi)
-    G = np.zeros(mean.shape + (vec.size,))
-    for i in range(vec.size):
-        if C[i, i] <= 0:
-            continue
-        h = 1e-6 * max(abs(vec[i]), min(size[i], 1e-3 * math.sqrt(C[i, i])), 1e-12)
-        vp = vec.copy()
-        vp[i] += h
-        cp, pp = _posed(c.cls, vp)
+    a candidate's measurement at every place (W whitens R; ``pr``: the candidate's
+    ``_Predictor``): where its closest point is too near its cusp for a touch, its
+    prediction tells nothing (not touchable); G by forward differences."""
+    curve, pose = pr.curve, pr.pose
+    t = _closest(curve, pose, pr.t_dense, pr.dense, px, py)
+    mean = _measure(curve, pose, t, px, py, nx, ny, lead_phi)
+    G = np.zeros(mean.shape + (pr.vec.size,))
+    for i, h, cp, pp in pr.steps:
         tp = cp.project(t, *pp.inverse(px, py), steps=1)
-        G[..., i] = (_measure(c.cls, vp, tp, px, py, nx, ny, lead_phi) - mean) / h
+        G[..., i] = (_measure(cp, pp, tp, px, py, nx, ny, lead_phi) - mean) / h
     mean, G = mean @ W.T, np.einsum("ab,mbi->mai", W, G)
     G = np.where(np.isfinite(G), G, 0.0)
-    return mean, np.einsum("mai,ij,mbj->mab", G, C, G), G, _touchable(curve, t, roll), (curve, pose, t)
+    return mean, np.einsum("mai,ij,mbj->mab", G, pr.C, G), G, _touchable(curve, t, roll), (curve, pose, t)
 
 
 def _separation(delta: np.ndarray, P_a: np.ndarray, P_b: np.ndarray) -> np.ndarray:
@@ -594,15 +609,17 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     misplaced = False  # a semicubical rival whose fit puts no cusp on the touches' growing side
     nx, ny = -np.sin(phi), np.cos(phi)
     W = _whitener(noise, samples, roll_cov(d))
-    span_lead = np.concatenate((_t_span(leader, 1.0, N_DENSE), _far_span(leader, N_DENSE // 2)))
-    mean_lead, P_lead, G_lead, _, _ = _prediction(leader, span_lead, px, py, nx, ny, phi, W, d.scale)
+    scale = d.scale
+    lead_pred = _Predictor(leader, np.concatenate((_t_span(leader, 1.0, N_DENSE), _far_span(leader, N_DENSE // 2))),
+                           scale)
+    mean_lead, P_lead, G_lead, _, _ = _prediction(lead_pred, px, py, nx, ny, phi, W)
     own = np.all(np.isfinite(mean_lead), axis=1)  # the leader's κ, κ_s defined there
     # parameters: entropy lost, and the shrink of the largest relative σ (whitened: R = I)
     eye = np.eye(4)[None]
     P_lead = np.where(np.isfinite(P_lead), P_lead, 0.0)
     ig_param = 0.5 * np.linalg.slogdet(eye + P_lead)[1]
     seat_lead = _seats(np.zeros(px.size), mean_lead, P_lead, W, roll) if padded else np.ones(px.size)
-    C = _cov(leader, d.scale)
+    C = lead_pred.C
     k = len(CURVES[leader.cls].param_names)
     shrink = np.ones(px.size)
     rel_now = 0.0
@@ -624,7 +641,8 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     untold = False  # some likely rival no place within one extent tells from the leader
     curved = []  # a line leader's rivals: (c, weight, clear of a cusp, seats, resolved), landing checked below
     for c, wc in others:
-        mean_c, P_c, _, ok_c, posed_c = _prediction(c, _t_span(c, 2.0, N_DENSE), px, py, nx, ny, phi, W, d.scale, roll)
+        mean_c, P_c, _, ok_c, posed_c = _prediction(_Predictor(c, _t_span(c, 2.0, N_DENSE), scale), px, py, nx, ny, phi,
+                                                    W, roll)
         chi2 = _separation(mean_c - mean_lead, P_lead, P_c)
         # c true: the pad touches c's curve at c's point nearest the place; the leader
         # explains that touch by its own nearest point, not by the place
@@ -632,7 +650,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         sep = np.flatnonzero(~(chi2 <= SEPARATION_MIN))
         if sep.size:
             qx, qy, qphi = _contact((posed_c[0], posed_c[1], posed_c[2][sep]), phi[sep])
-            mean_b, P_b, _, _, _ = _prediction(leader, span_lead, qx, qy, -np.sin(qphi), np.cos(qphi), qphi, W, d.scale)
+            mean_b, P_b, _, _, _ = _prediction(lead_pred, qx, qy, -np.sin(qphi), np.cos(qphi), qphi, W)
             delta = mean_b - np.concatenate((np.zeros_like(mean_c[sep, :2]), mean_c[sep, 2:]), axis=1)
             chi2_b = _separation(delta, P_b, P_c[sep])
             chi2[sep] = np.minimum(chi2[sep], np.where(np.isfinite(chi2_b), chi2_b, np.inf))

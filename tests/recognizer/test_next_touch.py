@@ -97,7 +97,6 @@ def test_a_roll_measures_curvature_signed_along_the_leaders_tangent():
     from recognizer.next_touch import _measure
 
     a, b, t0 = 30.0, 20.0, 0.7
-    vec = np.array([a, b, 0.3, 5.0, -2.0])  # shape, pose θ x y
     curve, pose = CURVES["ellipse"]({"a": a, "b": b}), Pose(0.3, 5.0, -2.0)
     t = np.array([t0])
     px, py = pose.apply(*curve.point(t))
@@ -105,9 +104,9 @@ def test_a_roll_measures_curvature_signed_along_the_leaders_tangent():
     nx, ny = -np.sin(phi), np.cos(phi)
     D = a * a * math.sin(t0) ** 2 + b * b * math.cos(t0) ** 2
     k, ks = a * b / D**1.5, -3 * a * b * (a * a - b * b) * math.sin(t0) * math.cos(t0) / D**3
-    m = _measure("ellipse", vec, t, px, py, nx, ny, phi)[0]
+    m = _measure(curve, pose, t, px, py, nx, ny, phi)[0]
     assert np.allclose(m, [0.0, 0.0, k, ks], rtol=1e-9, atol=1e-12)
-    m_rev = _measure("ellipse", vec, t, px, py, -nx, -ny, phi + np.pi)[0]
+    m_rev = _measure(curve, pose, t, px, py, -nx, -ny, phi + np.pi)[0]
     assert np.allclose(m_rev, [0.0, 0.0, -k, ks], rtol=1e-9, atol=1e-12)
 
 
