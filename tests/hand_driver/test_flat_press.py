@@ -414,6 +414,47 @@ def test_a_first_press_starts_where_the_rolls_pivoted_about_one_corner_end():
     assert near[0] == pytest.approx(psi0, abs=1e-9) and near[2] == 1
 
 
+def test_a_first_press_starts_past_the_probes_that_rested_on_a_pad_end():
+    """tactile_jaw.flat_phase._felt_stop: block 4 of ``bench_explore --finite 20 --anywhere
+    --seed 439 --classes line`` (development; its seat at 117° for the right pad): the probes
+    at 90°, 70° and 110° (4 exact stops each over 6°) all rest on the pad's proximal end, each
+    lowering the pad the same way (ψ up), so a press walking from the nominal normal turns up
+    through 110° step by step without a seat there. It starts at the farthest such stop
+    (113°), turning up, and seats on the same face with fewer approaches; a probe past the
+    seat (130°, lowering the pad the other way) ends the run of stops: no start beyond the seat."""
+    from types import SimpleNamespace
+
+    from tactile_jaw.flat_phase import _felt_stop
+
+    finger = CONFIG.finger("right")
+    block = load_scene({"name": "block 4", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": 0.47257747830173136, "x": 91.0172890114646,
+                                                 "y": 11.985517607702784},
+        "extent": [-15.733199396865661, 15.733199396865661],
+        "closure": [[15.733199396865661, -12.586559517492528], [-15.733199396865661, -12.586559517492528]]}})
+    world = ContactWorld(CONFIG, block.object)
+    psi0, centre = math.pi / 2, np.array(CONFIG.workspace.center_mm)
+
+    def probes(*centres):
+        return SimpleNamespace(touches=[], probes=[SimpleNamespace(touch=SimpleNamespace(finger="right", samples=[
+            SimpleNamespace(psi=math.radians(c + a), line=_stop(world, finger, math.radians(c + a)))
+            for a in (-3.0, -1.0, 1.0, 3.0)])) for c in centres])
+
+    psi, d, turn = _felt_stop(probes(90.0, 70.0, 110.0), "right", psi0, finger.pad.length_mm, centre)
+    assert (math.degrees(psi), turn) == (pytest.approx(113.0, abs=1e-9), 1)
+    assert d == pytest.approx(_stop(world, finger, psi).d, abs=1e-6)
+    seats = []
+    for start, first in ((math.radians(89.0), 1), (psi, turn)):
+        found, lines = _walk(world, finger, start, first)
+        assert found is not None
+        n = face_normal(found[1], found[2], lines[max(lines)].normal)
+        assert math.degrees(math.atan2(n[1], n[0])) == pytest.approx(117.2, abs=0.3)
+        seats.append(len(lines))
+    assert seats[1] <= seats[0] - 5
+    past = _felt_stop(probes(90.0, 70.0, 130.0), "right", psi0, finger.pad.length_mm, centre)
+    assert math.degrees(past[0]) < 117.0
+
+
 def test_a_seat_on_a_corner_under_the_pads_middle_lowers_the_shorter_part():
     """Block 8 of ``bench_explore --finite 10 --anywhere --classes line --config
     config/jaw-p.yaml --seed 11`` (development): seated, the left pad's distal end rests on
