@@ -68,8 +68,8 @@ def _felt_stop(out: Exploration, finger: str, psi: float, length_mm: float,
     ``psi`` (the pad's nominal normal) — a guarded approach at that ψ stops there again, so
     the press starts from just outside it instead of the workspace edge — or, when that
     normal lies among ≥ 3 of the finger's lines through one corner on the pad (more than
-    SEAT_TOL_MM from either end: not a pad end resting on the object; such lines at either end
-    of the run through the corner are left out: X line 18 of bench_explore --finite 20
+    SEAT_TOL_MM from either end: not a pad end resting on the object; lines whose corner lies
+    off that part of the pad, at either end of the run through it, are left out: X line 18 of bench_explore --finite 20
     --anywhere --seed 439, whose left pad's probe at −70° met its rolls' corner with the
     proximal end, 0.14 mm along the pad, and whose first press walked 9 scan steps from −91°
     to its seat at −121.9°), FLAT_RESTART_STEPS
@@ -101,7 +101,7 @@ def _felt_stop(out: Exploration, finger: str, psi: float, length_mm: float,
         n, corner, _ = _run(lines, i, 1, SEAT_TOL_MM)
         if n < 3 or not rel[i] - 0.5 * step <= 0.0 <= rel[i + n - 1] + 0.5 * step:
             continue
-        # the corner on the pad: lines with a pad end on it say nothing of its normals, left out at the run's ends
+        # the corner on the pad: lines with a pad end on it or past it say nothing of its normals, left out at the run's ends
         inner = [j for j in range(i, i + n)
                  if SEAT_TOL_MM < float(lines[j].pad_coordinate(corner)) < length_mm - SEAT_TOL_MM]
         if (len(inner) < 3 or inner[-1] - inner[0] + 1 != len(inner)
