@@ -24,7 +24,7 @@ from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, Goal, JawReach, Stop, facing_
 from tactile_jaw.flat import (BULGED_PRESSES, FACE_MISS_MM, bulged, curved_faces, face_groups, recognized_touches,
                               same_face_rad)
 from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
-from tactile_jaw.plan import ObjectModel, nominal_psi, retreat_offset
+from tactile_jaw.plan import PROBE_PAD_MARGIN, ObjectModel, nominal_psi, retreat_offset
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
 from tactile_jaw.settings import ExploreSettings
 
@@ -68,7 +68,11 @@ def _felt_stop(out: Exploration, finger: str, psi: float, length_mm: float,
     ``psi`` (the pad's nominal normal) — a guarded approach at that ψ stops there again, so
     the press starts from just outside it instead of the workspace edge — or, when that
     normal lies among ≥ 3 of the finger's lines through one corner on the pad (more than
-    SEAT_TOL_MM from either end: not a pad end resting on the object), FLAT_RESTART_STEPS
+    SEAT_TOL_MM from either end: not a pad end resting on the object; lines whose corner lies
+    off that part of the pad, at either end of the run through it, are left out: X line 18 of bench_explore --finite 20
+    --anywhere --seed 439, whose left pad's probe at −70° met its rolls' corner with the
+    proximal end, 0.14 mm along the pad, and whose first press walked 9 scan steps from −91°
+    to its seat at −121.9°), FLAT_RESTART_STEPS
     before the end of those lines' ψ range the press would walk to, turning that way first,
     at the stop those lines give there. Every normal between two of a corner's pad normals
     is its normal too (its normal cone is one arc), so a press from ``psi`` pivots about that
@@ -78,7 +82,13 @@ def _felt_stop(out: Exploration, finger: str, psi: float, length_mm: float,
     the seat's first support, and goes on as it would have. Not when that skips less than a
     step. P line 2 of bench_explore --finite 20 --anywhere --seed 313: the left pad's lines
     passed through one corner from −113° to −27°, its first press walked from −91° to its
-    seat at −115° (7 scan steps, 4.8 s); from −105.5°, 1 step, 2.8 s (docs/exploration.md)."""
+    seat at −115° (7 scan steps, 4.8 s); from −105.5°, 1 step, 2.8 s (docs/exploration.md).
+    Else, when that nearest stop rested on a pad end (:func:`_end_turns`), the press lowers the
+    whole pad about it and walks that way: it starts at the farthest stop beyond that rested on
+    a pad end lowering the same way, each stop on the way one (no seat there), turning that way
+    first. P line 14 of bench_explore --finite 20 --anywhere --seed 439: the left pad's probes
+    at −90° and −110° rested on its proximal end, its first press walked from −91° to its seat
+    at −119.5° (8 scan steps, 6.0 s); from −113°, 2 steps, 4.4 s."""
     samples = [s for t in (*out.probes, *out.touches) if t.touch.finger == finger
                and not isinstance(t.touch, FlatResult) for s in t.touch.samples]
     if not samples:
@@ -91,9 +101,13 @@ def _felt_stop(out: Exploration, finger: str, psi: float, length_mm: float,
         n, corner, _ = _run(lines, i, 1, SEAT_TOL_MM)
         if n < 3 or not rel[i] - 0.5 * step <= 0.0 <= rel[i + n - 1] + 0.5 * step:
             continue
-        if not all(SEAT_TOL_MM < float(lines[j].pad_coordinate(corner)) < length_mm - SEAT_TOL_MM
-                   for j in range(i, i + n)):
-            break  # a pad end resting on the object: its lines say nothing of a corner's normals
+        # the corner on the pad: lines with a pad end on it or past it say nothing of its normals, left out at the run's ends
+        inner = [j for j in range(i, i + n)
+                 if SEAT_TOL_MM < float(lines[j].pad_coordinate(corner)) < length_mm - SEAT_TOL_MM]
+        if (len(inner) < 3 or inner[-1] - inner[0] + 1 != len(inner)
+                or not rel[inner[0]] - 0.5 * step <= 0.0 <= rel[inner[-1]] + 0.5 * step):
+            break  # a pad end resting on the object among them, or at the normal: its lines say nothing of a corner's normals
+        i, n = inner[0], len(inner)
         turn = lowering_turn(lines[min(range(i, i + n), key=lambda j: abs(rel[j]))], corner, length_mm, toward)
         if turn is None:
             break
@@ -102,7 +116,43 @@ def _felt_stop(out: Exploration, finger: str, psi: float, length_mm: float,
             break
         return psi + start, float(kin.unit(psi + start) @ corner), turn
     s = min(samples, key=lambda s: abs(math.remainder(s.psi - psi, 2 * math.pi)))
+    turns = _end_turns(out, finger, length_mm, toward)
+    turn = turns.get(id(s))
+    if turn is not None:  # s rests on a pad end: on past every stop beyond that rests on one lowering the same way
+        offset = {id(x): math.remainder(x.psi - s.psi, 2 * math.pi) for x in samples}
+        last = s
+        for x in sorted((x for x in samples if turn * offset[id(x)] > 0), key=lambda x: turn * offset[id(x)]):
+            if turns.get(id(x)) != turn:
+                break
+            last = x
+        if turn * offset[id(last)] >= step:
+            return float(last.psi), float(last.line.d), turn
     return float(s.psi), float(s.line.d), 1
+
+
+def _end_turns(out: Exploration, finger: str, length_mm: float, toward: np.ndarray) -> dict[int, int]:
+    """Per sample (by id) of ``finger``'s probes and rolling touches that met the object only at
+    a pad end — every two neighbouring pad lines of the touch crossing within PROBE_PAD_MARGIN
+    of the pad's length of one end (a pad end resting on the object, or a corner under it, as
+    tactile_jaw.plan.probe_face_contact tells a face contact from it) — the turn that lowers
+    the pad about where its line crosses its neighbour's (hand_driver.flat_press.lowering_turn,
+    as a flat press turns there: the whole pad). A corner under the pad's middle is
+    :func:`_felt_stop`'s normal cone instead."""
+    turns: dict[int, int] = {}
+    margin = PROBE_PAD_MARGIN * length_mm
+    for t in (*out.probes, *out.touches):
+        samples = t.touch.samples
+        if t.touch.finger != finger or isinstance(t.touch, FlatResult) or len(samples) < 2:
+            continue
+        points = [kin.crossing(a.line, b.line) for a, b in zip(samples, samples[1:])]
+        if any(x is None or margin < float(a.line.pad_coordinate(x)) < length_mm - margin
+               for a, x in zip(samples, points)):
+            continue
+        for k, a in enumerate(samples):
+            turn = lowering_turn(a.line, points[min(k, len(points) - 1)], length_mm, toward)
+            if turn is not None:
+                turns[id(a)] = turn
+    return turns
 
 
 def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> tuple[float, np.ndarray, np.ndarray] | None:

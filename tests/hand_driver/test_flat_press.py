@@ -414,6 +414,94 @@ def test_a_first_press_starts_where_the_rolls_pivoted_about_one_corner_end():
     assert near[0] == pytest.approx(psi0, abs=1e-9) and near[2] == 1
 
 
+def test_a_first_press_starts_past_the_probes_that_rested_on_a_pad_end():
+    """tactile_jaw.flat_phase._felt_stop: block 4 of ``bench_explore --finite 20 --anywhere
+    --seed 439 --classes line`` (development; its seat at 117° for the right pad): the probes
+    at 90°, 70° and 110° (4 exact stops each over 6°) all rest on the pad's proximal end, each
+    lowering the pad the same way (ψ up), so a press walking from the nominal normal turns up
+    through 110° step by step without a seat there. It starts at the farthest such stop
+    (113°), turning up, and seats on the same face with fewer approaches; a probe past the
+    seat (130°, lowering the pad the other way) ends the run of stops: no start beyond the seat."""
+    from types import SimpleNamespace
+
+    from tactile_jaw.flat_phase import _felt_stop
+
+    finger = CONFIG.finger("right")
+    block = load_scene({"name": "block 4", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": 0.47257747830173136, "x": 91.0172890114646,
+                                                 "y": 11.985517607702784},
+        "extent": [-15.733199396865661, 15.733199396865661],
+        "closure": [[15.733199396865661, -12.586559517492528], [-15.733199396865661, -12.586559517492528]]}})
+    world = ContactWorld(CONFIG, block.object)
+    psi0, centre = math.pi / 2, np.array(CONFIG.workspace.center_mm)
+
+    def probes(*centres):
+        return SimpleNamespace(touches=[], probes=[SimpleNamespace(touch=SimpleNamespace(finger="right", samples=[
+            SimpleNamespace(psi=math.radians(c + a), line=_stop(world, finger, math.radians(c + a)))
+            for a in (-3.0, -1.0, 1.0, 3.0)])) for c in centres])
+
+    psi, d, turn = _felt_stop(probes(90.0, 70.0, 110.0), "right", psi0, finger.pad.length_mm, centre)
+    assert (math.degrees(psi), turn) == (pytest.approx(113.0, abs=1e-9), 1)
+    assert d == pytest.approx(_stop(world, finger, psi).d, abs=1e-6)
+    seats = []
+    for start, first in ((math.radians(89.0), 1), (psi, turn)):
+        found, lines = _walk(world, finger, start, first)
+        assert found is not None
+        n = face_normal(found[1], found[2], lines[max(lines)].normal)
+        assert math.degrees(math.atan2(n[1], n[0])) == pytest.approx(117.2, abs=0.3)
+        seats.append(len(lines))
+    assert seats[1] <= seats[0] - 5
+    past = _felt_stop(probes(90.0, 70.0, 130.0), "right", psi0, finger.pad.length_mm, centre)
+    assert math.degrees(past[0]) < 117.0
+
+
+def test_a_first_press_starts_within_a_corners_normals_that_ended_on_a_pad_end():
+    """tactile_jaw.flat_phase._felt_stop: block 18 of ``bench_explore --finite 20 --anywhere
+    --seed 439 --classes line --config config/jaw.yaml`` (development; the left pad's seat at
+    −121.9°): the left pad's rolls at −117.5° and −102.5° and its probe at −90° (exact stops)
+    pivot about the block's corner (94.8, 41.9) mm from −122° on, the corner 13.4 … 2.1 mm along
+    the pad; its probe at −70° meets the same corner with its proximal end (0.3 mm and 0.1 mm
+    along the pad at −73° and −71°: a pad end on the object, whose lines say nothing of the
+    corner's normals). Those end lines close the run through the corner: they are left out, and
+    the press starts FLAT_RESTART_STEPS before the run's end toward the seat (−114.5°), turning
+    down first, and seats on the same face with fewer approaches than from the nominal normal.
+    Before, any such line in the run gave up the corner's start (the press from −91°)."""
+    from types import SimpleNamespace
+
+    from tactile_jaw.flat_phase import FLAT_RESTART_STEPS, _felt_stop
+
+    finger = CONFIG.finger("left")
+    block = load_scene({"name": "block 18", "classes": ["line"], "object": {
+        "class": "line", "params": {}, "pose": {"theta": -2.125531875377749, "x": 98.4241993855246,
+                                                 "y": 11.826136325846692},
+        "extent": [-23.67094336312038, 23.67094336312038],
+        "closure": [[23.67094336312038, -18.9367546904963], [-23.67094336312038, -18.9367546904963]]}})
+    world = ContactWorld(CONFIG, block.object)
+    psi0, centre = -math.pi / 2, np.array(CONFIG.workspace.center_mm)
+
+    def touch(c, offsets):
+        return SimpleNamespace(touch=SimpleNamespace(finger="left", samples=[
+            SimpleNamespace(psi=math.radians(c + a), line=_stop(world, finger, math.radians(c + a))) for a in offsets]))
+
+    rolls = [touch(c, np.linspace(-9.0, 9.0, 9)) for c in (-117.5, -102.5)]
+    probes = [touch(c, (-3.0, -1.0, 1.0, 3.0)) for c in (-90.0, -70.0)]
+    corner = kin.nearest_point([s.line.normal for s in rolls[1].touch.samples], [s.line.d for s in rolls[1].touch.samples])
+    ends = [s.line for s in probes[1].touch.samples[:2]]
+    assert [float(ln.pad_coordinate(corner)) for ln in ends] == [pytest.approx(0.3, abs=0.1), pytest.approx(0.13, abs=0.1)]
+    assert all(abs(float(ln.normal @ corner - ln.d)) < SEAT_TOL_MM for ln in ends)
+    psi, d, turn = _felt_stop(SimpleNamespace(probes=probes, touches=rolls), "left", psi0, finger.pad.length_mm, centre)
+    assert (math.degrees(psi), turn) == (pytest.approx(-122.0 + FLAT_RESTART_STEPS * FLAT_STEP_DEG, abs=1e-9), -1)
+    assert d == pytest.approx(_stop(world, finger, psi).d, abs=SEAT_TOL_MM)
+    seats = []
+    for start, first in ((math.radians(-91.0), 1), (psi, turn)):
+        found, lines = _walk(world, finger, start, first)
+        assert found is not None
+        n = face_normal(found[1], found[2], lines[min(lines)].normal)
+        assert math.degrees(math.atan2(n[1], n[0])) == pytest.approx(-121.9, abs=0.3)
+        seats.append(len(lines))
+    assert seats[1] <= seats[0] - 5
+
+
 def test_a_seat_on_a_corner_under_the_pads_middle_lowers_the_shorter_part():
     """Block 8 of ``bench_explore --finite 10 --anywhere --classes line --config
     config/jaw-p.yaml --seed 11`` (development): seated, the left pad's distal end rests on
