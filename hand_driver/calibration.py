@@ -15,7 +15,7 @@ import numpy as np
 
 from hand_driver import kinematics as kin
 from hand_driver.calibration_fit import CalibrationRefused, ContactModel, Reading, pack_params
-from hand_driver.calibration_plan import PlannedTouch, plan_touches
+from hand_driver.calibration_plan import DEFAULT_PLACEMENTS, PlannedTouch, plan_touches
 from hand_driver.config import JawConfig
 from hand_driver.cycle import LIMIT_MARGIN_RAD, run_together
 from hand_driver.motion import guarded_approach, move_to
@@ -27,6 +27,10 @@ APPROACH_TRAVEL_MM = 12.0
 #: locating touches start this far (mm) outside the expected disk: the placement may be
 #: off by up to this much
 LOCATE_GAP_MM = 6.0
+#: :func:`default_placements` moves DEFAULT_PLACEMENTS away from the palm in steps of this
+#: (mm), at most this far
+PLACEMENT_SHIFT_STEP_MM = 5.0
+PLACEMENT_SHIFT_MAX_MM = 60.0
 #: transit keeps the pads this far (mm) from the located disk (less than APPROACH_GAP_MM)
 TRANSIT_CLEARANCE_MM = 4.0
 
@@ -188,6 +192,58 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
         yield from move_to(jaw, finger, q)
 
 
+def _guard(cfg: JawConfig, center, r: float, extra: float):
+    """guard(finger, q_from, q_to): does the straight joint-space move keep the pad ``extra``
+    mm clear of a disk of radius ``r`` at ``center`` (sampled every 0.01 rad)?"""
+    c = np.asarray(center, dtype=float)
+
+    def guard(finger, q_from, q_to) -> bool:
+        q_from, q_to = np.asarray(q_from, dtype=float), np.asarray(q_to, dtype=float)
+        n = max(2, math.ceil(float(np.max(np.abs(q_to - q_from))) / 0.01) + 1)
+        qs = q_from + np.linspace(0.0, 1.0, n)[:, None] * (q_to - q_from)
+        line = kin.finger_pad_line(cfg.finger(finger), qs)
+        ab = line.distal - line.proximal
+        u = np.clip(np.sum((c - line.proximal) * ab, axis=1) / np.sum(ab * ab, axis=1), 0.0, 1.0)
+        dist = np.hypot(*(line.proximal + u[:, None] * ab - c).T)
+        return bool(np.all(dist >= r + extra))
+    return guard
+
+
+def _locate_options(cfg: JawConfig, reference, guess) -> dict[str, list[PlannedTouch]]:
+    """Per finger, the face touches (ψ order) that locate a disk expected at ``guess``
+    (:func:`touch_reference`'s step 1): from ``LOCATE_GAP_MM`` outside it, each approach pose
+    on a route clear of it from the finger's parking pose."""
+    r = float(reference.params["r"])
+    guard = _guard(cfg, guess, r, LOCATE_GAP_MM - 0.5)
+    homes = {f.name: home_pose(f) for f in cfg.fingers}
+    plan = plan_touches(cfg, reference, guess, faces=15, corners=0, gap=LOCATE_GAP_MM,
+                        accept=lambda name, q: _route(guard, name, homes[name], q, homes[name]) is not None)
+    return {f.name: sorted((t for t in plan if t.finger == f.name and t.kind == "face"), key=lambda t: t.psi)
+            for f in cfg.fingers}
+
+
+def default_placements(cfg: JawConfig, reference, locate: int = 2) -> list[tuple[float, float]]:
+    """Where ``tactile calibrate`` asks for the reference disk when no ``--place`` is given:
+    hand_driver.calibration_plan.DEFAULT_PLACEMENTS (chosen for config/jaw.yaml's geometry)
+    moved away from the palm (+x) by the least multiple of ``PLACEMENT_SHIFT_STEP_MM`` at which
+    every placement leaves the two fingers at least 2·``locate`` locating touches between them
+    (:func:`_locate_options`; a finger that reaches none leaves its share to the other). A
+    jaw of longer proximal links and shorter pads cannot fold round a disk at (60, 0) mm: the
+    P-series jaw with 85 / 62 mm links and 40 mm pads reaches no locating touch there, and was
+    told to place a disk where it already lay; moved 10 mm, 4. Raises CalibrationRefused
+    when no shift up to ``PLACEMENT_SHIFT_MAX_MM`` does."""
+    shift = 0.0
+    while shift <= PLACEMENT_SHIFT_MAX_MM:
+        places = [(x + shift, y) for x, y in DEFAULT_PLACEMENTS]
+        if all(sum(len(v) for v in _locate_options(cfg, reference, p).values()) >= 2 * locate for p in places):
+            return places
+        shift += PLACEMENT_SHIFT_STEP_MM
+    raise CalibrationRefused(f"no placement of the reference disk lets this jaw's pads locate it: "
+                             f"{', '.join(f'({x:g}, {y:g})' for x, y in DEFAULT_PLACEMENTS)} mm moved up to "
+                             f"{PLACEMENT_SHIFT_MAX_MM:g} mm away from the palm leave fewer than {2 * locate} "
+                             f"locating touches at some placement; pass --place X,Y where the pads reach it")
+
+
 def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, corners: int = 6,
                     locate: int = 2) -> tuple[list[Reading], np.ndarray, list[str]]:
     """Touch one placement of a disk reference with both fingers: ``locate`` face touches
@@ -201,35 +257,21 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
     readings: list[Reading] = []
     skipped: list[str] = []
 
-    def make_guard(center, extra):
-        """guard(finger, q_from, q_to): does the straight joint-space move keep the pad
-        ``extra`` mm clear of the expected disk (sampled every 0.01 rad)?"""
-        c = np.asarray(center, dtype=float)
-
-        def guard(finger, q_from, q_to) -> bool:
-            q_from, q_to = np.asarray(q_from, dtype=float), np.asarray(q_to, dtype=float)
-            n = max(2, math.ceil(float(np.max(np.abs(q_to - q_from))) / 0.01) + 1)
-            qs = q_from + np.linspace(0.0, 1.0, n)[:, None] * (q_to - q_from)
-            line = kin.finger_pad_line(cfg.finger(finger), qs)
-            ab = line.distal - line.proximal
-            u = np.clip(np.sum((c - line.proximal) * ab, axis=1) / np.sum(ab * ab, axis=1), 0.0, 1.0)
-            dist = np.hypot(*(line.proximal + u[:, None] * ab - c).T)
-            return bool(np.all(dist >= r + extra))
-        return guard
-
     # 0. park both fingers (opening them moves the pads away from the workspace)
     park(jaw)
     # 1. locate: the pads start LOCATE_GAP_MM outside the expected disk
     loc_gap, loc_travel = LOCATE_GAP_MM, 2.0 * LOCATE_GAP_MM
-    guard = make_guard(guess, loc_gap - 0.5)
+    guard = _guard(cfg, guess, r, loc_gap - 0.5)
     homes = {f.name: home_pose(f) for f in cfg.fingers}
 
     def reachable(g):
         return lambda name, q: _route(g, name, homes[name], q, homes[name]) is not None
 
-    loc_plan = plan_touches(cfg, reference, guess, faces=15, corners=0, gap=loc_gap, accept=reachable(guard))
-    options = {f.name: sorted((t for t in loc_plan if t.finger == f.name and t.kind == "face"), key=lambda t: t.psi)
-               for f in cfg.fingers}
+    options = _locate_options(cfg, reference, guess)
+    if sum(len(v) for v in options.values()) < 3:
+        raise CalibrationRefused(f"placement {placement + 1}: this jaw's pads reach {sum(len(v) for v in options.values())} "
+                                 f"locating touches of a disk of radius {r:g} mm at ({guess[0]:g}, {guess[1]:g}) mm "
+                                 f"from their parking poses (3 needed): place it farther from the palm (--place X,Y)")
     # `locate` per finger; what a finger cannot reach (a disk off to its side) the other takes
     counts = {name: min(len(mine), locate) for name, mine in options.items()}
     for name, mine in options.items():
@@ -250,7 +292,7 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
     model = ContactModel(cfg, reference, [dataclasses.replace(rd, placement=0) for rd in faces_found])
     center = model.pose_start(pack_params(cfg))[:2]
     # 2. the full plan around the located disk
-    guard = make_guard(center, TRANSIT_CLEARANCE_MM)
+    guard = _guard(cfg, center, r, TRANSIT_CLEARANCE_MM)
     plan = plan_touches(cfg, reference, center, faces=faces, corners=corners, gap=APPROACH_GAP_MM,
                         accept=reachable(guard))
     run_together(jaw, {f.name: _finger_touches(jaw, f.name, [t for t in plan if t.finger == f.name], center, r,

@@ -39,10 +39,10 @@ def perturbed(cfg, seed: int):
 
 
 def calibrate(cfg, truth, rng, faces: int, corners: int):
-    """``tactile calibrate``'s touches (one emulated bus per suggested placement, the disk
+    """``tactile calibrate``'s touches (one emulated bus per default placement, the disk
     off it by up to ±3 mm) and fit."""
     from hand_driver.calibration_fit import backlash_matters, fit
-    from hand_driver.calibration_plan import DEFAULT_PLACEMENTS
+    from hand_driver.calibration import default_placements
     from hand_driver.cycle import LockstepClock
     from hand_driver.sim.server import EmulatedBus
     from recognizer.curves import Pose
@@ -50,7 +50,7 @@ def calibrate(cfg, truth, rng, faces: int, corners: int):
     from tools.cmd_calibrate import touch_placements
 
     disk = load_scene("config/scenes/calibration.yaml").object
-    places = list(DEFAULT_PLACEMENTS)
+    places = default_placements(cfg, disk)
     placed = [dataclasses.replace(disk, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
               for x, y in places]
     with contextlib.ExitStack() as stack:

@@ -46,11 +46,11 @@ def add_arguments(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print the result as JSON")
 
 
-def _placements(args) -> list[tuple[float, float]]:
-    from hand_driver.calibration_plan import DEFAULT_PLACEMENTS
+def _placements(args, cfg, disk) -> list[tuple[float, float]]:
+    from hand_driver.calibration import default_placements
 
     if not args.place:
-        return list(DEFAULT_PLACEMENTS)
+        return default_placements(cfg, disk)
     out = []
     for text in args.place:
         try:
@@ -106,7 +106,7 @@ def run(args) -> int:
     scene = load_scene(args.reference)
     if scene.object is None or scene.object.cls != "circle":
         raise InputError(f"{args.reference}: object: the reference must be a disk (class circle) of known radius")
-    places = _placements(args)
+    places = _placements(args, cfg, scene.object)
     if len(args.port) not in (1, len(places)):
         raise InputError(f"--port given {len(args.port)} times for {len(places)} placements; give it once or "
                          f"once per placement")
