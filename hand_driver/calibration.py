@@ -18,7 +18,7 @@ from hand_driver.calibration_fit import CalibrationRefused, ContactModel, Readin
 from hand_driver.calibration_plan import DEFAULT_PLACEMENTS, PlannedTouch, plan_touches
 from hand_driver.config import JawConfig
 from hand_driver.cycle import LIMIT_MARGIN_RAD, run_together
-from hand_driver.motion import guarded_approach, move_to
+from hand_driver.motion import guarded_approach, move_joint_line, move_to
 from tactile_common.angles import wrap_angle
 
 #: pre-contact gap (mm) from which every calibration touch approaches, and its travel
@@ -136,9 +136,9 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
     here = jaw.finger_q(jaw.last_state, finger)
     trail = [here]
 
-    def retrace():
+    def retrace(move=move_to):
         for q in trail[-2::-1]:
-            yield from move_to(jaw, finger, q)
+            yield from move(jaw, finger, q)
         return [trail[0]]
 
     for t in plan:
@@ -154,18 +154,23 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
         if route is None:
             skipped.append(f"{finger} {t.kind}: no clear path")
             continue
-        reached = True
+        done = []
         for q in route:
-            reached = (yield from move_to(jaw, finger, q)) and reached
-        here = route[-1]
-        homed = [i for i, q in enumerate(route) if q is home]
-        trail = [home] + route[homed[-1] + 1:] if homed else trail + route
-        if not reached:  # blocked on the way (the object is not where expected): park, skip
+            if not (yield from move_to(jaw, finger, q)):
+                break
+            done.append(q)
+        homed = [i for i, q in enumerate(done) if q is home]
+        trail = [home] + done[homed[-1] + 1:] if homed else trail + done
+        if len(done) < len(route):  # blocked on the way (the object is not where expected): back to the
+            # last waypoint reached and the way it came to park, skip — a finger left pushing toward an
+            # unreached goal stays blocked against the disk at its current limit (a PM42-010 distal
+            # joint, 1,461 mA at most, raised its overload error while the other finger touched on)
             skipped.append(f"{finger} {t.kind}: blocked on the way")
-            yield from move_to(jaw, finger, home)
-            here = home
-            trail = [home]
+            yield from move_joint_line(jaw, finger, trail[-1])
+            trail = yield from retrace(move_joint_line)  # on the segments checked clear, not each servo's own profile
+            here = trail[0]
             continue
+        here = route[-1]
         if t.kind == "face":
             n = kin.unit(t.psi)
             d_pre = float(n @ np.asarray(center)) - r - gap

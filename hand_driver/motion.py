@@ -121,6 +121,24 @@ def move_to(jaw: Jaw, finger: str, q_goal, max_cycles: int = 200) -> Motion:
     return False
 
 
+def move_joint_line(jaw: Jaw, finger: str, q_goal) -> Motion:
+    """Go to joint angles ``q_goal`` along the straight joint-space segment from where the
+    finger is: one goal per cycle, no joint's step more than its servo turns in a cycle at the
+    profile velocity (:func:`joint_cycle_turns`), every joint arriving together; then
+    :func:`move_to`. A bare :func:`move_to` lets each servo run its own profile, so a distal
+    joint's 150° swing ends long after the base joint's 18° turn and the pad sweeps another
+    path than the straight segment a clearance test checked (the calibration's routes round the
+    reference disk: a jaw of 85 / 62 mm links swept its pad into the disk on the way back to
+    its parking pose). Returns True when reached."""
+    q0 = np.asarray(jaw.finger_q(jaw.last_state, finger), dtype=float)
+    delta = np.asarray(q_goal, dtype=float) - q0
+    turns = joint_cycle_turns(jaw, finger)
+    steps = 1 if turns is None else max(1, math.ceil(float(np.max(np.abs(delta) / turns))))
+    for k in range(1, steps):
+        yield q0 + delta * (k / steps)
+    return (yield from move_to(jaw, finger, q_goal))
+
+
 def joint_cycle_turns(jaw: Jaw, finger: str) -> np.ndarray | None:
     """What each joint of ``finger`` turns in one cycle (rad) at the config's
     ``motion.profile_velocity`` (in each joint's model's unit); None when it is 0 (no limit)."""

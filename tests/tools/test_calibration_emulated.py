@@ -141,3 +141,33 @@ def test_calibration_of_the_p_series_jaw_measures_zero_and_backlash_under_each_l
     bias = [abs(e.after - t.zero_tick) for e, t in zip([e for e in plain.estimates if e.kind == "zero_tick"],
                                                         truth.joints)]
     assert max(bias) > 20.0
+
+
+def test_a_finger_blocked_on_its_way_backs_off_and_no_servo_overloads(tmp_path):
+    """A P-series jaw of 85 / 62 mm links and 40 mm pads, PM42-010 distal joints (1,461 mA at
+    most), at its placement (75, −30) mm: the right finger's move from a corner touch back to
+    its parking pose swept its pad into the disk (each servo on its own profile: the distal
+    joint's 150° swing after the base joint's turn, not the straight joint-space segment the
+    route was checked on); it used to go straight on for home, blocked again, and stayed
+    pushing at its current limit while the other finger touched on, until servo 4 raised its
+    overload error (torque off, the calibration lost). Now it backs off to the waypoint it
+    last reached and parks along the segments checked clear, the touch skipped, and every
+    servo ends the placement unfaulted."""
+    from hand_driver.errors import ServoHardwareError
+    from tests.hand_driver.test_calibration_placements import _long_links
+
+    _long_links(tmp_path)  # writes tmp_path / "jaw-long.yaml"
+    path = tmp_path / "jaw-long.yaml"
+    path.write_text(path.read_text().replace("PH42-020-S300-R", "PM42-010-S260-R"))
+    cfg = load_config(path)
+    disk = dataclasses.replace(DISK, pose=Pose(0.0, 75.0, -30.0))
+    lines = []
+    with EmulatedBus(cfg, disk, time_scale=0.0) as sim:
+        try:
+            readings, _ = touch_placements(cfg, DISK, [(75.0, -30.0)], [sim.port], faces=3, corners=2,
+                                           clock_for=lambda k: LockstepClock(sim), say=lines.append,
+                                           bus_options=BUS_OPTIONS)
+        except ServoHardwareError as exc:
+            pytest.fail(f"a servo overloaded: {exc}")
+        assert not any(s.hardware_error for s in sim.servos.values())
+    assert len(readings) >= 10 and "placement 1: disk found" in lines[0]
