@@ -50,7 +50,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from tactile_common.errors import InputError
+from tactile_common.errors import DeviceFault, InputError
 
 CLASSES = ["line", "circle", "ellipse", "parabola", "hyperbola", "cubical_parabola", "semicubical_parabola"]
 DEFAULT_CONFIG = "config/jaw.yaml"
@@ -318,7 +318,15 @@ def main(argv: list[str] | None = None) -> int:
     scenes = [scenes[k] for k in numbers]
     explore_config = args.config
     if args.calibrate:
-        explore_config = str(calibrated_config(args.config, args.truth_config, args.seed, work))
+        try:
+            explore_config = str(calibrated_config(args.config, args.truth_config, args.seed, work))
+        except (InputError, DeviceFault) as exc:  # refused, or a servo's fault: one line and tactile's exit status
+            from hand_driver.calibration_fit import CalibrationRefused
+            from tools.cli import EXIT_BAD_INPUT, EXIT_FAULT, EXIT_REFUSED
+
+            print(f"bench_explore: calibration of {args.config} against {args.truth_config}: {exc}", file=sys.stderr)
+            return (EXIT_FAULT if isinstance(exc, DeviceFault) else EXIT_REFUSED if isinstance(exc, CalibrationRefused)
+                    else EXIT_BAD_INPUT)
     with ThreadPoolExecutor(args.jobs) as pool:
         results = list(pool.map(lambda s: run_scene(s[0], s[0].with_suffix(".log"), args.profile, explore_config,
                                                     args.truth_config), scenes))
