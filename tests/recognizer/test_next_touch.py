@@ -214,6 +214,26 @@ def test_a_semicubical_leader_suggests_its_other_branch():
     assert after.ranking[1].bic - after.ranking[0].bic > 100
 
 
+def _suggestion_sent(cls: str, i: int, seed: int, exact: bool = False):
+    """bench_wide --set wide trial ``i`` of ``cls`` on ``seed`` (``exact``: the bench's
+    noise-free touches drawn first, as in its trials), recognized from its 3 noisy touches, and
+    the answer's next touch sent as the bench sends it (a pad coming in along its normal,
+    tools.pad_approach): (the trial's region, the true shape, the recognition, what the pad met)."""
+    from tools import bench_wide as bw
+    from tools.pad_approach import solid_left
+
+    region, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case(cls, i, seed, "wide")
+    direction = int(rs.choice([-1, 1]))
+    if exact:
+        bw._exact(shape, ts, direction)
+    touches, noise = bw._touches(shape, ts, rs, direction)
+    rec, _, _ = bw._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    assert rec.next_touch, rec.cls
+    nt = rec.next_touch
+    return region, shape, rec, bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
+                                        solid_left(shape.curve, ts, direction), direction)
+
+
 @pytest.mark.parametrize("i", [0, 3])
 def test_a_cubical_suggestion_is_a_place_a_pad_lands_on(i):
     """bench_wide --set wide seed 5 (development), cubical trials 0 and 3, one side of the
@@ -221,17 +241,8 @@ def test_a_cubical_suggestion_is_a_place_a_pad_lands_on(i):
     concave toward the pad, which a flat pad sent there only bridges (tools.pad_approach:
     its end meets the boundary, the touch is lost). Now only places where a pad coming in
     along its normal first meets the leader's curve are suggested, and the pad lands."""
-    from tools import bench_wide as bw
-    from tools.pad_approach import solid_left
-
-    region, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("cubical_parabola", i, 5, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    rec, _, _ = bw._recognize(touches, NoiseModel(noise.phi, noise.pos))
-    assert region == "one side of inflection" and rec.cls == "cubical_parabola" and rec.next_touch
-    nt = rec.next_touch
-    got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
-                   solid_left(shape.curve, ts, direction), direction)
+    region, shape, rec, got = _suggestion_sent("cubical_parabola", i, 5)
+    assert region == "one side of inflection" and rec.cls == "cubical_parabola"
     assert got.why == "" and got.miss_mm < 0.01 * shape.size, got
 
 
@@ -244,18 +255,8 @@ def test_a_suggestion_lands_where_the_rivals_tangent_is_uncertain_or_tilted(cls,
     (0.17 rad): the true ellipse met the pad with its end or too far along it for the roll,
     and the touch was lost. Now each candidate's chance that the pad lands and seats (its
     predicted tilt and its σ against the pad's tolerance) weighs the place: the pad lands."""
-    from tools import bench_wide as bw
-    from tools.pad_approach import solid_left
-
-    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case(cls, i, seed, "wide")
-    direction = int(rs.choice([-1, 1]))
-    bw._exact(shape, ts, direction)  # (the bench's draws before the noisy touches)
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    rec, _, _ = bw._recognize(touches, NoiseModel(noise.phi, noise.pos))
-    assert rec.cls != cls and rec.next_touch
-    nt = rec.next_touch
-    got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
-                   solid_left(shape.curve, ts, direction), direction)
+    _, shape, rec, got = _suggestion_sent(cls, i, seed, exact=True)  # (the bench's draws before the noisy touches)
+    assert rec.cls != cls
     assert got.why == "", got
 
 
@@ -290,17 +291,8 @@ def test_a_suggestion_lands_on_a_semicubical_answered_parabola(i):
     where the semicubical rival's other branch lies over the place). Now a place must land
     for every likely class, a semicubical rival's never toward its cusp from its touches,
     and the pad lands on the true curve."""
-    from tools import bench_wide as bw
-    from tools.pad_approach import solid_left
-
-    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("semicubical_parabola", i, 179, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    rec, _, _ = bw._recognize(touches, NoiseModel(noise.phi, noise.pos))
-    assert rec.cls == "parabola" and rec.next_touch
-    nt = rec.next_touch
-    got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
-                   solid_left(shape.curve, ts, direction), direction)
+    _, shape, rec, got = _suggestion_sent("semicubical_parabola", i, 179)
+    assert rec.cls == "parabola"
     assert got.why == "" and got.miss_mm < 0.01 * shape.size, got
 
 
@@ -618,15 +610,6 @@ def test_a_suggestion_lands_where_a_semicubicals_cusp_may_be(i):
     the boundary); the semicubical rival's fit had its cusp beyond the other end of the
     touches, so it said the pad lands. Now such a rival is not landed on where the touches'
     curvature grows, and the pad lands on the true curve."""
-    from tools import bench_wide as bw
-    from tools.pad_approach import solid_left
-
-    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("semicubical_parabola", i, 443, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    rec, _, _ = bw._recognize(touches, NoiseModel(noise.phi, noise.pos))
-    assert rec.cls == "parabola" and rec.next_touch
-    nt = rec.next_touch
-    got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
-                   solid_left(shape.curve, ts, direction), direction)
+    _, shape, rec, got = _suggestion_sent("semicubical_parabola", i, 443)
+    assert rec.cls == "parabola"
     assert got.why == "" and got.miss_mm < 0.05 * shape.size, got  # lost before (the pad's end met the cusp)
