@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from contextlib import contextmanager
 
 import numpy as np
@@ -10,7 +11,8 @@ import pytest
 from hand_driver import kinematics as kin
 from hand_driver.bus import JointBus
 from hand_driver.config import JawConfig, JointConfig, load_config
-from hand_driver.cycle import Jaw, LockstepClock
+from hand_driver.cycle import Jaw, LockstepClock, run_together
+from hand_driver.motion import move_to
 from hand_driver.sim.server import EmulatedBus
 from recognizer.scene import load_scene
 from tactile_jaw.plan import open_pose
@@ -71,20 +73,36 @@ def opened_jaw():
 
 @pytest.fixture
 def peak_current():
-    """``watch(jaw, finger, motion) -> (motion, peak)``: ``motion`` (a generator of joint goals
-    for tactile_jaw.rounds / hand_driver.cycle.run_together) wrapped so that ``peak[0]`` holds
-    the largest |current| (mA) the finger drew on the way."""
-    def watch(jaw, finger: str, motion):
-        peak = [0.0]
+    """``run(jaw, finger, motion) -> (peak, line)``: ``motion`` (a generator of joint goals for
+    tactile_jaw.rounds / hand_driver.cycle.run_together) run to its end for ``finger``, with the
+    largest |current| (mA) the finger drew on the way and its pad line where it ended."""
+    def run(jaw, finger: str, motion):
+        peak = 0.0
 
-        def run():
+        def watched():
+            nonlocal peak
             goal = next(motion)
             try:
                 while True:
                     state, i = yield goal
-                    peak[0] = max(peak[0], abs(jaw.finger_current(state, finger) or 0.0))
+                    peak = max(peak, abs(jaw.finger_current(state, finger) or 0.0))
                     goal = motion.send((state, i))
             except StopIteration as stop:
                 return stop.value
-        return run(), peak
-    return watch
+        run_together(jaw, {finger: watched()})
+        return peak, jaw.pad_line(jaw.last_state, finger)
+    return run
+
+
+@pytest.fixture
+def rested_at():
+    """``rest(jaw, finger, q, psi_deg) -> line``: ``finger`` moved to joint angles ``q`` (reached),
+    its pad normal within 0.3° of ``psi_deg`` and drawing less than the contact current there
+    (the premise of a transit test: the pad off the object), its pad line returned."""
+    def rest(jaw, finger: str, q, psi_deg: float):
+        assert run_together(jaw, {finger: move_to(jaw, finger, q)})[finger]
+        line = jaw.pad_line(jaw.last_state, finger)
+        assert math.degrees(float(line.psi)) == pytest.approx(psi_deg, abs=0.3)
+        assert (jaw.finger_current(jaw.last_state, finger) or 0.0) < jaw.config.motion.contact_current_ma
+        return line
+    return rest

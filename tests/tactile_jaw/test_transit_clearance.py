@@ -64,8 +64,6 @@ def test_a_transit_from_beside_the_circle_turns_without_meeting_it(opened_jaw, p
         # backed off 2.9 mm after a probe at ψ 113°, as in the run
         assert run_together(jaw, {"right": move_line(jaw, "right", psi_from, _support(psi_from) - 2.9,
                                                      via=[(psi_from, model.edge(psi_from))])})["right"]
-        motion, peak = peak_current(jaw, "right", transit(jaw, "right", model, psi_to, hug=True))
-        run_together(jaw, {"right": motion})
-        line = jaw.pad_line(jaw.last_state, "right")
-    assert peak[0] < config.motion.contact_current_ma  # never pressed on the circle on the way
+        peak, line = peak_current(jaw, "right", transit(jaw, "right", model, psi_to, hug=True))
+    assert peak < config.motion.contact_current_ma  # never pressed on the circle on the way
     assert math.degrees(float(line.psi)) == pytest.approx(78.5, abs=0.5)  # and arrived (wedged at 112.4° before)

@@ -53,21 +53,16 @@ def test_the_joints_are_paced_at_the_profile_velocity():
     assert np.degrees(turns) == pytest.approx([2.748, 2.748], abs=1e-3)
 
 
-def test_the_turn_after_a_roll_does_not_slide_the_pad_back_onto_the_object(opened_jaw, peak_current):
+def test_the_turn_after_a_roll_does_not_slide_the_pad_back_onto_the_object(opened_jaw, rested_at, peak_current):
     config = CONFIG
     with opened_jaw(config, SCENE) as jaw:
-        assert run_together(jaw, {"right": move_to(jaw, "right", Q_AFTER_ROLL)})["right"]
-        start = jaw.pad_line(jaw.last_state, "right")
-        assert math.degrees(float(start.psi)) == pytest.approx(121.5, abs=0.3)
-        assert (jaw.finger_current(jaw.last_state, "right") or 0.0) < config.motion.contact_current_ma
+        start = rested_at(jaw, "right", Q_AFTER_ROLL, 121.5)
         ws = config.workspace
         model = ObjectModel(ws.center_mm, ws.radius_mm)
         model.add(FELT_PSI, _support(FELT_PSI))
         assert float(start.d) < model.tangent(float(start.psi))[0] - 2.0  # the premise: clear of it
-        motion, peak = peak_current(jaw, "right", transit(jaw, "right", model, math.radians(66.0), hug=True))
-        run_together(jaw, {"right": motion})
-        line = jaw.pad_line(jaw.last_state, "right")
-    assert peak[0] < config.motion.contact_current_ma  # never pressed on the object on the way
+        peak, line = peak_current(jaw, "right", transit(jaw, "right", model, math.radians(66.0), hug=True))
+    assert peak < config.motion.contact_current_ma  # never pressed on the object on the way
     assert math.degrees(float(line.psi)) == pytest.approx(66.0, abs=0.5)
 
 

@@ -15,8 +15,6 @@ import pytest
 
 from hand_driver import kinematics as kin
 from hand_driver.config import load_config
-from hand_driver.cycle import run_together
-from hand_driver.motion import move_to
 from tactile_jaw.plan import ObjectModel
 from tactile_jaw.rounds import transit
 
@@ -29,19 +27,14 @@ SCENE = {"name": "line18", "classes": ["line"],
 Q_AFTER_ROLL = np.radians([-26.5, 62.0])  # the right finger 3 mm off the block's corner, pad normal 125.5°
 
 
-def test_the_swing_open_does_not_slide_the_pad_onto_the_block(opened_jaw, peak_current):
+def test_the_swing_open_does_not_slide_the_pad_onto_the_block(opened_jaw, rested_at, peak_current):
     config = CONFIG
     with opened_jaw(config, SCENE) as jaw:
-        assert run_together(jaw, {"right": move_to(jaw, "right", Q_AFTER_ROLL)})["right"]
-        start = jaw.pad_line(jaw.last_state, "right")
-        assert math.degrees(float(start.psi)) == pytest.approx(125.5, abs=0.3)
-        assert (jaw.finger_current(jaw.last_state, "right") or 0.0) < config.motion.contact_current_ma
+        start = rested_at(jaw, "right", Q_AFTER_ROLL, 125.5)
         ws = config.workspace
         model = ObjectModel(ws.center_mm, ws.radius_mm)
         with pytest.raises(kin.Unreachable):  # the premise: no retreat along its normal to the edge
             jaw.solve("right", float(start.psi), model.edge(float(start.psi)), jaw.finger_q(jaw.last_state, "right"))
-        motion, peak = peak_current(jaw, "right", transit(jaw, "right", model, math.radians(89.5)))
-        run_together(jaw, {"right": motion})
-        line = jaw.pad_line(jaw.last_state, "right")
-    assert peak[0] < config.motion.contact_current_ma  # never pressed on the block on the way
+        peak, line = peak_current(jaw, "right", transit(jaw, "right", model, math.radians(89.5)))
+    assert peak < config.motion.contact_current_ma  # never pressed on the block on the way
     assert math.degrees(float(line.psi)) == pytest.approx(89.5, abs=0.5)
