@@ -23,7 +23,7 @@ from tactile_jaw.choose import (MOVE_TURN_MAX_DEG, Goal, JawReach, Stop, facing_
                                 move_advice, place_goal)
 from tactile_jaw.flat import (BULGED_PRESSES, FACE_MISS_MM, bulged, curved_faces, face_groups, recognized_touches,
                               same_face_rad)
-from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel
+from tactile_jaw.pipeline import FeltTouch, curve_refusal, curved_part, feel, left_out
 from tactile_jaw.plan import PROBE_PAD_MARGIN, ObjectModel, nominal_psi, retreat_offset
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
 from tactile_jaw.settings import ExploreSettings
@@ -286,9 +286,7 @@ def curve_stop(cfg, settings: ExploreSettings, curve: FeltTouch, felt: FeltTouch
                     else advice.words, advice.move)
     c, m = curve.contacts, len(curve.contacts.x) // 2
     psi = np.asarray(c.psi, dtype=float)
-    whole = np.array([smp.psi for smp in felt.touch.samples] if not isinstance(felt.touch, FlatResult) else [])
-    low = int(np.sum(whole < float(np.min(psi)) - 1e-6))  # samples left out below the stretch's ψ range
-    high = int(np.sum(whole > float(np.max(psi)) + 1e-6))
+    low, high = left_out(felt, curve)  # samples left out below and above the stretch's ψ range
     near = f"felt near ({c.x[m]:.1f}, {c.y[m]:.1f}) mm"
     if low == high:  # a roll centred on the stretch, the pad through its middle with its tangent
         finger = cfg.finger(felt.finger)

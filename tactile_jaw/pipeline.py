@@ -397,16 +397,26 @@ def moving_hint(config, felt: FeltTouch, samples: int) -> FeltTouch:
     if stretch is None:
         return felt
     c = stretch.contacts
-    psi = np.sort([s.psi for s in felt.touch.samples])
-    step = float(np.median(np.diff(psi)))
-    low = int(np.sum(psi < float(np.min(c.psi)) - 1e-9))
-    high = int(np.sum(psi > float(np.max(c.psi)) + 1e-9))
+    step = float(np.median(np.diff(np.sort([s.psi for s in felt.touch.samples]))))
+    low, high = left_out(felt, stretch)
     if low == high:
         m = c.x.size // 2
         return replace(felt, curve_at=(float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2))
     edge, sign = (0, 1.0) if low > high else (c.x.size - 1, -1.0)
     hint = _roll_beside(stretch, np.arange(c.x.size), edge, sign, step * (samples - 1), samples)
     return felt if hint is None else replace(felt, curve_at=hint)
+
+
+def left_out(felt: FeltTouch, stretch: FeltTouch) -> tuple[int, int]:
+    """How many of the roll ``felt``'s samples its ``stretch`` (felt from a subset of those
+    samples: :func:`curved_part`, :func:`moving_stretch`) leaves out below and above its
+    range of commanded ψ: the same readings compared, so no tolerance between commanded and
+    measured ψ (µrad apart on the P-series jaw) decides a side. A flat press: (0, 0)."""
+    if isinstance(felt.touch, FlatResult) or isinstance(stretch.touch, FlatResult):
+        return 0, 0
+    kept = [s.psi for s in stretch.touch.samples]
+    whole = np.array([s.psi for s in felt.touch.samples], dtype=float)
+    return int(np.sum(whole < min(kept))), int(np.sum(whole > max(kept)))
 
 
 def _felt_run(config, touch: TouchResult) -> tuple[int, int, FeltTouch] | None:

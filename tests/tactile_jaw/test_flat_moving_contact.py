@@ -21,7 +21,8 @@ from hand_driver.config import load_config
 from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult
 from recognizer.scene import load_scene
-from tactile_jaw.pipeline import curve_refusal, curved_part, curved_stretch, feel, logged_samples, moving_stretch
+from tactile_jaw.pipeline import (curve_refusal, curved_part, curved_stretch, feel, left_out, logged_samples,
+                                  moving_stretch)
 from tests.tactile_jaw.test_envelope_order import FINE, roll
 from tests.tactile_jaw.test_flat import _face, _flat
 
@@ -142,3 +143,26 @@ def test_the_next_roll_goes_on_along_the_branch_past_the_moving_stretch():
     stretch = moving_stretch(config, branch)
     reached = [float(t[np.argmin(np.hypot(px - a, py - b))]) for a, b in zip(stretch.contacts.x, stretch.contacts.y)]
     assert t[i] < min(reached) < max(reached) < obj.extent[1]  # past the stretch, away from the end corner
+
+
+def test_a_stretch_leaves_out_the_readings_beside_it_wherever_the_roll_turned():
+    """The samples a stretch leaves out below and above its ψ range are counted by the same
+    readings (tactile_jaw.pipeline.left_out), so neither the angle's wrap nor µrad between
+    commanded and measured ψ decides a side: P cubical 102 moved of bench_explore --finite 20
+    --anywhere --seed 463 rolled its left pad at commanded ψ 214.7–232.7°, its stretch's
+    contacts at −140.8 … −129.5°, and the old counts (commanded against the contacts' ψ) gave
+    (0, 9) where 2 and 1 were left out; the logged hyperbola roll's stretch is a run inside it."""
+    config = load_config("config/jaw-p.yaml")
+    raw = json.loads((DATA / "p_hyperbola_45_rolls.json").read_text())["rolls"]
+    branch = _logged(config, raw[0], outcome="ok")
+    stretch = moving_stretch(config, branch)
+    psi = sorted(s.psi for s in branch.touch.samples)
+    kept = sorted(s.psi for s in stretch.touch.samples)
+    first = psi.index(kept[0])
+    assert psi[first:first + len(kept)] == kept  # a run of the roll's readings
+    assert left_out(branch, stretch) == (first, len(psi) - first - len(kept))
+    turned = [math.radians(214.7387 + 2.25 * k) for k in range(9)]
+    whole = replace(branch, touch=replace(branch.touch, samples=[replace(s, psi=p) for s, p in
+                                                                  zip(branch.touch.samples, turned)]))
+    part = replace(stretch, touch=replace(stretch.touch, samples=whole.touch.samples[2:8]))
+    assert left_out(whole, part) == (2, 1)
