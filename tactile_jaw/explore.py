@@ -124,17 +124,13 @@ def _clear_of_corners(cfg, out: Exploration, settings: ExploreSettings, emit, sa
     return run
 
 
-def wider_again(felt: FeltTouch, reach: JawReach, wider: Container[int],
-                earlier: Sequence[FeltTouch] = ()) -> Aim | None:
+def wider_again(felt: FeltTouch, reach: JawReach, wider: Container[int]) -> Aim | None:
     """A roll judged a corner only by its radius's deviation (tactile_jaw.pipeline.corner_in_doubt)
     and not itself a wider roll (``wider``: their touch indices) is rolled again about the point
     it turned about, over ``WIDER_SPAN`` times the span, when its finger can reach it there: the
     Aim of that roll, else None. A corner measures ρ ≈ 0 again; boundary bent tightly (an
-    ellipse's end) is usable (docs/exploration.md). Not when one of the finger's ``earlier``
-    rolls, a wider one or one not in doubt, measured a corner at that point: its radius is told
-    already (:func:`measured_corner`)."""
-    if (felt.corner is None or not corner_in_doubt(felt.fit) or felt.touch.touch in wider
-            or measured_corner(felt, earlier, wider)):
+    ellipse's end) is usable (docs/exploration.md)."""
+    if felt.corner is None or not corner_in_doubt(felt.fit) or felt.touch.touch in wider:
         return None
     phi = felt.touch.psi_center - math.pi / 2
     finger = reach.config.finger(felt.finger)
@@ -143,22 +139,6 @@ def wider_again(felt: FeltTouch, reach: JawReach, wider: Container[int],
     return Aim(*felt.corner, phi, felt.finger,
                f"where its last roll turned about a point or a tight bend (radius of curvature "
                f"{felt.fit.rho:.1f} ± {felt.fit.sigma_rho:.1f} mm): rolled {WIDER_SPAN:g} times wider", kind="wider")
-
-
-def measured_corner(felt: FeltTouch, earlier: Sequence[FeltTouch], wider: Container[int]) -> bool:
-    """Whether one of ``earlier`` (rolls of ``felt``'s finger; presses and other fingers' touches
-    are passed over) pivoted about a point within ``PIVOT_AGAIN_MM`` of ``felt``'s corner and
-    measured it a corner (tactile_jaw.pipeline.on_corner) either over ``WIDER_SPAN`` times the
-    span (``wider``: those rolls' touch indices) or not in doubt
-    (tactile_jaw.pipeline.corner_in_doubt). A boundary point has one radius of curvature: the
-    roll that told a corner from a tight bend there was made, and a roll about it again over
-    the same span measures nothing more. X-series lines of bench_explore --finite 20 --anywhere --seed 463:
-    after a wider roll measured the corner, a roll 10–20° on pivoted about it again (in doubt
-    over 18°) and was rolled wider once more (blocks 3, 7, 8, 16: 0.1–3.3 s)."""
-    return felt.corner is not None and any(
-        t.finger == felt.finger and t is not felt and not isinstance(t.touch, FlatResult) and t.corner is not None
-        and t.fit is not None and on_corner(t.fit) and (t.touch.touch in wider or not corner_in_doubt(t.fit))
-        and math.dist(t.corner, felt.corner) <= PIVOT_AGAIN_MM for t in earlier)
 
 
 def beside_corners(out: Exploration, usable: list[FeltTouch], seen: set[int], settings: ExploreSettings):
@@ -869,7 +849,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                     hints[name], off_curve[name] = scan, 0
                     say(f"{name}: its flat press's scan rolled on a curved part: it rolls there next")
                 continue
-            again = wider_again(felt, reach, wider, out.touches)
+            again = wider_again(felt, reach, wider)
             count, follow = off_curve_count(off_curve[name], felt, name in from_hint)
             off_curve[name] = 0 if again is not None else count  # a roll in doubt, rolled again wider: not counted
             if again is not None:

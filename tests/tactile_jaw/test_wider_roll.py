@@ -2,7 +2,6 @@
 a wider span (tactile_jaw.explore.wider_again): on the X-series jaw an ellipse's end (ρ = b²/a)
 measured over 18° cannot be told from a corner, over 36° it can."""
 
-import dataclasses
 import json
 import math
 from pathlib import Path
@@ -113,35 +112,3 @@ def test_a_wider_roll_there_drops_a_corner_in_doubt_and_a_sure_one_stays():
     sure = _with_rho(first, 0.05, 0.1)  # below its deviation: a corner that clears (CLEARANCE_SIGMAS)
     kept, notes = clear_of_corners(CONFIG, [wider], [sure, wider], 9)
     assert len(notes) == 1 and (not kept or len(kept[0].touch.samples) < len(wider.touch.samples))
-
-
-LINE = Path(__file__).parent / "data" / "x_line_corner_rolls.json"
-
-
-def _line_roll(key: str) -> TouchResult:
-    raw = json.loads(LINE.read_text())["rolls"][key]
-    samples = logged_samples(CONFIG, raw["finger"], raw["ticks"], raw["psi"])
-    return TouchResult(raw["finger"], int(key), raw["psi_center"], samples, outcome="ok")
-
-
-def test_a_corner_a_wider_roll_measured_is_not_rolled_wider_again(reach):
-    """X line 8 of bench_explore --finite 20 --anywhere --seed 463: the left pad's 18° roll
-    (touch 6) pivoted about a corner in doubt and was rolled again there over 36° (touch 7,
-    ρ 0.03 ± 1.08 mm); its next roll 10° on (touch 9) pivoted about the same corner, in doubt
-    over 18° again, and was rolled wider once more (3.3 s). Now it is not: the corner's radius
-    was measured there; a corner elsewhere (3 mm off), or that wider roll of another finger, or
-    only the first roll in doubt, leaves the roll rolled wider."""
-    first, wide, again = (feel(CONFIG, _line_roll(k), 9) for k in ("6", "7", "9"))
-    for t in (first, wide, again):
-        assert t.corner is not None and on_corner(t.fit)
-    assert corner_in_doubt(first.fit) and corner_in_doubt(again.fit)
-    assert np.hypot(again.corner[0] - wide.corner[0], again.corner[1] - wide.corner[1]) < 1.0
-    assert wider_again(first, reach, set(), [first]) is not None  # the first roll is rolled wider
-    assert wider_again(again, reach, {7}, [first, wide, again]) is None
-    assert wider_again(again, reach, set(), [first, again]) is not None  # no wider roll there yet
-    off = type(wide)(**{**wide.__dict__, "corner": (wide.corner[0] + 3.0, wide.corner[1])})
-    assert wider_again(again, reach, {7}, [first, off, again]) is not None
-    other = type(wide)(**{**wide.__dict__, "touch": dataclasses.replace(wide.touch, finger="right")})
-    assert wider_again(again, reach, {7}, [first, other, again]) is not None
-    sure = _with_rho(first, 0.05, 0.1)  # a corner not in doubt, measured by any roll there
-    assert wider_again(again, reach, set(), [sure, again]) is None
