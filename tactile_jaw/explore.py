@@ -189,16 +189,18 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
     return [(float(e), 1.0) if e > hi else (float(e), -1.0) for e in off if e > hi or e < lo]
 
 
-def corner_cones(name: str, touches: list[FeltTouch]) -> list[tuple[float, float]]:
+def corner_cones(name: str, touches: list[FeltTouch], probes: Sequence[FeltTouch] = ()) -> list[tuple[float, float]]:
     """The pad normals at which finger ``name``'s rolls (of ``touches``, every one felt) turned
     about one corner, as (ψ_lo, ψ_hi) arcs: for each group of rolls that pivoted about points
     within ``PIVOT_AGAIN_MM`` of each other, each of them sure to be a corner
     (tactile_jaw.pipeline.sure_corner, the corners whose samples are cleared), the range of
-    their pad lines' ψ. The normals of a convex boundary point form one arc, so every normal
-    between two of that corner's is its normal too: a roll within the range pivots about it
-    again (tactile_jaw.plan.within_cone). X-series lines of bench_explore --finite 20 --anywhere
-    --seed 269: the left pad's guard rolls went on about the corner its earlier rolls had
-    turned about from ψ −131.5 to −86° (rolls at −110°, 2.2 and 3.1 s, blocks 1, 4, 19)."""
+    their pad lines' ψ and of the lines of the finger's ``probes`` that pass through one of
+    their corners (:func:`probe_normals`). The normals of a convex boundary point form one
+    arc, so every normal between two of that corner's is its normal too: a roll within the
+    range pivots about it again (tactile_jaw.plan.within_cone). X-series lines of bench_explore
+    --finite 20 --anywhere --seed 269: the left pad's guard rolls went on about the corner its
+    earlier rolls had turned about from ψ −131.5 to −86° (rolls at −110°, 2.2 and 3.1 s,
+    blocks 1, 4, 19)."""
     rolls = [t for t in touches if t.finger == name and not isinstance(t.touch, FlatResult) and t.lines is not None
              and sure_corner(t, touches)]
     groups: list[list[FeltTouch]] = []
@@ -210,10 +212,34 @@ def corner_cones(name: str, touches: list[FeltTouch]) -> list[tuple[float, float
             group.append(t)
     cones = []
     for group in groups:
-        psi = np.concatenate([np.asarray(t.lines.psi, dtype=float).ravel() for t in group])
+        psi = np.concatenate([np.asarray(t.lines.psi, dtype=float).ravel() for t in group]
+                             + [probe_normals(name, probes, [t.corner for t in group])])
         psi = psi[0] + np.remainder(psi - psi[0] + math.pi, 2 * math.pi) - math.pi  # unwrapped about the first
         cones.append((float(np.min(psi)), float(np.max(psi))))
     return cones
+
+
+def probe_normals(name: str, probes: Sequence[FeltTouch], corners) -> np.ndarray:
+    """The ψ of finger ``name``'s probe samples (of ``probes``) whose pad lines pass within
+    ``SEAT_TOL_MM`` of one of ``corners`` (points rolls pivoted about) with that point on the pad
+    more than ``SEAT_TOL_MM`` from either end: the pad touched the convex object at that point
+    of its face, so its line is a support line there and its normal one of the point's normals
+    (a pad end on the point is not: its line may cut the object past the end). X-series lines of
+    bench_explore --finite 20 --anywhere --seed 463, block 8: the left pad's probes at −113…−67°
+    passed within 0.14 mm of the corner its rolls turned about from −100.5 to −64.5°, 37–48 mm
+    along the 52 mm pad; its roll at −101.5…−83.5° then turned about it again."""
+    out = []
+    for t in probes:
+        if t.finger != name:
+            continue
+        for s in t.touch.samples:
+            line = s.line
+            length = float(np.linalg.norm(line.distal - line.proximal))
+            if any(abs(float(line.normal @ np.asarray(c, float)) - float(line.d)) <= SEAT_TOL_MM
+                   and SEAT_TOL_MM < float(line.pad_coordinate(np.asarray(c, float))) < length - SEAT_TOL_MM
+                   for c in corners):
+                out.append(float(line.psi))
+    return np.asarray(out, dtype=float)
 
 
 def unrolled_finger(active, out: Exploration, probes, deferred: set[str], roll_at) -> str | None:
@@ -681,7 +707,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
     def plan_psi(f):  # the planner's next roll of finger f: within the curve felt, not about a corner felt
-        return choose_psi(f, model, settings, used[f.name], limits(f.name), corner_cones(f.name, out.touches))
+        return choose_psi(f, model, settings, used[f.name], limits(f.name), corner_cones(f.name, out.touches, out.probes))
 
     deferred: set[str] = set()  # fingers a stop for want of reach waited for (unrolled_finger), once each
     no_curve: set[int] = set()  # presses whose scans rolled on no curved part (their id; scanned_curve)

@@ -7,22 +7,34 @@ tactile_jaw.plan.within_cone / choose_psi). X-series lines of bench_explore --fi
 P-series jaw's ticks (an X-series roll on a corner measures a radius of a few mm ± 4 mm: a corner
 only clearing_corners trusts counts, tactile_jaw.pipeline.sure_corner)."""
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from hand_driver import kinematics as kin
-from tactile_jaw.explore import corner_cones
-from tactile_jaw.pipeline import feel
-from tactile_jaw.plan import ObjectModel, choose_psi, nominal_psi, within_cone
+from hand_driver.config import load_config
+from hand_driver.motion import TouchResult
+from tactile_jaw.explore import corner_cones, probe_normals
+from tactile_jaw.pipeline import feel, logged_samples
+from tactile_jaw.plan import PROBE_SAMPLES, ObjectModel, choose_psi, nominal_psi, within_cone
 from tactile_jaw.settings import ExploreSettings
 
 from test_pipeline_feel import CONFIG, LEFT, P_CONFIG, _p_touch
 
 SAMPLES = 9
+LINE = Path(__file__).parent / "data" / "x_line_corner_rolls.json"
+X_CONFIG = load_config("config/jaw.yaml")
 SPAN = math.radians(18.0)
 CORNER = np.array([112.0, 14.0])
+
+
+def _logged(raw: dict, key: str) -> TouchResult:
+    """A logged touch of the X-series jaw (its ticks and commanded ψ), as the exploration had it."""
+    samples = logged_samples(X_CONFIG, raw["finger"], raw["ticks"], raw["psi"])
+    return TouchResult(raw["finger"], int(key), raw["psi_center"], samples, outcome="ok")
 
 
 def _roll_about(point, centre_deg: float):
@@ -72,3 +84,24 @@ def test_the_planner_chooses_no_roll_within_a_cone():
     assert choose_psi(LEFT, model, settings, [], cones=[(psi - SPAN, psi + SPAN)]) != psi
     wide = (nominal_psi(LEFT) - math.radians(100.0), nominal_psi(LEFT) + math.radians(100.0))
     assert choose_psi(LEFT, model, settings, [], cones=[wide]) is None
+
+
+def test_probes_through_a_rolls_corner_widen_its_normals():
+    """X line 8 of bench_explore --finite 20 --anywhere --seed 463: the left pad's roll over 36°
+    (touch 7) turned about a corner from ψ −100.5 to −64.5°; its probes at −113…−67° (touches
+    0, 2, 4) passed within 0.14 mm of that corner, 37–48 mm along the pad: support lines there,
+    so its normals reach −113°, and the roll at −92.5° (−101.5…−83.5°), which turned about it
+    again (2.5 s), is not chosen. A point 1 mm off (across the pad) is on none of their lines."""
+    raw = json.loads(LINE.read_text())
+    rolls = [feel(X_CONFIG, _logged(raw["rolls"][k], k), SAMPLES) for k in ("6", "7")]
+    probes = [feel(X_CONFIG, _logged(raw["probes"][k], k), PROBE_SAMPLES, curve_checks=False) for k in ("0", "2", "4")]
+    (lo, hi), = corner_cones("left", rolls)
+    assert math.degrees(lo) == pytest.approx(-100.5, abs=0.05) and math.degrees(hi) == pytest.approx(-64.5, abs=0.05)
+    assert not within_cone(math.radians(-92.5), SPAN, [(lo, hi)])
+    (lo, hi), = corner_cones("left", rolls, probes)
+    assert math.degrees(lo) == pytest.approx(-113.0, abs=0.05) and math.degrees(hi) == pytest.approx(-64.5, abs=0.05)
+    assert within_cone(math.radians(-92.5), SPAN, [(lo, hi)])
+    assert corner_cones("right", rolls, probes) == []
+    assert len(probe_normals("left", probes, [rolls[1].corner])) == 12
+    assert len(probe_normals("left", probes, [np.asarray(rolls[1].corner) + [0.0, 1.0]])) == 0
+    assert len(probe_normals("right", probes, [rolls[1].corner])) == 0
