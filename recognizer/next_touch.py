@@ -43,12 +43,14 @@ nothing whichever candidate is true, so the class gain is weighted by the chance
 lands and seats: Σ w_c·p_c over the leader and the rivals (normalized), p_c = 0 where the
 pad does not land on c's curve there, or, on a semicubical rival, where the place lies toward
 its cusp from its touches (``_toward_cusp``: far out on a branch the cusp's place is barely
-measured), or, where its fit puts no cusp beyond the touches on the end where the leader's |κ|
-grows, at the places there (``_cusp_side``: the class's cusp lies that way whatever that fit
-says), else the chance that c's tangent, in c's own direction of travel, lies within the
-pad's tolerance of the pad's orientation (``_seats``: c's predicted tilt and its σ_φ; a tilt
-δφ puts the contact δφ/|κ| along the pad, which must leave room for the roll, and a pad
-turns ``SEAT_RAD`` to seat). The leader's parameter gain counts with the leader's own p.
+measured), or, where its fit puts its cusp beyond the other end of the touches from the one
+where the leader's |κ| grows (``_cusp_elsewhere``), at the places beyond that end and within a
+pad's half length less a roll's reach of the touch there (``_cusp_side``: the class's cusp lies
+that way whatever that fit says, as little as a roll's reach beyond that touch; on an ellipse
+leader, the half of the untouched arc next to that end), else the chance that c's tangent, in
+c's own direction of travel, lies within the pad's tolerance of the pad's orientation
+(``_seats``: c's predicted tilt and its σ_φ; a tilt δφ puts the contact δφ/|κ| along the pad,
+which must leave room for the roll, and a pad turns ``SEAT_RAD`` to seat). The leader's parameter gain counts with the leader's own p.
 Where some helpful place lands for every candidate at least ``LAND_WEIGHT_MIN`` likely, only
 such places are chosen, a semicubical leader's other branch, which no rival has, excepted;
 where none does, still none on ``_cusp_side`` while such a semicubical rival is a candidate.
@@ -360,26 +362,79 @@ def _toward_cusp(c: Candidate, t: np.ndarray) -> np.ndarray:
     return (np.sign(t) != side[0]) | (np.abs(t) < np.min(np.abs(touched)))
 
 
-def _cusp_side(leader: Candidate, t: np.ndarray) -> np.ndarray:
-    """Whether each of an open, curved leader's places t lies beyond its touches on the end
-    where its |κ| grows (monotonically over the touches): there a semicubical parabola through
-    the same touches has its cusp (its |κ| falls monotonically away from the cusp, so the cusp
-    lies where the touches' curvature grows), wherever its own fit put it, and a pad sent
-    there may meet that cusp, or its other branch beside it, and be lost when the semicubical
-    is true (bench_wide --set wide seed 443, semicubical trials 5 and 13, answered parabola:
-    the rival's fit had its cusp beyond the other end of the touches, and the place lay
-    0.05–0.11 extents from the true cusp; across the parabola's vertex, 0.2 L from it, the pad
-    still met the cusp)."""
+def _growth(leader: Candidate) -> tuple[int, np.ndarray, float | None, float, float, float]:
+    """(+1 / −1 / 0: the leader's |κ| grows monotonically over its touches toward their end of
+    larger / smaller u, or peaks between them (a vertex touched) or is constant; each touch's u;
+    the curve's period or None; the t of u = 0; the touched u's least and greatest). u is t on
+    an open curve, on a closed one (an ellipse) the way along the curve from the start of the
+    touched arc, the curve less its largest gap between touches. 0 for a line or a
+    semicubical parabola."""
     touched = np.asarray(leader.t, float)
-    t = np.asarray(t, float)
     curve = leader.curve()
-    if curve.t_period is not None or leader.cls in ("line", "semicubical_parabola") or touched.size < 2:
-        return np.zeros(t.shape, bool)
-    lo, hi = float(touched.min()), float(touched.max())
-    k = np.abs(np.asarray(curve.kappa(np.linspace(lo, hi, 33)), float))
+    if leader.cls in ("line", "semicubical_parabola") or touched.size < 2:
+        return 0, touched, None, 0.0, 0.0, 0.0
+    period = None if curve.t_period is None else float(curve.t_period[1] - curve.t_period[0])
+    if period is None:
+        start = 0.0
+        u = touched
+    else:
+        s = np.sort(np.mod(touched, period))
+        gaps = np.diff(np.append(s, s[0] + period))
+        start = float(s[(int(np.argmax(gaps)) + 1) % s.size])
+        u = np.mod(touched - start, period)
+    lo, hi = float(u.min()), float(u.max())
+    k = np.abs(np.asarray(curve.kappa(start + np.linspace(lo, hi, 33)), float))
     if not np.all(np.isfinite(k)) or k[0] == k[-1] or not np.all(np.diff(k) >= 0 if k[-1] > k[0] else np.diff(k) <= 0):
-        return np.zeros(t.shape, bool)  # |κ| peaks between the touches (a vertex touched): no one branch
-    return t > hi if k[-1] > k[0] else t < lo
+        return 0, u, period, start, lo, hi
+    return (1 if k[-1] > k[0] else -1), u, period, start, lo, hi
+
+
+def _cusp_side(leader: Candidate, t: np.ndarray, near: float = 0.0) -> np.ndarray:
+    """Whether each of a curved leader's places t lies beyond its touches on the end where its
+    |κ| grows (monotonically over the touches, ``_growth``): there a semicubical parabola
+    through the same touches has its cusp (its |κ| falls monotonically away from the cusp, so
+    the cusp lies where the touches' curvature grows), wherever its own fit put it, and a pad
+    sent there may meet that cusp, or its other branch beside it, and be lost when the
+    semicubical is true (bench_wide --set wide seed 443, semicubical trials 5 and 13, answered
+    parabola: the rival's fit had its cusp beyond the other end of the touches, and the place
+    lay 0.05–0.11 extents from the true cusp; across the parabola's vertex, 0.2 L from it, the
+    pad still met the cusp). On a closed leader (an ellipse; a circle's |κ| grows nowhere) the
+    cusp's side is the half of the untouched arc next to the growing end (seed 467 trials 1
+    and 2, one branch far and both branches, answered ellipse: its sharp end, where |κ| grows,
+    was suggested 0.01–0.03 extents from the true cusp and the touch was lost). Also the places
+    within ``near`` of the touch at the growing end: the cusp lies beyond that touch by as
+    little as its roll's reach, and a pad's end meets it from a place up to the pad's half
+    length less that reach inside (the same trials, the touch at that end suggested again:
+    the pad's end met the true cusp 40 mm beyond it, the pad 86 mm long)."""
+    t = np.asarray(t, float)
+    grow, u_touched, period, start, lo, hi = _growth(leader)
+    if grow == 0:
+        return np.zeros(t.shape, bool)
+    if period is None:
+        side = t > hi if grow > 0 else t < lo
+    else:
+        u = np.mod(t - start, period)
+        half = hi + 0.5 * (period - (hi - lo))  # the untouched arc's middle
+        side = ((u > hi) & (u <= half)) if grow > 0 else u > half
+    if near > 0:
+        curve = leader.curve()
+        end = start + (hi if grow > 0 else lo)
+        ex, ey = leader.pose.apply(*curve.point(np.array([end])))
+        qx, qy = leader.pose.apply(*curve.point(t))
+        side |= np.hypot(qx - ex[0], qy - ey[0]) < near
+    return side
+
+
+def _cusp_elsewhere(c: Candidate, leader: Candidate) -> bool:
+    """Whether a semicubical rival's fit, all on one branch, puts its cusp beyond the other end
+    of the touches from the leader's cusp side (``_cusp_side``): its |t| is larger at the touch
+    farthest toward where the leader's |κ| grows than at the touch farthest the other way."""
+    grow, u, _, _, _, _ = _growth(leader)
+    ct = np.asarray(c.t, float)
+    if grow == 0 or c.cls != "semicubical_parabola" or ct.size != u.size or np.any(np.sign(ct) != np.sign(ct[0])):
+        return False
+    at_growth, other = (np.argmax(u), np.argmin(u)) if grow > 0 else (np.argmin(u), np.argmax(u))
+    return bool(abs(ct[at_growth]) > abs(ct[other]))
 
 
 class _Predictor:
@@ -605,8 +660,8 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     if not keep.any():
         return None
     px, py, phi, far = px[keep], py[keep], phi[keep], far[keep]
-    cusp_side = _cusp_side(leader, t[keep])
-    misplaced = False  # a semicubical rival whose fit puts no cusp on the touches' growing side
+    cusp_side = _cusp_side(leader, t[keep], (PAD_ROLLS - 0.5) * roll)
+    misplaced = False  # a semicubical rival whose fit puts its cusp beyond the touches' other end
     nx, ny = -np.sin(phi), np.cos(phi)
     W = _whitener(noise, samples, roll_cov(d))
     scale = d.scale
@@ -659,7 +714,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         # touches, and seats there, or the touch is lost
         toward = _toward_cusp(c, posed_c[2])
         on_c = ~toward
-        if c.cls == "semicubical_parabola" and not (toward & cusp_side).any():
+        if _cusp_elsewhere(c, leader):
             on_c &= ~cusp_side  # its fit puts its cusp elsewhere: nor where the touches' curvature grows
             misplaced = True
         seats = _seats(_tilt(c, d, posed_c, phi + flip), mean_c, P_c, W, roll) if padded else 1.0

@@ -584,7 +584,7 @@ def test_the_cusp_side_is_where_the_touches_curvature_grows():
     |κ| growing toward the vertex, so a semicubical through those touches has its cusp that
     way: places with t < 2 (across the vertex too) are on the cusp's side; those within the
     touches or beyond t = 3 are not; touched across the vertex (|κ| peaks between the
-    touches) no side is; a semicubical or closed leader has none."""
+    touches) no side is; a semicubical leader or a circle has none."""
     from recognizer.next_touch import _cusp_side
     from recognizer.result import Candidate
 
@@ -599,7 +599,34 @@ def test_the_cusp_side_is_where_the_touches_curvature_grows():
     assert not _cusp_side(across, t).any()
     semi = Candidate("semicubical_parabola", {"a": 1.0, "b": 1.0}, pose, np.array([2.0, 2.4, 3.0]), 0.0, 0, 0)
     assert not _cusp_side(semi, t).any()
-    assert not _cusp_side(Candidate("ellipse", ELLIPSE, pose, np.array([0.2, 0.5]), 0.0, 0, 0), t).any()
+    assert not _cusp_side(Candidate("circle", {"r": 5.0}, pose, np.array([0.2, 0.5]), 0.0, 0, 0), t).any()
+
+
+def test_an_ellipses_cusp_side_is_the_untouched_arc_next_to_its_sharp_end():
+    """``_cusp_side`` on an exact ellipse x = a cos t, y = b sin t (a > b: |κ| grows toward its
+    sharp end at t = 0 and t = π). Touched at t 0.2–0.5 (|κ| growing toward t = 0) the cusp's
+    side is the half of the untouched arc next to t 0.2, back to its middle at t ≈ −2.8
+    (across the wrap at ±π too); touched at −0.5 … −0.2 it is the mirror; touched across
+    t = 0 (|κ| peaks between) there is none. ``near``: the places within that distance of the
+    touch at the growing end too, inside the touches."""
+    from recognizer.next_touch import _cusp_side
+    from recognizer.result import Candidate
+
+    pose = Pose(0.3, 10.0, -5.0)
+    t = np.array([-3.1, -2.9, -2.7, -1.0, 0.0, 0.19, 0.21, 0.45, 0.51, 2.0, 3.1])
+    side = [False, False, True, True, True, True, False, False, False, False, False]
+    touched = Candidate("ellipse", ELLIPSE, pose, np.array([0.5, 0.2, 0.35]), 0.0, 0, 0)
+    assert _cusp_side(touched, t).tolist() == side
+    mirrored = Candidate("ellipse", ELLIPSE, pose, np.array([-0.5, -0.2, -0.35]), 0.0, 0, 0)
+    assert _cusp_side(mirrored, -t).tolist() == side
+    wrapped = Candidate("ellipse", ELLIPSE, pose, np.array([np.pi - 0.5, np.pi - 0.2]), 0.0, 0, 0)
+    assert _cusp_side(wrapped, np.pi - t).tolist() == side  # its sharp end at t = π, across the wrap
+    across = Candidate("ellipse", ELLIPSE, pose, np.array([-0.3, 0.1, 0.4]), 0.0, 0, 0)
+    assert not _cusp_side(across, t).any()
+    ends = np.array(CURVES["ellipse"](ELLIPSE).point(np.array([0.2, 0.21])))
+    step = float(np.hypot(*(ends[:, 1] - ends[:, 0])))  # 0.2 to 0.21 on the curve, at unit pose scale
+    near = _cusp_side(touched, np.array([0.21, 0.45]), 1.5 * step)
+    assert near.tolist() == [True, False]  # 0.01 past the touch at 0.2 (within `near`), not 0.25 past
 
 
 @pytest.mark.parametrize("i", [5, 13])
@@ -613,3 +640,39 @@ def test_a_suggestion_lands_where_a_semicubicals_cusp_may_be(i):
     _, shape, rec, got = _suggestion_sent("semicubical_parabola", i, 443)
     assert rec.cls == "parabola"
     assert got.why == "" and got.miss_mm < 0.05 * shape.size, got  # lost before (the pad's end met the cusp)
+
+
+def test_a_semicubical_rivals_cusp_is_elsewhere_when_its_t_grows_toward_the_cusp_side():
+    """``_cusp_elsewhere``: a parabola leader touched on one arm at t 2, 2.4, 3 (|κ| growing toward
+    t = 2, the first touch) and a semicubical rival whose |t| is least at that touch has its cusp
+    on the cusp's side (False); least at the last touch, beyond the other end (True); touches
+    on both its branches, or a leader whose |κ| peaks between the touches, say nothing (False)."""
+    from recognizer.next_touch import _cusp_elsewhere
+    from recognizer.result import Candidate
+
+    pose = Pose(0.3, 10.0, -5.0)
+    arm = Candidate("parabola", {"a": 0.05}, pose, np.array([2.0, 2.4, 3.0]), 0.0, 0, 0)
+
+    def semi(t):
+        return Candidate("semicubical_parabola", {"a": 1.0, "b": 1.0}, pose, np.array(t), 0.0, 0, 0)
+    assert not _cusp_elsewhere(semi([0.3, 0.4, 0.5]), arm)
+    assert not _cusp_elsewhere(semi([-0.3, -0.4, -0.5]), arm)
+    assert _cusp_elsewhere(semi([0.5, 0.4, 0.3]), arm)
+    assert _cusp_elsewhere(semi([-0.5, -0.4, -0.3]), arm)
+    assert not _cusp_elsewhere(semi([-0.5, 0.4, 0.3]), arm)
+    across = Candidate("parabola", {"a": 0.05}, pose, np.array([-1.0, 0.2, 1.5]), 0.0, 0, 0)
+    assert not _cusp_elsewhere(semi([0.5, 0.4, 0.3]), across)
+
+
+@pytest.mark.parametrize("i", [1, 2])
+def test_a_suggestion_lands_on_a_semicubical_answered_ellipse(i):
+    """bench_wide --set wide seed 467 (development since session 31), semicubical trials 1 (one
+    branch far, 272 mm) and 2 (both branches, 356 mm, touched on one), answered ellipse: the
+    suggestion went to the ellipse's sharp end, where its |κ| grows, 1–3 mm from the true cusp,
+    and the pad's end met the boundary (the semicubical rival's fit had its cusp beyond the
+    other end of the touches). Now such a rival is not landed on beyond the touches on that
+    end, nor within a pad's half length less a roll's reach of the touch there, and the pad
+    lands on the true curve."""
+    _, shape, rec, got = _suggestion_sent("semicubical_parabola", i, 467)
+    assert rec.cls == "ellipse"
+    assert got.why == "" and got.miss_mm < 0.01 * shape.size, got
