@@ -50,7 +50,8 @@ that way whatever that fit says, as little as a roll's reach beyond that touch; 
 leader, the half of the untouched arc next to that end), else the chance that c's tangent, in
 c's own direction of travel, lies within the pad's tolerance of the pad's orientation
 (``_seats``: c's predicted tilt and its σ_φ; a tilt δφ puts the contact δφ/|κ| along the pad,
-which must leave room for the roll, and a pad turns ``SEAT_RAD`` to seat). The leader's parameter gain counts with the leader's own p.
+which must leave room for the roll, and a pad turns ``SEAT_RAD`` to seat). The leader's
+parameter gain counts with the leader's own p.
 Where some helpful place lands for every candidate at least ``LAND_WEIGHT_MIN`` likely, only
 such places are chosen, a semicubical leader's other branch, which no rival has, excepted;
 where none does, still none on ``_cusp_side`` while such a semicubical rival is a candidate.
