@@ -610,15 +610,15 @@ def _rival_entries(chosen: Candidate, rivals: list[Candidate]) -> list[dict]:
              "rival_bic": c.bic - chosen.bic} for c in rivals]
 
 
-def _valleys_note(best: Candidate, walked: Candidate, fits: list[Candidate]) -> str | None:
+def _valleys_note(best: Candidate, walked: Candidate, fits: list[Candidate], unit: Unit) -> str | None:
     """The answer's note when other valleys of its class widened its σ's
-    (``intervals.rival_basins``): each valley's parameters and χ² against the answer's (a
-    valley below it: a fit continued past its budget); None when none did."""
+    (``intervals.rival_basins``): each valley's parameters (in mm, as the answer's) and χ²
+    against the answer's (a valley below it: a fit continued past its budget); None when none did."""
     valleys = other_valleys(walked, fits) if best is not walked else []
     if not valleys:
         return None
-    where = "; ".join(", ".join(f"{k} {v:.3g}" for k, v in r.params.items()) + f" at chi2 {r.chi2:.3g}"
-                      for _, r in valleys)
+    where = "; ".join(", ".join(f"{k} {v * unit.param(r.cls, k):.3g}" for k, v in r.params.items())
+                      + f" at chi2 {r.chi2:.3g}" for _, r in valleys)
     return (f"{'another valley' if len(valleys) == 1 else 'other valleys'} of {best.cls} within chi2 "
             f"{CHI2_VALLEY:g} of the answer's {walked.chi2:.3g} ({where}): the stated sigmas and intervals "
             f"reach across {'both' if len(valleys) == 1 else 'them'}")
@@ -773,7 +773,7 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
     nxt = _suggest(request, options, cands, chosen, d, timing, default_noise)
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
     said = "; ".join(filter(None, (_rivals_reason(chosen, rivals) if rivals else None,
-                                   _valleys_note(best, walked, others)))) or None
+                                   _valleys_note(best, walked, others, unit)))) or None
     unc = _line_offset_at_hand(best, d, unit) if best.cls == "line" else dict(best.uncertainty)
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, dh, pairs),
                        unc, said, ranked, timing, nxt, untested=untested, also_fits=also,
