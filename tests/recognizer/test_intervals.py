@@ -356,3 +356,16 @@ def test_one_valley_cubical_keeps_its_sigmas():
     assert np.allclose([rec.uncertainty["a"], rec.uncertainty["c"]], [5.2344965925397196, 0.09342512621552175], rtol=1e-9)
     assert np.allclose(rec.interval["a"], [71.09199239510855, 91.683123490126], rtol=1e-9)
     assert "valley" not in (rec.reason or "")
+
+
+def test_valleys_note_states_the_other_valleys_in_mm():
+    from recognizer.classify import _valleys_note
+    from recognizer.intervals import rival_basins
+    from recognizer.scale_free import Unit
+
+    ans = _cand("cubical_parabola", {"a": 2.0, "c": 3.0}, 10.0, {"a": 0.5, "c": 0.2})
+    rival = _cand("cubical_parabola", {"a": -11.5, "c": 0.2}, 12.0, {"a": 1.9, "c": 0.18})
+    best = rival_basins(ans, [rival])
+    note = _valleys_note(best, ans, [rival], Unit(4.0))  # a in 1/mm²: −11.5 / 4²
+    assert note.startswith("another valley of cubical_parabola within chi2 9 of the answer's 10 (a -0.719, c 0.2 at chi2 12)")
+    assert _valleys_note(ans, ans, [rival], Unit(4.0)) is None  # σ's not widened: no note
