@@ -285,11 +285,12 @@ def same_valley(cand, rival) -> bool:
 def other_valleys(cand, rivals) -> list:
     """(χ² rise, fit) of each other valley of ``cand``'s class below ``CHI2_VALLEY`` above its
     χ², each valley once; a valley below the answer's χ² (a fit continued past the budget the
-    answer was chosen at) rises by 0."""
+    answer was chosen at) rises by 0. Only fits of the same observations (``n_obs``): a
+    contact-stage fit left unrefined beside a refined answer has its χ² on other data."""
     out: list = []
     for r in sorted(rivals, key=lambda r: float(r.chi2)):
         rise = float(r.chi2) - float(cand.chi2)
-        if r.cls != cand.cls or not rise < CHI2_VALLEY or not r.params or not r.uncertainty:
+        if r.cls != cand.cls or r.n_obs != cand.n_obs or not rise < CHI2_VALLEY or not r.params or not r.uncertainty:
             continue
         if same_valley(cand, r) or any(same_valley(v, r) for _, v in out):
             continue
@@ -324,7 +325,7 @@ def rival_basins(cand, rivals):
     names = CURVES[cand.cls].param_names
     scale = {key: 1.0 for key in unc}
     near = [(float(r.chi2) - float(cand.chi2), r) for r in rivals
-            if r.cls == cand.cls and r.params and float(r.chi2) - float(cand.chi2) < CHI2_95]
+            if r.cls == cand.cls and r.n_obs == cand.n_obs and r.params and float(r.chi2) - float(cand.chi2) < CHI2_95]
     valleys = other_valleys(cand, rivals)  # the mixture: each other valley once
     weights = [math.exp(-0.5 * rise) for rise, _ in valleys]
     total = 1.0 + sum(weights)

@@ -369,3 +369,15 @@ def test_valleys_note_states_the_other_valleys_in_mm():
     note = _valleys_note(best, ans, [rival], Unit(4.0))  # a in 1/mm²: −11.5 / 4²
     assert note.startswith("another valley of cubical_parabola within chi2 9 of the answer's 10 (a -0.719, c 0.2 at chi2 12)")
     assert _valleys_note(ans, ans, [rival], Unit(4.0)) is None  # σ's not widened: no note
+
+
+def test_a_fit_of_other_observations_is_no_valley():
+    """A contact-stage fit left unrefined beside a refined answer: its χ² is on the contacts,
+    not on every sample, so lower or not it is no valley of the answer's likelihood."""
+    from dataclasses import replace
+
+    from recognizer.intervals import rival_basins
+
+    ans = _cand("cubical_parabola", {"a": 27.9, "c": -8.6}, 31.76, {"a": 5.4, "c": 2.9})
+    contact = replace(_cand("cubical_parabola", {"a": -85.7, "c": 2.3}, 5.0, {"a": 26.8, "c": 1.2}), n_obs=15 - 3)
+    assert rival_basins(ans, [contact]) is ans
