@@ -40,7 +40,7 @@ from recognizer.starts import clear_of_cusp, conic_start, cusp_clearance, hyperb
 from recognizer.starts import starts as class_starts
 from recognizer.result import Candidate, Ranked, Recognition, RecognizeOptions
 from recognizer.scale_free import Unit
-from recognizer.intervals import CHI2_VALLEY, interval95, profile_uncertainty, rival_basins, same_valley
+from recognizer.intervals import CHI2_VALLEY, interval95, other_valleys, profile_uncertainty, rival_basins, same_valley
 from recognizer.next_touch import next_touch
 from recognizer.touches import MIN_TOUCHES, ContactTouch, NoiseModel, Request, SamplesTouch
 from tactile_common.angles import wrap_angle
@@ -610,6 +610,20 @@ def _rival_entries(chosen: Candidate, rivals: list[Candidate]) -> list[dict]:
              "rival_bic": c.bic - chosen.bic} for c in rivals]
 
 
+def _valleys_note(best: Candidate, walked: Candidate, fits: list[Candidate], unit: Unit) -> str | None:
+    """The answer's note when other valleys of its class widened its σ's
+    (``intervals.rival_basins``): each valley's parameters (in mm, as the answer's) and χ²
+    against the answer's (a valley below it: a fit continued past its budget); None when none did."""
+    valleys = other_valleys(walked, fits) if best is not walked else []
+    if not valleys:
+        return None
+    where = "; ".join(", ".join(f"{k} {v * unit.param(r.cls, k):.3g}" for k, v in r.params.items())
+                      + f" at chi2 {r.chi2:.3g}" for _, r in valleys)
+    return (f"{'another valley' if len(valleys) == 1 else 'other valleys'} of {best.cls} within chi2 "
+            f"{CHI2_VALLEY:g} of the answer's {walked.chi2:.3g} ({where}): the stated sigmas and intervals "
+            f"reach across {'both' if len(valleys) == 1 else 'them'}")
+
+
 def _too_few_places(cls: str, places: list[list[int]], n: int) -> str:
     """Why ``cls`` is not tested: fewer places than it needs (touches at one place count once)."""
     if n < MIN_TOUCHES[cls]:
@@ -752,12 +766,14 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
     # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys
     walked = profile_uncertainty(chosen) if isinstance(chosen, RefinedCandidate) else \
         profile_uncertainty(profiled(chosen, d), rel_check=CONTACT_REL_SIGMA_CHECK)
-    best = rival_basins(walked, _valleys_continued(chosen, [f for f in fits if f is not chosen], request, options))
+    others = _valleys_continued(chosen, [f for f in fits if f is not chosen], request, options)
+    best = rival_basins(walked, others)
     dh = unit.contacts(d)  # the invariants a person reads, in mm
     pairs = _pair_invariants(dh) if best.cls in ("ellipse", "hyperbola", "parabola") else {}
     nxt = _suggest(request, options, cands, chosen, d, timing, default_noise)
     timing["total_ms"] = 1e3 * (time.perf_counter() - t0)
-    said = _rivals_reason(chosen, rivals) if rivals else None
+    said = "; ".join(filter(None, (_rivals_reason(chosen, rivals) if rivals else None,
+                                   _valleys_note(best, walked, others, unit)))) or None
     unc = _line_offset_at_hand(best, d, unit) if best.cls == "line" else dict(best.uncertainty)
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, dh, pairs),
                        unc, said, ranked, timing, nxt, untested=untested, also_fits=also,

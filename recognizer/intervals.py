@@ -46,7 +46,7 @@ from recognizer.curves import CURVES
 from recognizer.refine import fit_held
 from tactile_common.angles import wrap_angle
 
-__all__ = ["profile_uncertainty", "rival_basins", "same_valley", "interval95", "three_sigma", "REL_SIGMA_CHECK", "CHI2_95", "CHI2_3SIGMA"]
+__all__ = ["profile_uncertainty", "rival_basins", "other_valleys", "same_valley", "interval95", "three_sigma", "REL_SIGMA_CHECK", "CHI2_95", "CHI2_3SIGMA"]
 
 REL_SIGMA_CHECK = 0.02
 """linearized σ relative to the parameter (to max(|p|, 1) for the slopes c and b) above which
@@ -282,13 +282,15 @@ def same_valley(cand, rival) -> bool:
     return True
 
 
-def _valleys(cand, rivals) -> list:
-    """(χ² rise, fit) of each other valley of ``cand``'s class within ``CHI2_VALLEY`` of its
-    χ², each valley once."""
+def other_valleys(cand, rivals) -> list:
+    """(χ² rise, fit) of each other valley of ``cand``'s class below ``CHI2_VALLEY`` above its
+    χ², each valley once; a valley below the answer's χ² (a fit continued past the budget the
+    answer was chosen at) rises by 0. Only fits of the same observations (``n_obs``): a
+    contact-stage fit left unrefined beside a refined answer has its χ² on other data."""
     out: list = []
     for r in sorted(rivals, key=lambda r: float(r.chi2)):
         rise = float(r.chi2) - float(cand.chi2)
-        if r.cls != cand.cls or not (-1e-9 <= rise < CHI2_VALLEY) or not r.params or not r.uncertainty:
+        if r.cls != cand.cls or r.n_obs != cand.n_obs or not rise < CHI2_VALLEY or not r.params or not r.uncertainty:
             continue
         if same_valley(cand, r) or any(same_valley(v, r) for _, v in out):
             continue
@@ -313,13 +315,18 @@ def rival_basins(cand, rivals):
     - each valley at most √Δχ²_k σ's away (beyond ``CHI2_95``; within it the far end rules):
       the profile χ² rises by Δχ²_k there, as it rises by z² at z σ's of a Gaussian. The
       mixture's weight alone left a valley at Δχ² 6 at z 4.6 (tools.bench_sigma seed 71,
-      cubical far on one side, trial 29: the truth in that valley; z −2.62 now)."""
+      cubical far on one side, trial 29: the truth in that valley; z −2.62 now);
+    - a valley below the answer (a fit continued past its budget, classify's
+      ``_valleys_continued``) counts as one at the answer's level (Δχ² 0): the answer is
+      kept, and its σ's reach across both. Counted for nothing before: a cubical far on one
+      side answered a 27.9 ± 5.4 (truth −132.2, z 29.9) where the truth's valley fitted
+      Δχ² 0.18 lower (tools.bench_sigma seed 509, trial 1 at 1 mm; a ± 84.7, z 1.89 now)."""
     unc = dict(cand.uncertainty)
     names = CURVES[cand.cls].param_names
     scale = {key: 1.0 for key in unc}
     near = [(float(r.chi2) - float(cand.chi2), r) for r in rivals
-            if r.cls == cand.cls and r.params and -1e-9 <= float(r.chi2) - float(cand.chi2) < CHI2_95]
-    valleys = _valleys(cand, rivals)  # the mixture: each other valley once
+            if r.cls == cand.cls and r.n_obs == cand.n_obs and r.params and float(r.chi2) - float(cand.chi2) < CHI2_95]
+    valleys = other_valleys(cand, rivals)  # the mixture: each other valley once
     weights = [math.exp(-0.5 * rise) for rise, _ in valleys]
     total = 1.0 + sum(weights)
     for key, sd in cand.uncertainty.items():

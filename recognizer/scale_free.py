@@ -139,7 +139,8 @@ class Unit:
         return Contacts(d.x * u + self.ox, d.y * u + self.oy, d.phi, d.kappa / u, d.kappa_s / u**2, cov, d.sig_pos * u, d.sig_phi,
                         d.reach * u)
 
-    def _param(self, cls: str, name: str) -> float:
+    def param(self, cls: str, name: str) -> float:
+        """The factor from a shape parameter in units of U to mm (u to its power in mm)."""
         return self.u ** PARAM_POWER[(cls, name)]
 
     def answer(self, rec):
@@ -149,20 +150,20 @@ class Unit:
         u, cls = self.u, rec.cls
         out = {}
         if cls != "unclassified":
-            params = {k: v * self._param(cls, k) for k, v in rec.params.items()}
+            params = {k: v * self.param(cls, k) for k, v in rec.params.items()}
             th, x, y = rec.pose.theta, rec.pose.x * u + self.ox, rec.pose.y * u + self.oy
             tf = u ** T_POWER.get(cls, 0.0)
             ts = [c["t"] * tf for c in rec.contacts]
             unc = {}
             for k, v in rec.uncertainty.items():
-                f = 1.0 if k == "pose_theta" else u if k.startswith("pose_") else self._param(cls, k)
+                f = 1.0 if k == "pose_theta" else u if k.startswith("pose_") else self.param(cls, k)
                 unc[k] = None if v is None else v * f
             if cls == "line":  # the foot of the perpendicular from the hand's origin (localize)
                 ux, uy = math.cos(th), math.sin(th)
                 along = x * ux + y * uy
                 x, y, ts = x - along * ux, y - along * uy, [t + along for t in ts]
             contacts = [{"t": t, "x": c["x"] * u + self.ox, "y": c["y"] * u + self.oy} for t, c in zip(ts, rec.contacts)]
-            interval = {k: None if v is None else [e * self._param(cls, k) for e in v] for k, v in rec.interval.items()}
+            interval = {k: None if v is None else [e * self.param(cls, k) for e in v] for k, v in rec.interval.items()}
             out.update(params=params, pose=Pose(th, x, y), contacts=contacts, uncertainty=unc, interval=interval)
         if rec.next_touch is not None:
             out["next_touch"] = {**rec.next_touch, "x": rec.next_touch["x"] * u + self.ox,

@@ -300,3 +300,84 @@ def test_fits_crawling_towards_another_valley_are_continued_before_the_sigmas_co
     assert region == "one branch near cusp" and rec.cls == "semicubical_parabola"
     z = {k: (rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()}
     assert all(abs(v) < 3.0 for v in z.values()), z
+
+
+def _bench_sigma_answer(cls, region, i, seed, k):
+    """tools.bench_sigma's samples trial (``--fresh``): (truth's parameters, answer)."""
+    from recognizer import synth
+    from recognizer.curves import CURVES
+    from tools import bench_sigma as S
+
+    params1, ts1, pose1, direction, noise_seed = S.draw_case(cls, region, i, seed, k)
+    L = 10.0 ** k
+    params, ts, pose = S.scaled(cls, params1, ts1, pose1, L)
+    shape = synth.Shape(cls, params, pose, L, (float(ts.min()), float(ts.max())), CURVES[cls](params))
+    noise = synth.SynthNoise(S.SPEC_PHI, S.SPEC_POS_FRAC * L)
+    touches, _ = synth.sample_shape(shape, ts, S.SAMPLES, S.SPACING * L, direction, noise,
+                                    np.random.default_rng(noise_seed), with_s=False)
+    nm = NoiseModel(noise.phi, noise.pos)
+    return params, recognize(Request(tuple(touches), None, S.CLASSES, nm),
+                             RecognizeOptions(noise=nm, **PROFILES["balanced"].options()))
+
+
+def test_lower_valley_of_the_answer_class_widens_its_sigmas():
+    """tools.bench_sigma seed 509 (session 31, development), cubical far on one side, trial 1
+    at 1 mm: answered a 27.9 ± 5.4, c −8.6 ± 2.9 for a truth of −132.2, 0.768 (z 29.9); a fit
+    continued from another start (``classify._valleys_continued``) ended in the truth's
+    valley, a −85.7, c 2.29, at χ² 31.58, below the answer's 31.76, and counted for nothing:
+    ``rival_basins`` took only valleys above the answer."""
+    truth, rec = _bench_sigma_answer("cubical_parabola", "far one side", 1, 509, 0)
+    assert rec.cls == "cubical_parabola" and rec.params["a"] > 0  # the answer stays
+    for key, v in truth.items():
+        assert abs(rec.params[key] - v) <= 3.0 * rec.uncertainty[key], key  # before: a z 29.9, c 3.2
+        lo, hi = rec.interval[key]
+        assert lo <= v <= hi, key  # before: a [13.2, 38.4]
+    assert "other valleys of cubical_parabola" in rec.reason and "a -85.7, c 2.29 at chi2 31.6" in rec.reason
+
+
+def test_lower_rival_valley_counts_as_one_at_the_answers_level():
+    from recognizer.intervals import CHI2_95, rival_basins
+
+    ans = _cand("cubical_parabola", {"a": 27.9, "c": -8.6}, 31.76, {"a": 5.4, "c": 2.9})
+    lower = _cand("cubical_parabola", {"a": -85.7, "c": 2.3}, 31.58, {"a": 26.8, "c": 1.2})
+    out = rival_basins(ans, [lower])
+    for key, sd, sd_r, off in (("a", 5.4, 26.8, 113.6), ("c", 2.9, 1.2, 10.9)):
+        want = max((off + np.sqrt(CHI2_95) * sd_r) / np.sqrt(CHI2_95), _mixture(sd, [(sd_r, off, 0.0)]))
+        assert np.isclose(out.uncertainty[key], want, rtol=1e-9), key
+    assert out.params == ans.params
+
+
+def test_one_valley_cubical_keeps_its_sigmas():
+    """The same seed's trial 2 (far one side, a 79.3, c 0.651): no other valley within
+    ``CHI2_VALLEY``; its answer and σ's are those before session 31, to the last digits."""
+    truth, rec = _bench_sigma_answer("cubical_parabola", "far one side", 2, 509, 0)
+    assert rec.cls == "cubical_parabola"
+    assert np.allclose([rec.params["a"], rec.params["c"]], [81.42351016874814, 0.6676893254727534], rtol=1e-9)
+    assert np.allclose([rec.uncertainty["a"], rec.uncertainty["c"]], [5.2344965925397196, 0.09342512621552175], rtol=1e-9)
+    assert np.allclose(rec.interval["a"], [71.09199239510855, 91.683123490126], rtol=1e-9)
+    assert "valley" not in (rec.reason or "")
+
+
+def test_valleys_note_states_the_other_valleys_in_mm():
+    from recognizer.classify import _valleys_note
+    from recognizer.intervals import rival_basins
+    from recognizer.scale_free import Unit
+
+    ans = _cand("cubical_parabola", {"a": 2.0, "c": 3.0}, 10.0, {"a": 0.5, "c": 0.2})
+    rival = _cand("cubical_parabola", {"a": -11.5, "c": 0.2}, 12.0, {"a": 1.9, "c": 0.18})
+    best = rival_basins(ans, [rival])
+    note = _valleys_note(best, ans, [rival], Unit(4.0))  # a in 1/mm²: −11.5 / 4²
+    assert note.startswith("another valley of cubical_parabola within chi2 9 of the answer's 10 (a -0.719, c 0.2 at chi2 12)")
+    assert _valleys_note(ans, ans, [rival], Unit(4.0)) is None  # σ's not widened: no note
+
+
+def test_a_fit_of_other_observations_is_no_valley():
+    """A contact-stage fit left unrefined beside a refined answer: its χ² is on the contacts,
+    not on every sample, so lower or not it is no valley of the answer's likelihood."""
+    from dataclasses import replace
+
+    from recognizer.intervals import rival_basins
+
+    ans = _cand("cubical_parabola", {"a": 27.9, "c": -8.6}, 31.76, {"a": 5.4, "c": 2.9})
+    contact = replace(_cand("cubical_parabola", {"a": -85.7, "c": 2.3}, 5.0, {"a": 26.8, "c": 1.2}), n_obs=15 - 3)
+    assert rival_basins(ans, [contact]) is ans
