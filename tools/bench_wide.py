@@ -345,9 +345,7 @@ def run_trial(task) -> dict:
     out.update(rival3=_rival(rec), named3=_named(rec), rank3=_ranking(rec), got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
                nt_ms=rec.timing.get("next_touch_cpu_ms", math.nan))
     if rec.cls == cls:
-        stated = [(k, v) for k, v in shape.params.items() if rec.uncertainty.get(k) and rec.uncertainty[k] > 0]
-        out["z"] = [(rec.params[k] - v) / rec.uncertainty[k] for k, v in stated]
-        out["zi"] = [interval_z(rec, k, v) for k, v in stated]
+        out["z"], out["zi"] = _z(shape, rec)
     if coverage_only:
         return out
     if rec.cls != cls:
@@ -391,7 +389,17 @@ def run_trial(task) -> dict:
         out["oracleS"] = _oracle(shape, ts, direction, cur, reqS, nm, [s["t"] for s in out["suggested"] if s["t"] is not None])
     out.update(rivalS=_rival(cur), namedS=_named(cur), rankS=_ranking(cur), t3=[float(v) for v in ts], span=[float(lo), float(hi)],
                params=dict(shape.params), gotS=cur.cls, errS=rel_error(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
+    if cur.cls == cls:
+        out["zS"], out["ziS"] = _z(shape, cur)
     return out
+
+
+def _z(shape, rec) -> tuple[list, list]:
+    """The right answer's z = (stated − true) / stated σ of each shape parameter it states a σ
+    for, and the same against its 95 % interval (tools.bench_sigma.interval_z)."""
+    stated = [(k, v) for k, v in shape.params.items() if rec.uncertainty.get(k) and rec.uncertainty[k] > 0]
+    return ([(rec.params[k] - v) / rec.uncertainty[k] for k, v in stated],
+            [interval_z(rec, k, v) for k, v in stated])
 
 
 def _pct(v) -> str:
@@ -461,6 +469,8 @@ def report(recs: list[dict]) -> str:
                   f"{_pct([r['gotS'] == r['cls'] for r in rep])} %; noise-free exact {_exact_pct(rep)} %."]
     lines += ["", "σ coverage of the right 3-touch answers, per class and per decade of the region size L:", "",
               coverage_report(recs)]
+    lines += ["", "σ coverage of the right 3 + ≤ 2 suggested answers, per class and per decade of the region size L:",
+              "", coverage_report(recs, "S")]
     inexact = [r for r in recs if "exact" in r and not r["exact"]]
     if inexact:
         lines += ["", "Noise-free answers not exact (class right and relative error ≤ 1e-6):", ""]
@@ -486,10 +496,11 @@ def _decade(r: dict) -> int:
     return int(math.floor(math.log10(r["L"])))
 
 
-def coverage_report(recs: list[dict]) -> str:
-    """Per class and per scale decade of L: σ coverage of the right 3-touch answers with its
-    95 % (Wilson) interval, within 3 σ, RMS z, the same with the answer's 95 % interval
-    (``Recognition.interval``; tools.bench_sigma.interval_z) and the largest |z|."""
+def coverage_report(recs: list[dict], stage: str = "") -> str:
+    """Per class and per scale decade of L: σ coverage of the right 3-touch answers (``stage``
+    "S": of the right answers after ≤ 2 suggested touches) with its 95 % (Wilson) interval,
+    within 3 σ, RMS z, the same with the answer's 95 % interval (``Recognition.interval``;
+    tools.bench_sigma.interval_z) and the largest |z|."""
     lines = ["| class / decade of L | trials | right % | values | σ coverage (1.96σ) % | 95 % interval | ≤ 3σ % | RMS z | "
              "interval: ≤ 1.96 / ≤ 3 % | largest |z| |",
              "|---|---|---|---|---|---|---|---|---|---|"]
@@ -497,13 +508,14 @@ def coverage_report(recs: list[dict]) -> str:
     sized = [r for r in recs if "L" in r]  # (records of an earlier bench_wide carry no L)
     groups += [(f"L 1e{k} mm", [r for r in sized if _decade(r) == k]) for k in sorted({_decade(r) for r in sized})]
     for name, rs in groups:
-        z = np.abs(np.array([v for r in rs for v in r.get("z", [])], float))
-        zi = np.abs(np.array([v for r in rs for v in r.get("zi", r.get("z", []))], float))
+        z = np.abs(np.array([v for r in rs for v in r.get("z" + stage, [])], float))
+        zi = np.abs(np.array([v for r in rs for v in r.get("zi" + stage, r.get("z" + stage, []))], float))
         if not z.size:
             continue
         k = int(np.sum(z <= 1.96))
         lo, hi = _wilson(k, z.size)
-        lines.append(f"| {name} | {len(rs)} | {_pct([r['got3'] == r['cls'] for r in rs])} | {z.size} | "
+        got = "gotS" if stage else "got3"
+        lines.append(f"| {name} | {len(rs)} | {_pct([r.get(got) == r['cls'] for r in rs])} | {z.size} | "
                      f"{100 * k / z.size:.1f} | {100 * lo:.1f}–{100 * hi:.1f} | {_pct(z <= 3.0)} | "
                      f"{math.sqrt(float(np.mean(z ** 2))):.2f} | {_pct(zi <= 1.96)} / {_pct(zi <= 3.0)} | {z.max():.3g} |")
     return "\n".join(lines)

@@ -25,3 +25,16 @@ def test_coverage_report_counts_values_within_1_96_sigma_per_class_and_decade():
     ones = [c.strip() for c in rows["L 1e0 mm"].split("|")[1:-1]]  # L 3.3 and 5 mm: decade 0
     assert ones[1:5] == ["2", "100.0", "4", "50.0"] and ones[6] == "75.0" and ones[8] == "50.0 / 100.0"
     assert "L 1e1 mm" not in rows  # its one trial answered another class: no value
+
+
+def test_coverage_after_suggestions_reads_that_stages_answers():
+    """``stage`` "S": the right answers after ≤ 2 suggested touches (``gotS``, ``zS``), apart
+    from the 3-touch ones: a trial wrong with 3 touches and right after its suggestions counts."""
+    recs = [{"cls": "semicubical_parabola", "got3": "parabola", "gotS": "semicubical_parabola", "L": 2.0,
+             "zS": [0.4, 3.2], "ziS": [0.4, 2.8]},
+            {"cls": "semicubical_parabola", "got3": "semicubical_parabola", "gotS": "semicubical_parabola", "L": 3.0,
+             "z": [5.0, 5.0], "zS": [1.0, -1.5]}]
+    rows = {line.split("|")[1].strip(): line for line in coverage_report(recs, "S").splitlines()[2:]}
+    row = [c.strip() for c in rows["semicubical_parabola"].split("|")[1:-1]]
+    assert row[1:5] == ["2", "100.0", "4", "75.0"] and row[6] == "75.0" and row[8] == "75.0 / 100.0"
+    assert row[9] == "3.2"
