@@ -214,15 +214,26 @@ def _guard(cfg: JawConfig, center, r: float, extra: float):
     return guard
 
 
+def _reachable(cfg: JawConfig, guard):
+    """accept(finger, q) for :func:`plan_touches`: is there a route (:func:`_route`) from the
+    finger's parking pose to approach pose q and back that ``guard`` finds clear?"""
+    homes = {f.name: home_pose(f) for f in cfg.fingers}
+    return lambda name, q: _route(guard, name, homes[name], q, homes[name]) is not None
+
+
+def _locate_guard(cfg: JawConfig, guess, r: float):
+    """The clearance test of the locating touches' routes: the pads 0.5 mm inside their
+    ``LOCATE_GAP_MM`` start outside a disk of radius ``r`` expected at ``guess``."""
+    return _guard(cfg, guess, r, LOCATE_GAP_MM - 0.5)
+
+
 def _locate_options(cfg: JawConfig, reference, guess) -> dict[str, list[PlannedTouch]]:
     """Per finger, the face touches (ψ order) that locate a disk expected at ``guess``
     (:func:`touch_reference`'s step 1): from ``LOCATE_GAP_MM`` outside it, each approach pose
     on a route clear of it from the finger's parking pose."""
-    r = float(reference.params["r"])
-    guard = _guard(cfg, guess, r, LOCATE_GAP_MM - 0.5)
-    homes = {f.name: home_pose(f) for f in cfg.fingers}
+    guard = _locate_guard(cfg, guess, float(reference.params["r"]))
     plan = plan_touches(cfg, reference, guess, faces=15, corners=0, gap=LOCATE_GAP_MM,
-                        accept=lambda name, q: _route(guard, name, homes[name], q, homes[name]) is not None)
+                        accept=_reachable(cfg, guard))
     return {f.name: sorted((t for t in plan if t.finger == f.name and t.kind == "face"), key=lambda t: t.psi)
             for f in cfg.fingers}
 
@@ -266,12 +277,7 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
     park(jaw)
     # 1. locate: the pads start LOCATE_GAP_MM outside the expected disk
     loc_gap, loc_travel = LOCATE_GAP_MM, 2.0 * LOCATE_GAP_MM
-    guard = _guard(cfg, guess, r, loc_gap - 0.5)
-    homes = {f.name: home_pose(f) for f in cfg.fingers}
-
-    def reachable(g):
-        return lambda name, q: _route(g, name, homes[name], q, homes[name]) is not None
-
+    guard = _locate_guard(cfg, guess, r)
     options = _locate_options(cfg, reference, guess)
     if sum(len(v) for v in options.values()) < 3:
         raise CalibrationRefused(f"placement {placement + 1}: this jaw's pads reach {sum(len(v) for v in options.values())} "
@@ -299,7 +305,7 @@ def touch_reference(jaw, reference, guess, placement: int = 0, faces: int = 10, 
     # 2. the full plan around the located disk
     guard = _guard(cfg, center, r, TRANSIT_CLEARANCE_MM)
     plan = plan_touches(cfg, reference, center, faces=faces, corners=corners, gap=APPROACH_GAP_MM,
-                        accept=reachable(guard))
+                        accept=_reachable(cfg, guard))
     run_together(jaw, {f.name: _finger_touches(jaw, f.name, [t for t in plan if t.finger == f.name], center, r,
                                                placement, guard, readings, skipped) for f in cfg.fingers})
     return readings, center, skipped
