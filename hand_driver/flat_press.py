@@ -133,6 +133,12 @@ def line_point(lines: list[kin.PadLine]) -> tuple[np.ndarray, float]:
     return p, float(np.max(np.abs(a @ p - b)))
 
 
+def clear_of_pad_ends(line: kin.PadLine, point: np.ndarray, length_mm: float) -> bool:
+    """Whether ``point`` lies along the pad of ``line`` more than ``SEAT_TOL_MM`` from either
+    end of its ``length_mm``: the pad's face there, not a pad end resting on it."""
+    return SEAT_TOL_MM < float(line.pad_coordinate(np.asarray(point, dtype=float))) < length_mm - SEAT_TOL_MM
+
+
 def face_normal(p: np.ndarray, q: np.ndarray, toward: np.ndarray) -> np.ndarray:
     """Unit outward normal of the face through supports ``p`` and ``q``: of the line PQ's
     two normals, the one along ``toward`` (a pad line's normal)."""

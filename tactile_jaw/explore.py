@@ -34,7 +34,7 @@ from scipy.spatial import cKDTree
 from hand_driver import kinematics as kin
 from hand_driver.config import states_calibration
 from hand_driver.cycle import LIMIT_MARGIN_RAD, Jaw, run_together
-from hand_driver.flat_press import SEAT_TOL_MM, FlatResult
+from hand_driver.flat_press import SEAT_TOL_MM, FlatResult, clear_of_pad_ends
 from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
 from recognizer.curves import CURVES
 from tactile_common.errors import InputError
@@ -236,8 +236,7 @@ def probe_normals(name: str, probes: Sequence[FeltTouch], corners) -> np.ndarray
             line = s.line
             length = float(np.linalg.norm(line.distal - line.proximal))
             if any(abs(float(line.normal @ np.asarray(c, float)) - float(line.d)) <= SEAT_TOL_MM
-                   and SEAT_TOL_MM < float(line.pad_coordinate(np.asarray(c, float))) < length - SEAT_TOL_MM
-                   for c in corners):
+                   and clear_of_pad_ends(line, c, length) for c in corners):
                 out.append(float(line.psi))
     return np.asarray(out, dtype=float)
 

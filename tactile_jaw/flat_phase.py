@@ -15,7 +15,8 @@ import numpy as np
 from hand_driver import kinematics as kin
 from hand_driver.cycle import Jaw
 from hand_driver.flat_press import (FACE_MIN_FRACTION, FLAT_MAX_TURN_DEG, FLAT_STEP_DEG, SEAT_TOL_MM,
-                                     SPLIT_APART, FlatResult, _run, face_normal, flat_press, lowering_turn, seat_split)
+                                     SPLIT_APART, FlatResult, _run, clear_of_pad_ends, face_normal, flat_press,
+                                     lowering_turn, seat_split)
 from hand_driver.motion import TouchResult, uncoordinated_overshoot
 from recognizer.result import Recognition
 from tactile_jaw.decide import RecognizeTouches, decide
@@ -102,8 +103,7 @@ def _felt_stop(out: Exploration, finger: str, psi: float, length_mm: float,
         if n < 3 or not rel[i] - 0.5 * step <= 0.0 <= rel[i + n - 1] + 0.5 * step:
             continue
         # the corner on the pad: lines with a pad end on it or past it say nothing of its normals, left out at the run's ends
-        inner = [j for j in range(i, i + n)
-                 if SEAT_TOL_MM < float(lines[j].pad_coordinate(corner)) < length_mm - SEAT_TOL_MM]
+        inner = [j for j in range(i, i + n) if clear_of_pad_ends(lines[j], corner, length_mm)]
         if (len(inner) < 3 or inner[-1] - inner[0] + 1 != len(inner)
                 or not rel[inner[0]] - 0.5 * step <= 0.0 <= rel[inner[-1]] + 0.5 * step):
             break  # a pad end resting on the object among them, or at the normal: its lines say nothing of a corner's normals
