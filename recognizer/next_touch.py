@@ -408,7 +408,7 @@ def _cusp_side(leader: Candidate, t: np.ndarray, near: float = 0.0) -> np.ndarra
     length less that reach inside (the same trials, the touch at that end suggested again:
     the pad's end met the true cusp 40 mm beyond it, the pad 86 mm long)."""
     t = np.asarray(t, float)
-    grow, u_touched, period, start, lo, hi = _growth(leader)
+    grow, _, period, start, lo, hi = _growth(leader)
     if grow == 0:
         return np.zeros(t.shape, bool)
     if period is None:
@@ -713,8 +713,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
         # c true: the pad lands on c's curve, never toward a semicubical rival's cusp from its
         # touches, and seats there, or the touch is lost
-        toward = _toward_cusp(c, posed_c[2])
-        on_c = ~toward
+        on_c = ~_toward_cusp(c, posed_c[2])
         if _cusp_elsewhere(c, leader):
             on_c &= ~cusp_side  # its fit puts its cusp elsewhere: nor where the touches' curvature grows
             misplaced = True
