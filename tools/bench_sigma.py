@@ -133,24 +133,37 @@ def _contacts(cls, params, ts, pose, direction, L, rs):
     return out, nm
 
 
+def case_at(cls: str, region: str, i: int, seed: int, k: int, fresh: bool):
+    """A trial's case at decade k (L = 10^k mm): (parameters, contacts' t, pose, traversal
+    direction, L, the noise draws' generator: the same draws, in units of L, at every scale;
+    ``fresh``: that decade's own shape and noise draw)."""
+    params1, ts1, pose1, direction, noise_seed = draw_case(cls, region, i, seed, k if fresh else None)
+    L = 10.0 ** k
+    params, ts, pose = scaled(cls, params1, ts1, pose1, L)
+    return params, ts, pose, direction, L, np.random.default_rng(noise_seed)
+
+
+def sampled(cls: str, params: dict, ts, pose: Pose, direction: int, L: float, rs: np.random.Generator):
+    """The ``samples`` kind's touches (rolls of ``SAMPLES`` readings, ``SPACING``·L apart, clear
+    of a semicubical's cusp), their noise model and the balanced profile's options."""
+    if cls == "semicubical_parabola":
+        ts = clear_of_cusp(CURVES[cls](params), ts, synth.touch_reach(SAMPLES, SPACING * L))
+    shape = synth.Shape(cls, params, pose, L, (float(ts.min()), float(ts.max())), CURVES[cls](params))
+    noise = synth.SynthNoise(SPEC_PHI, SPEC_POS_FRAC * L)
+    touches, _ = synth.sample_shape(shape, ts, SAMPLES, SPACING * L, direction, noise, rs, with_s=False)
+    nm = NoiseModel(noise.phi, noise.pos)
+    return touches, nm, RecognizeOptions(noise=nm, **PROFILES["balanced"].options())
+
+
 def run_trial(task) -> list[dict]:
     cls, region, i, seed, scales, kinds, *fresh = task
     fresh = bool(fresh and fresh[0])
     out = []
     for kind in kinds:
         for k in scales:
-            params1, ts1, pose1, direction, noise_seed = draw_case(cls, region, i, seed, k if fresh else None)
-            L = 10.0 ** k
-            params, ts, pose = scaled(cls, params1, ts1, pose1, L)
-            rs = np.random.default_rng(noise_seed)  # the same draws, in units of L, at every scale
+            params, ts, pose, direction, L, rs = case_at(cls, region, i, seed, k, fresh)
             if kind == "samples":
-                if cls == "semicubical_parabola":
-                    ts = clear_of_cusp(CURVES[cls](params), ts, synth.touch_reach(SAMPLES, SPACING * L))
-                shape = synth.Shape(cls, params, pose, L, (float(ts.min()), float(ts.max())), CURVES[cls](params))
-                noise = synth.SynthNoise(SPEC_PHI, SPEC_POS_FRAC * L)
-                touches, _ = synth.sample_shape(shape, ts, SAMPLES, SPACING * L, direction, noise, rs, with_s=False)
-                nm = NoiseModel(noise.phi, noise.pos)
-                opts = RecognizeOptions(noise=nm, **PROFILES["balanced"].options())
+                touches, nm, opts = sampled(cls, params, ts, pose, direction, L, rs)
             else:
                 touches, nm = _contacts(cls, params, ts, pose, direction, L, rs)
                 opts = RecognizeOptions(noise=nm)

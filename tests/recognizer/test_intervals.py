@@ -304,20 +304,11 @@ def test_fits_crawling_towards_another_valley_are_continued_before_the_sigmas_co
 
 def _bench_sigma_answer(cls, region, i, seed, k):
     """tools.bench_sigma's samples trial (``--fresh``): (truth's parameters, answer)."""
-    from recognizer import synth
-    from recognizer.curves import CURVES
     from tools import bench_sigma as S
 
-    params1, ts1, pose1, direction, noise_seed = S.draw_case(cls, region, i, seed, k)
-    L = 10.0 ** k
-    params, ts, pose = S.scaled(cls, params1, ts1, pose1, L)
-    shape = synth.Shape(cls, params, pose, L, (float(ts.min()), float(ts.max())), CURVES[cls](params))
-    noise = synth.SynthNoise(S.SPEC_PHI, S.SPEC_POS_FRAC * L)
-    touches, _ = synth.sample_shape(shape, ts, S.SAMPLES, S.SPACING * L, direction, noise,
-                                    np.random.default_rng(noise_seed), with_s=False)
-    nm = NoiseModel(noise.phi, noise.pos)
-    return params, recognize(Request(tuple(touches), None, S.CLASSES, nm),
-                             RecognizeOptions(noise=nm, **PROFILES["balanced"].options()))
+    params, ts, pose, direction, L, rs = S.case_at(cls, region, i, seed, k, fresh=True)
+    touches, nm, opts = S.sampled(cls, params, ts, pose, direction, L, rs)
+    return params, recognize(Request(tuple(touches), None, S.CLASSES, nm), opts)
 
 
 def test_lower_valley_of_the_answer_class_widens_its_sigmas():
