@@ -133,6 +133,16 @@ class Curve:
         x, y = self.point(t)
         return x, y, self.tangent_angle(t), self.kappa(t), self.kappa_s(t)
 
+    def point_tangent(self, t):
+        """((x, y), φ) at t: ``point`` and ``tangent_angle`` (a class whose two share
+        intermediates computes them once: the same values)."""
+        return self.point(t), self.tangent_angle(t)
+
+    def speed_kappa(self, t):
+        """(speed, κ) at t: ``speed`` and ``kappa`` (shared intermediates computed once, as
+        ``point_tangent``)."""
+        return self.speed(t), self.kappa(t)
+
     def project(self, t, px, py, steps: int):
         """The parameters of the curve's points nearest the canonical-frame points (px, py),
         from the parameters t: ``steps`` Newton steps along the tangent, Δt = (p − c(t))·T/speed.
@@ -252,6 +262,16 @@ class Ellipse(Curve):
     def kappa(self, t):
         return self.a * self.b / self._s2(t) ** 1.5
 
+    def point_tangent(self, t):
+        t = _arr(t)
+        c, s = np.cos(t), np.sin(t)
+        return (self.a * c, self.b * s), np.arctan2(self.b * c, -self.a * s)
+
+    def speed_kappa(self, t):
+        t = _arr(t)
+        u, v = self.a * np.sin(t), self.b * np.cos(t)
+        return np.hypot(u, v), self.a * self.b / (u**2 + v**2) ** 1.5
+
     def kappa_s(self, t):
         t = _arr(t)
         a, b = self.a, self.b
@@ -294,6 +314,10 @@ class Parabola(Curve):
     def kappa(self, t):
         return -1.0 / (2 * self.a * np.hypot(1.0, _arr(t)) ** 3)
 
+    def speed_kappa(self, t):
+        h = np.hypot(1.0, _arr(t))
+        return 2 * self.a * h, -1.0 / (2 * self.a * h**3)
+
     def kappa_s(self, t):
         t = _arr(t)
         return 3 * t / (4 * self.a**2 * np.hypot(1.0, t) ** 6)
@@ -328,6 +352,15 @@ class Hyperbola(Curve):
 
     def kappa(self, t):
         return -self.a * self.b / self.speed(t) ** 3
+
+    def point_tangent(self, t):
+        t = _arr(t)
+        ch, sh = np.cosh(t), np.sinh(t)
+        return (self.a * ch, self.b * sh), np.arctan2(self.b * ch, self.a * sh)
+
+    def speed_kappa(self, t):
+        sp = self.speed(t)
+        return sp, -self.a * self.b / sp**3
 
     def kappa_s(self, t):
         t = _arr(t)
@@ -366,6 +399,10 @@ class CubicalParabola(Curve):
 
     def kappa(self, t):
         return 6 * self.a * _arr(t) / self.speed(t) ** 3
+
+    def speed_kappa(self, t):
+        sp = self.speed(t)
+        return sp, 6 * self.a * _arr(t) / sp**3
 
     def kappa_s(self, t):
         t = _arr(t)
@@ -413,6 +450,12 @@ class SemicubicalParabola(Curve):
         t = _arr(t)
         with np.errstate(divide="ignore"):
             return 6 * self.a / (np.abs(t) * np.hypot(2.0, self._u(t)) ** 3)
+
+    def speed_kappa(self, t):
+        t = _arr(t)
+        at, h = np.abs(t), np.hypot(2.0, self._u(t))
+        with np.errstate(divide="ignore"):
+            return at * h, 6 * self.a / (at * h**3)
 
     def kappa_s(self, t):
         t = _arr(t)

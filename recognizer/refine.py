@@ -312,9 +312,9 @@ class _Problem:
         """The curve and its hand-frame x, y, φ (κ, κ_s at contact rows) at the unknowns
         (errstate: the caller's, ``residuals`` or ``jacobian``: one context per evaluation)."""
         curve = CURVES[self.cls](params)
-        px, py = curve.point(t)
+        (px, py), tangent = curve.point_tangent(t)
         hx, hy = pose.apply(px, py)
-        phi = np.asarray(curve.tangent_angle(t), float) + pose.theta + (np.pi if self.direction < 0 else 0.0)
+        phi = np.asarray(tangent, float) + pose.theta + (np.pi if self.direction < 0 else 0.0)
         extra = None
         if self.data.contact_rows:
             tc = t[self.data.contact_rows]
@@ -337,10 +337,12 @@ class _Problem:
             r = self._whitened(np.concatenate(parts))
             if self.aniso:
                 self._across_along(r)
-        bad = ~np.isfinite(r)  # (in place on the fresh array: as np.where(finite, clip, 1e8))
-        r.clip(-RESIDUAL_CAP, RESIDUAL_CAP, out=r)
-        if bad.any():
-            r[bad] = 1e8
+            fine = _within(r, RESIDUAL_CAP)
+        if not fine:
+            bad = ~np.isfinite(r)  # (in place on the fresh array: as np.where(finite, clip, 1e8))
+            r.clip(-RESIDUAL_CAP, RESIDUAL_CAP, out=r)
+            if bad.any():
+                r[bad] = 1e8
         self._res_memo = (key, r.copy())
         return r
 
@@ -368,8 +370,7 @@ class _Problem:
         nc = len(self.data.contact_rows)
         rows = 3 * n + 2 * nc
         jac = self._constant_jacobian(rows, z.size)  # raw rows (whitened at the end)
-        speed = np.asarray(curve.speed(t), float)
-        kap = np.asarray(curve.kappa(t), float)
+        speed, kap = (np.asarray(v, float) for v in curve.speed_kappa(t))
         ang = phi - (np.pi if self.direction < 0 else 0.0)
         flat = jac.reshape(-1)  # each sample's t column: one entry in each of its x, y, φ rows
         fx, fy, fphi = self._t_entries(z.size)
@@ -411,6 +412,8 @@ class _Problem:
                 zp[c] += h
                 zm[c] -= h
                 jac[3 * n :, c] = ((self._raw(zp) - self._raw(zm)) / (2 * h))[3 * n :]
+        if self.whiten is None and not self.aniso and _within(jac, JACOBIAN_CAP):
+            return jac  # every entry finite and inside the cap: the steps below change nothing
         bad = ~np.isfinite(jac)
         if bad.any():
             jac[bad] = 0.0
@@ -490,6 +493,16 @@ class _Problem:
         if bad.any():
             r[bad] = 0.0
         return r
+
+
+def _within(a: np.ndarray, cap: float) -> bool:
+    """Every entry of ``a`` finite and of magnitude below ``cap`` (so capping and the
+    non-finite replacement would leave it as it is), decided by one sum of squares: NaN or
+    ±inf makes it so, and below (cap/10)² no entry reaches the cap; a larger sum
+    (or an overflow: under the caller's errstate) answers False and the caller checks
+    entry by entry."""
+    v = a.reshape(-1)
+    return bool(v @ v < (0.1 * cap) ** 2)
 
 
 def _initial_t(cls: str, params: dict, pose: Pose, t_contacts: np.ndarray, data: _Data, direction: int) -> np.ndarray:
@@ -706,7 +719,11 @@ def _pad_last_column(fun, jac):
     residual is 0, so its step is 0 and the other unknowns' iterates are those of the
     unpadded problem without the stray read."""
     def padded_fun(z: np.ndarray) -> np.ndarray:
-        return np.append(fun(z[:-1]), 0.0)
+        r = fun(z[:-1])
+        out = np.empty(r.size + 1)
+        out[:-1] = r
+        out[-1] = 0.0
+        return out
 
     def padded_jac(z: np.ndarray) -> np.ndarray:
         j = jac(z[:-1])

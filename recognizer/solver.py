@@ -203,6 +203,7 @@ class ContactModel:
         self.kern = KERNELS[cls]
         self.deriv = DERIVATIVES[cls]
         self.rows = data.rows()
+        self._lay = None  # (touches, constant flat Jacobian, positions of jac's entries)
 
     def floor(self) -> float:
         """A lower bound of the cost over every parameter value: the line's κ, κ_s are 0
@@ -257,62 +258,61 @@ class ContactModel:
         """Jacobian (5n, m) of the residuals in closed form: shape columns from
         ``DERIVATIVES`` (∂/∂log p = p·∂/∂p for the positive parameters), pose columns, and
         one t column per touch (dp/dt = speed·(cos φ, sin φ), dφ/dt = κ·speed,
-        dκ/dt = κ_s·speed, dκ_s/dt from ``DERIVATIVES``). Built in Python floats, one NumPy
-        conversion at the end: at 3–5 touches the same closed forms as NumPy arrays over
-        every touch cost twice as much (NumPy's per-call cost outweighs the arithmetic)."""
+        dκ/dt = κ_s·speed, dκ_s/dt from ``DERIVATIVES``). Built in Python floats: at 3–5
+        touches the same closed forms as NumPy arrays over every touch cost twice as much
+        (NumPy's per-call cost outweighs the arithmetic). Only the entries that depend on z
+        are computed, in the order of ``_layout``'s flat positions, and put into a copy of
+        its constant Jacobian in one NumPy call."""
         p, ct, st, fr = parts
         n, o = len(fr), self.np
-        m = o + 3 + n
+        flat, pos = self._layout(n)
         zl = z.tolist()
         th = zl[o]
-        deriv, rows = self.deriv, self.rows
+        deriv = self.deriv
         scale = [v if lg else 1.0 for v, lg in zip(p, self.log)]
         out = []
         try:
-            for i, (t, (px, py, ph, kc, ksc, spd), row) in enumerate(zip(zl[o + 3:], fr, rows)):
+            for t, (px, py, ph, kc, ksc, spd), row in zip(zl[o + 3:], fr, self.rows):
                 sp, sf, w00, w01, w10, w11 = row[5:]
                 d = deriv(p, t)
-                jx, jy, jf, jk, jks = [], [], [], [], []
                 for j, g in enumerate(scale):
                     dx, dy, df, dk, dks = d[5 * j: 5 * j + 5]
                     if g != 1.0:
                         dx, dy, df, dk, dks = g * dx, g * dy, g * df, g * dk, g * dks
-                    jx.append((ct * dx - st * dy) / sp)
-                    jy.append((st * dx + ct * dy) / sp)
-                    jf.append(df / sf)
-                    jk.append(w00 * dk + w01 * dks)
-                    jks.append(w10 * dk + w11 * dks)
+                    out += ((ct * dx - st * dy) / sp, (st * dx + ct * dy) / sp, df / sf,
+                            w00 * dk + w01 * dks, w10 * dk + w11 * dks)
                 ang = ph + th
                 e0, e1 = ksc * spd, d[-1]
-                before, after = [0.0] * i, [0.0] * (n - 1 - i)
-                out += jx
-                out += ((-st * px - ct * py) / sp, 1.0 / sp, 0.0)
-                out += before
-                out.append(spd * math.cos(ang) / sp)
-                out += after
-                out += jy
-                out += ((ct * px - st * py) / sp, 0.0, 1.0 / sp)
-                out += before
-                out.append(spd * math.sin(ang) / sp)
-                out += after
-                out += jf
-                out += (1.0 / sf, 0.0, 0.0)
-                out += before
-                out.append(kc * spd / sf)
-                out += after
-                out += jk
-                out += (0.0, 0.0, 0.0)
-                out += before
-                out.append(w00 * e0 + w01 * e1)
-                out += after
-                out += jks
-                out += (0.0, 0.0, 0.0)
-                out += before
-                out.append(w10 * e0 + w11 * e1)
-                out += after
+                out += ((-st * px - ct * py) / sp, (ct * px - st * py) / sp, spd * math.cos(ang) / sp,
+                        spd * math.sin(ang) / sp, kc * spd / sf, w00 * e0 + w01 * e1, w10 * e0 + w11 * e1)
         except _NUMERIC_ERRORS:
-            return np.full((5 * n, m), math.nan)
-        return np.fromiter(out, float, 5 * n * m).reshape(5 * n, m)
+            return np.full((5 * n, o + 3 + n), math.nan)
+        jac = flat.copy()
+        jac[pos] = out
+        return jac.reshape(5 * n, o + 3 + n)
+
+    def _layout(self, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """The Jacobian of ``n`` touches (5n × m, m = shape + 3 + n) as a flat array holding
+        its constant entries (1/σ_pos in the translation columns, 1/σ_φ in θ's φ row, zeros)
+        and the flat positions of the entries ``jac`` computes, in its order: per touch,
+        each shape column's x, y, φ, κ, κ_s rows, then θ's x and y rows and the touch's t
+        column's x, y, φ, κ, κ_s rows (made once per model)."""
+        if self._lay is None or self._lay[0] != n:
+            o = self.np
+            m = o + 3 + n
+            flat = np.zeros(5 * n * m)
+            pos = []
+            for i, row in enumerate(self.rows[:n]):
+                sp, sf = row[5], row[6]
+                base = [5 * i * m + q * m for q in range(5)]  # the touch's x, y, φ, κ, κ_s rows
+                flat[base[0] + o + 1] = 1.0 / sp
+                flat[base[1] + o + 2] = 1.0 / sp
+                flat[base[2] + o] = 1.0 / sf
+                for j in range(o):
+                    pos += [b + j for b in base]
+                pos += [base[0] + o, base[1] + o] + [b + o + 3 + i for b in base]
+            self._lay = (n, flat, np.array(pos, dtype=np.intp))
+        return self._lay[1], self._lay[2]
 
     def solve(self, z0, max_iter=40, give_up=math.inf):
         """Levenberg–Marquardt from z0; stops early once the cost is negligible (exact data)

@@ -195,3 +195,19 @@ def test_nearest_point_on_exact_curves():
     assert abs((6.0 - cx) * math.cos(ang) + (1.0 - cy) * math.sin(ang)) < 1e-4  # along the normal (0.4 mm on: ±0.4)
     gx, gy = parabola.point(grid)
     assert math.hypot(6.0 - cx, 1.0 - cy) <= float(np.min(np.hypot(gx - 6.0, gy - 1.0)))
+
+
+@pytest.mark.parametrize("cls", list(CURVES))
+def test_shared_intermediates_give_the_separate_methods_values(cls):
+    """``point_tangent`` and ``speed_kappa`` (refine's model and Jacobian, session 32): the
+    same bits as ``point``, ``tangent_angle``, ``speed`` and ``kappa`` one by one, at t's near
+    and far, both signs, zero (the semicubical's cusp: κ infinite) and a NaN."""
+    t = np.array([-40.0, -2.3, -0.7, -1e-9, 0.0, 3e-8, 0.4, 1.1, 2.9, 35.0, np.nan])
+    for params in PARAMS[cls]:
+        c = CURVES[cls](params)
+        with np.errstate(all="ignore"):
+            (x, y), phi = c.point_tangent(t)
+            sp_, k = c.speed_kappa(t)
+            want = (*c.point(t), c.tangent_angle(t), c.speed(t), c.kappa(t))
+        for got, ref in zip((x, y, phi, sp_, k), want):
+            assert np.asarray(got).tobytes() == np.asarray(ref, float).tobytes()

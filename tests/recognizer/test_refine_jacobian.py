@@ -135,3 +135,21 @@ def test_touches_without_a_noise_factor_weighed_as_without_factors():
     ref = _central(mixed, z, mixed.residuals)
     err = np.linalg.norm(jac - ref, axis=0) / (np.linalg.norm(ref, axis=0) + 1e-12)
     assert err.max() < 1e-4, (err.argmax(), err.max())
+
+
+def test_within_the_cap_decides_as_entry_by_entry():
+    """``refine._within`` (session 32: residuals and Jacobian skip their capping and
+    non-finite replacement when it says nothing would change): True only when every entry is
+    finite and below the cap; NaN, ±inf, an entry at or beyond the cap, a sum of squares
+    above (cap/10)² or one that overflows all answer False (then the entry-by-entry path
+    runs)."""
+    from recognizer.refine import _within
+
+    cap = 1e30
+    assert _within(np.array([1.0, -2e28, 3e-300, 0.0]), cap)
+    assert _within(np.zeros((4, 3)), cap)
+    for bad in (np.nan, np.inf, -np.inf, cap, -cap, 2e29):
+        assert not _within(np.array([1.0, bad, 2.0]), cap)
+    with np.errstate(over="ignore"):  # (the callers' errstate)
+        assert not _within(np.full(10, 1e160), 1e120)  # finite entries whose squares overflow
+    assert _within(np.full((3, 2), 9e117), 1e120)

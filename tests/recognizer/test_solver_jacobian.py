@@ -61,3 +61,47 @@ def test_jacobian_evaluates_no_kernel(cls):
     m.kern = lambda p, tt: calls.append(tt) or kern(p, tt)
     J = m.jac(z, parts)
     assert calls == [] and J.shape == (15, len(z)) and np.all(np.isfinite(J))
+
+
+@pytest.mark.parametrize("cls", ["circle", "ellipse", "semicubical_parabola"])
+def test_jacobian_layout_matches_a_dense_build(cls):
+    """``ContactModel.jac`` puts only the entries that depend on z into a copy of its
+    constant Jacobian (``_layout``, session 32): every entry equals the closed forms placed
+    row by row (x, y, φ, κ, κ_s per touch; shape, θ, x, y, one t column per touch), for 3
+    and 4 touches with distinct deviations, and a second model of another touch count
+    builds its own layout."""
+    params, ts = CASES[cls]
+    p = params[0]
+    for n in (3, 4):
+        t = np.array(ts[1: 1 + n], float) + 0.01
+        names = CURVES[cls].param_names
+        curve = CURVES[cls](dict(zip(names, p)))
+        x, y = curve.point(t)
+        data = L.Contacts(x + 0.01, y - 0.02, curve.tangent_angle(t) + 0.003, curve.kappa(t) * 1.01,
+                          curve.kappa_s(t) + 0.1, np.tile(np.diag([0.04, 0.3]), (n, 1, 1)),
+                          np.linspace(0.05, 0.08, n), np.linspace(2e-3, 5e-3, n))
+        model = ContactModel(cls, data)
+        z = model.pack(dict(zip(names, p)), 0.3, 0.1, -0.2, t)
+        _, _, parts = model.eval(z)
+        got = model.jac(z, parts)
+        o, m = len(names), len(names) + 3 + n
+        assert got.shape == (5 * n, m)
+        pp, ct, st, fr = parts
+        rows = model.rows
+        for i in range(n):
+            px, py, ph, kc, ksc, spd = fr[i]
+            sp_, sf, w00, w01, w10, w11 = rows[i][5:]
+            d = DERIVATIVES[cls](pp, t[i])
+            want = np.zeros((5, m))
+            for j, lg in enumerate(model.log):
+                g = pp[j] if lg else 1.0
+                dx, dy, df, dk, dks = (g * v for v in d[5 * j: 5 * j + 5])
+                want[:, j] = ((ct * dx - st * dy) / sp_, (st * dx + ct * dy) / sp_, df / sf,
+                              w00 * dk + w01 * dks, w10 * dk + w11 * dks)
+            want[0, o: o + 3] = ((-st * px - ct * py) / sp_, 1.0 / sp_, 0.0)
+            want[1, o: o + 3] = ((ct * px - st * py) / sp_, 0.0, 1.0 / sp_)
+            want[2, o: o + 3] = (1.0 / sf, 0.0, 0.0)
+            ang = ph + z[o]
+            want[:, o + 3 + i] = (spd * np.cos(ang) / sp_, spd * np.sin(ang) / sp_, kc * spd / sf,
+                                  w00 * ksc * spd + w01 * d[-1], w10 * ksc * spd + w11 * d[-1])
+            np.testing.assert_allclose(got[5 * i: 5 * i + 5], want, rtol=1e-14, atol=0.0)
