@@ -484,7 +484,9 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
     --anywhere --seed 11: both pads met faces of 14.6 mm mostly beyond their proximal ends (the
     right over 9.1 mm), its other faces 71° from the pads' normals; block 1 of --finite 10
     --seed 17: the right pad seated once on a face of 12.7 mm 33° from its normal, its later
-    presses ran into its joint limits. Both were refused before with no move named."""
+    presses ran into its joint limits. Both were refused before with no move named. When none of
+    these, nor a corner's face (:func:`_corner_stop`), gives a move: the longest path a pad end
+    slid along in part of a press (:func:`_slid_path` with ``part``; session 32)."""
     best = None
     presses = [(t, sorted((smp.line for smp in t.touch.samples), key=lambda ln: float(ln.psi))) for t in out.touches
                if isinstance(t.touch, FlatResult) and len(t.touch.samples) >= 6]
@@ -627,7 +629,7 @@ def _slid_path(lines: Sequence[kin.PadLine], length_mm: float, tol_mm: float = S
                 if path.worst > tol_mm or (part and (pivoted[i] or pivoted[j] or not near[end][j])):
                     break
                 span = float(np.ptp(path.u))
-                if span >= margin and (best is None or span > best[0]):
+                if span >= margin and (best is None or (part and span > best[0])):  # every line: the first end
                     best = (span, end, i, j + 1, path)
     if best is None:
         return None
