@@ -104,13 +104,17 @@ def _memo(recognize_touches: RecognizeTouches) -> RecognizeTouches:
 def _clear_of_corners(cfg, out: Exploration, settings: ExploreSettings, emit, say) -> Callable[[], list[FeltTouch]]:
     """The usable touches so far without their samples at the corners the touches so far
     pivoted about and past the curve's ends they felt (tactile_jaw.pipeline.clear_of_corners;
-    recomputed when any of these grows),
-    each change logged once (event ``touch_trimmed``)."""
+    recomputed when any of these grows: the usable touches, the corners, the curve's ends, the
+    pivots and the closing segments' end corners — the last two were not counted until session
+    32, so X line 18 of bench_explore --finite 20 --anywhere --seed 499 kept a roll on the end
+    corner of the closing segment its next roll crossed, and was refused with its three seated
+    presses unused), each change logged once (event ``touch_trimmed``)."""
     state: dict[str, Any] = {"key": None, "usable": [], "said": set()}
 
     def run() -> list[FeltTouch]:
         key = (len(out.used), sum(t.corner is not None for t in out.touches),
-               sum(t.curve_span is not None for t in out.touches))  # the corners and the curve's ends felt
+               sum(t.curve_span is not None for t in out.touches), sum(t.pivot is not None for t in out.touches),
+               sum(len(t.segment_corners) for t in out.touches))
         if key != state["key"]:
             state["key"] = key
             state["usable"], notes = clear_of_corners(cfg, out.used, out.touches, settings.samples_per_touch)

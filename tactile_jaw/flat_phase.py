@@ -484,17 +484,18 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
     --anywhere --seed 11: both pads met faces of 14.6 mm mostly beyond their proximal ends (the
     right over 9.1 mm), its other faces 71° from the pads' normals; block 1 of --finite 10
     --seed 17: the right pad seated once on a face of 12.7 mm 33° from its normal, its later
-    presses ran into its joint limits. Both were refused before with no move named."""
+    presses ran into its joint limits. Both were refused before with no move named. When none of
+    these, nor a corner's face (:func:`_corner_stop`), gives a move: the longest path a pad end
+    slid along in part of a press (:func:`_slid_path` with ``part``; session 32)."""
     best = None
-    for t in out.touches:
-        if not isinstance(t.touch, FlatResult) or len(t.touch.samples) < 6:
-            continue
+    presses = [(t, sorted((smp.line for smp in t.touch.samples), key=lambda ln: float(ln.psi))) for t in out.touches
+               if isinstance(t.touch, FlatResult) and len(t.touch.samples) >= 6]
+    for t, lines in presses:
         length_mm = cfg.finger(t.finger).pad.length_mm
         toward = t.touch.samples[-1].line.normal
         if t.face is not None:
             found = (None, t.face.p, t.face.q)
         else:  # the path a pad end slid along is the face; the crossings of its lines lie off the object
-            lines = sorted((smp.line for smp in t.touch.samples), key=lambda ln: float(ln.psi))
             slid = _slid_path(lines, length_mm)
             found = seat_split(lines, length_mm) if slid is None else (None, slid[0], slid[1])
             toward = toward if slid is None else slid[2]
@@ -508,7 +509,15 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
     head = ("no flat press seated" if not seated else
             f"{seated} flat press{'es' if seated > 1 else ''} seated, fewer than the answer needs on one face")
     if best is None:
-        return _corner_stop(cfg, settings, out, head)
+        corner = _corner_stop(cfg, settings, out, head)
+        if corner is not None:
+            return corner
+        for t, lines in presses:  # ... else the path a pad end slid along in part of a press
+            slid = _slid_path(lines, cfg.finger(t.finger).pad.length_mm, part=True)
+            if slid is not None and (best is None or np.linalg.norm(slid[1] - slid[0]) > best[0]):
+                best = (float(np.linalg.norm(slid[1] - slid[0])), t.finger, *slid)
+    if best is None:
+        return None
     length, finger, p, q, toward = best
     advice, move, mid, psi = _face_advice(cfg, settings, out, finger, p, q, toward)
     short = length < FACE_MIN_FRACTION * cfg.finger(finger).pad.length_mm
@@ -582,23 +591,53 @@ def _corner_stop(cfg, settings: ExploreSettings, out: Exploration, head: str) ->
     return None
 
 
-def _slid_path(lines: Sequence[kin.PadLine], length_mm: float,
-               tol_mm: float = SEAT_TOL_MM) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+def _slid_path(lines: Sequence[kin.PadLine], length_mm: float, tol_mm: float = SEAT_TOL_MM,
+               part: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """(P, Q, toward): the ends of the straight path one pad end of every line of an unseated
-    press (``lines``) slid along, within ``tol_mm``, over at least FACE_MIN_FRACTION of the pad
-    (an end turning about a corner under the pad bows out by more: :func:`sliding_face`), and
-    the way from the pad into the face (from the other end: the lines' normals, up to 98° off
-    the face's there, say nothing), or None. X line 17 of bench_explore --finite 20 --seed 283: the right press's proximal end slid
-    11.7 mm along the block's long face (within 0.04 mm) as the pad turned 48–146°, its lines
-    crossing 1.8 mm inside the block and 4.3 mm outside it, where seat_split put a face of
-    6.5 mm at pad normal 98° and the move named for it."""
+    press (``lines``, in order of ψ) slid along, within ``tol_mm``, over at least
+    FACE_MIN_FRACTION of the pad (an end turning about a corner under the pad bows out by more:
+    :func:`sliding_face`), and the way from the pad into the face (from the other end: the
+    lines' normals, up to 98° off the face's there, say nothing), or None. X line 17 of
+    bench_explore --finite 20 --seed 283: the right press's proximal end slid 11.7 mm along the
+    block's long face (within 0.04 mm) as the pad turned 48–146°, its lines crossing 1.8 mm
+    inside the block and 4.3 mm outside it, where seat_split put a face of 6.5 mm at pad normal
+    98° and the move named for it. ``part``: the longest such path of a run of the lines, each
+    crossing the one before nearer that end than the other (the end the pad touched with), none
+    through a corner three lines pass through more than FACE_MIN_FRACTION of the pad from
+    either end (a pad turned about it touches nothing with its ends, and as the approaches slide
+    the pad over that corner an end may move straight). X line 7 of --finite 20 --anywhere
+    --seed 499: the left press's proximal end slid 10.8 mm along the block's long face (within
+    0.05 mm) as the pad turned from −105.5° toward its seat at −156°, then the pad turned on to
+    −165.5° about the face's far corner 21–37 mm along it, its end off the face (and straight
+    within 0.2 mm over 12.5 mm): no path of every line, no move named (docs/exploration.md)."""
+    lines = list(lines)
+    margin = FACE_MIN_FRACTION * length_mm
+    pivoted = [False] * len(lines)  # lines through a corner under the pad's middle part
+    crossed = [None] + [kin.crossing(a, b) for a, b in zip(lines, lines[1:])]
+    proximal = [x is not None and float(ln.pad_coordinate(x)) < 0.5 * length_mm for ln, x in zip(lines, crossed)]
+    near = {"proximal": proximal, "distal": [x is not None and not p for x, p in zip(crossed, proximal)]}
+    for i in range(len(lines) if part else 0):
+        n, corner, _ = _run(lines, i, 1, tol_mm)
+        for j in range(i, i + n if n >= 3 else i):
+            pivoted[j] = pivoted[j] or margin < float(lines[j].pad_coordinate(corner)) < length_mm - margin
+    best = None
     for end in ("proximal", "distal"):
-        path = kin.straight_line([np.asarray(getattr(ln, end), dtype=float) for ln in lines])
-        if path.worst <= tol_mm and float(np.ptp(path.u)) >= FACE_MIN_FRACTION * length_mm:
-            other = "distal" if end == "proximal" else "proximal"
-            toward = np.mean([np.asarray(getattr(ln, end), float) - np.asarray(getattr(ln, other), float) for ln in lines], axis=0)
-            return *path.ends, toward
-    return None
+        points = [np.asarray(getattr(ln, end), dtype=float) for ln in lines]
+        for i in range(len(points) if part else min(1, len(points))):
+            for j in range(i + 1, len(points)) if part else (len(points) - 1,):
+                path = kin.straight_line(points[i:j + 1])
+                if path.worst > tol_mm or (part and (pivoted[i] or pivoted[j] or not near[end][j])):
+                    break
+                span = float(np.ptp(path.u))
+                if span >= margin and (best is None or (part and span > best[0])):  # every line: the first end
+                    best = (span, end, i, j + 1, path)
+    if best is None:
+        return None
+    _, end, i, j, path = best
+    other = "distal" if end == "proximal" else "proximal"
+    toward = np.mean([np.asarray(getattr(ln, end), float) - np.asarray(getattr(ln, other), float)
+                      for ln in lines[i:j]], axis=0)
+    return *path.ends, toward
 
 
 def sliding_face(rolls: Sequence[FeltTouch], length_mm: float,

@@ -65,3 +65,37 @@ def test_two_lines_through_a_point_are_no_corner():
     segment, other = _segment_roll(end, 9, 18.0, SEGMENT_CORNER_LINES - 1)
     assert segment.problem is not None and "closing segment" in segment.problem, segment.problem
     np.testing.assert_allclose(segment.segment_corners, [other], atol=0.005)
+
+
+def test_the_exploration_clears_again_once_a_roll_crosses_a_closing_segment():
+    """X line 18 of bench_explore --finite 20 --anywhere --seed 499 (logged): the right pad's
+    roll 15 stayed on the end corner of the block's closing segment (its radius 10.6 ± 4.9 mm,
+    no corner to the X jaw's ticks) and was used; roll 16 crossed that segment and stated its end
+    corner. The exploration's cleared touches (tactile_jaw.explore._clear_of_corners) were
+    recomputed only when the usable touches, corners or curve ends grew, so roll 15 stayed
+    usable, and the block was refused with its three seated presses unused (fails before session
+    32: [roll 15]); now they are recomputed with the segments' corners, and roll 15 goes."""
+    import json
+    from pathlib import Path
+
+    from hand_driver.config import load_config
+    from hand_driver.motion import TouchResult
+    from tactile_jaw.explore import _clear_of_corners
+    from tactile_jaw.pipeline import logged_samples
+    from tactile_jaw.rounds import Exploration
+    from tactile_jaw.settings import ExploreSettings
+
+    raw = json.loads((Path(__file__).parent / "data" / "x_line_499_18_rolls.json").read_text())
+    config, settings = load_config("config/jaw.yaml"), ExploreSettings.from_profile("balanced")
+    corner, crossing = (feel(config, TouchResult(r["finger"], r["touch"], r["psi_center"],
+                                                 logged_samples(config, r["finger"], r["ticks"], r["psi"]),
+                                                 outcome=r["outcome"]), settings.samples_per_touch)
+                        for r in raw["touches"])
+    assert corner.problem is None and crossing.segment_corners  # used; the segment's end corner stated
+    out = Exploration()
+    out.touches, out.used = [corner], [corner]
+    said: list[str] = []
+    cleared = _clear_of_corners(config, out, settings, lambda event: None, said.append)
+    assert cleared() == [corner]
+    out.touches.append(crossing)
+    assert cleared() == [] and len(said) == 1 and "(135.5, -31.9) mm" in said[0], said

@@ -240,3 +240,54 @@ def test_a_press_whose_pad_end_slid_along_a_face_beyond_its_seat_turn_names_a_mo
     moved = load_scene({"name": "b", "classes": ["line"], "object": moved_object(raw["truth"], stop.move)}).object
     found, _ = _walk(ContactWorld(CONFIG, moved), finger, math.pi / 2)
     assert found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * finger.pad.length_mm
+
+
+def test_a_press_whose_pad_end_slid_along_a_face_then_turned_about_its_corner_names_a_move():
+    """X line 7 of bench_explore --finite 20 --anywhere --seed 499 (a 34.5 mm block near the palm,
+    its long face at pad normal −156°, 66° from the left pad's nominal normal), logged: the left
+    press's proximal end slid along that face from −105.5° toward the seat, then the pad turned
+    on to −165.5° about the face's far corner (its end off the face): no seat, and no straight
+    path of every line's end, no corner face a move seats: no move named (fails before session
+    32: no stop). The longest run of the press's lines whose end slid straight
+    (flat_phase._slid_path with ``part``; the lines through the corner under the pad's middle
+    left out) lies on the block's face; the move named for it leaves the seat within
+    SEATED_TURN_DEG of the pad's normal, and the block moved so, the press walk on exact stops
+    seats (followed live, it is answered line)."""
+    import json
+    from pathlib import Path
+
+    from hand_driver.config import load_config
+    from hand_driver.motion import TouchResult
+    from tactile_jaw.flat_phase import SEATED_TURN_DEG, _slid_path
+    from tactile_jaw.pipeline import feel, logged_samples
+    from tactile_jaw.plan import open_pose
+    raw = json.loads((Path(__file__).parent / "data" / "x_line_499_7_touches.json").read_text())
+    config = load_config("config/jaw.yaml")
+
+    def felt(r, kind):
+        samples = logged_samples(config, r["finger"], r["ticks"], r["psi"]) if r["ticks"] else []
+        return feel(config, kind(r["finger"], r["touch"], r["psi_center"], samples, outcome=r["outcome"],
+                                 **({"roles": r["roles"]} if kind is FlatResult else {})), 9)
+
+    press = felt(raw["touches"][0], FlatResult)
+    lines = sorted((smp.line for smp in press.touch.samples), key=lambda ln: float(ln.psi))
+    assert _slid_path(lines, 52.0) is None  # no straight path of every line's end
+    p, q, toward = _slid_path(lines, 52.0, part=True)
+    pose = raw["truth"]["pose"]
+    c, s = math.cos(pose["theta"]), math.sin(pose["theta"])
+    for x in (p, q):  # on the block's face: y = 0 in its frame, within its extent
+        u, v = c * (x[0] - pose["x"]) + s * (x[1] - pose["y"]), -s * (x[0] - pose["x"]) + c * (x[1] - pose["y"])
+        assert abs(v) < 0.1 and abs(u) < raw["truth"]["extent"][1]
+    assert 10.4 <= float(np.linalg.norm(q - p)) < 12.0 and float(toward @ np.array([-s, c])) < 0  # into the block
+    out = Exploration()
+    out.probes = [felt(r, TouchResult) for r in raw["probes"]]
+    out.touches = [press]
+    stop = short_face_stop(config, ExploreSettings.from_profile("balanced"), out)
+    assert stop is not None and "pad normal -156 deg" in stop and stop.move is not None
+    assert abs(-156.0 + stop.move["turn_deg"] + 90.0) <= SEATED_TURN_DEG  # the left pad's nominal normal: −90°
+    assert all(place["finger"] == "left" for place in stop.move["places"])
+    finger = config.finger("left")
+    moved = load_scene({"name": "b", "classes": ["line"], "object": moved_object(raw["truth"], stop.move)}).object
+    assert not ContactWorld(config, moved).penetrates(open_pose(config))  # clear of the opened jaw
+    found, _ = _walk(ContactWorld(config, moved), finger, -math.pi / 2)
+    assert found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * finger.pad.length_mm
