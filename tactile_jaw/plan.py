@@ -361,19 +361,27 @@ def within_cone(psi: float, span: float, cones) -> bool:
     return False
 
 
+def passes_normal(psi: float, span: float, normals) -> bool:
+    """Whether a roll of ``span`` (rad) about ψ turns its pad through one of the pad ``normals`` (rad)."""
+    return any(abs(math.remainder(n - psi, 2 * math.pi)) <= 0.5 * span for n in normals)
+
+
 def choose_psi(finger, model: ObjectModel, settings: ExploreSettings, used: list[float],
-               limits=(), cones=()) -> float | None:
+               limits=(), cones=(), ends=()) -> float | None:
     """Next pad orientation for ``finger`` (module docstring), None if none is feasible; a
     roll reaches no pad orientation beyond ``limits`` (:func:`within_curve`), where the
-    finger's earlier rolls left the curved part, and none lies wholly within one of the
+    finger's earlier rolls left the curved part, none lies wholly within one of the
     ``cones`` (:func:`within_cone`): a convex boundary point's normals form one arc, so a roll
     between two normals at which the pad turned about one corner turns about it again and
-    keeps none of its samples (tactile_jaw.pipeline.clear_of_corners)."""
+    keeps none of its samples (tactile_jaw.pipeline.clear_of_corners), and none passes one of
+    the pad normals ``ends`` (:func:`passes_normal`) at which the finger's earlier rolls met a
+    pad end (tactile_jaw.explore.pad_end_normals): it would meet that pad end again."""
     nominal = nominal_psi(finger)
     offsets = np.arange(-CANDIDATE_SPREAD_DEG, CANDIDATE_SPREAD_DEG + 1e-9, CANDIDATE_STEP_DEG)
     cands = [nominal + math.radians(o) for o in offsets]
     cands = [a for a in cands if within_curve(a, settings.roll_span_rad, limits)
-             and not within_cone(a, settings.roll_span_rad, cones)]
+             and not within_cone(a, settings.roll_span_rad, cones)
+             and not passes_normal(a, settings.roll_span_rad, ends)]
     ok = [a for a, f in zip(cands, feasible_many(finger, model, np.array(cands, float), settings)) if f]
     if not ok:
         return None
