@@ -126,7 +126,11 @@ def main(argv: list[str] | None = None) -> int:
         pick = np.unique(np.rint(np.linspace(0, len(where) - 1, n)).astype(int))
         felt = [exact_touch(config, exact, where[i][1], where[i][0], settings) for i in pick]
         felt = [t for t in felt if t.problem is None]
-        rec, why = decide(recognize, felt, settings)
+        try:
+            rec, why = decide(recognize, felt, settings)
+        except InputError as exc:  # too few touches at distinct places for the scene's classes
+            print(f"| {len(felt)} | — | — | — | no: {exc} |", flush=True)
+            continue
         params = ", ".join(f"{k} {v:.4g} ± {100 * rec.uncertainty.get(k, math.nan) / abs(v):.1f} %"
                            for k, v in rec.params.items())
         ranked = [r for r in rec.ranking if r.consistent]
