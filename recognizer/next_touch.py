@@ -96,7 +96,9 @@ tell classes apart (class gain at least ``CLASS_GAIN_MIN``) and only where the p
 whichever likely class is true: never for the leader's parameters alone (bench_wide seed 5
 cubical trial 0, no rival: at two extents the pad landed 100 mm, 0.08 L, from where the
 leader's extrapolation put the place) nor for a rival a nearer place tells apart (seed 179
-parabola trial 6: the place across the vertex decides).
+parabola trial 6: the place across the vertex decides; since session 32 its first suggestion
+goes beyond one extent, the semicubical's χ² 5.8 there against 3.5 within, its second still
+across the vertex).
 """
 
 from __future__ import annotations
