@@ -89,16 +89,13 @@ tangent in the touches' direction of travel: a hand-frame disk, recognizer.touch
 or a robot's own reach, which depends on the orientation its pad must take there).
 A place beyond one extent, where the leader's curve is extrapolated, is suggested only
 while some rival at least ``LAND_WEIGHT_MIN`` likely is told from the leader by no place
-within one extent where the pad lands on it (expected χ² below ``FAR_SEPARATION``, where one
-touch would resolve half their pair's entropy: a semicubical far out on a branch against a
-parabola, bench_wide seed 349 trial 11; one branch far, seed 503 trial 13), only to
+within one extent where the pad lands on it (expected χ² below ``FAR_SEPARATION``: a
+semicubical far out on a branch against a parabola, bench_wide seed 349 trial 11), only to
 tell classes apart (class gain at least ``CLASS_GAIN_MIN``) and only where the pad lands
 whichever likely class is true: never for the leader's parameters alone (bench_wide seed 5
 cubical trial 0, no rival: at two extents the pad landed 100 mm, 0.08 L, from where the
 leader's extrapolation put the place) nor for a rival a nearer place tells apart (seed 179
-parabola trial 6: the place across the vertex decides; since session 32 its first suggestion
-goes beyond one extent, the semicubical's χ² 5.8 there against 3.5 within, its second still
-across the vertex).
+parabola trial 6: the place across the vertex decides).
 """
 
 from __future__ import annotations
@@ -149,12 +146,9 @@ PLACE_EXTENTS = 3.0
 nearest touch (an open curve; beyond one extent, to tell classes apart only): far out on a
 semicubical's branch it and a parabola differ most there, and toward the cusp no pad has
 room to roll (docs/benchmarks.md, sessions 28 and 29)."""
-FAR_SEPARATION = 8.0 * math.log(2.0)
-"""the expected χ² separation a rival must lack at every place within one extent where the pad
-lands on it before places beyond tell it from the leader: 8 ln 2 ≈ 5.5, where one touch
-resolves half the pair's entropy (the Bhattacharyya bound 1 − exp(−χ²/8) = ½). Before
-(session 29), 1, one measurement's noise: a semicubical one branch far answered parabola,
-told at χ² 3.4 within one extent and 6.3 beyond, stayed parabola (docs/benchmarks.md, session 32)."""
+FAR_SEPARATION = 1.0
+"""the expected χ² separation (one measurement's noise) a rival must lack at every place within
+one extent where the pad lands on it before places beyond tell it from the leader."""
 
 
 def _wrap_half(a):

@@ -676,29 +676,3 @@ def test_a_suggestion_lands_on_a_semicubical_answered_ellipse(i):
     _, shape, rec, got = _suggestion_sent("semicubical_parabola", i, 467)
     assert rec.cls == "ellipse"
     assert got.why == "" and got.miss_mm < 0.01 * shape.size, got
-
-
-def test_a_semicubical_one_branch_far_is_told_from_the_parabola_where_one_touch_resolves_half():
-    """bench_wide --set wide seed 503 (development since session 32), semicubical trial 13 (one
-    branch far, L 5.8 mm, touches at t 0.84 twice … 1.21), answered parabola, the semicubical
-    rival 24 % likely after the first suggested touch: within one touches' extent the pair's
-    best expected χ² where the pad lands on it is 3.4, beyond it 6.3 (where the pad lands for
-    every likely class). With places beyond one extent opened only below χ² 1
-    (``FAR_SEPARATION`` before session 32) the second suggestion stayed within one extent
-    (true t 1.43) and the answer stayed parabola; below 8 ln 2 (one touch resolves half the
-    pair's entropy) it lands beyond the touches, true t 1.76, and the answer is the semicubical."""
-    from tools import bench_wide as bw
-
-    shape, ts, (lo, hi, clear), rs, direction, left, touches, nm, rec = _wide_case_after_random(
-        "semicubical_parabola", 13, 503)
-    assert rec.cls == "parabola"
-    landed, tl = [], list(touches)
-    for _ in range(2):
-        nt = rec.next_touch
-        got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach", left, direction)
-        assert got.t is not None, got
-        landed.append(got.t)
-        tl.append(bw._extra_touch(shape, got.t, rs, direction))
-        rec, _, _ = bw._recognize(tl, nm)
-    assert landed[1] > max(ts) + (max(ts) - min(ts)), landed  # beyond by 1.46 of the touches' span (before 1.43: 0.58)
-    assert rec.cls == "semicubical_parabola", (rec.cls, landed)
