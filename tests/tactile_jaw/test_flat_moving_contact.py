@@ -131,9 +131,9 @@ def _cubical():
 def test_a_roll_off_the_end_corner_onto_the_curve_makes_the_faces_closing_segments():
     """P cubical 21 (closed by three straight segments via (122.7, 17.8) and (103.2, 6.2) mm):
     the left pad's roll at ψ −99…−81° pivoted about the curve's end corner (114.25, 32.04) for
-    5 lines, then its last 4 lines moved along the curve: their three-line windows touch circles
-    of ρ 9.1, 127.3, 53.8 ± 0.35 mm, 3 windows where a block's crossing of a face moves 2 (the
-    two that straddle the pivot's change, below). The run is short of the smoothness test's
+    6 lines, then its last 3 lines moved along the curve: the three-line windows over those
+    lines touch circles of ρ 9.1, 127.3, 53.8 ± 0.35 mm, 3 windows where a block's crossing of a
+    face moves 2 (the two that straddle the pivot's change, below). The run is short of the smoothness test's
     CURVE_HINT_SAMPLES (no hint for the next roll), yet the curve was felt: the right pad's
     presses on the closing segment (103.2, 6.2)–(122.7, 17.8) are no line. Before, they were
     answered line (χ² 1.9e-5, every other class untested)."""
