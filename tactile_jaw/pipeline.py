@@ -336,19 +336,19 @@ def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None
 #: lowest degree (``MIN_DEGREE``, its MIN_DEGREE + 1 coefficients) and one degree of freedom
 #: left for the pad lines' χ² about it (tactile_jaw.envelope)
 CURVE_HINT_SAMPLES = MIN_DEGREE + 2
+#: the fewest consecutive three-line windows of a roll whose contact moved (:func:`moving_stretch`)
+#: that no polygon shows, so that :func:`curved_part` counts as a curved part: a roll across a
+#: block's face or a closing segment changes pivots between two lines, and only the two windows
+#: holding both pivots move (ρ 150–894 ± 0.4 mm on the P-series jaw, runs of 2 in 16 of 115 line
+#: logs); a third in a row needs a corner that holds at most two of the roll's lines,
+#: one turning less than three roll steps (6.75° at 2.25°)
+MOVED_RUN_WINDOWS = 3
 #: the most runs :func:`_passing_runs` feels for one touch: every run of at least
 #: ``CURVE_HINT_SAMPLES`` of the longest roll any profile plans (its (R − m)(R − m + 3)/2
 #: runs dropping 1 … R − m samples, R its samples, m CURVE_HINT_SAMPLES: 65 for the accurate
 #: profile's 15), so no roll's search is cut short; a flat press's scan (33 lines, ~430 runs,
 #: each an envelope fit of its lines: 18 min of CPU on P line 4 of finite seed 199 of
 #: session 19) is searched as far as a roll is, over its runs dropping the fewest lines
-#: the fewest consecutive three-line windows of a roll whose contact moved (:func:`moving_stretch`)
-#: that no polygon shows, so that :func:`curved_part` counts as a curved part: a roll across a
-#: block's face or a closing segment changes pivots between two lines, and only the two windows
-#: holding both pivots move (ρ 150–894 ± 0.4 mm on the P-series jaw, runs of 2 in 13 of 93 line
-#: blocks' logs); a third in a row needs a corner that holds at most two of the roll's lines,
-#: one turning less than three roll steps (6.75° at 2.25°)
-MOVED_RUN_WINDOWS = 3
 MAX_RUN_FITS = max((r - CURVE_HINT_SAMPLES) * (r - CURVE_HINT_SAMPLES + 3) // 2
                    for r in (p.samples_per_touch for p in PROFILES.values()))
 
