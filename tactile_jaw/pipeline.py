@@ -971,9 +971,10 @@ def curved_stretch(config, felt: FeltTouch) -> FeltTouch | None:
 def moving_stretch(config, felt: FeltTouch, least: int = CURVE_HINT_SAMPLES) -> FeltTouch | None:
     """The stretch of a roll ``felt`` off the curved part on which its contact still moved
     along a convex boundary, felt alone (:func:`feel`, untrimmed: its envelope may still fail
-    the smoothness test), or None: the longest run of at least ``least`` (``CURVE_HINT_SAMPLES``;
-    :func:`curved_part` counts ``MOVED_RUN_WINDOWS``, felt with the neighbours at its ends
-    when shorter: every line of its windows) consecutive pad lines (ψ order), each with its two neighbours touching a circle —
+    the smoothness test), or None: the longest run of at least ``least``
+    (``CURVE_HINT_SAMPLES``; :func:`curved_part` counts ``MOVED_RUN_WINDOWS``, felt with the
+    neighbours at its ends when shorter: every line of its windows) consecutive pad lines (ψ
+    order), each with its two neighbours touching a circle —
     d_i = n_i·c − ρ solved exactly, σ_ρ from the lines' deviations — of radius clear of a
     corner's, ρ ≥ ``CORNER_RADIUS_MM`` and ≥ ``MOVED_SIGMAS`` σ_ρ, at a contact on the pad's
     face (``EDGE_MARGIN_MM`` from its ends), and whose pad ends slid along no straight line
