@@ -336,6 +336,13 @@ def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None
 #: lowest degree (``MIN_DEGREE``, its MIN_DEGREE + 1 coefficients) and one degree of freedom
 #: left for the pad lines' χ² about it (tactile_jaw.envelope)
 CURVE_HINT_SAMPLES = MIN_DEGREE + 2
+#: the fewest consecutive three-line windows of a roll whose contact moved (:func:`moving_stretch`)
+#: that no polygon shows, so that :func:`curved_part` counts as a curved part: a roll across a
+#: block's face or a closing segment changes pivots between two lines, and only the two windows
+#: holding both pivots move (ρ 150–894 ± 0.4 mm on the P-series jaw, runs of 2 in 16 of 115 line
+#: logs); a third in a row needs a corner that holds at most two of the roll's lines,
+#: one turning less than three roll steps (6.75° at 2.25°)
+MOVED_RUN_WINDOWS = 3
 #: the most runs :func:`_passing_runs` feels for one touch: every run of at least
 #: ``CURVE_HINT_SAMPLES`` of the longest roll any profile plans (its (R − m)(R − m + 3)/2
 #: runs dropping 1 … R − m samples, R its samples, m CURVE_HINT_SAMPLES: 65 for the accurate
@@ -917,7 +924,11 @@ def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = fr
     two rolls kept 5 smooth samples of 9, ρ 43.9 ± 0.07 mm, beside the curve's end corner,
     and the right pad's presses on a closing segment were answered line); without such a
     stretch, one on which its contact moved along a convex boundary (:func:`moving_stretch`:
-    a pivot keeps it fixed). So do one finger's
+    a pivot keeps it fixed) over ``MOVED_RUN_WINDOWS`` windows of three lines or more, more than
+    the two that straddle a pivot's change (P cubical 21 of bench_explore --finite 4 --anywhere
+    --follow --seed 191: the left pad's roll pivoted on the curve's end corner, then its last
+    lines moved along the curve, ρ 9–127 ± 0.4 mm over 3 windows, and the right pad's presses
+    on a closing segment were answered line). So do one finger's
     presses whose seats stopped short of their supports by a bulge, twice on one face
     (tactile_jaw.flat.bulged_presses), as the last of them: P hyperbola 93 of --seed 191, the
     left pad's presses +0.26 mm on its curved part, its rolls on the corners, the right pad's
@@ -930,7 +941,7 @@ def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = fr
         if not isinstance(t.touch, FlatResult):  # a usable roll beside a corner can be a pivot at 4,096 ticks
             stretch = curved_stretch(config, t) if t.curve_at is not None else None
             if stretch is None and t.off_curve:  # its hint may be moving_hint's
-                stretch = moving_stretch(config, t)
+                stretch = moving_stretch(config, t, MOVED_RUN_WINDOWS)
             if stretch is not None:
                 return stretch
             continue
@@ -957,11 +968,13 @@ def curved_stretch(config, felt: FeltTouch) -> FeltTouch | None:
     return None if found is None else found[2]
 
 
-def moving_stretch(config, felt: FeltTouch) -> FeltTouch | None:
+def moving_stretch(config, felt: FeltTouch, least: int = CURVE_HINT_SAMPLES) -> FeltTouch | None:
     """The stretch of a roll ``felt`` off the curved part on which its contact still moved
     along a convex boundary, felt alone (:func:`feel`, untrimmed: its envelope may still fail
-    the smoothness test), or None: the longest run of at least ``CURVE_HINT_SAMPLES``
-    consecutive pad lines (ψ order), each with its two neighbours touching a circle —
+    the smoothness test), or None: the longest run of at least ``least``
+    (``CURVE_HINT_SAMPLES``; :func:`curved_part` counts ``MOVED_RUN_WINDOWS``, felt with the
+    neighbours at its ends when shorter: every line of its windows) consecutive pad lines (ψ
+    order), each with its two neighbours touching a circle —
     d_i = n_i·c − ρ solved exactly, σ_ρ from the lines' deviations — of radius clear of a
     corner's, ρ ≥ ``CORNER_RADIUS_MM`` and ≥ ``MOVED_SIGMAS`` σ_ρ, at a contact on the pad's
     face (``EDGE_MARGIN_MM`` from its ends), and whose pad ends slid along no straight line
@@ -995,8 +1008,10 @@ def moving_stretch(config, felt: FeltTouch) -> FeltTouch | None:
         moved[k] = (c[2] >= max(CORNER_RADIUS_MM, MOVED_SIGMAS * sigma_rho)
                     and EDGE_MARGIN_MM <= u <= length - EDGE_MARGIN_MM)
     run = longest_run(moved)
-    if run.size < CURVE_HINT_SAMPLES:
+    if run.size < least:
         return None
+    if run.size < CURVE_HINT_SAMPLES:  # too few lines for the smoothness test: every line of its windows
+        run = np.arange(run[0] - 1, run[-1] + 2)
     taken = order[run]
     if sliding_end(lines.at(taken), sigma[run]) is not None:
         return None

@@ -21,8 +21,8 @@ from hand_driver.config import load_config
 from hand_driver.flat_press import FlatResult
 from hand_driver.motion import TouchResult
 from recognizer.scene import load_scene
-from tactile_jaw.pipeline import (curve_refusal, curved_part, curved_stretch, feel, left_out, logged_samples,
-                                  moving_stretch)
+from tactile_jaw.pipeline import (CURVE_HINT_SAMPLES, MOVED_RUN_WINDOWS, curve_refusal, curved_part, curved_stretch,
+                                  feel, left_out, logged_samples, moving_stretch)
 from tests.tactile_jaw.test_envelope_order import FINE, roll
 from tests.tactile_jaw.test_flat import _face, _flat
 
@@ -118,6 +118,63 @@ def test_rolls_about_a_blocks_corners_show_no_moving_contact(jaw, ticks):
         for felt in _block_rolls(config, ticks, np.random.default_rng(seed)):
             assert felt.off_curve, felt.problem
             assert moving_stretch(config, felt) is None
+
+
+def _cubical():
+    """The scene object of P cubical 21 (bench_explore --finite 4 --anywhere --follow --seed 191)."""
+    return load_scene({"classes": CLASSES, "object": {
+        "class": "cubical_parabola", "extent": [-20.953190336259826, 1.7460991946883189],
+        "params": {"a": 0.0010495718017393162, "c": -0.5},
+        "pose": {"theta": 0.5362685777876406, "x": 112.3054177260003, "y": 31.892028089784176}}}).object
+
+
+def test_a_roll_off_the_end_corner_onto_the_curve_makes_the_faces_closing_segments():
+    """P cubical 21 (closed by three straight segments via (122.7, 17.8) and (103.2, 6.2) mm):
+    the left pad's roll at ψ −99…−81° pivoted about the curve's end corner (114.25, 32.04) for
+    6 lines, then its last 3 lines moved along the curve: the three-line windows over those
+    lines touch circles of ρ 9.1, 127.3, 53.8 ± 0.35 mm, 3 windows where a block's crossing of a
+    face moves 2 (the two that straddle the pivot's change, below). The run is short of the smoothness test's
+    CURVE_HINT_SAMPLES (no hint for the next roll), yet the curve was felt: the right pad's
+    presses on the closing segment (103.2, 6.2)–(122.7, 17.8) are no line. Before, they were
+    answered line (χ² 1.9e-5, every other class untested)."""
+    config = load_config("config/jaw-p.yaml")
+    raw = json.loads((DATA / "p_cubical_21_rolls.json").read_text())["rolls"]
+    branch, corner = (_logged(config, r, outcome="ok") for r in raw)
+    assert branch.off_curve and branch.curve_at is None and curved_stretch(config, branch) is None, branch.problem
+    assert corner.corner is not None and moving_stretch(config, corner, MOVED_RUN_WINDOWS) is None
+    assert moving_stretch(config, branch) is None  # 3 windows: no hint where to roll next
+    stretch = moving_stretch(config, branch, MOVED_RUN_WINDOWS)
+    assert stretch is not None and len(stretch.contacts.x) == CURVE_HINT_SAMPLES
+    assert left_out(branch, stretch) == (4, 0)  # the pivot's lines below, the stretch up to the roll's end
+    obj = _cubical()
+    # its lines past the corner's touch the curve: contacts within 0.5 mm of it; the first, a
+    # line through the corner (a window's neighbour), lies 1.3 mm past the curve's end
+    assert _miss(obj, stretch.contacts.x[1:], stretch.contacts.y[1:]) < 0.5
+    assert 9.0 < stretch.fit.rho < 130.0
+    press = _flat(_face(6.18, math.atan2(17.77 - 6.18, 122.73 - 103.21), x0=103.21, x1=122.73, below=False), "right")
+    found = curved_part(config, [press, press, press, corner, branch])
+    assert found is not None and found.finger == "left" and found.touch.touch == 4
+    assert "closing segments, not a line" in curve_refusal(found).reason
+
+
+@pytest.mark.parametrize("jaw, ticks", [("config/jaw-p.yaml", FINE), ("config/jaw.yaml", 4096)], ids=["P", "X"])
+@pytest.mark.parametrize("shift_deg", [0.0, 0.5, 1.125, 1.75])
+def test_a_roll_across_a_blocks_face_moves_two_windows_at_most(jaw, ticks, shift_deg):
+    """A roll across a straight segment between two corners changes its pivot once between two
+    lines (or rests one line on both corners), wherever its ψ grid falls on the face's normal:
+    only the two windows holding both pivots touch a circle clear of a pivot's (ρ up to the
+    segment's length over the roll's step, hundreds of mm), fewer than MOVED_RUN_WINDOWS, so
+    no curved part is felt and the presses on the face stay a line."""
+    config = load_config(jaw)
+    for seed in range(5):
+        rng = np.random.default_rng(seed)
+        psis = np.radians(-102.7 + shift_deg + np.linspace(-9.0, 9.0, 9))
+        a, b = np.array([96.0, -2.4]), np.array([112.0, -6.0])
+        q = roll(lambda psi: min((a, b), key=lambda p: math.cos(psi) * p[0] + math.sin(psi) * p[1]), psis, ticks, rng)
+        samples = logged_samples(config, "left", np.rint(kin.angles_to_ticks(config.finger("left").joints, q)), psis)
+        felt = feel(config, TouchResult("left", 0, float(np.mean(psis)), samples, outcome="ok"), 9)
+        assert felt.off_curve, felt.problem
+        assert moving_stretch(config, felt, MOVED_RUN_WINDOWS) is None and curved_part(config, [felt]) is None
 
 
 def test_the_next_roll_goes_on_along_the_branch_past_the_moving_stretch():
