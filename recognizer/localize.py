@@ -11,9 +11,7 @@ recognizer.contacts):
 2. Closed-form starts from the invariants and the touches' positions and tangents
    (recognizer.starts), each placed by its pose and scored.
 3. The exact contact equations of every touch by Levenberg–Marquardt from the best starts
-   (recognizer.solver); where none comes within ``give_up``/1e3 (recognizer.classify: 10×
-   the class's χ² limit), from the class's fallback starts too (``starts.fallback_starts``:
-   the parabola's scan).
+   (recognizer.solver).
 4. Canonical answer: ellipse a ≥ b (else swap, θ += π/2, t −= π/2) and θ in (−π/2, π/2]
    (the ellipse's half-turn symmetry, t += π); circle θ = 0; line (x, y) the foot of the
    perpendicular from the hand origin; every other class θ in (−π, π]; periodic t in
@@ -31,7 +29,7 @@ from recognizer.contacts import Contacts
 from recognizer.curves import CURVES, Pose
 from recognizer.result import Candidate
 from recognizer.solver import ContactModel, svd
-from recognizer.starts import fallback_starts, pose_from, starts
+from recognizer.starts import pose_from, starts
 from tactile_common.angles import wrap_angle
 
 __all__ = ["Fit", "fit_class", "fit_class_every_start", "N_SHAPE", "scaled_covariance", "profiled",
@@ -122,9 +120,15 @@ def _oriented(cls: str, data: Contacts) -> Contacts:
     return data
 
 
-def _place(cls: str, d: Contacts, closed_form: list) -> list:
-    """(position-and-angle χ², (params, θ, X, Y, t), params) of each finite start, best placed first."""
+def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma_below: float,
+                every: bool) -> list[Fit]:
+    d = _oriented(cls, data)
+    model = ContactModel(cls, d)
     placed = []
+    try:
+        closed_form = starts(cls, d, every_pair=every)
+    except _NUMERIC_ERRORS:  # an overflow NumPy would have turned into a non-finite start
+        closed_form = []
     for params, t in closed_form:
         if not all(map(math.isfinite, t)):
             continue
@@ -134,50 +138,28 @@ def _place(cls: str, d: Contacts, closed_form: list) -> list:
             continue
         if cost < math.inf:
             placed.append((cost, (params, th, X, Y, t), params))
+    if not placed:
+        return []
     placed.sort(key=lambda s: s[0])
-    return placed
-
-
-def _fit_starts(cls: str, data: Contacts, max_starts: int, give_up: float, sigma_below: float,
-                every: bool) -> list[Fit]:
-    d = _oriented(cls, data)
-    model = ContactModel(cls, d)
-    try:
-        placed = _place(cls, d, starts(cls, d, every_pair=every))
-    except _NUMERIC_ERRORS:  # an overflow NumPy would have turned into a non-finite start
-        placed = []
-    if placed and placed[0][0] > HOPELESS_PER_OBS * 3 * d.n and not d.eased:
+    if placed[0][0] > HOPELESS_PER_OBS * 3 * d.n and not d.eased:
         return []
     solved = []
     tried = set()  # a start met before (several pairs giving one frame) solves to the same fit
-
-    def solve(chosen: list) -> None:
-        for cost0, z0, p0 in chosen:
-            if every and cost0 > HOPELESS_PER_OBS * 3 * d.n and not d.eased:
-                continue
-            z = model.pack(*z0)
-            key = z.tobytes()
-            if key in tried:
-                continue
-            tried.add(key)
-            if cost0 > give_up and d.eased:
-                z = _eased_start(cls, d, z, cost0)
-            z, cost, r, parts = model.solve(z, give_up=give_up)
-            if np.isfinite(cost):
-                solved.append((cost, z, r, parts, p0))
-            if not every and cost < give_up * 1e-3:
-                break
-
-    solve(placed[:max_starts])
-    if not every and not any(s[0] < give_up * 1e-3 for s in solved):
-        # no closed-form start came near the touches: the class's fallback starts
-        # (``starts.fallback_starts``), never in place of a closed-form start that does
-        try:
-            solve(_place(cls, d, fallback_starts(cls, d))[:max_starts])
-        except _NUMERIC_ERRORS:
-            pass
-    if not solved:
-        return []
+    for cost0, z0, p0 in placed[:max_starts]:
+        if every and cost0 > HOPELESS_PER_OBS * 3 * d.n and not d.eased:
+            continue
+        z = model.pack(*z0)
+        key = z.tobytes()
+        if key in tried:
+            continue
+        tried.add(key)
+        if cost0 > give_up and d.eased:
+            z = _eased_start(cls, d, z, cost0)
+        z, cost, r, parts = model.solve(z, give_up=give_up)
+        if np.isfinite(cost):
+            solved.append((cost, z, r, parts, p0))
+        if not every and cost < give_up * 1e-3:
+            break
     solved.sort(key=lambda s: s[0])
     if every:  # starts that converged to the same fit (several pairs give one frame) once
         kept = []

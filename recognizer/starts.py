@@ -36,7 +36,7 @@ from recognizer.curves import CURVES
 from recognizer.solver import KERNELS
 from tactile_common.angles import wrap_angle
 
-__all__ = ["starts", "pose_from", "conic_start", "inflection_start", "cubical_scan", "semicubical_scan", "hyperbola_scan", "parabola_scan", "fallback_starts", "hyperbola_asymptote", "ellipse_scan", "clear_of_cusp",
+__all__ = ["starts", "pose_from", "conic_start", "inflection_start", "cubical_scan", "semicubical_scan", "hyperbola_scan", "hyperbola_asymptote", "ellipse_scan", "clear_of_cusp",
            "cusp_clearance"]
 
 _PI = math.pi
@@ -427,59 +427,6 @@ def hyperbola_scan(d: Contacts, n_best: int = 3) -> list[tuple[dict, list]]:
             for i, j in _separated_best(cost, n_best)]
 
 
-#: the parabola scan: the first touch's t on an asinh grid over ±SCAN_TP, then around each
-#: best point on a grid SCAN_NTP_FINE points across its two neighbours
-SCAN_TP, SCAN_NTP, SCAN_NTP_FINE = 100.0, 161, 41
-
-
-def _parabola_scan_cost(data: tuple, u0: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(cost, scale a, t per touch) of the scale-free parabola's scan points at the first
-    touch's t = sinh(u0) (``parabola_scan``)."""
-    x, y, phi, k, ks, w_pos, W = data
-    t0 = np.sinh(u0)[None, :, None]
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        th = phi[0] - np.arctan2(1.0, t0)
-        psi = wrap_angle(phi - th)
-        ok = np.all((psi > 0) & (psi < _PI), axis=-1)
-        tt = np.cos(psi) / np.sin(psi)
-        ok &= np.all(np.isfinite(tt), axis=-1)
-        scale, cost = _similarity_fit(x, y, w_pos, th, tt * tt, 2.0 * tt)
-        ok &= scale > 0
-        sc = scale[..., None]
-        h = np.hypot(1.0, tt)
-        rk = k + 1.0 / (2.0 * sc * h**3)
-        rks = ks - 3.0 * tt / (4.0 * sc * sc * h**6)
-        cost = np.where(ok & np.isfinite(cost), cost + _curvature_chi2(W, rk, rks), np.inf)
-    return cost, scale, tt
-
-
-def parabola_scan(d: Contacts, n_best: int = 2) -> list[tuple[dict, list]]:
-    """Starts for the parabola from the tangent angles and positions first.
-
-    Far out on a side κ and κ_s are small and poorly measured: t from κ (eq. 3) of a touch
-    whose κ is within its noise of 0 lands anywhere (tools.bench_wide --set wide seed 503,
-    parabola trial 5 with a touch at t 10.4: placed at 20–32, every start χ² ≥ 1e7, the
-    class never refined). The scale-free parabola (t², 2t) is scanned over the first touch's
-    t: its tangent angle ψ(t) = atan2(1, t) is monotonic on (0, π), so φ₀ fixes the frame
-    θ = φ₀ − ψ(t₀) and every other touch's t = cot ψᵢ (a touch whose ψᵢ lies outside
-    (0, π) makes the point inadmissible); the scale a and the translation follow from the
-    positions by linear least squares, and the point is scored by the χ² of the positions
-    and of κ = −1/(2a h³), κ_s = 3t/(4a² h⁶) (h = hypot(1, t), eqs. 3–4) under their stated
-    deviations. Far out a grid step in t₀ moves a by a fifth, so each of the ``n_best``
-    best points separated on the grid (``_separated_best``) is scanned again between its
-    neighbours."""
-    data = _scan_data(d)
-    u = np.linspace(-math.asinh(SCAN_TP), math.asinh(SCAN_TP), SCAN_NTP)
-    cost, _, _ = _parabola_scan_cost(data, u)
-    out = []
-    for _, j in _separated_best(cost, n_best):
-        fine = np.linspace(u[max(j - 1, 0)], u[min(j + 1, u.size - 1)], SCAN_NTP_FINE)
-        c, scale, tt = _parabola_scan_cost(data, fine)
-        m = int(np.argmin(c[0]))
-        out.append(({"a": float(scale[0, m])}, tt[0, m].tolist()))
-    return out
-
-
 #: the asymptote start: the touched stretch at t FAR_T[0] … FAR_T[1] of a rectangular hyperbola
 FAR_T = (3.0, 4.5)
 
@@ -567,15 +514,6 @@ def starts(cls: str, d: Contacts, every_pair: bool = False) -> list[tuple[dict, 
             out.append(({"a": ai}, [m * sg for m, sg in zip(mag, best[1])]))
         return out
     return _cubic_starts(cls, d, every_pair)
-
-
-def fallback_starts(cls: str, d: Contacts) -> list[tuple[dict, list]]:
-    """Starts the contact fit (recognizer.localize) tries only where no closed-form start of
-    the class came near the touches: the parabola's scan (``parabola_scan``). Offered
-    beside the invariants' starts it was better placed on a nearly straight stretch and
-    fitted worse than they did (tools.bench_wide --set wide seed 271, hyperbola trial 11
-    answered line: the parabola rival's χ² 33.6 → 34.1, and the suggestion moved)."""
-    return parabola_scan(d) if cls == "parabola" and d.n >= 2 else []
 
 
 #: up to this many touches every assignment of touches to the vertex's sides is tried (2^n)
