@@ -47,7 +47,7 @@ from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, cl
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
                                   on_corner, sure_corner, too_few_clear, workspace_reach)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
-                             feasible, nominal_psi, passes_normal, predicted_tangent, probe_face_contact,
+                             feasible, nominal_psi, passes_end, predicted_tangent, probe_face_contact,
                              retreat_offset, within_curve)
 from tactile_jaw.probing import probe_boundary
 from tactile_jaw.rounds import Exploration, timed_round, transit_or_problem
@@ -483,41 +483,32 @@ def at_corner(x, y, corners):
     return bool(near) if near.ndim == 0 else near
 
 
-def pad_end_normals(name: str, touches: list[FeltTouch]) -> list[tuple[int, float]]:
-    """(touch number, pad normal ψ rad) of each of finger ``name``'s rolls (of ``touches``,
-    felt) that ran onto a pad end (hand_driver.motion.rolling_touch's outcome ``edge``: at its
-    last sample's ψ the contact lay off the pad's face). With its two joints a finger at a given
-    pad normal meets a convex object at one place on its pad, so a roll through that normal
-    meets that pad end again (tactile_jaw.plan.choose_psi, :func:`futile_roll`)."""
-    return [(t.touch.touch, t.touch.samples[-1].psi) for t in touches
+def pad_end_normals(name: str, touches: Sequence[FeltTouch]) -> list[tuple[int, float, float]]:
+    """(touch number, ψ_a, ψ_b rad) of each of finger ``name``'s probes and rolls (of
+    ``touches``, felt) that stopped with a pad end on the object (outcome ``edge``,
+    hand_driver.motion.rolling_touch: its last two pad lines, at ψ_a and ψ_b, crossed within
+    ``EDGE_MARGIN_MM`` of a pad end or beyond it). A roll through both normals meets that pad
+    end again (tactile_jaw.plan.passes_end): the planner's (choose_psi), an aimed touch and a
+    touch on (:func:`futile_roll`) make none."""
+    return [(t.touch.touch, float(t.touch.samples[-2].psi), float(t.touch.samples[-1].psi)) for t in touches
             if t.finger == name and not isinstance(t.touch, FlatResult) and t.touch.outcome == "edge"
-            and t.touch.samples]
+            and len(t.touch.samples) >= 2]
 
 
-def felt_pad_ends(name: str, out: Exploration) -> list[float]:
-    """The pad normals (rad) of :func:`pad_end_normals` that the planner's rolls and the aimed
-    touches of finger ``name`` keep out of, once the finger has felt the curved part (a usable
-    roll of it in ``out.used``); before, none (no curve felt, as :func:`curve_limits`: a
-    line's rolls and presses are the flat phase's). P semicubical 124 of bench_explore
-    --finite 20 --anywhere --seed 499: the left pad met its proximal end at ψ −69.25° and
-    its planner's roll about −77.5° and the recognizer's about −81.8° met it again at −75°."""
-    if not any(t.finger == name for t in out.used):
-        return []
-    return [psi for _, psi in pad_end_normals(name, out.touches)]
-
-
-def futile_roll(aim: Aim, touches: list[FeltTouch], span: float, corners) -> str | None:
+def futile_roll(aim: Aim, touches: Sequence[FeltTouch], span: float, corners) -> str | None:
     """Why a roll of ``span`` (rad) about ``aim`` would measure nothing, or None: its place lies
-    at a corner a roll pivoted about (:func:`at_corner`); or an earlier roll of its finger (of
-    ``touches``, felt) ran onto a pad end at an orientation this roll passes
-    (:func:`pad_end_normals`). Such rolls cost the P cubicals touching on for their σ's 3-4 s
-    each (seed 191: 112, a roll at ψ 82.0° where one at 82.5° had met the pad's proximal end)."""
+    at a corner a roll pivoted about (:func:`at_corner`); or it turns through both pad normals at
+    which a probe or roll of its finger (of ``touches``, felt) stopped with a pad end on the
+    object (:func:`pad_end_normals`). Such rolls cost the P cubicals touching on for their σ's
+    3-4 s each (seed 191: 112, a roll at ψ 82.0° where one at 82.5° had met the pad's proximal
+    end at 73.5…75.75°)."""
     if at_corner(aim.x, aim.y, corners):
         return f"it lies within {CORNER_CLEARANCE_MM:g} mm of a corner a roll pivoted about"
-    for touch, psi in pad_end_normals(aim.finger, touches):
-        if passes_normal(aim.psi, span, [psi]):
-            return (f"the {aim.finger} pad's roll {touch} met its pad end at pad normal "
-                    f"{math.degrees(math.remainder(psi, 2 * math.pi)):.1f} deg, within this roll")
+    for touch, psi_a, psi_b in pad_end_normals(aim.finger, touches):
+        if passes_end(aim.psi, span, [(psi_a, psi_b)]):
+            return (f"the {aim.finger} pad's touch {touch} met its pad end at pad normals "
+                    f"{math.degrees(math.remainder(psi_a, 2 * math.pi)):.1f}…"
+                    f"{math.degrees(math.remainder(psi_b, 2 * math.pi)):.1f} deg, within this roll")
     return None
 
 
@@ -728,10 +719,13 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     def limits(name):  # where the finger's rolls so far left the curved part
         return curve_limits(name, out.touches, clearing_corners(out.touches))
 
-    def plan_psi(f):  # the planner's next roll of finger f: within the curve felt, not about a corner felt, not
-        # through a pad end met
+    def ends(name):  # the pad normals where the finger's probes and rolls stopped with a pad end on the object
+        return [(a, b) for _, a, b in pad_end_normals(name, (*out.probes, *out.touches))]
+
+    def plan_psi(f):  # the planner's next roll of finger f: within the curve felt, not about a corner or through a
+        # pad end met
         return choose_psi(f, model, settings, used[f.name], limits(f.name), corner_cones(f.name, out.touches, out.probes),
-                          felt_pad_ends(f.name, out))
+                          ends(f.name))
 
     deferred: set[str] = set()  # fingers a stop for want of reach waited for (unrolled_finger), once each
     no_curve: set[int] = set()  # presses whose scans rolled on no curved part (their id; scanned_curve)
@@ -770,10 +764,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 f"curved part: the planner's instead")
             aimed_at.append(aim.point)
             aim = None
-        if aim is not None and aim.kind != "vertex" and passes_normal(aim.psi, settings.roll_span_rad,
-                                                                      felt_pad_ends(aim.finger, out)):
-            say(f"{aim.finger}: a touch at ({aim.x:.1f}, {aim.y:.1f}) mm would roll through a pad normal at which an "
-                f"earlier roll met its pad end: the planner's instead")
+        if aim is not None and aim.kind != "vertex" and passes_end(aim.psi, settings.roll_span_rad, ends(aim.finger)):
+            say(f"{aim.finger}: a touch at ({aim.x:.1f}, {aim.y:.1f}) mm would roll through the pad normals at which "
+                f"an earlier probe or roll met its pad end: the planner's instead")
             aimed_at.append(aim.point)
             aim = None
         budget = settings.touches - _spent(out)
@@ -943,7 +936,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                                      [f for f in cfg.fingers if off_curve[f.name] < OFF_CURVE_RETIRE], aimed_at)
                 if stop is not None or aim is None:
                     break
-                futile = futile_roll(aim, out.touches, settings.roll_span_rad, clearing_corners(out.touches))
+                futile = futile_roll(aim, (*out.probes, *out.touches), settings.roll_span_rad, clearing_corners(out.touches))
                 if futile is not None:  # it would measure nothing: answered as decided
                     message = (f"{recognition.cls} is decisive; not touching on at ({aim.x:.1f}, {aim.y:.1f}) mm: "
                                f"{futile}")
