@@ -134,7 +134,7 @@ class Recognition:
     #: the covariance of (shape parameters in ``param_names`` order, θ, x, y) of a refined
     #: curve answer (``shape_pose_vector``), its diagonal the stated σ's squared (correlations
     #: the refined fit's; not in the JSON answer); None for a line or an unrefined answer
-    cov_pose: np.ndarray | None = None
+    cov_pose: np.ndarray | None = field(default=None, compare=False)
 
     def to_json(self) -> dict:
         out = {
