@@ -43,11 +43,9 @@ Refeel = Callable[[Any, int], Any]
 
 @dataclass(frozen=True)
 class EndDeletion:
-    """The end sample :func:`corner_end` deletes: its roll (``index`` among the used touches,
-    its finger and touch number), which end (``first`` or ``last`` in ψ), the sample's log
+    """The end sample :func:`corner_end` deletes: its roll (its finger and touch number), which end (``first`` or ``last`` in ψ), the sample's log
     reading, its z, the limit and how many ends were tested."""
 
-    index: int
     finger: str
     touch: int
     end: str
@@ -148,6 +146,6 @@ def corner_end(recognize_touches: Callable[..., Recognition], touches: Sequence[
     if z <= limit:
         return None
     felt = touches[k]
-    deletion = EndDeletion(k, felt.touch.finger, felt.touch.touch, "first" if e == 0 else "last", int(gone.reading),
+    deletion = EndDeletion(felt.touch.finger, felt.touch.touch, "first" if e == 0 else "last", int(gone.reading),
                            float(z), limit, len(tested))
     return deletion, list(touches[:k]) + [again] + list(touches[k + 1:])
