@@ -43,8 +43,9 @@ Refeel = Callable[[Any, int], Any]
 
 @dataclass(frozen=True)
 class EndDeletion:
-    """The end sample :func:`corner_end` deletes: its roll (its finger and touch number), which end (``first`` or ``last`` in ψ), the sample's log
-    reading, its z, the limit and how many ends were tested."""
+    """The end sample :func:`corner_end` deletes: its roll's finger and touch number, which end
+    (``first`` or ``last`` in ψ), the sample's log reading, its z, the limit and how many ends
+    were tested."""
 
     finger: str
     touch: int
