@@ -777,7 +777,23 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
     unc = _line_offset_at_hand(best, d, unit) if best.cls == "line" else dict(best.uncertainty)
     return Recognition(best.cls, dict(best.params), best.pose, best.contacts(), _class_invariants(best, dh, pairs),
                        unc, said, ranked, timing, nxt, untested=untested, also_fits=also,
-                       interval=interval95(best))
+                       interval=interval95(best), cov_pose=_stated_cov_pose(best))
+
+
+def _stated_cov_pose(best: Candidate) -> np.ndarray | None:
+    """A refined curve answer's covariance of (shape parameters, θ, x, y) with its rows and
+    columns scaled to the stated σ's (``best.uncertainty``; correlations kept), or None (a line,
+    an unrefined fit, a σ not stated or undetermined)."""
+    cov = getattr(best, "cov_pose", None)
+    if best.cls == "line" or cov is None:
+        return None
+    keys = list(CURVES[best.cls].param_names) + ["pose_theta", "pose_x", "pose_y"]
+    stated = np.array([best.uncertainty.get(k) or np.nan for k in keys], float)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scale = stated / np.sqrt(np.diag(cov))
+    if cov.shape != (len(keys), len(keys)) or not np.all(np.isfinite(scale)):
+        return None
+    return cov * np.outer(scale, scale)
 
 
 def _line_offset_at_hand(best: Candidate, d: Contacts, unit: Unit) -> dict:

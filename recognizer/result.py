@@ -131,6 +131,10 @@ class Recognition:
     #: shape parameter → [low, high]: its 95 % interval (recognizer.intervals.interval95),
     #: wider on the side where the likelihood falls slower; None where its σ is undetermined
     interval: dict = field(default_factory=dict)
+    #: the covariance of (shape parameters in ``param_names`` order, θ, x, y) of a refined
+    #: curve answer (``shape_pose_vector``), its diagonal the stated σ's squared (correlations
+    #: the refined fit's; not in the JSON answer); None for a line or an unrefined answer
+    cov_pose: np.ndarray | None = field(default=None, compare=False)
 
     def to_json(self) -> dict:
         out = {

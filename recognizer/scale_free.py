@@ -24,7 +24,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from recognizer.contacts import Contacts
-from recognizer.curves import Pose
+from recognizer.curves import CURVES, Pose
 from recognizer.noise import NoiseModel
 from recognizer.touches import ContactTouch, Request, SamplesTouch
 
@@ -165,6 +165,9 @@ class Unit:
             contacts = [{"t": t, "x": c["x"] * u + self.ox, "y": c["y"] * u + self.oy} for t, c in zip(ts, rec.contacts)]
             interval = {k: None if v is None else [e * self.param(cls, k) for e in v] for k, v in rec.interval.items()}
             out.update(params=params, pose=Pose(th, x, y), contacts=contacts, uncertainty=unc, interval=interval)
+            if rec.cov_pose is not None:  # (shape parameters, θ, x, y)
+                f = np.array([self.param(cls, k) for k in CURVES[cls].param_names] + [1.0, u, u])
+                out["cov_pose"] = rec.cov_pose * np.outer(f, f)
         if rec.next_touch is not None:
             out["next_touch"] = {**rec.next_touch, "x": rec.next_touch["x"] * u + self.ox,
                                  "y": rec.next_touch["y"] * u + self.oy}

@@ -16,6 +16,7 @@ from recognizer.classify import chi2_limit
 from recognizer.profiles import DEFAULT_PROFILE, PROFILES
 from recognizer.result import Recognition
 from tactile_common.errors import InputError
+from tactile_jaw.end_sample import EndDeletion, Refeel, corner_end
 from tactile_jaw.flat import same_face
 from tactile_jaw.separation import answer_ts, departing_gap, expected_gap, finer_ticks, is_rolling, round_up
 from tactile_jaw.settings import ExploreSettings
@@ -86,7 +87,8 @@ RecognizeTouches = Callable[..., Recognition]
 #: how a refusal says that a jaw with finer angles would settle it (:func:`finer_advice`,
 #: :func:`imprecision`), and what :func:`refusal_kind` looks for
 FINER = "a jaw with >="
-#: the family-wise false-alarm rate of leaving one touch out as the misfit (:func:`without_misfit`)
+#: the family-wise false-alarm rate of leaving one touch out as the misfit (:func:`without_misfit`),
+#: and one roll's end sample as on the end corner (:func:`without_corner_end`)
 MISFIT_ALPHA = 1e-3
 #: what a refusal asks of a person (:func:`refusal_kind`): move the object where a pad can
 #: reach the deciding place; a jaw with finer angles; another placement or exploration; or
@@ -205,16 +207,47 @@ def imprecision(recognition: Recognition, profile: str | None = None, ticks_per_
 
 
 def decide(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings,
-           ticks_per_rev: int | None = None):
+           ticks_per_rev: int | None = None, refeel: Refeel | None = None,
+           emit: Callable[[dict], None] | None = None):
     """(Recognition, why it is not decisive or None): :func:`indecision` on the recognizer's
     answer on ``touches`` (and on all but the last, when it needs that), then, for an answer
     so far decisive, :func:`inseparable` (``ticks_per_rev``: the jaw's encoder resolution,
-    for its advice)."""
+    for its advice). With ``refeel`` (tactile_jaw.pipeline.feel of the jaw's config), a
+    decisive answer's used rolls' end samples are tested (:func:`without_corner_end`): one on
+    the object's end corner is left out (its event to ``emit``) and the answer decided again."""
+    recognition, why, touches = _decided(recognize_touches, touches, settings, ticks_per_rev)
+    if why is None and refeel is not None:
+        trimmed = without_corner_end(recognize_touches, touches, recognition, refeel)
+        if trimmed is not None:
+            deletion, touches = trimmed
+            if emit is not None:
+                emit(deletion.event())
+            recognition, why, touches = _decided(recognize_touches, touches, settings, ticks_per_rev)
+            note = deletion.note()
+            recognition = replace(recognition, reason=f"{recognition.reason}; {note}" if recognition.reason else note)
+    return recognition, why
+
+
+def without_corner_end(recognize_touches: RecognizeTouches, touches: Sequence[Any], recognition: Recognition,
+                       refeel: Refeel) -> tuple[EndDeletion, list] | None:
+    """(the end sample left out, the touches with its roll felt without it) or None:
+    tactile_jaw.end_sample.corner_end at the family-wise false-alarm rate ``MISFIT_ALPHA``
+    over the tested ends. On session 30's and 31's held-out P logs its z's of 992 on-curve
+    ends lay within −2.62 … +3.06 (none past the one-sided 10⁻³ limit 3.09), the corner end
+    of semicubical 131 (finite 499) at +4.08 against 3.48 for its 4 tested ends
+    (docs/exploration.md)."""
+    return corner_end(recognize_touches, touches, recognition, refeel, MISFIT_ALPHA)
+
+
+def _decided(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings,
+             ticks_per_rev: int | None) -> tuple[Recognition, Why | None, Sequence[Any]]:
+    """:func:`decide` without the end-sample test: (the answer, why it is not decisive or
+    None, the touches it is on)."""
     recognition = recognize_touches(touches)
     if recognition.cls == "unclassified":
         left_out = without_misfit(recognize_touches, touches, recognition, settings)
         if left_out is None:
-            return recognition, Why(recognition.reason or "no class fits", "unclassified")
+            return recognition, Why(recognition.reason or "no class fits", "unclassified"), touches
         recognition, touches = left_out
     shorter = None
     if len(touches) > settings.min_touches or repeats_a_face(touches):
@@ -225,7 +258,7 @@ def decide(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings
     why = indecision(recognition, shorter, settings, sample_positions(touches), ticks_per_rev)
     if why is None:
         why = inseparable(recognize_touches, recognition, touches, ticks_per_rev, settings.touches)
-    return recognition, why
+    return recognition, why, touches
 
 
 def repeats_a_face(touches: Sequence[Any]) -> bool:
@@ -432,14 +465,16 @@ def sample_positions(touches: Sequence[Any]) -> tuple[np.ndarray, np.ndarray] | 
 
 
 def final_answer(recognize_touches: RecognizeTouches, touches: Sequence[Any], settings: ExploreSettings,
-                 stopped: str | None = None, ticks_per_rev: int | None = None) -> Recognition:
+                 stopped: str | None = None, ticks_per_rev: int | None = None, refeel: Refeel | None = None,
+                 emit: Callable[[dict], None] | None = None) -> Recognition:
     """The answer on the usable touches once exploration ends: the recognizer's class when
     it is decisive (:func:`decide`), else ``unclassified`` with the reason (and ``stopped``,
     why exploration ended undecided and what a person can do, tactile_jaw.choose) and the
     recognizer's ``next_touch``; a wrong class said confidently is worse than a refusal.
     Replay uses this on the logged touches (and the log's ``stopped_early`` or ``budget_spent``
-    event). The jaw's calibration note is :func:`noted`'s, on every answer."""
-    recognition, why = decide(recognize_touches, touches, settings, ticks_per_rev)
+    event). ``refeel`` and ``emit``: :func:`decide`'s end-sample test. The jaw's calibration
+    note is :func:`noted`'s, on every answer."""
+    recognition, why = decide(recognize_touches, touches, settings, ticks_per_rev, refeel, emit)
     if recognition.cls == "unclassified" or why is None:
         return recognition
     if why.kind == "rival" and why.rival is not None and ticks_per_rev is not None:

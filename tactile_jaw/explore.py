@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import partial
 from typing import Any, Callable, Container, Sequence
 
 import numpy as np
@@ -920,7 +921,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 hints[name] = Aim(*side, name, "beside its earlier roll's stretch clear of the corner it ran onto",
                                   kind="corner")
         if len(usable) >= settings.min_touches:
-            recognition, why = decide(recognize_touches, usable, settings, ticks)
+            recognition, why = decide(recognize_touches, usable, settings, ticks, partial(feel, cfg))
             out.recognition = recognition
             out.answers.append(recognition.cls)
             say(f"after {len(usable)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
@@ -974,7 +975,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         # asked on in the rounds: what would help is sought as for a spent budget (X-series block 17 of
         # bench_explore --finite 20 --anywhere --seed 227: 2 usable rolls, parabola and circle, no move named)
         try:
-            recognition, why = decide(recognize_touches, cleared(), settings, ticks)
+            recognition, why = decide(recognize_touches, cleared(), settings, ticks, partial(feel, cfg))
         except InputError:  # too few for any class: the final answer says so
             why = None
         if why is not None:
@@ -1025,7 +1026,8 @@ def closing_answer(cfg, out: Exploration, cleared: Callable[[], list[FeltTouch]]
     if out.used:
         usable = cleared()
         try:  # the answer on every usable touch, a refusal unless decisive
-            out.recognition = final_answer(recognize_touches, usable, settings, out.stopped, jaw_ticks_per_rev(cfg))
+            out.recognition = final_answer(recognize_touches, usable, settings, out.stopped, jaw_ticks_per_rev(cfg),
+                                           partial(feel, cfg), emit)
             out.answers.append(out.recognition.cls)
         except InputError as exc:
             emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})

@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import sys
 from dataclasses import replace
+from functools import partial
 
 from tactile_common.errors import InputError
 from tactile_common.files import atomic_write, check_output
@@ -75,7 +76,7 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     from tactile_jaw.choose import JawReach, last_stop
     from tactile_jaw.decide import final_answer, noted
     from tactile_jaw.flat import is_flat
-    from tactile_jaw.pipeline import curve_refusal, logged_run, make_recognizer, stated_noise, too_few_clear, \
+    from tactile_jaw.pipeline import curve_refusal, feel, logged_run, make_recognizer, stated_noise, too_few_clear, \
         workspace_reach
     from tactile_jaw.separation import jaw_ticks_per_rev
     from tactile_jaw.settings import ExploreSettings
@@ -112,7 +113,8 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     else:
         try:
             recognition = final_answer(recognize_touches, touches, settings,
-                                       stop.get("message") if stop is not None else None, jaw_ticks_per_rev(config))
+                                       stop.get("message") if stop is not None else None, jaw_ticks_per_rev(config),
+                                       partial(feel, config))
         except InputError as exc:  # fewer usable touches than any class needs: the exploration refused
             recognition = too_few_clear(touches, len(usable), exc) if len(touches) < len(usable) else None
             too_few = str(exc)
