@@ -793,7 +793,9 @@ def _stated_cov_pose(best: Candidate) -> np.ndarray | None:
         scale = stated / np.sqrt(np.diag(cov))
     if cov.shape != (len(keys), len(keys)) or not np.all(np.isfinite(scale)):
         return None
-    return cov * np.outer(scale, scale)
+    with np.errstate(all="ignore"):
+        scaled = cov * np.outer(scale, scale)
+    return scaled if np.all(np.isfinite(scaled)) else None  # an undetermined direction: not tested
 
 
 def _line_offset_at_hand(best: Candidate, d: Contacts, unit: Unit) -> dict:
