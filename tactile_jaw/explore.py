@@ -701,6 +701,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     used: dict[str, list[float]] = {f.name: [] for f in cfg.fingers}
     reach = JawReach(cfg, settings, out.probes)  # the probes' list: those beside the rolls count as made
     ticks = jaw_ticks_per_rev(cfg)
+    refeel = partial(feel, cfg)  # decide's end-sample test feels a roll again without an end
     aim: Aim | None = None  # where the next touch goes while the answer is not decisive (tactile_jaw.choose)
     undecided = None  # the latest answer that was not decisive: (recognition, why, its touches)
 
@@ -921,7 +922,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 hints[name] = Aim(*side, name, "beside its earlier roll's stretch clear of the corner it ran onto",
                                   kind="corner")
         if len(usable) >= settings.min_touches:
-            recognition, why = decide(recognize_touches, usable, settings, ticks, partial(feel, cfg))
+            recognition, why = decide(recognize_touches, usable, settings, ticks, refeel)
             out.recognition = recognition
             out.answers.append(recognition.cls)
             say(f"after {len(usable)} touches: {recognition.cls}" + ("" if why is None else f", not decisive: {why}"))
@@ -975,7 +976,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         # asked on in the rounds: what would help is sought as for a spent budget (X-series block 17 of
         # bench_explore --finite 20 --anywhere --seed 227: 2 usable rolls, parabola and circle, no move named)
         try:
-            recognition, why = decide(recognize_touches, cleared(), settings, ticks, partial(feel, cfg))
+            recognition, why = decide(recognize_touches, cleared(), settings, ticks, refeel)
         except InputError:  # too few for any class: the final answer says so
             why = None
         if why is not None:

@@ -613,13 +613,15 @@ def _slid_path(lines: Sequence[kin.PadLine], length_mm: float, tol_mm: float = S
     lines = list(lines)
     margin = FACE_MIN_FRACTION * length_mm
     pivoted = [False] * len(lines)  # lines through a corner under the pad's middle part
-    crossed = [None] + [kin.crossing(a, b) for a, b in zip(lines, lines[1:])]
-    proximal = [x is not None and float(ln.pad_coordinate(x)) < 0.5 * length_mm for ln, x in zip(lines, crossed)]
-    near = {"proximal": proximal, "distal": [x is not None and not p for x, p in zip(crossed, proximal)]}
-    for i in range(len(lines) if part else 0):
-        n, corner, _ = _run(lines, i, 1, tol_mm)
-        for j in range(i, i + n if n >= 3 else i):
-            pivoted[j] = pivoted[j] or margin < float(lines[j].pad_coordinate(corner)) < length_mm - margin
+    near: dict[str, list[bool]] = {}  # per end: each line crossed the one before nearer it (part only)
+    if part:
+        crossed = [None] + [kin.crossing(a, b) for a, b in zip(lines, lines[1:])]
+        proximal = [x is not None and float(ln.pad_coordinate(x)) < 0.5 * length_mm for ln, x in zip(lines, crossed)]
+        near = {"proximal": proximal, "distal": [x is not None and not p for x, p in zip(crossed, proximal)]}
+        for i in range(len(lines)):
+            n, corner, _ = _run(lines, i, 1, tol_mm)
+            for j in range(i, i + n if n >= 3 else i):
+                pivoted[j] = pivoted[j] or margin < float(lines[j].pad_coordinate(corner)) < length_mm - margin
     best = None
     for end in ("proximal", "distal"):
         points = [np.asarray(getattr(ln, end), dtype=float) for ln in lines]
