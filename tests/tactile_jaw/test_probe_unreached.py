@@ -17,10 +17,11 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def _run(monkeypatch, finger: str, face: dict[float, float], end: dict[float, float], unreached: set[float],
-         rounds: int) -> list[float]:
+         rounds: int, sampled: bool = False) -> list[float]:
     """The orientations (deg) ``finger`` probes over ``rounds`` rounds, each probe at ψ finding the
     face ``face[ψ]`` mm along the pad, or meeting the object ``end[ψ]`` mm along it (a pad end), or,
-    at the ψ in ``unreached``, leaving the joint limits before any sample."""
+    at the ψ in ``unreached``, leaving the joint limits before any sample (``sampled``: after its
+    samples)."""
     cfg = load_config(ROOT / "config" / "jaw-p.yaml")
     ws = cfg.workspace
     probes = probing.Probes(cfg, ObjectModel(ws.center_mm, ws.radius_mm))
@@ -39,7 +40,7 @@ def _run(monkeypatch, finger: str, face: dict[float, float], end: dict[float, fl
         deg = round(math.degrees(math.remainder(psi, 2 * math.pi)), 6)
         seen.append(deg)
         lost = deg in unreached
-        samples = [] if lost else [SimpleNamespace(psi_measured=psi, d=50.0)] * 4
+        samples = [] if lost and not sampled else [SimpleNamespace(psi_measured=psi, d=50.0)] * 4
         felt = SimpleNamespace(finger=finger, face=face.get(deg), end=face.get(deg, end.get(deg)),
                                touch=SimpleNamespace(samples=samples, psi_center=psi, message=None,
                                                      outcome="unreachable" if lost else "ok"))
@@ -62,6 +63,6 @@ def test_a_probe_nearer_the_nominal_normal_is_still_made(monkeypatch):
 
 
 def test_a_probe_that_met_the_object_first_rules_out_nothing(monkeypatch):
-    # out of reach only after its samples (the roll's turn, not the approach): 50° and 30° still made
-    cfg_seen = _run(monkeypatch, "right", {90.0: 21.2}, {}, set(), 12)
-    assert 50.0 in cfg_seen and 30.0 in cfg_seen
+    # 70° out of reach only after its samples (the probe's short roll, not its approach): 50° and 30° still made
+    seen = _run(monkeypatch, "right", {90.0: 21.2}, {}, {70.0}, 12, sampled=True)
+    assert seen[:5] == [90.0, 70.0, 110.0, 50.0, 30.0]
