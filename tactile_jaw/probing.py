@@ -11,7 +11,12 @@ finger has felt enough, unless its last probe met the object at a pad end: then 
 is there, beside the pad's face, and its next probe turns the pad the way that brings the
 contact toward the pad's middle (:func:`toward_middle`). Once one finger has felt enough, the other's probes left go on
 beside its rolling touches (tactile_jaw.explore), one a round, instead of the finger that
-felt enough waiting for them (the semicubical of dev seed 83: 14 s). docs/exploration.md.
+felt enough waiting for them (the semicubical of dev seed 83: 14 s). A probe whose transit
+or approach left the joint limits before it met the object rules out every probe of that
+finger turned as far as or farther from its nominal normal on that side (:meth:`Probes._reachable`):
+of the 147 such probes in sessions 30–32's held-out logs (both jaws, every class) not one met
+the object (P line 19 of bench_explore --finite 20 --anywhere --seed 541: 70°, 50° and 30°
+all out of reach, 28.1 -> 27.6 s). docs/exploration.md.
 """
 
 from __future__ import annotations
@@ -31,6 +36,7 @@ from tactile_jaw.plan import (
     PROBE_SAMPLES,
     PROBE_SPAN_DEG,
     ObjectModel,
+    nominal_psi,
     probe_face_contact,
     probe_psis,
 )
@@ -106,6 +112,21 @@ class Probes:
         self.refined = False
         #: per finger: the ψ of every probe it made
         self.tried: dict[str, list[float]] = {f.name: [] for f in config.fingers}
+        #: per finger: the turns from its nominal normal (rad) of its probes that left the joint limits
+        self.unreached: dict[str, list[float]] = {f.name: [] for f in config.fingers}
+
+    def _offset(self, name: str, psi: float) -> float:
+        return math.remainder(psi - nominal_psi(self.config.finger(name)), 2 * math.pi)
+
+    def _reachable(self, name: str, psi: float) -> bool:
+        """Whether a probe of ``name`` at ψ may reach: not turned as far as or farther from the
+        pad's nominal normal, on the same side, than one of its probes whose transit or approach left
+        the joint limits (module docstring)."""
+        o = self._offset(name, psi)
+        return not any(o * u > 0 and abs(o) >= abs(u) - 1e-9 for u in self.unreached[name])
+
+    def _keep_reachable(self) -> None:
+        self.queues = {name: [a for a in queue if self._reachable(name, a)] for name, queue in self.queues.items()}
 
     def _enough(self, name: str) -> bool:
         return bool(self.faces[name]) and np.ptp(self.faces[name]) >= math.radians(PROBE_ENOUGH_DEG) - 1e-9
@@ -117,12 +138,15 @@ class Probes:
         nothing): a probe turned toward the pad's middle that found the face probes there
         first (:meth:`record`), and the pass made both again (P-series block 8 of
         bench_explore --finite 20 --anywhere --seed 157: 100° and 120° twice each, 4 rounds of
-        ~2.5 s while the other finger pressed beside them)."""
+        ~2.5 s while the other finger pressed beside them). Neither pass keeps an orientation
+        :meth:`_reachable` rules out."""
+        self._keep_reachable()
         if not any(self.queues.values()) and not self.refined:
             self.refined = True
             self.queues = {name: [a for a in (faces[0] + math.radians(sign * PROBE_REFINE_DEG) for sign in (-1, 1))
                                   if not any(abs(math.remainder(a - t, 2 * math.pi)) < 1e-6 for t in self.tried[name])]
                            if len(faces) == 1 else [] for name, faces in self.faces.items()}
+            self._keep_reachable()
         return {name: queue[0] for name, queue in self.queues.items() if queue}
 
     def plan(self, jaw: Jaw, name: str, touch_index: int, emit, spent: dict[str, float]):
@@ -136,6 +160,8 @@ class Probes:
         name, probe = felt.finger, felt.touch
         out.probes.append(felt)
         self.tried[name].append(probe.psi_center)
+        if probe.outcome == "unreachable" and not probe.samples:
+            self.unreached[name].append(self._offset(name, probe.psi_center))
         u = probe_face_contact(self.config, felt)
         at = pad_contact(felt)
         if at is not None:

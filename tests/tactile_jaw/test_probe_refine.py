@@ -39,7 +39,7 @@ def _run(monkeypatch, finger: str, face: dict[float, float], end: dict[float, fl
         seen.append(deg)
         samples = [SimpleNamespace(psi_measured=psi, d=50.0)] * 4
         felt = SimpleNamespace(finger=finger, face=face.get(deg), end=face.get(deg, end.get(deg)),
-                               touch=SimpleNamespace(samples=samples, psi_center=psi, message=None))
+                               touch=SimpleNamespace(samples=samples, psi_center=psi, message=None, outcome="ok"))
         probes.record(felt, out, lambda msg: None)
     return seen
 

@@ -36,7 +36,8 @@ def _run(monkeypatch, face: dict[str, set[float]], seat_after: dict[str, int]) -
         probed[finger] += 1
         samples = [SimpleNamespace(psi_measured=math.radians(deg), d=50.0)] * 4
         return SimpleNamespace(finger=finger, face=20.0 if deg in face.get(finger, ()) else None, end=None,
-                               touch=SimpleNamespace(samples=samples, psi_center=math.radians(deg), message=None))
+                               touch=SimpleNamespace(samples=samples, psi_center=math.radians(deg), message=None,
+                                                     outcome="ok"))
 
     def beside(finger, touch_index=None, spent=None, result=None):
         if result is not None:
