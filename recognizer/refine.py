@@ -672,11 +672,11 @@ def fit_held(problem, z: np.ndarray, free: np.ndarray, max_nfev: int, tol: float
 
     def fun(v):
         zf[free] = v
-        return problem._residuals(zf)
+        return problem.residuals(zf)
 
     def jac(v):
         zf[free] = v
-        return problem._jacobian_at(zf)[:, free]
+        return problem.jacobian(zf)[:, free]
 
     res = least_squares(fun, jac, z[free], problem.n_res, max_nfev, tol)
     zf[free] = res.x
