@@ -273,10 +273,9 @@ class _Problem:
         c, s = np.cos(self.data.phi[rows]), np.sin(self.data.phi[rows])
         return (c, s) if ndim == 1 else (c[:, None], s[:, None])
 
-    def _model_at(self, z: np.ndarray):
-        """``unpack`` and ``_model`` at z, memoized for the last z (least_squares asks for the
-        Jacobian at the point whose residuals it just evaluated)."""
-        key = z.tobytes()
+    def _model_at(self, z: np.ndarray, key: bytes):
+        """``unpack`` and ``_model`` at z (``key``: its bytes), memoized for the last z
+        (least_squares asks for the Jacobian at the point whose residuals it just evaluated)."""
         if self._memo is None or self._memo[0] != key:
             params, pose, t = self.unpack(z.copy())
             self._memo = (key, (params, pose, t, *self._model(params, pose, t)))
@@ -310,7 +309,7 @@ class _Problem:
     # -- model -----------------------------------------------------------------------------
     def _model(self, params: dict, pose: Pose, t: np.ndarray):
         """The curve and its hand-frame x, y, φ (κ, κ_s at contact rows) at the unknowns
-        (errstate: the caller's, ``residuals`` or ``jacobian``: one context per evaluation)."""
+        (errstate: the caller's: ``residuals``, ``jacobian`` or ``least_squares``'s around a solve)."""
         curve = CURVES[self.cls](params)
         (px, py), tangent = curve.point_tangent(t)
         hx, hy = pose.apply(px, py)
@@ -323,22 +322,26 @@ class _Problem:
         return curve, np.asarray(hx, float), np.asarray(hy, float), phi, extra
 
     def residuals(self, z: np.ndarray) -> np.ndarray:
-        """The whitened residuals at z, memoized for the last z (leastsq evaluates its start
-        twice, once to check shapes): a fresh array each call."""
+        """The whitened residuals at z (``_residuals`` under ``np.errstate(all="ignore")``)."""
+        with np.errstate(all="ignore"):
+            return self._residuals(z)
+
+    def _residuals(self, z: np.ndarray) -> np.ndarray:
+        """The whitened residuals at z under the caller's errstate (``least_squares`` enters one
+        for its whole solve, not one per evaluation), memoized for the last z (leastsq
+        evaluates its start twice, once to check shapes): a fresh array each call."""
         key = z.tobytes()
         if self._res_memo is not None and self._res_memo[0] == key:
             return self._res_memo[1].copy()
         d = self.data
-        with np.errstate(all="ignore"):
-            _, _, _, _, hx, hy, phi, extra = self._model_at(z)
-            parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, wrap_angle(d.phi - phi) / self.sig_phi]
-            if extra is not None:
-                parts += [(d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s]
-            r = self._whitened(np.concatenate(parts))
-            if self.aniso:
-                self._across_along(r)
-            fine = _within(r, RESIDUAL_CAP)
-        if not fine:
+        _, _, _, _, hx, hy, phi, extra = self._model_at(z, key)
+        parts = [(d.x - hx) / self.sig_pos, (d.y - hy) / self.sig_pos, wrap_angle(d.phi - phi) / self.sig_phi]
+        if extra is not None:
+            parts += [(d.kappa - extra[0]) / d.sig_kappa, (d.kappa_s - extra[1]) / d.sig_kappa_s]
+        r = self._whitened(np.concatenate(parts))
+        if self.aniso:
+            self._across_along(r)
+        if not _within(r, RESIDUAL_CAP):
             bad = ~np.isfinite(r)  # (in place on the fresh array: as np.where(finite, clip, 1e8))
             r.clip(-RESIDUAL_CAP, RESIDUAL_CAP, out=r)
             if bad.any():
@@ -354,18 +357,23 @@ class _Problem:
         a[:n], a[n : 2 * n] = _across_along(a[:n].copy(), a[n : 2 * n].copy(), c, s, self._ratio)
 
     def jacobian(self, z: np.ndarray) -> np.ndarray:
-        """The Jacobian at z, memoized for the last z (MINPACK asks for it at the start
-        that ``least_squares`` checked, and refine_one at the solution): a fresh array each call."""
+        """The Jacobian at z (``_jacobian_at`` under ``np.errstate(all="ignore")``)."""
+        with np.errstate(all="ignore"):
+            return self._jacobian_at(z)
+
+    def _jacobian_at(self, z: np.ndarray) -> np.ndarray:
+        """The Jacobian at z under the caller's errstate (as ``_residuals``), memoized for the
+        last z (MINPACK asks for it at the start that ``least_squares`` checked, and
+        refine_one at the solution): a fresh array each call."""
         key = z.tobytes()
         if self._jac_memo is not None and self._jac_memo[0] == key:
             return self._jac_memo[1].copy()
-        with np.errstate(all="ignore"):
-            jac = self._jacobian(z)
+        jac = self._jacobian(z, key)
         self._jac_memo = (key, jac.copy())
         return jac
 
-    def _jacobian(self, z: np.ndarray) -> np.ndarray:
-        _, pose, t, curve, hx, hy, phi, _ = self._model_at(z)
+    def _jacobian(self, z: np.ndarray, key: bytes) -> np.ndarray:
+        _, pose, t, curve, hx, hy, phi, _ = self._model_at(z, key)
         n = self.n_rows
         nc = len(self.data.contact_rows)
         rows = 3 * n + 2 * nc
@@ -686,7 +694,15 @@ def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: floa
     step where the dense factorization takes O(m·n²)). Below that the block structure is
     no lever: at a 3-touch request's 81 × 32, MINPACK's dense QR and step take ~110 µs an
     iteration (~11 % of a recognition), and a Schur-complement step over the t's in NumPy
-    cost as much and ended its 40 evaluations at a higher χ² (docs/benchmarks.md, session 24)."""
+    cost as much and ended its 40 evaluations at a higher χ² (docs/benchmarks.md, session 24).
+    The whole solve runs under ``np.errstate(all="ignore")``, ``fun`` and ``jac`` included
+    (``_Problem._residuals`` and ``_jacobian_at``: one context a solve, not two an iteration)."""
+    with np.errstate(all="ignore"):
+        return _solve(fun, jac, z0, n_res, max_nfev, tol)
+
+
+def _solve(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: float):
+    """``least_squares`` under the caller's errstate."""
     kw = dict(x_scale="jac", max_nfev=max_nfev, xtol=tol, ftol=tol, gtol=tol)
     if z0.size > SPARSE_UNKNOWNS:
         return optimize.least_squares(fun, z0, jac=lambda z: sparse.csr_matrix(jac(z)), method="trf",
@@ -694,11 +710,11 @@ def least_squares(fun, jac, z0: np.ndarray, n_res: int, max_nfev: int, tol: floa
     if n_res < z0.size:
         return optimize.least_squares(fun, z0, jac=jac, method="trf", **kw)
     # full_output for nfev and fvec; leastsq also forms its covariance (unused: ``_pinv_cov``),
-    # which overflows on a badly scaled fit and printed a RuntimeWarning to the user's stderr
+    # which overflows on a badly scaled fit (under ``least_squares``'s errstate: no RuntimeWarning
+    # on the user's stderr)
     padded_fun, padded_jac = _pad_last_column(fun, jac)
-    with np.errstate(over="ignore", invalid="ignore"):
-        x, _, info, _, _ = optimize.leastsq(padded_fun, np.append(z0, 0.0), Dfun=padded_jac, full_output=True,
-                                            ftol=tol, xtol=tol, gtol=tol, maxfev=max_nfev, factor=100.0, diag=None)
+    x, _, info, _, _ = optimize.leastsq(padded_fun, np.append(z0, 0.0), Dfun=padded_jac, full_output=True,
+                                        ftol=tol, xtol=tol, gtol=tol, maxfev=max_nfev, factor=100.0, diag=None)
     f = info["fvec"][:-1]
     return _Solved(x[:-1], 0.5 * float(np.dot(f, f)), f, int(info["nfev"]))
 
@@ -833,18 +849,18 @@ def refine_one(candidate: Candidate, touches: Sequence[Any], noise: Any = None, 
     for _round in range(1 if known else 3):
         problem = _Problem(cls, data, candidate.pose, direction, sig_phi, sig_pos, sig_along)
         z0 = problem.pack(params, candidate.pose, t0) if z is None else z
-        res = least_squares(problem.residuals, problem.jacobian, z0, problem.n_res, MAX_NFEV, TOL)
+        res = least_squares(problem._residuals, problem._jacobian_at, z0, problem.n_res, MAX_NFEV, TOL)
         nfev += int(res.nfev)
         z = res.x
         if known and any(f is not None for _, f in data.factors):
             # touches that state their samples' error covariance: from the per-sample weighted
             # optimum (a robust start), the fit in their own metric
             problem = _Problem(cls, data, candidate.pose, direction, sig_phi, sig_pos, sig_along, factors=True)
-            res = least_squares(problem.residuals, problem.jacobian, z, problem.n_res, MAX_NFEV, TOL)
+            res = least_squares(problem._residuals, problem._jacobian_at, z, problem.n_res, MAX_NFEV, TOL)
             nfev += int(res.nfev)
             z = res.x
         if exact and 2.0 * res.cost < EXACT_GO_ON * res.fun.size:  # a right class, not yet there
-            res = least_squares(problem.residuals, problem.jacobian, z, problem.n_res, MAX_NFEV_EXACT, TOL_EXACT)
+            res = least_squares(problem._residuals, problem._jacobian_at, z, problem.n_res, MAX_NFEV_EXACT, TOL_EXACT)
             nfev += int(res.nfev)
             z = res.x
             if problem.k and EXACT_DONE * res.fun.size < 2.0 * res.cost < VALLEY_BELOW * res.fun.size:

@@ -7,7 +7,8 @@ felt again without it and the answer's class refitted, has the deleted residual
 
 d_e the end line's d, σ_e its σ (tactile_jaw.envelope.EnvelopeFit.line_sigma), ĥ_e the refitted
 curve's support in that line's direction (:func:`support`), C the refit's stated shape–pose
-covariance (recognizer.result.Recognition.cov_pose) and J the gradient of ĥ_e in it: a
+covariance (recognizer.result.Recognition.cov_pose) and J the gradient of ĥ_e in it (by the
+envelope theorem, :func:`support_gradient`): a
 standard normal when the line is a tangent of the class's curve, positive on the corner side
 (a line turning about the end corner lies past the curve's continuation)."""
 
@@ -71,6 +72,12 @@ def support(cls: str, vec: np.ndarray, t_range: tuple[float, float], normal: np.
     """The support n·p of the curve (class ``cls``, (shape parameters, θ, x, y) ``vec``) in the
     direction ``normal``: n·p at the local minimum along t in ``t_range`` nearest the point
     ``near`` within ``radius`` (mm); NaN when none is."""
+    return tangent_point(cls, vec, t_range, normal, near, radius)[0]
+
+
+def tangent_point(cls: str, vec: np.ndarray, t_range: tuple[float, float], normal: np.ndarray,
+                  near: tuple[float, float], radius: float) -> tuple[float, float]:
+    """(:func:`support`, the t of its local minimum), both NaN when there is none."""
     names = CURVES[cls].param_names
     pose = Pose(*vec[len(names):])
     t = np.linspace(t_range[0], t_range[1], T_POINTS)
@@ -79,7 +86,28 @@ def support(cls: str, vec: np.ndarray, t_range: tuple[float, float], normal: np.
     i = np.flatnonzero((v[1:-1] < v[:-2]) & (v[1:-1] <= v[2:])) + 1
     dist = np.hypot(x[i] - near[0], y[i] - near[1])
     i, dist = i[dist < radius], dist[dist < radius]
-    return float(v[i[np.argmin(dist)]]) if i.size else math.nan
+    if not i.size:
+        return math.nan, math.nan
+    j = i[np.argmin(dist)]
+    return float(v[j]), float(t[j])
+
+
+def support_gradient(cls: str, vec: np.ndarray, t: float, normal: np.ndarray) -> np.ndarray:
+    """∂ĥ/∂(shape parameters, θ, x, y) of the support ĥ = n·p(t*) at its tangent point ``t``:
+    n·p is stationary in t there, so by the envelope theorem ĥ moves as n·∂p/∂vec with t held
+    (the shape parameters' columns ``Curve.param_derivatives`` turned by θ, θ's R'(θ)·p, the
+    translation's n). One curve evaluation where central differences of :func:`support` took
+    two searches of ``T_POINTS`` points per unknown."""
+    names = CURVES[cls].param_names
+    k = len(names)
+    curve = CURVES[cls](dict(zip(names, vec[:k])))
+    c, s = math.cos(vec[k]), math.sin(vec[k])
+    tt = np.array([t])
+    px, py = (float(q[0]) for q in curve.point(tt))
+    grad = [normal[0] * (c * float(dx[0]) - s * float(dy[0])) + normal[1] * (s * float(dx[0]) + c * float(dy[0]))
+            for dx, dy, _ in curve.param_derivatives(tt)]
+    grad += [normal[0] * (-s * px - c * py) + normal[1] * (c * px - s * py), normal[0], normal[1]]
+    return np.array(grad, float)
 
 
 def end_z(refit: Recognition, d: float, sigma: float, normal: np.ndarray, near: tuple[float, float],
@@ -95,13 +123,10 @@ def end_z(refit: Recognition, d: float, sigma: float, normal: np.ndarray, near: 
     width = max(float(np.ptp(ts)), 1e-6)
     args = ((float(ts.min()) - T_WIDEN * width, float(ts.max()) + T_WIDEN * width), normal, near,
             max(NEAR_CHORDS * chord, NEAR_MIN_MM))
-    h = support(cls, vec, *args)
-    sd = np.sqrt(np.diag(refit.cov_pose))
-    jac = np.zeros(vec.size)
-    for i in np.flatnonzero(sd > 0):
-        step = np.zeros(vec.size)
-        step[i] = 0.5 * sd[i]
-        jac[i] = (support(cls, vec + step, *args) - support(cls, vec - step, *args)) / sd[i]
+    h, t = tangent_point(cls, vec, *args)
+    if not math.isfinite(h):
+        return math.nan
+    jac = support_gradient(cls, vec, t, normal)
     var = sigma * sigma + float(jac @ refit.cov_pose @ jac)
     return (d - h) / math.sqrt(var) if math.isfinite(h) and math.isfinite(var) and var > 0 else math.nan
 

@@ -126,3 +126,30 @@ def test_no_answer_covariance_no_test():
     answer = _answer()
     bare = Recognition(answer.cls, answer.params, answer.pose, answer.contacts, ranking=answer.ranking)
     assert without_corner_end(_recognizer([]), touches, bare, _refeel) is None
+
+
+@pytest.mark.parametrize("cls, params", [("parabola", {"a": A}), ("ellipse", {"a": 30.0, "b": 12.0}),
+                                         ("semicubical_parabola", {"a": 0.4, "b": -0.7})])
+def test_support_gradient_is_the_supports_derivative(cls, params):
+    """The envelope theorem's gradient (one curve evaluation at the tangent point) against
+    central differences of the support itself, every shape and pose unknown."""
+    from recognizer.curves import CURVES
+    from tactile_jaw.end_sample import support_gradient, tangent_point
+    vec = np.array(list(params.values()) + [POSE.theta, POSE.x, POSE.y])
+    curve = CURVES[cls](params)
+    t0 = 1.1
+    phi = float(curve.tangent_angle(np.array([t0]))[0]) + POSE.theta
+    near = tuple(float(q) for q in POSE.apply(*(float(q[0]) for q in curve.point(np.array([t0])))))
+    for side in (1.0, -1.0):  # the normal toward the centre of curvature: n·p is least at t0
+        normal = side * np.array([-math.sin(phi), math.cos(phi)])
+        args = ((0.5, 1.7), normal, near, 3.0)
+        h, t = tangent_point(cls, vec, *args)
+        if math.isfinite(t):
+            break
+    assert t == pytest.approx(t0, abs=1e-4) and h == support(cls, vec, *args)
+    grad = support_gradient(cls, vec, t, normal)
+    for i in range(vec.size):
+        step = np.zeros(vec.size)
+        step[i] = 1e-4
+        fd = (support(cls, vec + step, *args) - support(cls, vec - step, *args)) / 2e-4
+        assert grad[i] == pytest.approx(fd, rel=1e-4, abs=1e-6)
