@@ -12,9 +12,11 @@ reason the answer is not decisive (tactile_jaw.decide.Why):
     such centre a pad reaches (:func:`vertex_aim`). When no pad reaches it, or such a touch
     fell off the curved part (the object ends there), exploration stops: the richer rival
     (ellipse, hyperbola, cubic) always fits at least as well, so only that side can decide;
-(b) otherwise the recognizer's ``next_touch`` (already inside the jaw's reach), unless a
-    touch was aimed within ``AIM_AGAIN_MM`` of it, or one aimed within ``EMPTY_AIM_MM`` met
-    nothing (then the planner's own choice);
+(b) otherwise the recognizer's ``next_touch`` (inside the jaw's reach with the contact held
+    there), or the place nearest it toward the felt stretch where a pad rolls with its contact
+    travelling along the answered curve (:func:`rolled_reach`), unless a touch was aimed within
+    ``AIM_AGAIN_MM`` of it, or one aimed within ``EMPTY_AIM_MM`` met nothing (then the planner's
+    own choice);
 (c) nothing reachable helps (no ``next_touch`` and no vertex aim) while the classes or the
     parameters are in doubt: exploration stops with a reason a person can act on rather
     than spend the budget on touches that cannot help. An answer that changed with the last
@@ -431,10 +433,13 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
                                     vertex_goals(recognition, touched, reach), reach, recognition=recognition)
     suggested = recognition.next_touch
     if suggested is not None:
-        f = reach.finger(suggested["x"], suggested["y"], suggested["phi"], fingers)
-        if f is not None:
-            aim = Aim(float(suggested["x"]), float(suggested["y"]), float(suggested["phi"]), f.name,
-                      f"where the recognizer points: {suggested.get('why', '')}")
+        sx, sy = float(suggested["x"]), float(suggested["y"])
+        place = rolled_reach(recognition, sx, sy, float(suggested["phi"]), reach, fingers)
+        if place is not None:
+            x, y, phi, f = place
+            where = ("where the recognizer points" if math.hypot(x - sx, y - sy) < AIM_AGAIN_MM else
+                     f"nearest where the recognizer points ({sx:.1f}, {sy:.1f}) mm that a pad's face rolls through")
+            aim = Aim(x, y, phi, f.name, f"{where}: {suggested.get('why', '')}")
             skip = _aimed_near(aim.point, aimed_at) or _aimed_near(aim.point, empty_at, EMPTY_AIM_MM)
             return (None if skip else aim), None
     if why.kind in ("unstable", "unclassified"):
@@ -467,7 +472,8 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     its vertex, the move that lets a pad roll across the vertex region (:func:`vertex_goal`,
     :func:`move_advice`); else where the recognizer's ``next_touch`` anywhere in the
     workspace would go, with the move that brings it within a pad's roll, or, when a pad
-    already reaches it, a larger budget (the ``accurate`` profile); a move to that touch
+    already reaches it (its contact travelling along the answered curve, :func:`curvature_at`),
+    a larger budget (the ``accurate`` profile); a move to that touch
     brings ``also``'s places within a pad's roll too where it can (:func:`_goal_stop`). With
     ``one_side`` (tactile_jaw.decide.beyond_resolution: the touches where they were cannot tell
     the answer from its rival at this jaw's resolution, however many), the move that brings
@@ -497,7 +503,8 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     wanted = anywhere() if anywhere is not None else None
     if wanted is None:
         return Stop(f"{spent}: a profile with more touches (--profile accurate) may decide")
-    if reach.finger(float(wanted["x"]), float(wanted["y"]), float(wanted["phi"])) is not None:
+    wx, wy = float(wanted["x"]), float(wanted["y"])
+    if reach.finger(wx, wy, float(wanted["phi"]), curvature=curvature_at(recognition, wx, wy)) is not None:
         return Stop(f"{spent}; the most telling touch would roll at ({float(wanted['x']):.0f}, {float(wanted['y']):.0f}) "
                     f"mm, within a pad's reach: a profile with more touches (--profile accurate) may decide")
     return _wanted_stop(spent, wanted, reach, touched, also, recognition)
@@ -535,9 +542,9 @@ CURVE_GRID = 2001
 CURVE_REACH_SPANS = 4.0
 
 
-def curvature_at(recognition: Recognition | None, x: float, y: float) -> tuple[float, float] | None:
-    """(κ, κ_s) (eqs. 3–7) of the answered curve at its point nearest (x, y), or None when there
-    is no curved answer or that point is farther than ``ON_CURVE_MM``."""
+def _curve_t(recognition: Recognition | None, x: float, y: float) -> float | None:
+    """The answered curve's parameter t at its point nearest (x, y), or None when there is no
+    curved answer or that point is farther than ``ON_CURVE_MM``."""
     if recognition is None or recognition.pose is None or recognition.cls not in CURVES or recognition.cls == "line":
         return None
     curve = CURVES[recognition.cls](recognition.params)
@@ -553,7 +560,69 @@ def curvature_at(recognition: Recognition | None, x: float, y: float) -> tuple[f
     cx, cy = curve.point(t)
     if not math.hypot(float(cx[0]) - px, float(cy[0]) - py) <= ON_CURVE_MM:
         return None
-    return float(np.ravel(curve.kappa(t))[0]), float(np.ravel(curve.kappa_s(t))[0])
+    return float(np.ravel(t)[0])
+
+
+def curvature_at(recognition: Recognition | None, x: float, y: float) -> tuple[float, float] | None:
+    """(κ, κ_s) (eqs. 3–7) of the answered curve at its point nearest (x, y), or None when there
+    is no curved answer or that point is farther than ``ON_CURVE_MM``."""
+    t = _curve_t(recognition, x, y)
+    if t is None:
+        return None
+    curve = CURVES[recognition.cls](recognition.params)
+    return float(np.ravel(curve.kappa(np.array([t])))[0]), float(np.ravel(curve.kappa_s(np.array([t])))[0])
+
+
+#: a place whose tangent is this far (deg) from the answered curve's at its nearest point is not on
+#: that curve (:func:`rolled_reach`; the recognizer's next_touch lies on it, tangent and all)
+ON_CURVE_DEG = 1.0
+#: :func:`rolled_reach` tries this many places, evenly in t, from the recognizer's place to the felt stretch
+ALONG_STEPS = 40
+
+
+def rolled_reach(recognition: Recognition, x: float, y: float, phi: float, reach: JawReach,
+                 fingers: Sequence | None = None) -> tuple[float, float, float, object] | None:
+    """(x, y, φ, finger) of the place nearest (x, y) (tangent φ) on the answered curve, from there
+    toward its felt stretch (its contact nearest in t, or the stretch's middle when (x, y) lies
+    within it), at which a finger of ``fingers`` rolls its pad with the contact travelling along
+    that curve over the roll (:meth:`JawReach.finger` with :func:`curvature_at`; ``ALONG_STEPS``
+    places); (x, y) itself with the contact held there when it is not on a curved answer (within
+    ``ON_CURVE_MM`` and ``ON_CURVE_DEG``); None when
+    no pad rolls there. A place where the recognizer points with the contact held there may be one
+    where the travelling contact runs off the pad: P semicubical 134 of bench_explore --finite 20
+    --anywhere --seed 541 (config/jaw-p.yaml): the place at pad normal −87.3° (ρ 24 mm) was aimed
+    at, and the roll's contact ran 0.3–8.7 mm along the left pad (not used); the pad's face
+    reaches the branch up to −95° (ρ 18 mm), where the next roll was used and decided."""
+    t0 = _curve_t(recognition, x, y)
+    curve = None if t0 is None else CURVES[recognition.cls](recognition.params)
+    off = None if t0 is None else math.remainder(
+        phi - float(np.ravel(curve.tangent_angle(np.array([t0])))[0]) - recognition.pose.theta, math.pi)
+    if off is None or abs(off) > math.radians(ON_CURVE_DEG):  # not a place of the answered curve
+        f = reach.finger(x, y, phi, fingers)
+        return None if f is None else (x, y, phi, f)
+    pose = recognition.pose
+    felt = np.array([float(c["t"]) for c in recognition.contacts], float)
+    if curve.t_period is not None and felt.size:
+        period = curve.t_period[1] - curve.t_period[0]
+        gap = (felt - t0 + 0.5 * period) % period - 0.5 * period
+        target = t0 + float(gap[np.argmin(np.abs(gap))])
+    elif felt.size and not felt.min() <= t0 <= felt.max():
+        target = float(felt[np.argmin(np.abs(felt - t0))])
+    else:
+        target = 0.5 * float(felt.min() + felt.max()) if felt.size else t0
+    t = t0 + (target - t0) * np.linspace(0.0, 1.0, ALONG_STEPS + 1)
+    px, py = pose.apply(*curve.point(t))
+    tangent = np.asarray(curve.tangent_angle(t), float) + pose.theta
+    flip = math.pi if abs(math.remainder(phi - float(tangent[0]), 2 * math.pi)) > math.pi / 2 else 0.0
+    kappa, kappa_s = np.asarray(curve.kappa(t), float), np.asarray(curve.kappa_s(t), float)
+    for k in range(t.size):
+        if not (np.isfinite(px[k]) and np.isfinite(py[k]) and np.isfinite(kappa[k]) and np.isfinite(kappa_s[k])):
+            continue
+        place = float(px[k]), float(py[k]), phi + math.remainder(float(tangent[k]) + flip - phi, 2 * math.pi)
+        f = reach.finger(*place, fingers, (float(kappa[k]), float(kappa_s[k])))
+        if f is not None:
+            return (*place, f)
+    return None
 
 
 def with_curvature(goal: Goal, recognition: Recognition | None) -> Goal:
