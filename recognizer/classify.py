@@ -375,6 +375,39 @@ def _samples_conic(cls: str, d: Contacts, request: Request) -> list[tuple[Contac
     return out
 
 
+def _samples_conic_fit(cands: list[Candidate], d: Contacts, request: Request,
+                       options: RecognizeOptions) -> list[Candidate]:
+    """The ellipse refined from the conic through every sample's position and tangent
+    (``_samples_conic``), in its better placed direction of travel, when no ellipse fit is
+    within ``RESTART_BIC`` of the best BIC (those are refined on from themselves,
+    ``_restarted``; a better ellipse rival there moved a parabola's suggested touch and lost
+    its answer: bench_wide seed 179 parabola trial 6, docs/benchmarks.md session 33). At a thin ellipse's
+    sharp end the touches' κ pin the vertex curvature a/b² but not b/a: the contact fits
+    (invariants, the conic through three contacts, the scan) sit along that valley where
+    the contacts' truncated κ, κ_s put them, and the refinement over every sample crawls
+    along it at its evaluation budget (tools.bench_wide --set wide seed 547, ellipse trial 2,
+    b/a 0.12: contact fits b/a 0.08–0.09 refined to χ² 84.6 and 103, the answer a
+    semicubical at 66.2 while the truth refined from itself fits 62.8; only starts within
+    b/a 0.10–0.15 reach it). The 27 samples' positions and tangents, 54 equations for the
+    conic's 5 ratios, put it at b/a 0.11 (refined 63.1) without κ or κ_s."""
+    cls = "ellipse"
+    if not (options.refine and cls in request.classes and d.n >= MIN_TOUCHES[cls]):
+        return []
+    top = min((c.bic for c in cands if math.isfinite(c.bic)), default=math.inf) + RESTART_BIC
+    if any(c.cls == cls and c.bic <= top for c in cands):
+        return []
+    try:
+        placed = [(pose_from(cls, p, t, way), p, t) for way, p, t in _samples_conic(cls, d, request)]
+    except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+        return []
+    placed = [q for q in placed if math.isfinite(q[0][3])]
+    if not placed:
+        return []
+    (th, x, y, cost), p, t = min(placed, key=lambda q: q[0][3])
+    start = Candidate(cls, dict(p), Pose(th, x, y), np.asarray(t, float), cost, 1, 1)
+    return [f for f in refine_candidates([start], request, options) if math.isfinite(f.chi2)]
+
+
 #: scan starts refined directly when every semicubical contact fit puts a touch at its cusp
 CLEAR_SCAN_STARTS = 3
 #: ... among the scan's starts within this χ² of its best (positions and tangents of the
@@ -727,6 +760,7 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
                 cands += _best_starts_refined(d, request, options, cands)
         cands += _clear_of_cusp_fits(cands, d, request, options)
         cands += _far_arm_fits(cands, d, request, options)
+        cands += _samples_conic_fit(cands, d, request, options)
         cands += _nested_fits(cands, request, options)
         cands += _circle_from_ellipse(cands, request, options)
         cands = _restarted(cands, request, options)
