@@ -43,7 +43,7 @@ from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_ad
 from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
                                  noted, sample_positions)
 from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_press, early_press, flat_presses,
-                                    unusable_refusal)
+                                    short_face_stop, unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
                                   on_corner, sure_corner, too_few_clear, workspace_reach)
@@ -1021,7 +1021,10 @@ def closing_answer(cfg, out: Exploration, cleared: Callable[[], list[FeltTouch]]
     """The exploration's answer into ``out.recognition`` (with ``out.used``, and ``out.stopped``
     when it names one): :func:`tactile_jaw.decide.final_answer` on the usable touches
     (``cleared()``), else the refusal already made (a curved part felt, tactile_jaw.flat_phase)
-    or the one for too few usable touches; whichever it is, its reason ends with the jaw's
+    or the one for too few usable touches, which names what would help (a face or corner the touches met and its
+    move, :func:`short_face_stop`, else :func:`unusable_refusal`'s stop: X line 8 of held-out finite 541 on 657c034,
+    1 of its 2 usable touches clear of the corners, was refused with no stop, and the command's advice fell back
+    to "no class of the scene fits"); whichever it is, its reason ends with the jaw's
     calibration note (:func:`tactile_jaw.decide.noted`): the flat phase's "no usable touch"
     refusals of held-out seed 313 (P lines 5, 8, 10) did not carry it."""
     if out.used:
@@ -1034,6 +1037,12 @@ def closing_answer(cfg, out: Exploration, cleared: Callable[[], list[FeltTouch]]
             emit({"type": "event", "kind": "too_few_touches", "message": str(exc)})
             if len(usable) < len(out.used):  # an earlier round's answer was on touches since cleared
                 out.recognition = too_few_clear(usable, len(out.used), exc)
+                if out.stopped is None:  # what would help: a face or corner the touches met, else unusable_refusal's
+                    out.stopped = short_face_stop(cfg, settings, out, head=f"only {len(usable)} usable touch(es) "
+                                                                           f"clear of the corners")
+                    out.stopped = unusable_refusal(out)[1] if out.stopped is None else out.stopped
+                    emit(out.stopped.event("stopped_early"))
+                    say(f"{out.recognition.reason}; {out.stopped}")
         out.used = usable
     if out.recognition is None:  # no touch was usable: say what they met, and what would help or why no move is named
         stopped = out.stopped

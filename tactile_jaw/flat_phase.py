@@ -472,8 +472,11 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
             say(str(out.stopped))
 
 
-def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: int = 0) -> Stop | None:
-    """When the flat presses end undecided (``seated`` of them seated): the longest face a
+def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: int = 0,
+                    head: str | None = None) -> Stop | None:
+    """When the flat presses end undecided (``seated`` of them seated; ``head``, the message's
+    start, says so unless given: tactile_jaw.explore.closing_answer asks it of rolls that left too few usable touches
+    clear of the corners, no press made): the longest face a
     press found — a seated press's supports, else what its lines show
     (the path one pad end of its lines slid along, :func:`_slid_path`, else
     hand_driver.flat_press.seat_split without the FACE_MIN_FRACTION bound: a face lying
@@ -506,8 +509,8 @@ def short_face_stop(cfg, settings: ExploreSettings, out: Exploration, seated: in
                              and not isinstance(t.touch, FlatResult)], f.pad.length_mm)
         if slid is not None and (best is None or slid[0] > best[0]):
             best = (slid[0], f.name, *slid[1:])
-    head = ("no flat press seated" if not seated else
-            f"{seated} flat press{'es' if seated > 1 else ''} seated, fewer than the answer needs on one face")
+    head = head or ("no flat press seated" if not seated else
+                    f"{seated} flat press{'es' if seated > 1 else ''} seated, fewer than the answer needs on one face")
     if best is None:
         corner = _corner_stop(cfg, settings, out, head)
         if corner is not None:

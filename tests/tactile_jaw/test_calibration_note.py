@@ -31,7 +31,7 @@ def _calibrated_jaw():
 
 
 def _roll(k: int, corner=None) -> FeltTouch:
-    return FeltTouch(TouchResult("left", k, 0.0, [object()] * 9, outcome="ok"), None, None, None,
+    return FeltTouch(TouchResult("left", k, 0.0, [], outcome="ok"), None, None, None,
                      "not usable" if corner else None, None, corner=corner)
 
 

@@ -82,3 +82,52 @@ def test_seated_presses_split_by_their_angles_are_named():
                                   "press found no seat (the log's touch_rejected events say why each)")
     recognition, _ = unusable_refusal(Exploration(touches=presses[:2]))  # -64.37, -64.25: one face, too few
     assert recognition.reason.startswith("no usable touch of 2: 2 flat presses seated on one face, too few for an answer")
+
+
+
+def test_too_few_clear_of_the_corners_names_a_move():
+    """Usable rolls of which too few stay clear of the corners other rolls pivoted about
+    (tactile_jaw.explore.closing_answer) end with the move short_face_stop finds from the corners and
+    faces the touches met, not with no stop: X line 8 of held-out finite 541 on 657c034 (the logged
+    probes and rolls, tests/tactile_jaw/data/x_line_541_8_touches.json; 1 of its 2 usable rolls clear
+    of a corner near (102, 17) mm) was refused with none, the command's advice saying no class of the
+    scene fits. The right pad turned about the block's corner (91.5, -11.9) mm; the move named clears
+    the opened jaw (followed live, the block is answered line)."""
+    import json
+    from pathlib import Path
+
+    from hand_driver.config import load_config
+    from hand_driver.sim.physics import ContactWorld
+    from recognizer.scene import load_scene
+    from tactile_common.errors import InputError
+    from tactile_jaw.explore import closing_answer
+    from tactile_jaw.pipeline import feel, logged_samples
+    from tactile_jaw.plan import open_pose
+    from tactile_jaw.settings import ExploreSettings
+    from tools.bench_explore import moved_object
+
+    root = Path(__file__).resolve().parents[2]
+    raw = json.loads((root / "tests" / "tactile_jaw" / "data" / "x_line_541_8_touches.json").read_text())
+    config = load_config(root / "config" / "jaw.yaml")
+
+    def felt(r):
+        samples = logged_samples(config, r["finger"], r["ticks"], r["psi"]) if r["ticks"] else []
+        return feel(config, TouchResult(r["finger"], r["touch"], r["psi_center"], samples, outcome=r["outcome"]), 9)
+
+    def too_few(touches):
+        raise InputError("exploration: 1 touch(es); the scene's classes need at least 2")
+
+    rolls = [felt(r) for r in raw["touches"]]
+    used = [t for t in rolls if t.problem is None]
+    assert [t.touch.touch for t in used] == [4, 11]
+    out = Exploration(probes=[felt(r) for r in raw["probes"]], touches=rolls, used=used)
+    events: list[dict] = []
+    closing_answer(config, out, lambda: used[1:], too_few, ExploreSettings.from_profile("balanced"), events.append,
+                   lambda msg: None)
+    assert out.recognition.reason.startswith("only 1 of the 2 usable touches are clear of the corners")
+    assert out.stopped is not None and out.stopped.move is not None
+    assert out.stopped.startswith("only 1 usable touch(es) clear of the corners; the right pad turned about a corner "
+                                  "at (92, -12) mm")
+    assert [e["message"] for e in events if e.get("kind") == "stopped_early"] == [str(out.stopped)]
+    moved = load_scene({"name": "b", "classes": ["line"], "object": moved_object(raw["truth"], out.stopped.move)}).object
+    assert not ContactWorld(config, moved).penetrates(open_pose(config))  # clear of the opened jaw
