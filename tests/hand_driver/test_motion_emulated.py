@@ -41,18 +41,25 @@ def distance_to_ellipse(x, y) -> np.ndarray:
 
 
 @contextmanager
-def emulated_jaw(scene=SCENE, log=None, on_reading=None, timeout_s=1.0):
+def emulated_jaw(scene=SCENE, log=None, on_reading=None, timeout_s=1.0, torque_off_arrives=False):
+    """``torque_off_arrives``: before the emulator stops, wait (bounded) until the torque-off the
+    bus wrote on closing has reached every servo — a write whose status is dropped still lands, but
+    on a loaded host the emulator's thread may read it only after the bus has given up waiting."""
     with EmulatedBus(CONFIG, scene, time_scale=0.0) as sim:
         def hook(state):
             if log is not None:
                 log.reading(state)
             if on_reading is not None:
                 on_reading(sim, state)
-        with JointBus(sim.port, CONFIG.bus.baudrate, CONFIG, retries=CONFIG.bus.retries, timeout_s=timeout_s,
-                      on_reading=hook) as bus:
-            bus.set_goal_current(CONFIG.motion.goal_current_ma)
-            bus.set_profile_raw(CONFIG.motion.profile_velocity, CONFIG.motion.profile_acceleration)
-            yield sim, Jaw(bus, CONFIG, log, clock=LockstepClock(sim), readings_logged_by_bus=log is not None)
+        try:
+            with JointBus(sim.port, CONFIG.bus.baudrate, CONFIG, retries=CONFIG.bus.retries, timeout_s=timeout_s,
+                          on_reading=hook) as bus:
+                bus.set_goal_current(CONFIG.motion.goal_current_ma)
+                bus.set_profile_raw(CONFIG.motion.profile_velocity, CONFIG.motion.profile_acceleration)
+                yield sim, Jaw(bus, CONFIG, log, clock=LockstepClock(sim), readings_logged_by_bus=log is not None)
+        finally:
+            if torque_off_arrives:
+                sim.wait_until(lambda: not any(s.torque_on for s in sim.servos.values()), timeout=10.0)
 
 
 def _edge(psi: float) -> float:
@@ -180,7 +187,8 @@ def test_fault_mid_touch_keeps_every_reading_and_ends_torque_off(tmp_path, fault
     with pytest.raises(expected):
         with RunLog(path).open(config={}, scene=None) as log:
             # a status timeout a loaded host meets (a late corrupt answer must stay a CRC error)
-            with emulated_jaw(log=log, on_reading=inject, timeout_s=0.5) as (sim, jaw):
+            with emulated_jaw(log=log, on_reading=inject, timeout_s=0.5,
+                                  torque_off_arrives=fault != "vanish") as (sim, jaw):
                 servos = sim.servos
                 run_together(jaw, {"left": move_line(jaw, "left", psi, _edge(psi))})
                 run_together(jaw, {"left": guarded_approach(jaw, "left", psi, _edge(psi), 45.0)})
