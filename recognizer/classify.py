@@ -32,7 +32,7 @@ from scipy import special, stats
 from recognizer import invariants as inv
 from recognizer.class_limits import LIMIT_OF
 from recognizer.contacts import EPS_FLOOR, Contacts
-from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start, line_correlation, profiled
+from recognizer.localize import N_SHAPE, fit_class, fit_class_every_start, fit_continued, line_correlation, profiled
 from recognizer.nested import NESTED_FROM, nested_candidates
 from recognizer.curves import CURVES, Pose
 from recognizer.refine import MAX_NFEV, RefinedCandidate, refine_candidates
@@ -415,38 +415,48 @@ CLEAR_SCAN_STARTS = 3
 CLEAR_SCAN_BAND = 20.0
 
 
-#: ``_valleys_continued``: the answer class's other refined fits stopped at the evaluation budget
-#: within this many valley widths (``CHI2_VALLEY``) above the answer, the lowest
-#: ``CONTINUE_FITS`` of them, are refined again up to ``CONTINUE_ROUNDS`` times
+#: ``_valleys_continued``: the answer class's other fits stopped at their budget within this
+#: many valley widths (``CHI2_VALLEY``) above the answer, the lowest ``CONTINUE_FITS`` of them,
+#: are solved on up to ``CONTINUE_ROUNDS`` times
 CONTINUE_WITHIN, CONTINUE_FITS, CONTINUE_ROUNDS = 4.0, 2, 3
 
 
 def _valleys_continued(chosen: Candidate, fits: list[Candidate], request: Request,
-                       options: RecognizeOptions) -> list[Candidate]:
-    """``fits`` with the answer class's refined fits that stopped at their evaluation budget
-    (``refine.MAX_NFEV``: still moving) outside the answer's own valley
-    (``intervals.same_valley``) and within ``CONTINUE_WITHIN`` × ``CHI2_VALLEY`` of its χ²
-    refined on, each while it still improves and stops at its budget: the
-    σ's across the class's valleys (``intervals.rival_basins``) count only valleys a fit
-    reached. Touched on one branch near the cusp, a semicubical answered in its parabola-like
+                       options: RecognizeOptions, d: Contacts) -> list[Candidate]:
+    """``fits`` with the answer class's fits outside the answer's own valley
+    (``intervals.same_valley``) within ``CONTINUE_WITHIN`` × ``CHI2_VALLEY`` of its χ² solved
+    on, each while it still improves: the σ's across the class's valleys
+    (``intervals.rival_basins``) count only valleys a fit reached. A refined answer's refined
+    fits that stopped at their evaluation budget (``refine.MAX_NFEV``: still moving) are refined
+    again: touched on one branch near the cusp, a semicubical answered in its parabola-like
     valley b 11.5 (χ² 51.5, scale-free units) where the truth's valley (b 0.90, χ² 55.7) had
     two fits crawling towards it at 61.4 and 62.3, each at 40 evaluations: b z 24
-    (tools.bench_wide seed 5, trial 4, development)."""
-    if not isinstance(chosen, RefinedCandidate):
-        return fits
+    (tools.bench_wide seed 5, trial 4, development). A contact-stage answer's contact fits
+    are solved on for another iteration budget each round (``localize.fit_continued``; one
+    that had converged stops at once): a cubical far on one side answered a 44.5 ± 4.7 mm
+    (χ² 14.07) where the truth's valley (a −143.6, c 2.15, χ² 16.32: the truth −174.7 at
+    profile χ² 16.38) had two fits started at a ≈ −5e3 mm still crawling at −641, χ² 29.4:
+    a z 47 (tools.bench_sigma --kind contacts seed 587, trial 2; z 1.03 now)."""
+    refined = isinstance(chosen, RefinedCandidate)
     top = float(chosen.chi2) + CONTINUE_WITHIN * CHI2_VALLEY
-    moving = sorted((i for i, f in enumerate(fits) if f.cls == chosen.cls and isinstance(f, RefinedCandidate)
-                     and f.nfev >= MAX_NFEV and float(chosen.chi2) < f.chi2 <= top and not same_valley(chosen, f)),
-                    key=lambda i: fits[i].chi2)
+    moving = sorted((i for i, f in enumerate(fits) if f.cls == chosen.cls and isinstance(f, RefinedCandidate) == refined
+                     and (not refined or f.nfev >= MAX_NFEV) and float(chosen.chi2) < f.chi2 <= top
+                     and not same_valley(chosen, f)), key=lambda i: fits[i].chi2)
+    # a contact fit's σ's where it is consistent, as in _recognize
+    limit = math.inf if refined else chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[chosen.cls] + d.n), 1))
     out = list(fits)
     for i in moving[:CONTINUE_FITS]:
         f = out[i]
         for _ in range(CONTINUE_ROUNDS):
-            g = refine_candidates([f], request, options)[0]
+            if refined:
+                g = refine_candidates([f], request, options)[0]
+            else:
+                fit = fit_continued(f, d, sigma_below=limit)
+                g = f if fit is None else _candidate(fit, options.alpha)
             if not g.chi2 < f.chi2:
                 break
             f = g
-            if g.nfev < MAX_NFEV:  # converged
+            if refined and g.nfev < MAX_NFEV:  # converged
                 break
         out[i] = f
     return out
@@ -800,7 +810,7 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
     # the answer's σ's where the linearized ones are in doubt, and across its class's other valleys
     walked = profile_uncertainty(chosen) if isinstance(chosen, RefinedCandidate) else \
         profile_uncertainty(profiled(chosen, d), rel_check=CONTACT_REL_SIGMA_CHECK)
-    others = _valleys_continued(chosen, [f for f in fits if f is not chosen], request, options)
+    others = _valleys_continued(chosen, [f for f in fits if f is not chosen], request, options, d)
     best = rival_basins(walked, others)
     dh = unit.contacts(d)  # the invariants a person reads, in mm
     pairs = _pair_invariants(dh) if best.cls in ("ellipse", "hyperbola", "parabola") else {}

@@ -32,7 +32,7 @@ from recognizer.solver import ContactModel, svd
 from recognizer.starts import pose_from, starts
 from tactile_common.angles import wrap_angle
 
-__all__ = ["Fit", "fit_class", "fit_class_every_start", "N_SHAPE", "scaled_covariance", "profiled",
+__all__ = ["Fit", "fit_class", "fit_class_every_start", "fit_continued", "N_SHAPE", "scaled_covariance", "profiled",
            "ProfiledCandidate", "line_correlation"]
 
 #: shape parameters + pose degrees of freedom not lost to a symmetry (BIC counts these)
@@ -108,6 +108,22 @@ def fit_class_every_start(cls: str, data: Contacts, give_up: float = math.inf,
     to 6 starts; with 8 its 2 without a turning point displaced other starts that had
     found the best fit: tools.bench_wide seed 1, semicubical trial 24, 5 touches.)"""
     return _fit_starts(cls, data, 10, give_up, sigma_below, every=True)
+
+
+def fit_continued(cand: Candidate, data: Contacts, sigma_below: float = math.inf) -> Fit | None:
+    """``cand``, a contact-stage fit of ``data``, solved on from where it stopped for another
+    of the solver's iteration budgets (a fit that had converged stops at its first step); None
+    where its residuals are not finite there. A fit started far out along a curved valley
+    crawls down it: a cubical touched far on one side, started at a −4.8e3 mm, stopped at its
+    40 iterations at a −641, χ² 29.4, and went on to −264, 17.3 in three more budgets
+    (tools.bench_sigma --kind contacts seed 587, trial 2)."""
+    d = _oriented(cand.cls, data)
+    model = ContactModel(cand.cls, d)
+    z = model.pack(cand.params, cand.pose.theta, cand.pose.x, cand.pose.y, np.asarray(cand.t, float))
+    z, cost, r, parts = model.solve(z)
+    if r is None or not np.isfinite(cost):
+        return None
+    return _finish(model, cand.cls, d, z, cost, r, parts, dict(cand.params), sigma_below)
 
 
 def _oriented(cls: str, data: Contacts) -> Contacts:

@@ -12,8 +12,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from recognizer.classify import contacts_of, recognize
-from recognizer.localize import fit_class_every_start
+from recognizer.classify import _candidate, contacts_of, recognize
+from recognizer.localize import fit_class_every_start, fit_continued
 from recognizer.result import RecognizeOptions
 from recognizer.scale_free import Unit
 from recognizer.touches import Request, parse_request
@@ -187,3 +187,36 @@ def test_far_side_cubical_scan_reaches_the_truth_valley_on_steep_slopes():
     scan, scoring the positions across the frame's axis unweighted by 1/(1 + λ²), had its only
     minimum in the answer's valley. Now it reaches both, and the answer's σ's span them."""
     _far_side_truth_valley_reached(seed=181, trial=26, within=1.96, sign=-1.0)
+
+
+def test_far_side_cubical_fits_crawling_down_the_truths_valley_are_continued():
+    """tools.bench_sigma --kind contacts seed 587 (session 33's held-out run, development now),
+    cubical far on one side, trial 2 at 1 mm: answered a 44.5 ± 4.7, c −8.0 ± 3.8 for a truth of
+    −174.7, 0.90 (a z 47, interval [35.3, 53.9]). The truth's valley (a −143.6, c 2.15, χ² 16.32
+    against the answer's 14.07, scale-free units) was reached by two starts far out (a ≈ −5e3
+    mm) that stopped at their 40 iterations at a −641, χ² 29.4, 15.4 above the answer: beyond
+    ``CHI2_VALLEY``, so no valley. Solved on (``classify._valleys_continued``), they reach
+    a −264, χ² 17.3, and the answer's σ's and interval span both valleys; the answer stays."""
+    params, req, opts = _case("cubical_parabola", "far one side", 2, L=1.0, seed=587)
+    rec = recognize(req, opts)
+    assert rec.cls == "cubical_parabola" and rec.params["a"] == pytest.approx(44.457, abs=1e-3)  # kept
+    for k, v in params.items():
+        assert abs(rec.params[k] - v) <= 3.0 * rec.uncertainty[k], (k, rec.params[k], v, rec.uncertainty[k])
+        lo, hi = rec.interval[k]
+        assert lo <= v <= hi, (k, lo, hi, v)  # before: a [35.3, 53.9] for −174.7
+    assert "another valley of cubical_parabola" in rec.reason
+
+
+def test_fit_continued_goes_on_down_a_valley_and_leaves_a_converged_fit():
+    """``localize.fit_continued``: the crawling fit of the trial above lowers its χ² and moves
+    its a towards the truth's valley; the answer's converged fit stays where it is."""
+    _, req, opts = _case("cubical_parabola", "far one side", 2, L=1.0, seed=587)
+    unit = Unit.of(req)
+    d = contacts_of(unit.request(req), unit.options(opts), unit.noise(opts.noise))
+    fits = sorted((_candidate(f, opts.alpha) for f in fit_class_every_start("cubical_parabola", d)), key=lambda c: c.chi2)
+    low, crawling = fits[0], next(f for f in fits if f.params["a"] < 0)
+    assert crawling.chi2 > low.chi2 + 9.0  # no valley as it stopped
+    on = fit_continued(crawling, d)
+    assert on.chi2 < crawling.chi2 - 5.0 and crawling.params["a"] < on.params["a"] < 0, (crawling.chi2, on.chi2, on.params)
+    same = fit_continued(low, d)
+    assert same.chi2 == pytest.approx(low.chi2, rel=1e-9) and same.params["a"] == pytest.approx(low.params["a"], rel=1e-6)
