@@ -259,7 +259,8 @@ class JawReach:
         out[idx] = ok
         return out
 
-    def opened_clear(self, about, turn: float, shift: np.ndarray, goes_on: Sequence = ()) -> np.ndarray:
+    def opened_clear(self, about, turn: float, shift: np.ndarray, goes_on: Sequence = (),
+                     felt: np.ndarray | None = None) -> np.ndarray:
         """For each shift (k × 2) after turning by ``turn`` about ``about``: does the opened
         jaw keep its clearance from where the probes found the object going on unfelt? A pad
         end a probe rested on (tactile_jaw.plan.rested_ends) found the object there, going on
@@ -281,12 +282,16 @@ class JawReach:
         enters a place a pad swept free or the opened jaw stood (or the workspace's diameter,
         :meth:`go_on_length`): P-series block 7 of bench_explore --finite 20 --anywhere --seed
         347, moved 30° and (11, −11) mm for the face its left pad met, lay across the opened
-        right pad with that face's unfelt part. True for every shift when no probe rested on a
-        pad end and nothing goes on."""
+        right pad with that face's unfelt part. ``felt`` (n × 2 mm, :attr:`Goal.felt`): points the
+        exploration felt on the object, each kept clear of the opened pads once moved
+        (:meth:`felt_near`). True for every shift when no probe rested on a pad end, nothing goes
+        on and nothing felt is given."""
         free, ends = self._strips()
         rays = [(np.array(row[:2], float), np.array(row[2:], float), self.go_on_length(row)) for row in goes_on]
+        felt = np.empty((0, 2)) if felt is None else np.asarray(felt, float).reshape(-1, 2)
+        held = ~self.felt_near(about, turn, shift, felt) if len(felt) else np.ones(len(shift), bool)
         if not len(ends) and not rays:
-            return np.ones(len(shift), bool)
+            return held
         points = np.vstack([_strip_points(*row) for row in opened_strips(self.config, MOVE_CLEAR_MM)])  # m × 2
         c, s = math.cos(turn), math.sin(turn)
         a = np.asarray(about, float)
@@ -301,7 +306,28 @@ class JawReach:
             beyond |= (u >= 0.0) & (u <= length) & (np.abs((back - e) @ np.array([-b[1], b[0]])) <= MOVE_CLEAR_MM)
         near = back[beyond]  # only these can be refused: the swept strips are asked about them alone
         beyond[beyond] = ~_in_strips(near, free, FREE_END_MM)
-        return ~np.any(beyond, axis=1)
+        return held & ~np.any(beyond, axis=1)
+
+    def felt_near(self, about, turn: float, shift: np.ndarray, felt: np.ndarray) -> np.ndarray:
+        """For each shift (k × 2) after turning by ``turn`` about ``about``: does a point the
+        exploration felt on the object (``felt``, n × 2 mm) come nearer an opened pad's face
+        (tactile_jaw.plan.opened_strips) than ``MOVE_CLEAR_MM``, or than it is now when nearer, over
+        the pad's length and ``MOVE_CLEAR_MM`` past its ends, in front of the face or behind it (up to
+        the workspace's diameter)? Semicubical parabola 137 of bench_explore --finite 20 --anywhere
+        --follow --seed 571 (P-series): a corner the left pad's rolls turned about lay 2.8 mm before
+        the opened left pad; a face's move (15° about the right pad's corner, then (6, 3) mm) carried
+        it 4.5 mm behind that pad, and the moved scene overlapped the opened jaw."""
+        c, s = math.cos(turn), math.sin(turn)
+        a = np.asarray(about, float)
+        moved = ((felt - a) @ np.array([[c, s], [-s, c]]) + a)[None, :, :] + np.asarray(shift, float)[:, None, :]
+        near = np.zeros(len(shift), bool)
+        for psi, u_lo, u_hi, edge, _ in opened_strips(self.config, 0.0):
+            n, t = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
+            allowed = np.clip(felt @ n - edge, 0.0, MOVE_CLEAR_MM)  # no nearer than MOVE_CLEAR_MM, or than now
+            u, gap = moved @ t, moved @ n - edge
+            near |= np.any((u >= u_lo - MOVE_CLEAR_MM) & (u <= u_hi + MOVE_CLEAR_MM) & (gap < allowed[None, :] - 1e-9)
+                           & (gap > -2.0 * self.disk.radius), axis=1)
+        return near
 
     def _strips(self) -> tuple[np.ndarray, np.ndarray]:
         """The free strips and the rested pad ends of :meth:`opened_clear`, read once per probe count."""
@@ -520,7 +546,9 @@ class Goal:
     none known): a pad's contact travels along the curve over its roll (:meth:`JawReach.finger`);
     ``goes_on`` rows (x, y, bx, by): a known point where the boundary goes on unfelt along the
     unit (bx, by), whose ray a move keeps clear of the opened jaw (:meth:`JawReach.opened_clear`:
-    a straight face past its felt ends, tactile_jaw.flat_phase._face_advice)."""
+    a straight face past its felt ends, tactile_jaw.flat_phase._face_advice); ``felt`` (n × 2 mm,
+    or None): the points the exploration felt on the object, each kept clear of the opened pads
+    once moved (:meth:`JawReach.felt_near`; tactile_jaw.flat_phase.felt_points)."""
 
     places: tuple[tuple[float, float, float], ...]
     keep: np.ndarray
@@ -528,6 +556,7 @@ class Goal:
     where: str
     curvature: tuple[tuple[float, float] | None, ...] = ()
     goes_on: tuple[tuple[float, float, float, float], ...] = ()
+    felt: np.ndarray | None = None
 
     def curvature_of(self, j: int) -> tuple[float, float] | None:
         """(κ, κ_s) at place ``j``, or None."""
@@ -797,7 +826,7 @@ def _move_search(reach: JawReach, goal: Goal, fingers,
         places, keep = _moved(goal, float(turn), shift)
         every = np.concatenate([places, keep], axis=1)
         clear = np.all(np.hypot(every[..., 0] - cx, every[..., 1] - cy) <= allowed[None, :] + 1e-9, axis=1)
-        opened = reach.opened_clear(goal.about, float(turn), shift, goal.goes_on)
+        opened = reach.opened_clear(goal.about, float(turn), shift, goal.goes_on, goal.felt)
         travel = np.max(np.hypot(*(every - here[None]).transpose(2, 0, 1)), axis=1)
         for i in np.flatnonzero(clear):
             (cands if opened[i] else blocked).append((float(travel[i]), abs(float(turn)), float(turn), shift[i], places[i]))
@@ -852,7 +881,7 @@ def _reaches(reach: JawReach, goal: Goal, dx: float, dy: float, turn: float, fin
     here = np.asarray(goal.keep, float).T
     allowed = np.maximum(radius - MOVE_CLEAR_MM, np.hypot(here[:, 0] - cx, here[:, 1] - cy))
     if np.any(np.hypot(keep[0, :, 0] - cx, keep[0, :, 1] - cy) > allowed + 1e-9) \
-            or not reach.opened_clear(goal.about, turn, np.array([[dx, dy]]), goal.goes_on)[0]:
+            or not reach.opened_clear(goal.about, turn, np.array([[dx, dy]]), goal.goes_on, goal.felt)[0]:
         return False
     return all(reach.finger(float(p[0]), float(p[1]), goal.places[j][2] + turn, fingers, goal.curvature_of(j))
                is not None for j, p in enumerate(places[0]))
@@ -871,9 +900,11 @@ def move_advice(reach: JawReach, goal: Goal, fingers: Sequence | None = None,
     # the search passed over every reaching move only for the opened pads: the candidates it had
     # asked about reach nowhere, so the moves without the probes' bound are those it passed over
     if move is None and _first_reaching(reach, goal, blocked, fingers) is not None:
+        felt = goal.felt is not None and len(goal.felt)
         return Advice(f"{NOT_CLEAR}: every move that brings a pad {goal.where} would carry an "
                       f"opened pad where the object goes on unfelt (past a pad end a probe rested on"
-                      f"{', or along the face past its felt ends' if goal.goes_on else ''}): place the object so "
+                      f"{', or along the face past its felt ends' if goal.goes_on else ''}"
+                      f"{', or onto a place a pad felt it' if felt else ''}): place the object so "
                       f"that more of its curved part faces a finger, clear of the opened pads", None, "not_clear")
     if move is None:
         return Advice(f"no pad reaches {goal.where} with the object moved up to {MOVE_MAX_MM:g} mm and turned up "

@@ -546,7 +546,7 @@ def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, 
     along = (q - p) / max(float(np.linalg.norm(q - p)), 1e-9)
     goes_on = ((*map(float, q), *map(float, along)),) + (() if corner else ((*map(float, p), *map(float, -along)),))
     goal = Goal(tuple((float(x), float(y), psi - math.pi / 2) for x, y in (p, mid, q)), np.stack([p, q], axis=1),
-                (float(mid[0]), float(mid[1])), "across that face", goes_on=goes_on)
+                (float(mid[0]), float(mid[1])), "across that face", goes_on=goes_on, felt=felt_points(out))
     f = cfg.finger(finger)
     reach = reach or JawReach(cfg, settings, out.probes)
     found = move_advice(reach, goal, [f])
@@ -573,6 +573,24 @@ def _face_advice(cfg, settings: ExploreSettings, out: Exploration, finger: str, 
                             f"{SEATED_TURN_DEG:g} deg from the pad's nominal normal a flat press seats from: place the "
                             f"object so that the face faces the {finger} finger inside the workspace"), None
     return advice, move, mid, psi
+
+
+def felt_points(out: Exploration) -> np.ndarray:
+    """The points (n × 2 mm) the exploration felt on the object, which a move carries and the
+    opened pads must keep clear of (tactile_jaw.choose.JawReach.felt_near): every probe's and
+    touch's corner a run of its lines turned about (``pivot``), the closing segment's corners it
+    rolled across, a seated press's supports, and a usable touch's contacts. Not a roll's
+    ``corner`` without a pivot, nor an unusable roll's contacts: crossings of lines that need not
+    pass through one point may lie off the object (P line 1 of bench_explore --finite 4 --anywhere
+    --seed 191: the left rolls' "corners" at (111.3, 26.1) and (106.8, 27.9) mm lay 21 and 25 mm
+    from the block, 0.8 mm off their own pad lines)."""
+    points = []
+    for t in (*out.probes, *out.touches):
+        points += [] if t.pivot is None else [t.pivot[0]]
+        points += list(t.segment_corners) + ([] if t.face is None else [t.face.p, t.face.q])
+        if t.samples is not None and t.contacts is not None:
+            points += list(zip(t.contacts.x, t.contacts.y))
+    return np.array([np.asarray(c, float)[:2] for c in points], float).reshape(-1, 2)
 
 
 def _corner_stop(cfg, settings: ExploreSettings, out: Exploration, head: str) -> Stop | None:

@@ -172,9 +172,7 @@ def test_moves_barred_only_by_the_opened_pads_are_named_so(monkeypatch):
     """Where the opened pads bar every move (each shift refused while probes rested on pad ends)
     yet one reaches without them, the refusal says so, from the one search's record."""
     bar = JawReach.opened_clear
-    monkeypatch.setattr(JawReach, "opened_clear",
-                        lambda self, about, turn, shift, goes_on=(): bar(self, about, turn, shift, goes_on)
-                        & (len(self.probes) == 0))
+    monkeypatch.setattr(JawReach, "opened_clear", lambda self, *args: bar(self, *args) & (len(self.probes) == 0))
     advice = move_advice(JawReach(CONFIG, SETTINGS, PROBES), _face_goal(-83.0), [CONFIG.finger("left")])
     assert advice.kind == "not_clear" and advice.move is None
     assert advice.words.startswith(f"{NOT_CLEAR}: every move that brings a pad across that face would carry "
