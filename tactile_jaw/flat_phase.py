@@ -630,7 +630,12 @@ def _slid_path(lines: Sequence[kin.PadLine], length_mm: float, tol_mm: float = S
     --seed 499: the left press's proximal end slid 10.8 mm along the block's long face (within
     0.05 mm) as the pad turned from −105.5° toward its seat at −156°, then the pad turned on to
     −165.5° about the face's far corner 21–37 mm along it, its end off the face (and straight
-    within 0.2 mm over 12.5 mm): no path of every line, no move named (docs/exploration.md)."""
+    within 0.2 mm over 12.5 mm): no path of every line, no move named (docs/exploration.md).
+    Nor a path of every line when all of them pass (within ``tol_mm``) through one corner more than
+    FACE_MIN_FRACTION of the pad from either end: held-out P cubical 113 of --finite 20 --anywhere
+    --follow --seed 571, the left press's 8 lines through the corner its rolls pivoted about,
+    40.7 → 15.4 mm along the pad, its proximal end straight over 26.4 mm 15 mm and more off the
+    object: taken for the longest face, it hid the right pad's seated one, and no move was named."""
     lines = list(lines)
     margin = FACE_MIN_FRACTION * length_mm
     pivoted = [False] * len(lines)  # lines through a corner under the pad's middle part
@@ -643,6 +648,10 @@ def _slid_path(lines: Sequence[kin.PadLine], length_mm: float, tol_mm: float = S
             n, corner, _ = _run(lines, i, 1, tol_mm)
             for j in range(i, i + n if n >= 3 else i):
                 pivoted[j] = pivoted[j] or margin < float(lines[j].pad_coordinate(corner)) < length_mm - margin
+    n, corner, _ = _run(lines, 0, 1, tol_mm)
+    if not part and n == len(lines) and all(margin < float(ln.pad_coordinate(corner)) < length_mm - margin
+                                            for ln in lines):
+        return None  # every line through one corner under the pad's middle part: the pad turned about it
     best = None
     for end in ("proximal", "distal"):
         points = [np.asarray(getattr(ln, end), dtype=float) for ln in lines]

@@ -291,3 +291,26 @@ def test_a_press_whose_pad_end_slid_along_a_face_then_turned_about_its_corner_na
     assert not ContactWorld(config, moved).penetrates(open_pose(config))  # clear of the opened jaw
     found, _ = _walk(ContactWorld(config, moved), finger, -math.pi / 2)
     assert found is not None and np.linalg.norm(found[2] - found[1]) >= FACE_MIN_FRACTION * finger.pad.length_mm
+
+
+def test_a_pad_end_that_moved_straight_while_the_pad_turned_about_a_corner_under_it_is_no_face():
+    """Held-out P cubical 113 of bench_explore --finite 20 --anywhere --follow --seed 571: the left
+    press's 8 lines all passed within 0.01 mm through the corner its rolls pivoted about,
+    (98.37, 39.35) mm, 40.7 → 15.4 mm along the 52 mm pad, as the pad turned 17°; its proximal
+    end moved straight (within SEAT_TOL_MM) over 26.4 mm from (70.3, 68.7) to (84.9, 46.8), 15 mm
+    and more from the object. flat_phase._slid_path took that path for a face (the longest, over
+    the right pad's seated one), for which no move reaches, and the refusal named no move (fails
+    before session 33's change). A pad turned about a corner under its middle part touches
+    nothing with its ends: no path; the same ends with the pad's lines not through one point
+    (an end sliding on a face) still are one."""
+    from tactile_jaw.flat_phase import _slid_path
+    corner = np.array([98.37, 39.35])
+    ends = [np.array([70.3, 68.7]) + k / 7.0 * np.array([14.6, -21.9]) for k in range(8)]
+    about = [_pad(p, math.atan2(*(corner - p)[::-1])) for p in ends]  # each pad line through the corner
+    assert all(abs(float(ln.normal @ corner - ln.d)) < 1e-9 for ln in about)
+    assert _slid_path(about, 52.0) is None
+    assert _slid_path(about, 52.0, part=True) is None
+    turned = [_pad(p, math.atan2(*(corner - p)[::-1]) + math.radians(3.0 * k * (k % 2 - 0.5)))
+              for k, p in enumerate(ends)]  # the same ends, the lines crossing apart: the end slid on a face
+    p, q, _ = _slid_path(turned, 52.0)
+    assert float(np.linalg.norm(q - p)) == pytest.approx(float(np.linalg.norm(ends[-1] - ends[0])), abs=0.01)
