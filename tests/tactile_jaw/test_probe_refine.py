@@ -16,10 +16,12 @@ from tactile_jaw.plan import ObjectModel
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def _run(monkeypatch, finger: str, face: dict[float, float], end: dict[float, float], rounds: int) -> list[float]:
-    """The orientations (deg) ``finger`` probes over ``rounds`` rounds, each probe at ψ finding
-    the face ``face[ψ]`` mm along the pad, or meeting the object ``end[ψ]`` mm along it (a pad
-    end), or neither."""
+def _run(monkeypatch, finger: str, face: dict[float, float], end: dict[float, float], rounds: int,
+         unreached: frozenset[float] = frozenset(), sampled: bool = False) -> list[float]:
+    """The orientations (deg) ``finger`` probes over ``rounds`` rounds, each probe at ψ finding the
+    face ``face[ψ]`` mm along the pad, or meeting the object ``end[ψ]`` mm along it (a pad end), or,
+    at the ψ in ``unreached``, leaving the joint limits before any sample (``sampled``: after its
+    samples)."""
     cfg = load_config(ROOT / "config" / "jaw-p.yaml")
     ws = cfg.workspace
     probes = probing.Probes(cfg, ObjectModel(ws.center_mm, ws.radius_mm))
@@ -37,9 +39,11 @@ def _run(monkeypatch, finger: str, face: dict[float, float], end: dict[float, fl
         probes.queues[finger].pop(0)
         deg = round(math.degrees(math.remainder(psi, 2 * math.pi)), 6)
         seen.append(deg)
-        samples = [SimpleNamespace(psi_measured=psi, d=50.0)] * 4
+        lost = deg in unreached
+        samples = [] if lost and not sampled else [SimpleNamespace(psi_measured=psi, d=50.0)] * 4
         felt = SimpleNamespace(finger=finger, face=face.get(deg), end=face.get(deg, end.get(deg)),
-                               touch=SimpleNamespace(samples=samples, psi_center=psi, message=None, outcome="ok"))
+                               touch=SimpleNamespace(samples=samples, psi_center=psi, message=None,
+                                                     outcome="unreachable" if lost else "ok"))
         probes.record(felt, out, lambda msg: None)
     return seen
 
