@@ -6,7 +6,7 @@ felt again without it and the answer's class refitted, has the deleted residual
   z = (d_e − ĥ_e) / √(σ_e² + J C Jᵀ),
 
 d_e the end line's d, σ_e its σ (tactile_jaw.envelope.EnvelopeFit.line_sigma), ĥ_e the refitted
-curve's support in that line's direction (:func:`support`), C the refit's stated shape–pose
+curve's support in that line's direction (:func:`tangent_point`), C the refit's stated shape–pose
 covariance (recognizer.result.Recognition.cov_pose) and J the gradient of ĥ_e in it (by the
 envelope theorem, :func:`support_gradient`): a
 standard normal when the line is a tangent of the class's curve, positive on the corner side
@@ -67,17 +67,11 @@ class EndDeletion:
                 "message": self.note()}
 
 
-def support(cls: str, vec: np.ndarray, t_range: tuple[float, float], normal: np.ndarray,
-            near: tuple[float, float], radius: float) -> float:
-    """The support n·p of the curve (class ``cls``, (shape parameters, θ, x, y) ``vec``) in the
-    direction ``normal``: n·p at the local minimum along t in ``t_range`` nearest the point
-    ``near`` within ``radius`` (mm); NaN when none is."""
-    return tangent_point(cls, vec, t_range, normal, near, radius)[0]
-
-
 def tangent_point(cls: str, vec: np.ndarray, t_range: tuple[float, float], normal: np.ndarray,
                   near: tuple[float, float], radius: float) -> tuple[float, float]:
-    """(:func:`support`, the t of its local minimum), both NaN when there is none."""
+    """(the support n·p of the curve (class ``cls``, (shape parameters, θ, x, y) ``vec``) in the
+    direction ``normal``: n·p at the local minimum along t in ``t_range`` nearest the point
+    ``near`` within ``radius`` (mm), the t of that minimum), both NaN when there is none."""
     names = CURVES[cls].param_names
     pose = Pose(*vec[len(names):])
     t = np.linspace(t_range[0], t_range[1], T_POINTS)
@@ -96,7 +90,7 @@ def support_gradient(cls: str, vec: np.ndarray, t: float, normal: np.ndarray) ->
     """∂ĥ/∂(shape parameters, θ, x, y) of the support ĥ = n·p(t*) at its tangent point ``t``:
     n·p is stationary in t there, so by the envelope theorem ĥ moves as n·∂p/∂vec with t held
     (the shape parameters' columns ``Curve.param_derivatives`` turned by θ, θ's R'(θ)·p, the
-    translation's n). One curve evaluation where central differences of :func:`support` took
+    translation's n). One curve evaluation where central differences of the support took
     two searches of ``T_POINTS`` points per unknown."""
     names = CURVES[cls].param_names
     k = len(names)
@@ -128,7 +122,7 @@ def end_z(refit: Recognition, d: float, sigma: float, normal: np.ndarray, near: 
         return math.nan
     jac = support_gradient(cls, vec, t, normal)
     var = sigma * sigma + float(jac @ refit.cov_pose @ jac)
-    return (d - h) / math.sqrt(var) if math.isfinite(h) and math.isfinite(var) and var > 0 else math.nan
+    return (d - h) / math.sqrt(var) if math.isfinite(var) and var > 0 else math.nan
 
 
 def corner_end(recognize_touches: Callable[..., Recognition], touches: Sequence[Any], recognition: Recognition,
