@@ -648,10 +648,10 @@ def _slid_path(lines: Sequence[kin.PadLine], length_mm: float, tol_mm: float = S
             n, corner, _ = _run(lines, i, 1, tol_mm)
             for j in range(i, i + n if n >= 3 else i):
                 pivoted[j] = pivoted[j] or margin < float(lines[j].pad_coordinate(corner)) < length_mm - margin
-    n, corner, _ = _run(lines, 0, 1, tol_mm)
-    if not part and n == len(lines) and all(margin < float(ln.pad_coordinate(corner)) < length_mm - margin
-                                            for ln in lines):
-        return None  # every line through one corner under the pad's middle part: the pad turned about it
+    else:
+        n, corner, _ = _run(lines, 0, 1, tol_mm)
+        if n == len(lines) and all(margin < float(ln.pad_coordinate(corner)) < length_mm - margin for ln in lines):
+            return None  # every line through one corner under the pad's middle part: the pad turned about it
     best = None
     for end in ("proximal", "distal"):
         points = [np.asarray(getattr(ln, end), dtype=float) for ln in lines]
