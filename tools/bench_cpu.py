@@ -34,7 +34,7 @@ from recognizer.profiles import PROFILES
 from recognizer.result import RecognizeOptions
 from recognizer.touches import NoiseModel, Request, SamplesTouch
 from recognizer import synth
-from tools.bench_wide import CLASSES, SAMPLES, SPACING, _touches, draw_case
+from tools.bench_wide import CLASSES, SAMPLES, SPACING, drawn_trial
 
 
 def requests(seed: int, trials: int, first: int, dist: str, exact: bool, classes=CLASSES):
@@ -42,12 +42,10 @@ def requests(seed: int, trials: int, first: int, dist: str, exact: bool, classes
     of every class, in class order; with ``exact`` each trial's noise-free request follows it."""
     for cls in classes:
         for i in range(first, first + trials):
-            _, shape, ts, _, rs = draw_case(cls, i, seed, dist)
-            direction = int(rs.choice([-1, 1]))
-            touches, noise = _touches(shape, ts, rs, direction)
-            yield f"{cls}/{i}", _request(touches, NoiseModel(noise.phi, noise.pos))
+            tr = drawn_trial(cls, i, seed, dist)
+            yield f"{cls}/{i}", _request(tr.touches, tr.noise)
             if exact:
-                clean, _ = synth.sample_shape(shape, ts, SAMPLES, SPACING * shape.size, direction, None, None,
+                clean, _ = synth.sample_shape(tr.shape, tr.ts, SAMPLES, SPACING * tr.shape.size, tr.direction, None, None,
                                               with_s=False)
                 yield f"{cls}/{i}/exact", _request(clean, NoiseModel(0.0, 0.0))
 

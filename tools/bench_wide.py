@@ -54,6 +54,7 @@ import math
 import sys
 import time
 from collections import defaultdict
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -204,6 +205,42 @@ def _touches(shape, ts, rs, direction):
     return touches, noise
 
 
+@dataclass(frozen=True)
+class Trial:
+    """Trial i of a class as every run of it draws it: ``draw_case``'s region, shape, contact
+    ts and region bounds, the traversal direction, and the 3 (or 4) noisy touches with their
+    noise model; ``rs`` has made those draws, so the random touches' draws come next."""
+
+    region: str
+    shape: synth.Shape
+    ts: np.ndarray
+    lo: float
+    hi: float
+    sign: float
+    both: bool
+    clear: float
+    direction: int
+    touches: list
+    noise: NoiseModel
+    rs: np.random.Generator
+
+    def random_t(self) -> float:
+        """A random touch's place in the region (a semicubical's clear of its cusp, on the
+        touched branch or, with ``both``, either): the bench's next draw from ``rs``."""
+        t = self.rs.uniform(self.lo, self.hi)
+        if self.shape.cls == "semicubical_parabola":
+            t = max(abs(t), self.clear) * (self.rs.choice([-1.0, 1.0]) if self.both else self.sign)
+        return t
+
+
+def drawn_trial(cls: str, i: int, seed: int, dist: str = "hand") -> Trial:
+    """Trial i of ``cls`` drawn in the bench's order: ``draw_case``, the direction, the touches."""
+    region, shape, ts, (lo, hi, sign, both, clear), rs = draw_case(cls, i, seed, dist)
+    direction = int(rs.choice([-1, 1]))
+    touches, noise = _touches(shape, ts, rs, direction)
+    return Trial(region, shape, ts, lo, hi, sign, both, clear, direction, touches, NoiseModel(noise.phi, noise.pos), rs)
+
+
 def _recognize(touches, nm, reach=None):
     req = Request(tuple(SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, CLASSES, nm,
                   {"reach": reach} if reach else {})
@@ -334,13 +371,12 @@ def run_trial(task) -> dict:
     coverage_only = bool(rest and rest[0])
     dist = rest[1] if len(rest) > 1 else "hand"
     aim = rest[2] if len(rest) > 2 else "approach"
-    region, shape, ts, (lo, hi, sign, both, clear), rs = draw_case(cls, i, seed, dist)
-    direction = int(rs.choice([-1, 1]))
-    out = {"cls": cls, "region": region, "i": i, "L": float(shape.size), "repeated": bool(len(ts) > 3)}
+    tr = drawn_trial(cls, i, seed, dist)
+    shape, ts, direction, touches, nm, rs = tr.shape, tr.ts, tr.direction, tr.touches, tr.noise, tr.rs
+    lo, hi, clear = tr.lo, tr.hi, tr.clear
+    out = {"cls": cls, "region": tr.region, "i": i, "L": float(shape.size), "repeated": bool(len(ts) > 3)}
     if dist == "wide" and not coverage_only:
         out.update(_exact(shape, ts, direction))
-    touches, noise = _touches(shape, ts, rs, direction)
-    nm = NoiseModel(noise.phi, noise.pos)
     rec, dt, req = _recognize(touches, nm)
     out.update(rival3=_rival(rec), named3=_named(rec), rank3=_ranking(rec), got3=rec.cls, err3=rel_error(shape.params, rec.params) if rec.cls == cls else math.nan, ms=1e3 * dt,
                nt_ms=rec.timing.get("next_touch_cpu_ms", math.nan))
@@ -353,15 +389,9 @@ def run_trial(task) -> dict:
     # two random extra touches in the region, sent as a hand sends any touch (``aim``:
     # ``approach``, to the region's point as the 3-touch answer places it, with its tangent)
     left = solid_left(shape.curve, ts, direction)
-
-    def draw_t():
-        t = rs.uniform(lo, hi)
-        if cls == "semicubical_parabola":
-            t = max(abs(t), clear) * (rs.choice([-1.0, 1.0]) if both else sign)
-        return t
     extra = []
     for _ in range(2):
-        t = draw_t()
+        t = tr.random_t()
         if aim == "nearest":  # touched where drawn
             landing = Landing(t, "", 0.0)
         else:

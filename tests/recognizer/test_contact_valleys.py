@@ -59,13 +59,11 @@ def test_fast_profile_answer_in_a_lower_valley_still_suggests_a_touch():
     # fast profile (no refinement), bench_wide seed 21 cubical trial 4 (across its inflection):
     # the lower valley's fit replaces the chosen one, and next_touch finds it among the candidates
     from recognizer.profiles import PROFILES
-    from recognizer.touches import NoiseModel, SamplesTouch
+    from recognizer.touches import SamplesTouch
     from tools import bench_wide as bw
 
-    _, shape, ts, _, rs = bw.draw_case("cubical_parabola", 4, 21, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    nm = NoiseModel(noise.phi, noise.pos)
+    tr = bw.drawn_trial("cubical_parabola", 4, 21, "wide")
+    touches, nm = tr.touches, tr.noise
     req = Request(tuple(SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, CLASSES, nm)
     opts = RecognizeOptions(noise=nm, **PROFILES["fast"].options())
     rec = recognize(req, opts)

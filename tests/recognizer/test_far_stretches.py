@@ -43,14 +43,11 @@ def test_far_arm_hyperbola_found_from_the_conic_through_every_sample():
 def _with_suggested(cls, i, seed, suggested_t):
     """A wide-set trial's three touches, its two random ones drawn (for the same noise
     after them) and touches at ``suggested_t`` (where the bench touched its suggestions)."""
-    region, shape, ts, (lo, hi, sign, both, clear), rs = B.draw_case(cls, i, seed, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = B._touches(shape, ts, rs, direction)
+    tr = B.drawn_trial(cls, i, seed, "wide")
     for _ in range(2):
-        t = max(abs(rs.uniform(lo, hi)), clear) * (rs.choice([-1.0, 1.0]) if both else sign)
-        B._extra_touch(shape, t, rs, direction)
-    touches = list(touches) + [B._extra_touch(shape, t, rs, direction) for t in suggested_t]
-    return region, touches, NoiseModel(noise.phi, noise.pos)
+        B._extra_touch(tr.shape, tr.random_t(), tr.rs, tr.direction)
+    touches = list(tr.touches) + [B._extra_touch(tr.shape, t, tr.rs, tr.direction) for t in suggested_t]
+    return tr.region, touches, tr.noise
 
 
 @pytest.mark.parametrize("i,suggested_t", [(3, (-2.313, -5.415)), (11, (-0.205, -0.497))])
@@ -111,10 +108,9 @@ def test_far_arm_hyperbola_with_noise_found(i, chi2_truth):
     asymptote's, and trial 11's κ's oriented the data the wrong way) while the truth,
     refined from itself, fits at ``chi2_truth``. Its asymptote starts, refined in both
     directions, find it."""
-    region, shape, ts, _, rs = B.draw_case("hyperbola", i, 1, "wide")
-    touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
-    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
-    assert region == "far on an arm"
+    tr = B.drawn_trial("hyperbola", i, 1, "wide")
+    rec, _, _ = B._recognize(tr.touches, tr.noise)
+    assert tr.region == "far on an arm"
     assert rec.cls == "hyperbola", [(r.cls, r.chi2) for r in rec.ranking]
     assert rec.ranking[0].chi2 == pytest.approx(chi2_truth, abs=0.2)
 
@@ -129,10 +125,9 @@ def test_far_arm_hyperbola_not_left_at_its_line_limit():
     confident wrong class. Neither class is a limit of the other and their BICs lie within
     classify.RIVAL_BIC: the answer says it could not tell, naming the hyperbola in
     also_fits and in its reason, with a next touch; asked to, it refuses naming both."""
-    region, shape, ts, _, rs = B.draw_case("hyperbola", 11, 9, "wide")
-    touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
-    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
-    assert region == "far on an arm"
+    tr = B.drawn_trial("hyperbola", 11, 9, "wide")
+    rec, _, _ = B._recognize(tr.touches, tr.noise)
+    assert tr.region == "far on an arm"
     hyperbola = next(r for r in rec.ranking if r.cls == "hyperbola")
     assert hyperbola.consistent and hyperbola.chi2 == pytest.approx(42.4, abs=0.2)
     assert hyperbola.bic < next(r.bic for r in rec.ranking if r.cls == "line")
@@ -140,9 +135,8 @@ def test_far_arm_hyperbola_not_left_at_its_line_limit():
     assert rival["rival_bic"] == pytest.approx(3.1, abs=0.3), rec.also_fits
     assert "hyperbola" in rec.reason and "close rivals" in rec.reason and rec.next_touch is not None
     from dataclasses import replace
-    req = B.Request(tuple(B.SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, B.CLASSES,
-                    NoiseModel(noise.phi, noise.pos), {})
-    opts = B.RecognizeOptions(noise=NoiseModel(noise.phi, noise.pos), **B.PROFILES["balanced"].options())
+    req = B.Request(tuple(B.SamplesTouch(t.phi, t.x, t.y, t.s) for t in tr.touches), None, B.CLASSES, tr.noise, {})
+    opts = B.RecognizeOptions(noise=tr.noise, **B.PROFILES["balanced"].options())
     refused = B.recognize(req, replace(opts, close_rivals="refuse"))
     assert refused.cls == "unclassified" and refused.next_touch is not None
     assert {a["class"] for a in refused.also_fits} == {"cubical_parabola", "hyperbola"}, refused.also_fits
@@ -169,13 +163,11 @@ def test_thin_ellipse_at_its_sharp_end_restarted_until_it_stops_crawling():
     """Seed 149 (development) ellipse trial 11, thin (b/a 0.12), touched at its sharp end: the
     ellipse's best fit, restarted once, stopped at its 40 evaluations at χ² 75.5 still moving
     (the truth's valley 72.5) and the answer was a semicubical at 73.4 (a search miss)."""
-    region, shape, ts, _, rs = B.draw_case("ellipse", 11, 149, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = B._touches(shape, ts, rs, direction)
-    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
-    assert region == "thin, sharp end"
+    tr = B.drawn_trial("ellipse", 11, 149, "wide")
+    rec, _, _ = B._recognize(tr.touches, tr.noise)
+    assert tr.region == "thin, sharp end"
     assert rec.cls == "ellipse", rec.reason
-    assert rec.params["b"] == pytest.approx(shape.params["b"], rel=0.2)
+    assert rec.params["b"] == pytest.approx(tr.shape.params["b"], rel=0.2)
 
 
 def test_far_arm_hyperbola_beaten_by_another_class_gets_its_asymptote_starts():
@@ -184,9 +176,8 @@ def test_far_arm_hyperbola_beaten_by_another_class_gets_its_asymptote_starts():
     the hyperbola's best fit, 98.7, lay more than 1 below its line limit (104.1), so its
     asymptote starts were not refined, while the truth refined from itself fits 79.8 (BIC
     271.8). A hyperbola that another class beats by more than ``NESTED_MARGIN`` also gets them."""
-    region, shape, ts, _, rs = B.draw_case("hyperbola", 15, 349, "wide")
-    touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
-    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
-    assert region == "far on an arm"
+    tr = B.drawn_trial("hyperbola", 15, 349, "wide")
+    rec, _, _ = B._recognize(tr.touches, tr.noise)
+    assert tr.region == "far on an arm"
     assert rec.cls == "hyperbola", [(r.cls, r.chi2) for r in rec.ranking]
     assert rec.ranking[0].chi2 == pytest.approx(79.8, abs=0.3)

@@ -7,17 +7,15 @@ import numpy as np
 from recognizer.classify import recognize
 from recognizer.profiles import PROFILES
 from recognizer.result import RecognizeOptions
-from recognizer.touches import NoiseModel, Request, SamplesTouch
+from recognizer.touches import Request, SamplesTouch
 from tools import bench_wide as B
 
 
 def _answer(cls, i, only=False):
     """Seed 1's trial i of a class, every class allowed (``only``: that class alone, as a
     scene that names it)."""
-    region, shape, ts, _, rs = B.draw_case(cls, i, 1)
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = B._touches(shape, ts, rs, direction)
-    nm = NoiseModel(noise.phi, noise.pos)
+    tr = B.drawn_trial(cls, i, 1)
+    region, shape, touches, nm = tr.region, tr.shape, tr.touches, tr.noise
     if not only:
         return region, shape, B._recognize(touches, nm)[0]
     req = Request(tuple(SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, (cls,), nm, {})
@@ -113,10 +111,9 @@ def test_both_branches_semicubical_far_out_sigmas_reach_the_valley_past_chi2_95(
     """bench_wide seed 89 (wide set), semicubical trial 14: touches far out on one branch
     (t −9.5 … −13.6, one place twice), answered a 0.448 ± 0.008, b −8.53 ± 0.25 (truth 0.134,
     0.419: z 39, −35); the truth's valley (b 0.26) fits Δχ² 4.6 higher."""
-    region, shape, ts, _, rs = B.draw_case("semicubical_parabola", 14, 89, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = B._touches(shape, ts, rs, direction)
-    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
+    tr = B.drawn_trial("semicubical_parabola", 14, 89, "wide")
+    shape = tr.shape
+    rec, _, _ = B._recognize(tr.touches, tr.noise)
     assert rec.cls == "semicubical_parabola" and rec.params["b"] < -5.0  # still the lowest valley
     z = {k: (rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()}
     assert all(abs(v) <= 3.2 for v in z.values()), z
@@ -126,11 +123,10 @@ def test_one_branch_far_semicubical_sigmas_reach_the_truth_in_the_other_valley()
     """Seed 5, semicubical trial 13, 3 touches on one branch far from the cusp: the answer
     (b −14.9, parabola-like) and the truth's valley (b −0.61 refined, truth −0.56) fit
     within Δχ² 1.6; the linearized σ's put the truth 24 and 64 σ away."""
-    region, shape, ts, _, rs = B.draw_case("semicubical_parabola", 13, 5)
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = B._touches(shape, ts, rs, direction)
-    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
-    assert region == "one branch far" and rec.cls == "semicubical_parabola"
+    tr = B.drawn_trial("semicubical_parabola", 13, 5)
+    shape = tr.shape
+    rec, _, _ = B._recognize(tr.touches, tr.noise)
+    assert tr.region == "one branch far" and rec.cls == "semicubical_parabola"
     assert abs(rec.params["b"]) > 5.0  # still the valley of lowest χ²
     z = {k: (rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()}
     assert all(abs(v) <= 1.96 for v in z.values()), z
@@ -293,11 +289,10 @@ def test_fits_crawling_towards_another_valley_are_continued_before_the_sigmas_co
     # cusp): answered in the parabola-like valley b 11.5 (scale-free units); two other fits
     # stopped at their 40 evaluations at χ² 61.4 and 62.3 on their way to the truth's valley
     # (55.7, 4.2 above the answer): not counted, b 11.46 ± 0.44 for a truth of 0.85, z 24
-    region, shape, ts, _, rs = B.draw_case("semicubical_parabola", 4, 5, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = B._touches(shape, ts, rs, direction)
-    rec = B._recognize(touches, NoiseModel(noise.phi, noise.pos))[0]
-    assert region == "one branch near cusp" and rec.cls == "semicubical_parabola"
+    tr = B.drawn_trial("semicubical_parabola", 4, 5, "wide")
+    shape = tr.shape
+    rec = B._recognize(tr.touches, tr.noise)[0]
+    assert tr.region == "one branch near cusp" and rec.cls == "semicubical_parabola"
     z = {k: (rec.params[k] - v) / rec.uncertainty[k] for k, v in shape.params.items()}
     assert all(abs(v) < 3.0 for v in z.values()), z
 

@@ -128,9 +128,8 @@ def test_a_one_branch_semicubical_suggestion_stays_inside_reach():
     the suggestion inside it, and one of them holds a place that helps."""
     from tools import bench_wide as B
 
-    region, shape, ts, _, rs = B.draw_case("semicubical_parabola", 22, 1)
-    touches, noise = B._touches(shape, ts, rs, int(rs.choice([-1, 1])))
-    nm = NoiseModel(noise.phi, noise.pos)
+    tr = B.drawn_trial("semicubical_parabola", 22, 1)
+    shape, ts, touches, nm = tr.shape, tr.ts, tr.touches, tr.noise
     cx, cy = shape.pose.apply(*shape.curve.point(np.array([-ts[0], ts[0]])))
     inside = 0
     for x0, y0, r in ((float(cx[0]), float(cy[0]), 12.0), (float(cx[1]), float(cy[1]), 8.0)):
@@ -177,16 +176,14 @@ def test_thin_ellipse_sharp_end_suggestion_tells_it_from_the_semicubical():
     touch landed at t 2.78 next to the touch at 2.73 and the answer stayed semicubical)."""
     from tools import bench_wide as bw
 
-    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case("ellipse", 14, 89, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    nm = NoiseModel(noise.phi, noise.pos)
+    tr = bw.drawn_trial("ellipse", 14, 89, "wide")
+    shape, touches, nm = tr.shape, tr.touches, tr.noise
     rec, _, _ = bw._recognize(touches, nm)
     assert rec.cls == "semicubical_parabola" and rec.next_touch is not None
-    t = bw._closest_t(shape, rec.next_touch["x"], rec.next_touch["y"], lo, hi, clear)
-    x, y = shape.pose.apply(*shape.curve.point(np.array([t] + list(ts))))
+    t = bw._closest_t(shape, rec.next_touch["x"], rec.next_touch["y"], tr.lo, tr.hi, tr.clear)
+    x, y = shape.pose.apply(*shape.curve.point(np.array([t] + list(tr.ts))))
     assert np.min(np.hypot(x[1:] - x[0], y[1:] - y[0])) > 0.2 * shape.size  # a new place on the object
-    after, _, _ = bw._recognize(list(touches) + [bw._extra_touch(shape, t, rs, direction)], nm)
+    after, _, _ = bw._recognize(list(touches) + [bw._extra_touch(shape, t, tr.rs, tr.direction)], nm)
     assert after.cls == "ellipse"
 
 
@@ -198,17 +195,15 @@ def test_a_semicubical_leader_suggests_its_other_branch():
     rival has, is now scored too: the suggestion lands there and decides."""
     from tools import bench_wide as bw
 
-    _, shape, ts, (lo, hi, sign, both, clear), rs = bw.draw_case("semicubical_parabola", 1, 149, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    nm = NoiseModel(noise.phi, noise.pos)
+    tr = bw.drawn_trial("semicubical_parabola", 1, 149, "wide")
+    shape, touches, nm, rs, direction = tr.shape, tr.touches, tr.noise, tr.rs, tr.direction
     for _ in range(2):  # the bench's two random touches, drawn for the same noise after them
-        bw._extra_touch(shape, max(abs(rs.uniform(lo, hi)), clear) * sign, rs, direction)
+        bw._extra_touch(shape, tr.random_t(), rs, direction)
     touches = list(touches) + [bw._extra_touch(shape, 10.892, rs, direction)]
     rec, _, _ = bw._recognize(touches, nm)
     assert rec.cls == "semicubical_parabola" and rec.next_touch is not None
-    t = bw._closest_t(shape, rec.next_touch["x"], rec.next_touch["y"], lo, hi, clear)
-    assert t * sign < 0  # the other branch
+    t = bw._closest_t(shape, rec.next_touch["x"], rec.next_touch["y"], tr.lo, tr.hi, tr.clear)
+    assert t * tr.sign < 0  # the other branch
     after, _, _ = bw._recognize(touches + [bw._extra_touch(shape, t, rs, direction)], nm)
     assert after.cls == "semicubical_parabola"
     assert after.ranking[1].bic - after.ranking[0].bic > 100
@@ -222,16 +217,14 @@ def _suggestion_sent(cls: str, i: int, seed: int, exact: bool = False):
     from tools import bench_wide as bw
     from tools.pad_approach import solid_left
 
-    region, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case(cls, i, seed, "wide")
-    direction = int(rs.choice([-1, 1]))
+    tr = bw.drawn_trial(cls, i, seed, "wide")
     if exact:
-        bw._exact(shape, ts, direction)
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    rec, _, _ = bw._recognize(touches, NoiseModel(noise.phi, noise.pos))
+        bw._exact(tr.shape, tr.ts, tr.direction)
+    rec, _, _ = bw._recognize(tr.touches, tr.noise)
     assert rec.next_touch, rec.cls
     nt = rec.next_touch
-    return region, shape, rec, bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach",
-                                        solid_left(shape.curve, ts, direction), direction)
+    return tr.region, tr.shape, rec, bw._send(tr.shape, nt["x"], nt["y"], nt["phi"], tr.lo, tr.hi, tr.clear, "approach",
+                                              solid_left(tr.shape.curve, tr.ts, tr.direction), tr.direction)
 
 
 @pytest.mark.parametrize("i", [0, 3])
@@ -327,10 +320,9 @@ def _wide_case_after_random(cls: str, trial: int, seed: int):
     from tools import bench_wide as bw
     from tools.pad_approach import solid_left
 
-    _, shape, ts, (lo, hi, _, _, clear), rs = bw.draw_case(cls, trial, seed, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    nm = NoiseModel(noise.phi, noise.pos)
+    tr = bw.drawn_trial(cls, trial, seed, "wide")
+    shape, ts, rs, direction, touches, nm = tr.shape, tr.ts, tr.rs, tr.direction, tr.touches, tr.noise
+    lo, hi, clear = tr.lo, tr.hi, tr.clear
     rec, _, _ = bw._recognize(touches, nm)
     left = solid_left(shape.curve, ts, direction)
     for _ in range(2):
@@ -456,10 +448,8 @@ def test_a_line_leader_checks_landing_only_where_the_choice_can_fall(monkeypatch
     import recognizer.next_touch as nt_mod
     from tools import bench_wide as bw
 
-    _, shape, ts, _, rs = bw.draw_case("line", 12, 293, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    nm = NoiseModel(noise.phi, noise.pos)
+    tr = bw.drawn_trial("line", 12, 293, "wide")
+    touches, nm = tr.touches, tr.noise
     checked = []
     landed = nt_mod._landed
 
@@ -535,10 +525,8 @@ def test_a_line_leaders_landing_checks_in_batches_choose_as_checking_everywhere(
     import recognizer.next_touch as nt_mod
     from tools import bench_wide as bw
 
-    _, shape, ts, _, rs = bw.draw_case("line", trial, 293, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = bw._touches(shape, ts, rs, direction)
-    nm = NoiseModel(noise.phi, noise.pos)
+    tr = bw.drawn_trial("line", trial, 293, "wide")
+    touches, nm = tr.touches, tr.noise
     rec, _, _ = bw._recognize(touches, nm)
     monkeypatch.setattr(nt_mod, "LAND_FIRST", 10 ** 6)
     full, _, _ = bw._recognize(touches, nm)

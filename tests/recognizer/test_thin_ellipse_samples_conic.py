@@ -15,11 +15,10 @@ def test_thin_ellipse_sharp_end_found_from_the_samples_conic():
     """Seed 547 ellipse trial 2 (thin, b/a 0.122, at its sharp end, L 20.1 mm), as the bench
     draws it: the contact fits (b/a 0.08–0.09) refined to χ² 84.6 at their evaluation budget
     and the answer was semicubical at 66.2; the truth refined from itself fits 62.8."""
-    region, shape, ts, _, rs = B.draw_case("ellipse", 2, 547, "wide")
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = B._touches(shape, ts, rs, direction)
-    rec, _, _ = B._recognize(touches, NoiseModel(noise.phi, noise.pos))
-    assert region == "thin, sharp end"
+    tr = B.drawn_trial("ellipse", 2, 547, "wide")
+    shape = tr.shape
+    rec, _, _ = B._recognize(tr.touches, tr.noise)
+    assert tr.region == "thin, sharp end"
     assert rec.cls == "ellipse", rec.reason
     assert rec.ranking[0].chi2 == pytest.approx(62.84, abs=0.1)
     for k, v in shape.params.items():

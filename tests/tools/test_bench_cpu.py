@@ -8,7 +8,7 @@ import json
 import numpy as np
 
 from tools import bench_cpu
-from tools.bench_wide import _touches, draw_case
+from tools.bench_wide import drawn_trial
 
 
 def _write(path, answers):
@@ -19,8 +19,7 @@ def _write(path, answers):
 
 def test_requests_are_bench_wides_first_recognitions():
     (name, (req, _)), = list(bench_cpu.requests(5, 1, 3, "wide", False, ["ellipse"]))
-    _, shape, ts, _, rs = draw_case("ellipse", 3, 5, "wide")
-    touches, _ = _touches(shape, ts, rs, int(rs.choice([-1, 1])))
+    touches = drawn_trial("ellipse", 3, 5, "wide").touches
     assert name == "ellipse/3" and len(req.touches) == len(touches)
     assert all(np.array_equal(a.x, b.x) and np.array_equal(a.phi, b.phi) for a, b in zip(req.touches, touches))
 

@@ -60,15 +60,11 @@ def test_one_side_parabola_stays_parabola_after_the_suggested_touches():
 def _trial_touches(cls, i, seed, suggested_t):
     """A bench_wide trial's three touches and its touches at ``suggested_t`` (the places
     the recorded suggestions were touched), drawn from the bench's own generator in its order."""
-    region, shape, ts, (lo, hi, sign, both, clear), rs = B.draw_case(cls, i, seed)
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = B._touches(shape, ts, rs, direction)
+    tr = B.drawn_trial(cls, i, seed)
     for _ in range(2):  # the two random touches' draws
-        t = rs.uniform(lo, hi)
-        t = max(abs(t), clear) * (rs.choice([-1.0, 1.0]) if both else sign)
-        B._extra_touch(shape, t, rs, direction)
-    touches = list(touches) + [B._extra_touch(shape, t, rs, direction) for t in suggested_t]
-    return region, shape, touches, B.NoiseModel(noise.phi, noise.pos), np.concatenate((ts, suggested_t)), direction
+        B._extra_touch(tr.shape, tr.random_t(), tr.rs, tr.direction)
+    touches = list(tr.touches) + [B._extra_touch(tr.shape, t, tr.rs, tr.direction) for t in suggested_t]
+    return tr.region, tr.shape, touches, tr.noise, np.concatenate((tr.ts, suggested_t)), tr.direction
 
 
 def test_far_branch_semicubical_after_suggestions_is_no_search_miss():
@@ -90,10 +86,8 @@ def test_far_branch_semicubical_after_suggestions_is_no_search_miss():
 
 
 def _three_touches(cls, i, seed):
-    region, shape, ts, _, rs = B.draw_case(cls, i, seed)
-    direction = int(rs.choice([-1, 1]))
-    touches, noise = B._touches(shape, ts, rs, direction)
-    return region, shape, B._recognize(touches, B.NoiseModel(noise.phi, noise.pos))[0]
+    tr = B.drawn_trial(cls, i, seed)
+    return tr.region, tr.shape, B._recognize(tr.touches, tr.noise)[0]
 
 
 def test_short_stretch_ellipse_is_no_search_miss():
