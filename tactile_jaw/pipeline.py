@@ -168,7 +168,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     cannot measure a radius of curvature), that it rolled on the curved part
     (:func:`off_curve_reason`); a roll that ran off it at an end is used on its longest
     stretch that passes (``trim``, :func:`smooth_stretch`), else its shorter stretch on the
-    curve is noted (``curve_at``, :func:`curve_hint`). A flat press is felt by
+    curve is noted (``curve_at``, :func:`curve_hint`, :func:`moving_hint`, :func:`past_stretch`). A flat press is felt by
     tactile_jaw.flat.feel_flat."""
     if isinstance(touch, FlatResult):
         lines, problem, contact, face = feel_flat(config, touch)
@@ -435,8 +435,8 @@ def past_stretch(config, felt: FeltTouch, samples: int) -> FeltTouch:
     P hyperbola 94 of bench_explore --finite 20 --anywhere --seed 571 (right roll at ψ
     73.5–91.5°: 3 lines through the end corner, 6 on the arm, ρ 124 → 23 mm) kept a run
     dropping 2 lines at each end and was rolled again at its middle, the same roll; calibrated
-    P hyperbola 40 of seed 593 (3 lines on the corner, 4 on the arm) kept no run of 5 windows
-    and pressed flat instead; both were refused "no rolling touch on it was usable" with the
+    P hyperbola 40 of seed 593 (5 lines on the corner, 4 on the arm: no passing run, a moving
+    stretch of 4 windows, short of moving_hint's 5) had no hint and pressed flat instead; both were refused "no rolling touch on it was usable" with the
     arm past the stretch, ρ 30 → 10 mm, within the right pad's reach."""
     stretch = moving_stretch(config, felt, MOVED_RUN_WINDOWS)
     if stretch is None:
