@@ -168,7 +168,7 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     cannot measure a radius of curvature), that it rolled on the curved part
     (:func:`off_curve_reason`); a roll that ran off it at an end is used on its longest
     stretch that passes (``trim``, :func:`smooth_stretch`), else its shorter stretch on the
-    curve is noted (``curve_at``, :func:`curve_hint`). A flat press is felt by
+    curve is noted (``curve_at``, :func:`curve_hint`, :func:`moving_hint`, :func:`past_stretch`). A flat press is felt by
     tactile_jaw.flat.feel_flat."""
     if isinstance(touch, FlatResult):
         lines, problem, contact, face = feel_flat(config, touch)
@@ -228,7 +228,13 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
                        corner=pivot_point(lines) if on_corner(fit) else None, curve_at=hint, curve_span=span,
                        segment_corners=segment[2] if segment is not None else (),
                        pivot=pivot_run(lines, c, fit.line_sigma) if segment is None else None)
-            return moving_hint(config, felt, samples) if trim and rough(fit) and hint is None else felt
+            if not (trim and rough(fit)):
+                return felt
+            if hint is None:
+                felt = moving_hint(config, felt, samples)
+            # no hint yet, or the middle of a run that lost both its ends: on past the stretch the contact moved on
+            return past_stretch(config, felt, samples) if felt.curve_at is None or (hint is not None and span is None) \
+                else felt
     if curve_checks:
         slid = slid_end(lines, fit)
         if slid is not None:
@@ -410,6 +416,37 @@ def moving_hint(config, felt: FeltTouch, samples: int) -> FeltTouch:
         m = c.x.size // 2
         return replace(felt, curve_at=(float(c.x[m]), float(c.y[m]), float(c.psi[m]) - math.pi / 2))
     edge, sign = (0, 1.0) if low > high else (c.x.size - 1, -1.0)
+    hint = _roll_beside(stretch, np.arange(c.x.size), edge, sign, step * (samples - 1), samples)
+    return felt if hint is None else replace(felt, curve_at=hint)
+
+
+def past_stretch(config, felt: FeltTouch, samples: int) -> FeltTouch:
+    """``felt``, a roll off the curved part with no hint at one end of it (:func:`curve_hint`
+    found no passing run, or one that lost samples at both ends; :func:`moving_hint` none),
+    with its ``curve_at`` one roll on past its stretch on which the contact moved along a
+    convex boundary (:func:`moving_stretch`, ``MOVED_RUN_WINDOWS`` windows: what
+    :func:`curved_part` counts as a curved part), when that stretch leaves out more of the
+    roll's lines at one end (:func:`left_out`: the roll ran onto a corner or closing segment
+    there, as tactile_jaw.flat_phase.curve_stop reads it) than at the other: a roll of
+    ``samples`` readings whose first reading lies one step past the stretch's other end
+    (:func:`_roll_beside`), away from that corner; else ``felt`` unchanged. On a hyperbola's
+    arm ρ shrinks several times toward the vertex within a roll, and with fine encoders no
+    polynomial envelope follows such lines over a roll that also ran onto the end corner:
+    P hyperbola 94 of bench_explore --finite 20 --anywhere --seed 571 (right roll at ψ
+    73.5–91.5°: 3 lines through the end corner, 6 on the arm, ρ 124 → 23 mm) kept a run
+    dropping 2 lines at each end and was rolled again at its middle, the same roll; calibrated
+    P hyperbola 40 of seed 593 (5 lines on the corner, 4 on the arm: no passing run, a moving
+    stretch of 4 windows, short of moving_hint's 5) had no hint and pressed flat instead; both were refused "no rolling touch on it was usable" with the
+    arm past the stretch, ρ 30 → 10 mm, within the right pad's reach."""
+    stretch = moving_stretch(config, felt, MOVED_RUN_WINDOWS)
+    if stretch is None:
+        return felt
+    low, high = left_out(felt, stretch)
+    if low == high:
+        return felt
+    c = stretch.contacts
+    step = float(np.median(np.diff(np.sort([s.psi for s in felt.touch.samples]))))
+    edge, sign = (c.x.size - 1, 1.0) if low > high else (0, -1.0)
     hint = _roll_beside(stretch, np.arange(c.x.size), edge, sign, step * (samples - 1), samples)
     return felt if hint is None else replace(felt, curve_at=hint)
 

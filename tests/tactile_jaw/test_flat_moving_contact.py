@@ -134,15 +134,17 @@ def test_a_roll_off_the_end_corner_onto_the_curve_makes_the_faces_closing_segmen
     6 lines, then its last 3 lines moved along the curve: the three-line windows over those
     lines touch circles of ρ 9.1, 127.3, 53.8 ± 0.35 mm, 3 windows where a block's crossing of a
     face moves 2 (the two that straddle the pivot's change, below). The run is short of the smoothness test's
-    CURVE_HINT_SAMPLES (no hint for the next roll), yet the curve was felt: the right pad's
-    presses on the closing segment (103.2, 6.2)–(122.7, 17.8) are no line. Before, they were
-    answered line (χ² 1.9e-5, every other class untested)."""
+    CURVE_HINT_SAMPLES, yet the curve was felt: the right pad's presses on the closing segment
+    (103.2, 6.2)–(122.7, 17.8) are no line. Before, they were answered line (χ² 1.9e-5, every
+    other class untested). Since session 34 those 3 windows also aim the finger's next roll on
+    past them, away from the corner (tactile_jaw.pipeline.past_stretch): on the curved part,
+    the line through the place aimed at within 1.5 mm of the true support line (no hint before)."""
     config = load_config("config/jaw-p.yaml")
     raw = json.loads((DATA / "p_cubical_21_rolls.json").read_text())["rolls"]
     branch, corner = (_logged(config, r, outcome="ok") for r in raw)
-    assert branch.off_curve and branch.curve_at is None and curved_stretch(config, branch) is None, branch.problem
+    assert branch.off_curve and curved_stretch(config, branch) is None, branch.problem
     assert corner.corner is not None and moving_stretch(config, corner, MOVED_RUN_WINDOWS) is None
-    assert moving_stretch(config, branch) is None  # 3 windows: no hint where to roll next
+    assert moving_stretch(config, branch) is None  # 3 windows: not moving_hint's 5, past_stretch's 3
     stretch = moving_stretch(config, branch, MOVED_RUN_WINDOWS)
     assert stretch is not None and len(stretch.contacts.x) == CURVE_HINT_SAMPLES
     assert left_out(branch, stretch) == (4, 0)  # the pivot's lines below, the stretch up to the roll's end
@@ -151,6 +153,14 @@ def test_a_roll_off_the_end_corner_onto_the_curve_makes_the_faces_closing_segmen
     # line through the corner (a window's neighbour), lies 1.3 mm past the curve's end
     assert _miss(obj, stretch.contacts.x[1:], stretch.contacts.y[1:]) < 0.5
     assert 9.0 < stretch.fit.rho < 130.0
+    x, y, phi = branch.curve_at  # one roll on past the stretch's high-ψ end, away from the corner's lines
+    psi = phi + math.pi / 2
+    assert psi > max(s.psi for s in branch.touch.samples) + math.radians(8.0)
+    ox, oy = obj.outline(20000)
+    support = np.cos(psi) * ox + np.sin(psi) * oy
+    k = int(np.argmin(support))
+    assert abs(math.cos(psi) * x + math.sin(psi) * y - support[k]) < 1.5
+    assert 0 < k < 20000 - 1  # the support there is inside the curved part (its first 20000 points), no corner
     press = _flat(_face(6.18, math.atan2(17.77 - 6.18, 122.73 - 103.21), x0=103.21, x1=122.73, below=False), "right")
     found = curved_part(config, [press, press, press, corner, branch])
     assert found is not None and found.finger == "left" and found.touch.touch == 4
