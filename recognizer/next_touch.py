@@ -146,11 +146,6 @@ PLACE_EXTENTS = 3.0
 nearest touch (an open curve; beyond one extent, to tell classes apart only): far out on a
 semicubical's branch it and a parabola differ most there, and toward the cusp no pad has
 room to roll (docs/benchmarks.md, sessions 28 and 29)."""
-BLOCK_ENTRIES = 32768
-"""the entries of a (places × dense points) array computed at once (``_blocks``): 256 KiB a float
-array. Whole, 190 × 800 of them (1.2 MB each) were handed back to the kernel by glibc's free
-and faulted in again page by page on every call (~1,600 page faults in one semicubical
-``next_touch`` of bench_wide seed 577); in such blocks none (docs/benchmarks.md, session 34)."""
 FAR_SEPARATION = 1.0
 """the expected χ² separation (one measurement's noise) a rival must lack at every place within
 one extent where the pad lands on it before places beyond tell it from the leader."""
@@ -239,23 +234,13 @@ def _pad_span(c: Candidate, n: int = N_DENSE) -> np.ndarray:
     return t
 
 
-def _blocks(places: int, dense: int) -> list[slice]:
-    """Consecutive blocks of ``places`` rows, each (rows × ``dense``) at most ``BLOCK_ENTRIES``
-    entries (at least one row): a computation that is row by row the same on every block
-    gives the same bits blocked, without the page faults of arrays beyond the mmap threshold."""
-    rows = max(1, BLOCK_ENTRIES // max(dense, 1))
-    return [slice(s, s + rows) for s in range(0, places, rows)]
-
-
 def _closest(curve, pose: Pose, t_dense: np.ndarray, dense: tuple, px: np.ndarray, py: np.ndarray) -> np.ndarray:
     """t of the curve's point closest to each hand-frame (px, py): the nearest dense
-    sample (``dense``: the hand-frame points at ``t_dense``; in ``_blocks`` of places), then
-    three Newton steps (``Curve.project``)."""
+    sample (``dense``: the hand-frame points at ``t_dense``), then three Newton steps
+    (``Curve.project``)."""
     cx, cy = dense
-    nearest = np.empty(px.size, np.intp)
-    for b in _blocks(px.size, cx.size):
-        nearest[b] = np.argmin((px[b, None] - cx[None, :]) ** 2 + (py[b, None] - cy[None, :]) ** 2, axis=1)
-    t = t_dense[nearest]
+    d2 = (px[:, None] - cx[None, :]) ** 2 + (py[:, None] - cy[None, :]) ** 2
+    t = t_dense[np.argmin(d2, axis=1)]
     return curve.project(t, *pose.inverse(px, py), steps=3)
 
 
@@ -280,17 +265,8 @@ def _landed(curve, pose: Pose, t_dense: np.ndarray, px, py, phi, left: bool, hal
     ``reach`` of the pad either side for the roll, and is not within ``reach`` of a
     semicubical parabola's cusp. A pad whose end meets the curve seats, turning up to
     ``SEAT_RAD`` to the tangent of the curve's point nearest the place, and lands if it
-    lands so. Computed in ``_blocks`` of places (each place's answer is its own)."""
+    lands so."""
     cx, cy = pose.apply(*curve.point(t_dense))
-    out = np.zeros(px.size, bool)
-    for b in _blocks(px.size, t_dense.size):
-        out[b] = _landed_block(curve, pose, t_dense, cx, cy, px[b], py[b], phi[b], left, half_pad, reach, standoff)
-    return out
-
-
-def _landed_block(curve, pose: Pose, t_dense: np.ndarray, cx, cy, px, py, phi, left: bool, half_pad: float,
-                  reach: float, standoff: float) -> np.ndarray:
-    """``_landed`` at a block of places, (cx, cy) the posed curve's points at ``t_dense``."""
     dx, dy = cx[None, :] - px[:, None], cy[None, :] - py[:, None]
     out = _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff)
     lost = np.flatnonzero(~out)

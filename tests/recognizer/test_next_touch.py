@@ -525,32 +525,6 @@ def test_a_pads_face_meets_the_same_points_asking_only_those_under_it(cls, param
     assert 0 < landed < 4 * t.size  # some pads land and some do not
 
 
-@pytest.mark.parametrize("cls, params", [("ellipse", {"a": 40.0, "b": 6.0}), ("semicubical_parabola", {"a": 2.0, "b": 1.0})])
-def test_landing_and_nearest_points_in_blocks_of_places_are_the_same_bits(cls, params, monkeypatch):
-    """``_landed`` and ``_closest`` compute in ``_blocks`` of places (session 34, to keep
-    their (places × dense) arrays small): one place a block, blocks that split the places
-    unevenly and the whole at once give the same answers, bit for bit."""
-    import recognizer.next_touch as nt_mod
-    curve, pose = CURVES[cls](params), Pose(0.4, 3.0, -2.0)
-    rng = np.random.default_rng(11)
-    t_dense = np.linspace(-3.0, 3.0, 700) if curve.t_period is None else np.linspace(-np.pi, np.pi, 700, endpoint=False)
-    t = rng.uniform(-2.0, 2.0, 301)
-    px, py = pose.apply(*curve.point(t))
-    px, py = px + rng.normal(0, 0.05, t.size), py + rng.normal(0, 0.05, t.size)
-    phi = np.asarray(curve.tangent_angle(t), float) + pose.theta + rng.normal(0, 0.02, t.size)
-    dense = pose.apply(*curve.point(t_dense))
-    got = {}
-    for entries in (1, 7 * 700, 10**9):  # a place a block; 7 places a block (43 blocks); all at once
-        monkeypatch.setattr(nt_mod, "BLOCK_ENTRIES", entries)
-        landed = [nt_mod._landed(curve, pose, t_dense, px, py, phi, left, 1.0, 0.4, 2.0) for left in (True, False)]
-        got[entries] = (np.concatenate(landed), nt_mod._closest(curve, pose, t_dense, dense, px, py))
-        assert len(nt_mod._blocks(t.size, t_dense.size)) == {1: 301, 7 * 700: 43, 10**9: 1}[entries]
-    for entries in (1, 7 * 700):
-        assert got[entries][0].tolist() == got[10**9][0].tolist()
-        assert got[entries][1].tobytes() == got[10**9][1].tobytes()
-    assert 0 < int(got[10**9][0].sum()) < 2 * t.size  # some pads land and some do not
-
-
 @pytest.mark.parametrize("trial", [3, 6, 10])
 def test_a_line_leaders_landing_checks_in_batches_choose_as_checking_everywhere(trial, monkeypatch):
     """bench_wide --set wide seed 293, line trials 3, 6, 10: no place of the first
