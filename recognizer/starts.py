@@ -297,20 +297,25 @@ def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
     """The semicubical scan's score at shapes b and first-touch coordinates v0 on branch
     sg (broadcast arrays): χ² of positions, κ and κ_s with φ fitted exactly; returns
     (cost, v per touch, scale 1/a²), cost inf where a touch's v is not on the branch its
-    tangent angle points to (the other touches may lie on either branch)."""
+    tangent angle points to (the other touches may lie on either branch), and v and scale
+    NaN there: each point's score is its own, so such points are scored no further."""
     x, y, phi, k, ks, w_pos, W = _scan_data(d)
     sig_phi = np.array([r[6] for r in d.rows()])
-    b = b[..., None]
-    th = phi[0] - np.arctan2(sg * (3 * v0 + 2 * b[..., 0]), 2 * sg)
+    th = phi[0] - np.arctan2(sg * (3 * v0 + 2 * b), 2 * sg)
     psi = wrap_angle(phi - th[..., None])
+    b = np.broadcast_to(b, th.shape)[..., None]
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         v = (2 * np.tan(psi) - 2 * b) / 3
         # each touch on the branch its tangent points to: ψ within ±π/2 on v > 0, beyond on v < 0
-        ok = all_last((np.abs(psi) < _PI / 2) == (v > 0))
+        branch = all_last((np.abs(psi) < _PI / 2) == (v > 0))
+        cost_all, v_all, scale_all = np.full(th.shape, np.inf), np.full(v.shape, np.nan), np.full(th.shape, np.nan)
+        if not branch.any():
+            return cost_all, v_all, scale_all
+        th, v, b = th[branch], v[branch], b[branch]  # the admissible points alone, in a row
         v, scale, cost = _placed(x, y, w_pos, th, v, lambda u: (u * u, u * u * (u + b)),
                                  lambda u: (2 * u, u * (3 * u + 2 * b)),
                                  lambda u, un: np.where(un * u > 0, un, 0.5 * u))
-        ok &= scale > 0
+        ok = scale > 0
         sc = scale[..., None]
         sg = np.where(v > 0, 1.0, -1.0)
         u = 3 * v + 2 * b
@@ -321,7 +326,9 @@ def _scan_cost(d: Contacts, b: np.ndarray, v0: np.ndarray, sg: float):
         rk = k - 6.0 / (np.abs(v) * q**1.5) / sc
         rks = ks + 6.0 * (q + 9 * u * v) / (v**3 * q**3) / (sc * sc)
         cost = cost + sum_last(rphi * rphi) + _curvature_chi2(W, rk, rks)
-    return np.where(ok & np.isfinite(cost), cost, np.inf), v, scale
+    cost_all[branch] = np.where(ok & np.isfinite(cost), cost, np.inf)
+    v_all[branch], scale_all[branch] = v, scale
+    return cost_all, v_all, scale_all
 
 
 def _scan_start(b: float, scale: float, v) -> tuple[dict, list]:

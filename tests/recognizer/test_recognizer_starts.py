@@ -104,6 +104,30 @@ def test_semicubical_scan_starts_reach_the_truth(b, vs, monkeypatch):
     assert np.allclose(fits[0].t, ts, rtol=1e-6)
 
 
+def test_semicubical_scan_scores_each_point_alone():
+    """``starts._scan_cost`` scores only the grid points whose touches all lie on the branch
+    their tangents point to (session 34, for speed): each point's cost, v and scale are the
+    same bits scored alone as on the whole grid, and a point off its branch costs ∞ with v
+    and scale NaN."""
+    from recognizer.starts import _scan_cost
+    rng = np.random.default_rng(5)
+    d = _contacts("semicubical_parabola", {"a": 0.2, "b": 0.35}, np.array([0.66, 0.9, 1.55]) / 0.2,
+                  Pose(-1.0, 90.0, 10.0), sig_pos=0.05, sig_phi=1.5e-3, sig_k=1e-2)
+    d = Contacts(d.x + rng.normal(0, 0.05, 3), d.y + rng.normal(0, 0.05, 3), d.phi + rng.normal(0, 1.5e-3, 3),
+                 d.kappa, d.kappa_s, d.cov, d.sig_pos, d.sig_phi)
+    bs = np.sinh(np.linspace(-3.0, 3.0, 25))[:, None]
+    for sg in (1.0, -1.0):
+        v0 = sg * np.geomspace(1e-2, 1e2, 31)[None, :] * np.maximum(1.0, np.abs(bs))
+        cost, v, scale = _scan_cost(d, bs, v0, sg)
+        off = np.isnan(scale)
+        assert np.all(np.isinf(cost[off])) and np.all(np.isnan(v[off]))
+        assert np.isfinite(cost).sum() > 50 and off.sum() > 50  # points scored and points off their branch
+        for i, j in zip(rng.integers(0, 25, 40), rng.integers(0, 31, 40)):
+            c1, v1, s1 = _scan_cost(d, bs[i:i + 1], v0[i:i + 1, j:j + 1], sg)
+            assert c1[0, 0].tobytes() == cost[i, j].tobytes()
+            assert v1[0, 0].tobytes() == v[i, j].tobytes() and s1[0, 0].tobytes() == scale[i, j].tobytes()
+
+
 def test_semicubical_found_under_standard_noise():
     """Class known, standard noise (φ 1.5 mrad, positions 0.1 % of L, 3 × 9 samples):
     the refined semicubical fit is found consistent, with touches on one branch or both."""
