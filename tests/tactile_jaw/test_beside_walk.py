@@ -66,3 +66,22 @@ def test_a_press_at_a_seat_the_lines_show_keeps_flat_max_s(monkeypatch):
     assert give_up() is None
     clock[0] = 100.0 + 12.1
     assert give_up() == "no seat found within 12 s"
+
+
+def test_a_walk_given_up_beside_is_no_miss_and_not_made_beside_again(monkeypatch):
+    # the flat phase walks again (FLAT_MAX_S, stopped once the other pad seats): no seat is lost
+    given_up = SimpleNamespace(finger="right", problem="right: flat press stopped: no seat found within 8 s",
+                               touch=SimpleNamespace(touch=8, outcome="stopped",
+                                                     message="right: flat press stopped: no seat found within 8 s"))
+    state = flat_phase._booked(CFG, [given_up])
+    assert state.misses["right"] == 0 and state.walked == {"right"} and "right" in state.active
+    assert _beside_after(given_up) is None  # before: a miss of FLAT_TRIES (the finger done pressing)
+    seat = (math.radians(95.0), np.array([100.0, -10.0]), np.array([100.0, 10.0]))
+    monkeypatch.setattr(flat_phase, "_felt_seat", lambda out, finger, length_mm, psi: seat)
+    assert _beside_after(given_up) is not None  # at a seat its lines show it still presses beside
+
+
+def _beside_after(pressed):
+    jaw = SimpleNamespace(config=CFG)
+    return flat_phase.beside_press(jaw, "right", MODEL, Exploration(), [pressed],
+                                   ExploreSettings.from_profile("balanced"), 9, lambda rec: None, {})
