@@ -59,13 +59,6 @@ FLAT_MAX_S = 12.0
 #: so given up is no miss: it is not made beside again, and the flat phase walks again (FLAT_MAX_S,
 #: stopped once another pad seats), so no seat the longer walk would have found is lost
 FLAT_BESIDE_S = 8.0
-
-
-def _timed_out(max_s: float) -> str:
-    """Why a press gave up after ``max_s`` without a seat (the walk beside's: :meth:`_Faces.book`)."""
-    return f"no seat found within {max_s:g} s"
-
-
 #: two rolls whose lines pass through points this close (mm) turned about one corner
 #: (:func:`sliding_face`); the X-series rolls about one corner of seed 139's block 18 met it
 #: within 0.3 mm, the P-series slides of its block 8 passed through points 4–7 mm apart
@@ -189,6 +182,11 @@ def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> t
     _, p, q = found
     normal = face_normal(p, q, lines[0].normal)
     return math.atan2(normal[1], normal[0]), p, q
+
+
+def _timed_out(max_s: float) -> str:
+    """Why a press gave up after ``max_s`` without a seat (the walk beside's: :meth:`_Faces.book`)."""
+    return f"no seat found within {max_s:g} s"
 
 
 def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, touch_index: int, emit,
