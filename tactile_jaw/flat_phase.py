@@ -50,6 +50,15 @@ FLAT_AFTER_TOUCHES = 4
 #: that did not took 9–44 s each (one turned 70°, its approaches up to 1.5 s apart), a
 #: round lasting as long as its slowest press
 FLAT_MAX_S = 12.0
+#: a first press beside the other finger's probes or rolls that walks (no face seated, no seat
+#: its lines show: :func:`beside_press`) gives up sooner: it holds up the other finger's motion of
+#: its round (0.4–3 s). Of the 51 first presses made beside before any usable touch in
+#: bench_explore --finite 20 --anywhere --follow --classes line, P seeds 571 and 541, X seed 571,
+#: the 46 that seated did so within 7.1 s of their start (transit included); 4 walked 12.0–14.6 s
+#: to FLAT_MAX_S and found none while the other pad waited (docs/exploration.md, session 34). A walk
+#: so given up is no miss: it is not made beside again, and the flat phase walks again (FLAT_MAX_S,
+#: stopped once another pad seats), so no seat the longer walk would have found is lost
+FLAT_BESIDE_S = 8.0
 #: two rolls whose lines pass through points this close (mm) turned about one corner
 #: (:func:`sliding_face`); the X-series rolls about one corner of seed 139's block 18 met it
 #: within 0.3 mm, the P-series slides of its block 8 passed through points 4–7 mm apart
@@ -175,9 +184,15 @@ def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> t
     return math.atan2(normal[1], normal[0]), p, q
 
 
+def _timed_out(max_s: float) -> str:
+    """Why a press gave up after ``max_s`` without a seat (the walk beside's: :meth:`_Faces.book`)."""
+    return f"no seat found within {max_s:g} s"
+
+
 def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, touch_index: int, emit,
                spent: dict[str, float], felt: tuple[float, float, int] | None = None, seated: set[str] | None = None,
-               seat: tuple[float, np.ndarray, np.ndarray] | None = None, side: int = 1):
+               seat: tuple[float, np.ndarray, np.ndarray] | None = None, side: int = 1,
+               max_s: float = FLAT_MAX_S):
     """One flat press of ``finger``: the first at the pad's nominal normal (after a transit)
     from the workspace edge, or — ``felt``, an earlier stop (ψ, d) near that normal and the
     way to turn first (:func:`_felt_stop`) — at that ψ from FLAT_RESTART_MM outside that stop
@@ -189,7 +204,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     it seeks its seat it gives up once another finger's press of the same round is added to
     ``seated`` (pressed at its seat), in the cycle it is added, mid-turn or mid-approach:
     one face's touches make the answer, or after
-    ``FLAT_MAX_S`` of robot time without a seat. Returns the
+    ``max_s`` of robot time without a seat. Returns the
     FlatResult (or a TouchResult if the transit could not go on)."""
     step = math.radians(FLAT_STEP_DEG)
     f = jaw.config.finger(finger)
@@ -229,8 +244,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
         return f"the {others[0]} pad seated on a face" if others else None
 
     def give_up() -> str | None:
-        return seated_other() or (f"no seat found within {FLAT_MAX_S:g} s" if jaw.robot_time() - t0 > FLAT_MAX_S
-                                  else None)
+        return seated_other() or (_timed_out(max_s) if jaw.robot_time() - t0 > max_s else None)
 
     first_turn = side if face is not None else felt[2] if felt is not None and misses == 0 else 1
     result = yield from flat_press(jaw, finger, touch_index, start, first_turn, d_start, travel,
@@ -347,7 +361,10 @@ def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pr
     without a seat on X-series block 3 of seed 107; the flat phase stops one once another pad
     seats), and with ``seat_only`` when it has neither a face nor a seat its lines show (a press
     beside probes, tactile_jaw.probing: a walk from the nominal normal, 4–12 s, would hold up
-    rounds of 1.5–2.5 s).
+    rounds of 1.5–2.5 s). A walk (no face, no seat) gives up after ``FLAT_BESIDE_S`` without a
+    seat, not ``FLAT_MAX_S``, and is not made beside again (:class:`_Faces` ``walked``): P line 4 of
+    bench_explore --finite 20 --anywhere --follow --seed 571, the left pad walked 12.1 s without a
+    seat beside the right's one 1.0 s probe.
     The flat phase counts these presses first and decides on them before pressing more: the
     presses the block's answer needs run while the other finger still looks for a curved part,
     which it did alone before (bench_explore --finite 20 --anywhere --seed 107, P-series: random
@@ -359,11 +376,12 @@ def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pr
         return None
     f = jaw.config.finger(finger)
     seat = _felt_seat(out, finger, f.pad.length_mm, nominal_psi(f))
-    if state.faces[finger] is None and (state.misses[finger] or (seat_only and seat is None)):
-        return None  # a retry is the flat phase's, which stops it once another pad seats
+    if state.faces[finger] is None and (state.misses[finger] or (seat is None and (seat_only or finger in state.walked))):
+        return None  # a retry, or a walk again, is the flat phase's, which stops it once another pad seats
+    walk = state.faces[finger] is None and seat is None  # from its nominal normal: bounded by FLAT_BESIDE_S
     return _flat_plan(jaw, finger, model, state.faces[finger], state.misses[finger], touch_index, emit, spent,
                       _felt_stop(out, finger, nominal_psi(f), f.pad.length_mm, model.workspace_center), set(), seat,
-                      state.sides[finger])
+                      state.sides[finger], FLAT_BESIDE_S if walk else FLAT_MAX_S)
 
 
 def _booked(cfg, pressed: Sequence[FeltTouch], emit=None, say=None) -> "_Faces":
@@ -378,13 +396,15 @@ def _booked(cfg, pressed: Sequence[FeltTouch], emit=None, say=None) -> "_Faces":
 @dataclass
 class _Faces:
     """Each finger's flat-press state: the face it seated on, its presses that missed, the
-    side of its face its first seated press came from, the seated presses so far."""
+    side of its face its first seated press came from, the seated presses so far, the fingers
+    whose walk beside gave up after FLAT_BESIDE_S (no miss: the flat phase walks again)."""
 
     faces: dict[str, Any]
     misses: dict[str, int]
     sides: dict[str, int]
     active: list[str]
     flat: list[FeltTouch] = field(default_factory=list)
+    walked: set[str] = field(default_factory=set)
 
     def book(self, name: str, felt: FeltTouch, seated: set[str], emit, say) -> None:
         """Count ``name``'s press ``felt`` (``seated``: the fingers whose press of the same
@@ -405,6 +425,9 @@ class _Faces:
         # found no seat (turned its range, ran out of time, met nothing)
         outcome = felt.touch.outcome
         for_other = outcome == "stopped" and bool(seated - {name})
+        if outcome == "stopped" and felt.touch.message.endswith(_timed_out(FLAT_BESIDE_S)):
+            self.walked.add(name)  # a walk beside cut short (FLAT_BESIDE_S): the flat phase walks again
+            for_other = True
         retry = outcome in ("ok", "rejected") or self.faces[name] is not None
         self.misses[name] += 0 if for_other else 1 if retry else FLAT_TRIES
         if self.misses[name] >= FLAT_TRIES and name in self.active:

@@ -1,0 +1,87 @@
+"""A first flat press beside the other finger's probes or rolls that walks from the pad's
+nominal normal (no face seated, no seat its lines show: tactile_jaw.flat_phase.beside_press)
+gives up after FLAT_BESIDE_S without a seat, not FLAT_MAX_S: it holds up the other finger's
+motion of its round. P line 14 of bench_explore --finite 20 --anywhere --follow --seed 571
+(session 33's held-out run): the right pad walked 12.0 s without a seat beside the left's one
+2.5 s roll, 30.9 s; bounded, 27.3 s, the same answer. A press at a seat its lines show keeps
+FLAT_MAX_S (docs/exploration.md, session 34). The press itself is stubbed: what is checked is
+when its ``give_up`` ends it."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+
+from hand_driver.config import load_config
+from tactile_jaw import flat_phase
+from tactile_jaw.plan import ObjectModel
+from tactile_jaw.rounds import Exploration
+from tactile_jaw.settings import ExploreSettings
+
+ROOT = Path(__file__).resolve().parents[2]
+CFG = load_config(ROOT / "config" / "jaw-p.yaml")
+MODEL = ObjectModel(CFG.workspace.center_mm, CFG.workspace.radius_mm)
+
+
+def _give_up(monkeypatch):
+    """The right pad's beside press run on a stub press; its ``give_up`` and the robot clock."""
+    clock = [100.0]
+    seen = {}
+
+    def press(jaw, finger, touch_index, start, first_turn, d_start, travel, **kw):
+        seen["give_up"] = kw["give_up"]
+        return SimpleNamespace(outcome="stopped")
+        yield  # a generator, as the press is
+
+    def transit(*args, **kwargs):
+        return None
+        yield
+
+    monkeypatch.setattr(flat_phase, "flat_press", press)
+    monkeypatch.setattr(flat_phase, "transit_or_problem", transit)
+    jaw = SimpleNamespace(config=CFG, robot_time=lambda: clock[0])
+    plan = flat_phase.beside_press(jaw, "right", MODEL, Exploration(), [], ExploreSettings.from_profile("balanced"),
+                                   7, lambda rec: None, {})
+    for _ in plan:
+        pass
+    return seen["give_up"], clock
+
+
+def test_a_walk_beside_gives_up_after_flat_beside_s(monkeypatch):
+    give_up, clock = _give_up(monkeypatch)
+    clock[0] = 100.0 + 7.9  # every walk beside that seated did so by then
+    assert give_up() is None
+    clock[0] = 100.0 + 8.1
+    assert give_up() == "no seat found within 8 s"  # before: None until 12 s
+
+
+def test_a_press_at_a_seat_the_lines_show_keeps_flat_max_s(monkeypatch):
+    seat = (math.radians(95.0), np.array([100.0, -10.0]), np.array([100.0, 10.0]))
+    monkeypatch.setattr(flat_phase, "_felt_seat", lambda out, finger, length_mm, psi: seat)
+    give_up, clock = _give_up(monkeypatch)
+    clock[0] = 100.0 + 11.9
+    assert give_up() is None
+    clock[0] = 100.0 + 12.1
+    assert give_up() == "no seat found within 12 s"
+
+
+def test_a_walk_given_up_beside_is_no_miss_and_not_made_beside_again(monkeypatch):
+    # the flat phase walks again (FLAT_MAX_S, stopped once the other pad seats): no seat is lost
+    given_up = SimpleNamespace(finger="right", problem="right: flat press stopped: no seat found within 8 s",
+                               touch=SimpleNamespace(touch=8, outcome="stopped",
+                                                     message="right: flat press stopped: no seat found within 8 s"))
+    state = flat_phase._booked(CFG, [given_up])
+    assert state.misses["right"] == 0 and state.walked == {"right"} and "right" in state.active
+    assert _beside_after(given_up) is None  # before: a miss of FLAT_TRIES (the finger done pressing)
+    seat = (math.radians(95.0), np.array([100.0, -10.0]), np.array([100.0, 10.0]))
+    monkeypatch.setattr(flat_phase, "_felt_seat", lambda out, finger, length_mm, psi: seat)
+    assert _beside_after(given_up) is not None  # at a seat its lines show it still presses beside
+
+
+def _beside_after(pressed):
+    jaw = SimpleNamespace(config=CFG)
+    return flat_phase.beside_press(jaw, "right", MODEL, Exploration(), [pressed],
+                                   ExploreSettings.from_profile("balanced"), 9, lambda rec: None, {})
