@@ -489,7 +489,7 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
 def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, budget: int,
                   anywhere: Callable[[], dict | None] | None = None,
                   also: Sequence[tuple[float, float, float]] = (), one_side: bool = False,
-                  ended: str | None = None) -> Stop:
+                  ended: str | None = None, felt_side: Sequence[tuple[float, float, float]] = ()) -> Stop:
     """What a person can do when the touch budget is spent and the answer is not decisive:
     when the classes tested fail and others were not tested for too few usable touches, another
     placement or more touches; when no class fits (``why.kind`` 'unclassified'), no move (the touches disagree with every
@@ -504,11 +504,14 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
     ``one_side`` (tactile_jaw.decide.beyond_resolution: the touches where they were cannot tell
     the answer from its rival at this jaw's resolution, however many), the move that brings
     ``also``'s places, the object's other side, within a pad's roll comes first
-    (:func:`other_side_stop`). ``ended``: why the rolls ended instead, when the budget was not spent
+    (:func:`other_side_stop`); for an open answer, the move to the side felt's unfelt stretch
+    (``felt_side``, tactile_jaw.explore.felt_side_places: :func:`felt_side_stop`) instead, when one
+    reaches it. ``ended``: why the rolls ended instead, when the budget was not spent
     (no finger has a roll left to make)."""
     spent = f"the touch budget of {budget} is spent" if ended is None else ended
     if one_side and also and touched is not None:
-        stop = other_side_stop(spent, touched, reach, also, recognition)
+        stop = felt_side_stop(spent, felt_side, touched, reach, recognition) if felt_side else None
+        stop = stop if stop is not None else other_side_stop(spent, touched, reach, also, recognition)
         if stop is not None:
             return stop
     if why.kind == "unclassified" and recognition.untested:
@@ -761,6 +764,32 @@ def other_side_stop(head: str, touched, reach: JawReach, also: Sequence[tuple[fl
         return None
     return Stop(f"{head}; the rolls on this side cannot tell the classes apart at this jaw's angle resolution, "
                 f"the object's other side can: {advice.words}", advice.move)
+
+
+def felt_side_stop(head: str, felt_side: Sequence[tuple[float, float, float]], touched, reach: JawReach,
+                   recognition: Recognition | None = None) -> Stop | None:
+    """``head``, then the move after which a pad rolls through the place past the felt stretch's end
+    on an open answer's curve and through the felt stretch's other end (``felt_side``:
+    tactile_jaw.explore.felt_side_places), or, when no move reaches both, through the first alone;
+    the felt samples ``touched`` kept clear of the opened jaw; None when no move reaches it. On a
+    branch closed by a chord the object's other side is that chord or an end corner, and the stretch
+    that tells an open class from a closed rival is the side felt's own continuation: calibrated P
+    semicubicals 60 and 63 of bench_explore --finite 10 --anywhere --calibrate --seed 593 (radii of
+    curvature 8–13 mm felt, refused; the semicubical and ellipse part where the radius has grown
+    1.6× and more over the felt stretch, docs/exploration.md)."""
+    (x, y, phi), rest = felt_side[0], tuple(felt_side[1:])
+    keep = np.hstack([np.array([[x], [y]]), _thinned(touched)])
+    where = f"on the side felt, past where its rolls reached ({_where(x, y, phi)})"
+    goals = [Goal(((x, y, phi), *rest), np.hstack([keep, np.array([(p[0], p[1]) for p in rest], float).T]),
+                  (x, y), f"{where} and through the felt stretch's far end")] if rest else []
+    goals.append(Goal(((x, y, phi),), keep, (x, y), where))
+    for goal in goals:
+        advice = move_advice(reach, with_curvature(goal, recognition))
+        if advice.move is not None:
+            return Stop(f"{head}; the rolls on this side cannot tell the classes apart at this jaw's angle "
+                        f"resolution, and the {recognition.cls if recognition is not None else 'curve'} answered "
+                        f"goes on past them on this side: {advice.words}", advice.move)
+    return None
 
 
 def side_goal(goal: Goal, also: Sequence[tuple[float, float, float]]) -> Goal:

@@ -628,29 +628,84 @@ def past_felt_end(recognition, touches: list[FeltTouch], wanted: Callable[[], di
         if finger is None or (not at_corner(x, y, corners) and within_curve(phi + math.pi / 2, span,
                                                                             limits(finger.name))):
             return place
-        curve, pose = CURVES[recognition.cls](recognition.params), recognition.pose
         cx, cy, t = np.array([(float(c["x"]), float(c["y"]), float(c["t"])) for c in recognition.contacts]).T
-        lo, hi = int(np.argmin(t)), int(np.argmax(t))
         near = int(np.argmin(np.hypot(cx - x, cy - y)))
+        lo, hi = int(np.argmin(t)), int(np.argmax(t))
         end = lo if abs(t[near] - t[hi]) < abs(t[near] - t[lo]) else hi  # the felt stretch's other end
-        t_far = t[end] + PAST_END_FRACTION * (t[end] - t[hi if end == lo else lo])
-        if t_far == t[end]:
-            return place
-        px, py = (float(np.ravel(v)[0]) for v in pose.apply(*curve.point(np.array([t_far]))))
-
-        def tangent(u: float) -> float:
-            return float(np.ravel(curve.tangent_angle(np.array([u])))[0]) + pose.theta
-
-        # the touch nearest that end (the answer may hold fewer contacts than there are touches)
-        felt = touches[end].samples if len(touches) == len(t) else min(
-            (touch.samples for touch in touches),
-            key=lambda v: float(np.min(np.hypot(np.asarray(v.x) - cx[end], np.asarray(v.y) - cy[end]))))
-        flip = math.remainder(float(np.median(felt.phi)) - tangent(t[end]), 2 * math.pi)
-        flip = math.pi if abs(flip) > math.pi / 2 else 0.0  # the touches' direction of travel
-        return {**place, "x": px, "y": py, "phi": float(math.remainder(tangent(t_far) + flip, 2 * math.pi)),
-                "what": "a touch on the curve past where the pads reached it"}
+        past = _past_end(recognition, touches, end)
+        return place if past is None else {**place, **past, "what": "a touch on the curve past where the pads reached it"}
 
     return run
+
+
+def _past_end(recognition, touches: list[FeltTouch], end: int) -> dict | None:
+    """The place ``PAST_END_FRACTION`` of the felt stretch past its end ``end`` (an index of
+    ``recognition.contacts``: the one of least or greatest t) on the answer's curve, with the tangent
+    the usable ``touches`` have there ({x, y, phi}: :func:`_curve_place`); None when that place is
+    the end itself or lies across a branch's end (the semicubical's cusp: not on the object)."""
+    t = np.array([float(c["t"]) for c in recognition.contacts])
+    lo, hi = int(np.argmin(t)), int(np.argmax(t))
+    t_far = float(t[end] + PAST_END_FRACTION * (t[end] - t[hi if end == lo else lo]))
+    curve = CURVES[recognition.cls](recognition.params)
+    if t_far == t[end] or float(np.ravel(curve.keep_branch(np.array([t[end]]), np.array([t_far])))[0]) != t_far:
+        return None
+    return _curve_place(recognition, touches, end, t_far)
+
+
+def _curve_place(recognition, touches: list[FeltTouch], near: int, u: float) -> dict:
+    """{x, y, phi} of the answer's curve at parameter ``u``, its tangent in the direction of travel
+    of the usable ``touches``' touch nearest contact ``near`` of ``recognition.contacts``."""
+    curve, pose = CURVES[recognition.cls](recognition.params), recognition.pose
+    cx, cy, t = np.array([(float(c["x"]), float(c["y"]), float(c["t"])) for c in recognition.contacts]).T
+    px, py = (float(np.ravel(v)[0]) for v in pose.apply(*curve.point(np.array([u]))))
+
+    def tangent(v: float) -> float:
+        return float(np.ravel(curve.tangent_angle(np.array([v])))[0]) + pose.theta
+
+    # the touch nearest that contact (the answer may hold fewer contacts than there are touches)
+    felt = touches[near].samples if len(touches) == len(t) else min(
+        (touch.samples for touch in touches),
+        key=lambda v: float(np.min(np.hypot(np.asarray(v.x) - cx[near], np.asarray(v.y) - cy[near]))))
+    flip = math.remainder(float(np.median(felt.phi)) - tangent(t[near]), 2 * math.pi)
+    flip = math.pi if abs(flip) > math.pi / 2 else 0.0  # the touches' direction of travel
+    return {"x": px, "y": py, "phi": float(math.remainder(tangent(u) + flip, 2 * math.pi))}
+
+
+def felt_side_places(recognition, touches: list[FeltTouch], corners=()) -> tuple[tuple[float, float, float], ...]:
+    """For an open answer (a curve with no period, not a line), the places a move of the object
+    is for when the rolls of the side felt cannot tell it from its rival at this jaw's resolution
+    (tactile_jaw.choose.budget_advice): (x, y, φ) of the place ``PAST_END_FRACTION`` of the felt
+    stretch past one of its ends on the answer's curve (:func:`_past_end`), then the felt
+    stretch's other end (its contact, the curve's tangent there), so that the run after the move
+    feels both; () for a closed answer, or when neither end's place lies on the object as felt
+    (past a corner a roll pivoted about, ``corners``: :func:`beyond_felt_end`, or across a
+    branch's end). The end: of those, the one where the answer's radius of curvature at the place
+    is larger (an open branch opens out there, where a closed rival's bounded radius cannot follow
+    it). The other finger of such a refusal met the branch's closing chord or an end corner, not
+    another stretch of the curve: calibrated P semicubicals 60 and 63 of bench_explore --finite 10
+    --anywhere --calibrate --seed 593, moved for that other side, were refused again (their rolls
+    felt t 1.6–2.9 of branches reaching t 4.7, radii of curvature 8–13 mm)."""
+    if recognition.cls not in CURVES or recognition.cls == "line" or recognition.pose is None \
+            or len(recognition.contacts) < 2:
+        return ()
+    curve = CURVES[recognition.cls](recognition.params)
+    if curve.t_period is not None:
+        return ()
+    t = np.array([float(c["t"]) for c in recognition.contacts])
+    lo, hi = int(np.argmin(t)), int(np.argmax(t))
+    found = []
+    for end, other in ((lo, hi), (hi, lo)):
+        past = _past_end(recognition, touches, end)
+        if past is None or beyond_felt_end(recognition, past["x"], past["y"], corners):
+            continue
+        u = float(t[end] + PAST_END_FRACTION * (t[end] - t[other]))
+        kappa = abs(float(np.ravel(curve.kappa(np.array([u])))[0]))
+        back = _curve_place(recognition, touches, other, float(t[other]))
+        found.append((kappa, (past["x"], past["y"], past["phi"]), (back["x"], back["y"], back["phi"])))
+    if not found:
+        return ()
+    _, place, back = min(found, key=lambda f: f[0])  # the larger radius of curvature
+    return place, back
 
 
 def _spent(out: Exploration) -> int:
@@ -991,8 +1046,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                                    lambda on: recognize_anywhere(usable, reach=on).next_touch)
         also = unrolled_places(cfg, out, recognition)
         one_side = bool(also) and beyond_resolution(recognize_touches, recognition, why, usable, settings.touches)
+        felt_side = felt_side_places(recognition, usable, clearing_corners(out.touches)) if one_side else ()
         out.stopped = budget_advice(recognition, why, sample_positions(usable), reach, settings.touches,
-                                    wanted, also, one_side, ended)
+                                    wanted, also, one_side, ended, felt_side)
         emit(out.stopped.event("budget_spent" if ended is None else "stopped_early"))
         say(f"{out.stopped}")
     if not cleared():  # no curved part felt (clear of the corners): the faces, by flat presses
