@@ -116,9 +116,14 @@ def fit_continued(cand: Candidate, data: Contacts, sigma_below: float = math.inf
     where its residuals are not finite there. A fit started far out along a curved valley
     crawls down it: a cubical touched far on one side, started at a −4.8e3 mm, stopped at its
     40 iterations at a −641, χ² 29.4, and went on to −264, 17.3 in three more budgets
-    (tools.bench_sigma --kind contacts seed 587, trial 2)."""
+    (tools.bench_sigma --kind contacts seed 587, trial 2). None too for a fit at a limit of its
+    class, a parameter solved in logarithms at 0 (a hyperbola at a = 0, its line limit): there is
+    no interior point to solve on from (bench_sigma --fresh seed 607, line trial 2 at 1e-4 mm:
+    a math domain error)."""
     d = _oriented(cand.cls, data)
     model = ContactModel(cand.cls, d)
+    if not all(cand.params[k] > 0 for k, lg in zip(model.names, model.log) if lg):
+        return None
     z = model.pack(cand.params, cand.pose.theta, cand.pose.x, cand.pose.y, np.asarray(cand.t, float))
     z, cost, r, parts = model.solve(z)
     if r is None or not np.isfinite(cost):

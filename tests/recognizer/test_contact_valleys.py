@@ -7,6 +7,7 @@ across both branches or far on a branch 9.5–20 σ (classify._every_valley)."""
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -218,3 +219,22 @@ def test_fit_continued_goes_on_down_a_valley_and_leaves_a_converged_fit():
     assert on.chi2 < crawling.chi2 - 5.0 and crawling.params["a"] < on.params["a"] < 0, (crawling.chi2, on.chi2, on.params)
     same = fit_continued(low, d)
     assert same.chi2 == pytest.approx(low.chi2, rel=1e-9) and same.params["a"] == pytest.approx(low.params["a"], rel=1e-6)
+
+
+def test_a_fit_at_its_class_limit_is_not_continued():
+    """bench_sigma --kind contacts --fresh, seed 607, line trial 2 at 1e-4 mm: a hyperbola fit
+    at its line limit (a = 0, solved in log a) was continued and raised a math domain error.
+    It is not continued now. These touches fail the line's test (χ² 29.6) at every scale; the
+    answer is the hyperbola at its line limit, whose stated σ_a says a is undetermined."""
+    from tools.bench_sigma import case_at
+
+    params, ts, pose, direction, L, rs = case_at("line", "segment", 2, 607, -4, fresh=True)
+    touches, nm = _contacts("line", params, ts, pose, direction, L, rs)
+    req = Request(tuple(touches), None, CLASSES, nm)
+    rec = recognize(req, RecognizeOptions(noise=nm))
+    assert rec.cls == "hyperbola" and rec.uncertainty["a"] > 1e6 * rec.params["a"]
+    d = contacts_of(req, RecognizeOptions(noise=nm), nm)
+    fit = fit_class_every_start("hyperbola", d)[0]
+    cand = _candidate(fit, 0.05)
+    assert fit_continued(replace(cand, params={**cand.params, "a": 0.0}), d) is None
+    assert fit_continued(cand, d) is not None
