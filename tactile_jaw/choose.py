@@ -116,7 +116,9 @@ class Aim:
     wider: tactile_jaw.explore.wider_again), 'corner' (beside a usable roll's stretch clear of
     the corner it ran onto, away from it: tactile_jaw.pipeline.clear_side) or 'scan' (where
     a flat press's scan rolled on the curved part: tactile_jaw.explore.scanned_curve) or
-    'promised' (where the move a refusal named was for, after it: tactile_jaw.explore.promised_aims)."""
+    'promised' (where the move a refusal named was for, after it: tactile_jaw.explore.promised_aims)
+    or 'felt' (on a curved part felt while no touch was usable, once, before the flat phase:
+    tactile_jaw.explore.felt_curve_roll); ``span``: the roll's ψ range (rad) when not the settings'."""
 
     x: float
     y: float
@@ -124,6 +126,7 @@ class Aim:
     finger: str
     why: str
     kind: str = "suggested"
+    span: float | None = None
 
     @property
     def psi(self) -> float:

@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 from functools import partial
-from typing import Any, Callable, Container, Sequence
+from typing import Any, Callable, Collection, Container, Sequence
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -45,8 +45,8 @@ from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resoluti
 from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_press, early_press, flat_presses,
                                     short_face_stop, unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
-                                  clearing_corners, corner_in_doubt, curved_part, feel, longest_run, near_corners,
-                                  on_corner, sure_corner, too_few_clear, workspace_reach)
+                                  clearing_corners, corner_in_doubt, curved_part, feel, left_out, longest_run,
+                                  near_corners, on_corner, sure_corner, too_few_clear, workspace_reach)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              feasible, nominal_psi, passes_end, predicted_tangent, probe_face_contact,
                              retreat_offset, within_curve)
@@ -192,6 +192,61 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
     on, off = (on[0] + np.remainder(np.asarray(v, float) - on[0] + math.pi, 2 * math.pi) - math.pi for v in (on, off))
     lo, hi = float(np.min(on)), float(np.max(on))
     return [(float(e), 1.0) if e > hi else (float(e), -1.0) for e in off if e > hi or e < lo]
+
+
+def felt_curve_roll(cfg, out: Exploration, settings: ExploreSettings, reach: JawReach,
+                    checked: Collection[int] = frozenset()) -> Aim | None:
+    """The one roll the exploration makes, before the flat phase, on a curved part it felt
+    (tactile_jaw.pipeline.curved_part over ``out.touches``; ``checked``: presses whose scans
+    rolled on none) while no touch was usable, by the finger that felt it, or None (none felt,
+    or no such roll is within its reach): the flat phase would refuse at once ("no rolling
+    touch on it was usable", tactile_jaw.flat_phase.curve_stop), naming no move when a pad
+    reaches the place. Its ψ range (:attr:`Aim.span`): from the felt stretch's end where its
+    roll left the curved part (tactile_jaw.pipeline.left_out: onto a corner or closing segment)
+    one roll span (``settings.roll_span_rad``) on away from it, cut short of the finger's corner
+    cones (:func:`corner_cones`) and of the pad-end normals it met (:func:`pad_end_normals`), never
+    shorter than the stretch; a stretch cut alike at both ends, or a press's scan, its own range:
+    between the corners its normals bound. Aimed at the osculating circle of the stretch (radius
+    ρ, eq. of a circle's tangent lines d = n·c − ρ) at the roll's middle normal. Calibrated P
+    semicubical 63 of bench_explore --finite 10 --anywhere --calibrate --seed 613 (held out in
+    session 34, development data since), moved as advised: the left roll at −55.9…−37.9° kept
+    7 lines on the curve (ρ 14.7 mm) before a corner, the next rolled about the far corner at
+    −112.5°, and the run was refused naming no move."""
+    curve = curved_part(cfg, out.touches, checked)
+    if curve is None or curve.fit is None or curve.contacts is None:
+        return None
+    felt = next(t for t in out.touches if t.touch.touch == curve.touch.touch and t.finger == curve.finger)
+    c, rho = curve.contacts, float(curve.fit.rho)
+    psi = np.asarray(c.psi, dtype=float)
+    mid = len(psi) // 2
+    psi = psi[mid] + np.remainder(psi - psi[mid] + math.pi, 2 * math.pi) - math.pi  # unwrapped about its middle
+    lo, hi = float(np.min(psi)), float(np.max(psi))
+    low, high = left_out(felt, curve)
+    span = max(settings.roll_span_rad, hi - lo)
+    start, end = (lo, lo + span) if low > high else (hi - span, hi) if high > low else (lo, hi)
+    way = 1.0 if low > high else -1.0  # toward the roll's free end (away from the stretch's cut end)
+    bounds = list(corner_cones(felt.finger, out.touches, out.probes))
+    bounds += [(min(a, b), max(a, b)) for _, a, b in pad_end_normals(felt.finger, (*out.probes, *out.touches))]
+    if low != high:
+        for a, b in bounds:
+            a, b = (lo + math.remainder(v - lo, 2 * math.pi) for v in (a, b))
+            if way > 0 and a < end and b > lo:
+                end = max(min(end, a), hi)
+            elif way < 0 and b > start and a < hi:
+                start = min(max(start, b), lo)
+    centre = 0.5 * (start + end)
+    if any(lo + math.remainder(a - lo, 2 * math.pi) < hi and lo + math.remainder(b - lo, 2 * math.pi) > lo
+           for a, b in bounds):
+        return None  # the stretch itself among a corner's normals: nothing to roll on clear of it
+    # the osculating circle's centre from the stretch's middle contact, then its point at the roll's middle normal
+    ox, oy = float(c.x[mid]) + rho * math.cos(psi[mid]), float(c.y[mid]) + rho * math.sin(psi[mid])
+    x, y, phi = ox - rho * math.cos(centre), oy - rho * math.sin(centre), centre - math.pi / 2
+    if reach.finger(x, y, phi, [cfg.finger(felt.finger)]) is None:
+        return None
+    return Aim(x, y, phi, felt.finger, f"on the curved part its touch {felt.touch.touch} felt (radius of curvature "
+                                       f"{rho:.1f} mm), over {math.degrees(end - start):.1f} deg clear of the corners "
+                                       f"its normals bound, before the pads press flat", kind="felt",
+               span=end - start)
 
 
 def corner_cones(name: str, touches: list[FeltTouch], probes: Sequence[FeltTouch] = ()) -> list[tuple[float, float]]:
@@ -417,12 +472,13 @@ def promised_aims(places: Sequence[dict], cfg) -> dict[str, Aim]:
 
 def _follow_hint(hint: Aim, finger: str, from_hint: set[str], aimed_at: list, say) -> tuple[float, tuple, float | None]:
     """A finger's next roll where its last one points (``hint``: a stretch of the curved part,
-    or a corner in doubt): (ψ, the point aimed at, the span in roll spans or None), said."""
+    or a corner in doubt): (ψ, the point aimed at, the span: in roll spans for a corner in doubt, else
+    its own in rad or None), said."""
     from_hint.add(finger)
     aimed_at.append(hint.point)
     say(f"{finger}: next touch at ({hint.x:.1f}, {hint.y:.1f}) mm, pad normal "
         f"{math.degrees(math.remainder(hint.psi, 2 * math.pi)):.1f} deg, {hint.why}")
-    return hint.psi, hint.point, (WIDER_SPAN if hint.kind == "wider" else None)
+    return hint.psi, hint.point, (WIDER_SPAN if hint.kind == "wider" else hint.span)
 
 
 def off_curve_count(count: int, felt: FeltTouch, hinted: bool) -> tuple[int, bool]:
@@ -788,6 +844,24 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     no_curve: set[int] = set()  # presses whose scans rolled on no curved part (their id; scanned_curve)
     sided: set[str] = set()  # fingers sent to a closed answer's other side once (other_side_aim)
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
+    handed: list[Aim] = []  # the roll on a curved part felt while no touch was usable, once (felt_curve_roll)
+
+    def hand_back() -> bool:
+        """Before the rolls give way to the flat phase with no touch usable: whether a finger rolls
+        once more on a curved part felt (:func:`felt_curve_roll`); a roll there that fails again
+        counts toward retiring it."""
+        if handed or cleared():
+            return False
+        aim = felt_curve_roll(cfg, out, settings, reach, no_curve)
+        handed.append(aim)
+        if aim is None:
+            return False
+        hints[aim.finger], off_curve[aim.finger] = aim, min(off_curve[aim.finger], OFF_CURVE_RETIRE - 1)
+        message = f"{aim.finger}: a curved part was felt and no touch was usable: it rolls there before the pads press flat"
+        emit({"type": "event", "kind": "curve_handed_back", "message": message})
+        say(message)
+        return True
+
     #: probes made beside the rolls (tactile_jaw.probing.Probes): each takes its finger's turn of a
     #: round, so a press from the second round on (early_press) counts them with the touches
     beside = 0
@@ -799,12 +873,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             say(message)
             break
         if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
-                h.kind in ("corner", "scan", "promised") or (h.kind == "wider" and out.used)
+                h.kind in ("corner", "scan", "promised", "felt") or (h.kind == "wider" and out.used)
                 for h in hints.values()):
             # unless a finger rolls again beside a corner, where a press's scan felt the curve, where a move was
             # for, or wider where a roll was in doubt once a usable roll felt the curve (X ellipse 43 of seed 157:
             # its tight ends)
             waiting = unrolled_before_flat(cfg, out, probes, off_curve, plan_psi, pressed)
+            if waiting is None and hand_back():
+                continue
             if waiting is None:
                 say(f"none of {sum(not isinstance(t.touch, FlatResult) for t in out.touches)} rolling touches was "
                     f"usable clear of the corners: no curved part within reach of the pads")
@@ -893,6 +969,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
         if set(plans) == set(again) and all(plan_psi(cfg.finger(n)) is None for n in again):
             aside.difference_update(again.values())  # only presses of a seated face, and no finger can roll
             plans = {}  # again: the flat phase makes them and decides (nothing to guard against any more)
+        if not plans and hand_back():
+            continue
         if not plans:
             break
         if not out.used and not cleared():  # a finger with no roll presses while the others look for a curved part
