@@ -416,8 +416,8 @@ CLEAR_SCAN_BAND = 20.0
 
 
 #: ``_valleys_continued``: the answer class's other fits stopped at their budget within this
-#: many valley widths (``CHI2_VALLEY``) above the answer, the lowest ``CONTINUE_FITS`` of them,
-#: are solved on up to ``CONTINUE_ROUNDS`` times
+#: many valley widths (``CHI2_VALLEY``) above the answer are solved on for one budget, the lowest
+#: ``CONTINUE_FITS`` of them still moving outside its valley up to ``CONTINUE_ROUNDS`` budgets in all
 CONTINUE_WITHIN, CONTINUE_FITS, CONTINUE_ROUNDS = 4.0, 2, 3
 
 
@@ -436,7 +436,12 @@ def _valleys_continued(chosen: Candidate, fits: list[Candidate], request: Reques
     that had converged stops at once): a cubical far on one side answered a 44.5 ± 4.7 mm
     (χ² 14.07) where the truth's valley (a −143.6, c 2.15, χ² 16.32: the truth −174.7 at
     profile χ² 16.38) had two fits started at a ≈ −5e3 mm still crawling at −641, χ² 29.4:
-    a z 47 (tools.bench_sigma --kind contacts seed 587, trial 2; z 1.03 now)."""
+    a z 47 (tools.bench_sigma --kind contacts seed 587, trial 2; z 1.03 now). Every such
+    fit is solved on for one budget, and the lowest ``CONTINUE_FITS`` of those still moving
+    outside the answer's valley for the rest: a cubical far on one side answered a −30.8
+    (χ² 44.72, scale-free units) whose two lowest other fits (46.6, 51.5) slid into its own
+    valley, while two at 68.5 and 73.0 (a 397, 406) reach the truth's valley (a 182, χ²
+    45.01) in two budgets: a z −132 (tools.bench_sigma --fresh seed 607 trial 1 at 1e-3 mm)."""
     refined = isinstance(chosen, RefinedCandidate)
     top = float(chosen.chi2) + CONTINUE_WITHIN * CHI2_VALLEY
     moving = sorted((i for i, f in enumerate(fits) if f.cls == chosen.cls and isinstance(f, RefinedCandidate) == refined
@@ -445,20 +450,28 @@ def _valleys_continued(chosen: Candidate, fits: list[Candidate], request: Reques
     # a contact fit's σ's where it is consistent, as in _recognize
     limit = math.inf if refined else chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[chosen.cls] + d.n), 1))
     out = list(fits)
-    for i in moving[:CONTINUE_FITS]:
-        f = out[i]
-        for _ in range(CONTINUE_ROUNDS):
-            if refined:
-                g = refine_candidates([f], request, options)[0]
-            else:
-                fit = fit_continued(f, d, sigma_below=limit)
-                g = f if fit is None else _candidate(fit, options.alpha)
-            if not g.chi2 < f.chi2:
+
+    def step(f: Candidate) -> tuple[Candidate, bool]:
+        """(f solved on for one more budget, whether it is still moving)"""
+        if refined:
+            g = refine_candidates([f], request, options)[0]
+        else:
+            fit = fit_continued(f, d, sigma_below=limit)
+            g = f if fit is None else _candidate(fit, options.alpha)
+        if not g.chi2 < f.chi2:
+            return f, False
+        return g, not (refined and g.nfev < MAX_NFEV)
+
+    going = []
+    for i in moving:  # one budget each: where a fit goes, not where it stopped, picks the ones to follow
+        out[i], on = step(out[i])
+        if on and not same_valley(chosen, out[i]):
+            going.append(i)
+    for i in sorted(going, key=lambda i: out[i].chi2)[:CONTINUE_FITS]:
+        for _ in range(CONTINUE_ROUNDS - 1):
+            out[i], on = step(out[i])
+            if not on:
                 break
-            f = g
-            if refined and g.nfev < MAX_NFEV:  # converged
-                break
-        out[i] = f
     return out
 
 
