@@ -43,7 +43,7 @@ from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_ad
 from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
                                  noted, sample_positions)
 from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_press, early_press, flat_presses,
-                                    short_face_stop, unusable_refusal)
+                                    guard_done, short_face_stop, unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, left_out, longest_run,
                                   near_corners, on_corner, sure_corner, too_few_clear, workspace_reach)
@@ -872,6 +872,12 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
             emit({"type": "event", "kind": "touches_capped", "message": message})
             say(message)
             break
+        if not cleared() and not hints and aim is None:
+            done = guard_done(cfg, out, pressed, settings)
+            if done is not None:  # one face's presses answer and no curved part is left to guard against
+                emit({"type": "event", "kind": "guard_done", "message": done})
+                say(done)
+                break
         if not cleared() and len(out.touches) - len(aside) >= FLAT_AFTER_TOUCHES and not any(
                 h.kind in ("corner", "scan", "promised", "felt") or (h.kind == "wider" and out.used)
                 for h in hints.values()):

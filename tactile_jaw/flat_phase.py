@@ -184,6 +184,63 @@ def _felt_seat(out: Exploration, finger: str, length_mm: float, psi: float) -> t
     return math.atan2(normal[1], normal[0]), p, q
 
 
+def guard_done(cfg, out: Exploration, pressed: Sequence[FeltTouch], settings: ExploreSettings) -> str | None:
+    """Why the closing-segment guard has nothing left to look for once one face's presses
+    answer, or None. The guard rolls the other fingers to see whether their side holds a
+    curved part, of which the pressed face would be the closing segment (a curved object's
+    one straight face). It is done when one finger's seated presses of ``pressed`` already
+    make the flat phase's answer (``settings.min_touches`` on one face, none stopped short
+    of its supports once: :func:`_bulge_pending`) and every other finger met with its own
+    probes and rolls a second straight face (:func:`straight_side`) more than SPLIT_APART ·
+    SEAT_TOL_MM off the pressed face's line at both supports: a finite curved object closed
+    by one straight segment has no second, and the lines of a curve, of a radius its rolls
+    tell from 0, meet no two corners. P line 19 of bench_explore --finite 20 --anywhere --follow --seed 571: the
+    right pad's third press answered at 16.2 s, the left then probed and rolled across the
+    block's far face until 23.4 s (docs/exploration.md, session 34)."""
+    state = _booked(cfg, pressed)
+    answer = recognized_touches(state.flat, settings.min_touches)
+    if len(answer) < settings.min_touches or _bulge_pending(state, out.touches):
+        return None
+    face = answer[0].face
+    sides = []
+    for f in cfg.fingers:
+        if f.name == answer[0].finger:
+            continue
+        side = straight_side(out, f.name, f.pad.length_mm, nominal_psi(f))
+        if side is None or min(abs(float(face.normal @ x) - face.d) for x in side) <= SPLIT_APART * SEAT_TOL_MM:
+            return None
+        sides.append(f"the {f.name} pad's lines met a straight face from ({side[0][0]:.1f}, {side[0][1]:.1f}) to "
+                     f"({side[1][0]:.1f}, {side[1][1]:.1f}) mm and nothing else")
+    return (f"the {answer[0].finger} pad's {len(answer)} presses on one face answer, and "
+            + "; ".join(sides) + ": no curved part left to guard against")
+
+
+def straight_side(out: Exploration, finger: str, length_mm: float, psi: float) -> tuple[np.ndarray, np.ndarray] | None:
+    """The straight face (its supports P, Q) that ``finger``'s probes and rolls met, when they
+    met nothing else, or None: their lines show a seat (:func:`_felt_seat`: three lines through
+    each of two points at least FACE_MIN_FRACTION of the pad apart, the pad flat between), every
+    roll felt no stretch of a curved part (tactile_jaw.pipeline: ``curve_at``) and every one
+    that did not stop on a pad end fell on a corner or across a closing segment (``off_curve``:
+    its radius of curvature told from 0 at the jaw's noise), and every line met on the pad's
+    face passes within SEAT_TOL_MM of P or Q. A pad end resting on the object (outcome
+    ``edge``) tells no support line: its lines are left out."""
+    seat = _felt_seat(out, finger, length_mm, psi)
+    if seat is None:
+        return None
+    _, p, q = seat
+    rolls = [t for t in out.touches if t.finger == finger and not isinstance(t.touch, FlatResult)]
+    if any(t.curve_at is not None or (t.touch.samples and t.touch.outcome != "edge" and not t.off_curve)
+           for t in rolls):
+        return None
+    met = [t for t in (*out.probes, *rolls) if t.finger == finger and t.touch.samples and t.touch.outcome != "edge"]
+    for t in met:
+        for s in t.touch.samples:
+            n, d = kin.unit(float(s.line.psi)), float(s.line.d)
+            if min(abs(float(n @ p) - d), abs(float(n @ q) - d)) > SEAT_TOL_MM:
+                return None
+    return p, q
+
+
 def _timed_out(max_s: float) -> str:
     """Why a press gave up after ``max_s`` without a seat (the walk beside's: :meth:`_Faces.book`)."""
     return f"no seat found within {max_s:g} s"
