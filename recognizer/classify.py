@@ -327,6 +327,26 @@ def _nested_fits(cands: list[Candidate], request: Request, options: RecognizeOpt
     return [f for f in fits if math.isfinite(f.chi2)]
 
 
+#: what placing a closed-form start (``starts.pose_from``) raises on degenerate touches
+_PLACING_ERRORS = (ArithmeticError, ValueError, np.linalg.LinAlgError)
+
+
+def _best_placed(cls: str, placed: list, dof: int, n_obs: int) -> Candidate | None:
+    """The best placed of ``placed`` ((``pose_from``'s (θ, x, y, cost), params, t) each) as a
+    candidate of ``cls``, or None when none is placed at a finite cost."""
+    placed = [q for q in placed if math.isfinite(q[0][3])]
+    if not placed:
+        return None
+    (th, x, y, cost), p, t = min(placed, key=lambda q: q[0][3])
+    return Candidate(cls, dict(p), Pose(th, x, y), np.asarray(t, float), cost, dof, n_obs)
+
+
+def _contact_limit(cls: str, d: Contacts, alpha: float) -> float:
+    """The χ² bound a contact-stage fit of ``cls`` to ``d`` is tested against: 5 residuals per
+    touch less the class's shape parameters and each touch's t (as ``localize`` counts them)."""
+    return chi2_limit(alpha, max(5 * d.n - (N_SHAPE[cls] + d.n), 1))
+
+
 def _best_starts_refined(d: Contacts, request: Request, options: RecognizeOptions,
                          cands: list[Candidate]) -> list[Candidate]:
     """Noise-free samples that no class fits yet: every class refined from its best placed
@@ -345,12 +365,10 @@ def _best_starts_refined(d: Contacts, request: Request, options: RecognizeOption
         try:
             placed = [(pose_from(cls, p, t, dd), p, t) for p, t in class_starts(cls, dd, True)]
             placed += [(pose_from(cls, p, t, way), p, t) for way, p, t in _samples_conic(cls, d, request)]
-        except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+        except _PLACING_ERRORS:
             continue
-        placed = [q for q in placed if math.isfinite(q[0][3])]
-        if placed:
-            (th, x, y, cost), p, t = min(placed, key=lambda q: q[0][3])
-            out.append(Candidate(cls, dict(p), Pose(th, x, y), np.asarray(t, float), cost, dof, n_obs))
+        best = _best_placed(cls, placed, dof, n_obs)
+        out += [best] if best is not None else []
     fits = refine_candidates(out, request, options) if out else []
     return [f for f in fits if math.isfinite(f.chi2)]
 
@@ -398,14 +416,10 @@ def _samples_conic_fit(cands: list[Candidate], d: Contacts, request: Request,
         return []
     try:
         placed = [(pose_from(cls, p, t, way), p, t) for way, p, t in _samples_conic(cls, d, request)]
-    except (ArithmeticError, ValueError, np.linalg.LinAlgError):
+    except _PLACING_ERRORS:
         return []
-    placed = [q for q in placed if math.isfinite(q[0][3])]
-    if not placed:
-        return []
-    (th, x, y, cost), p, t = min(placed, key=lambda q: q[0][3])
-    start = Candidate(cls, dict(p), Pose(th, x, y), np.asarray(t, float), cost, 1, 1)
-    return [f for f in refine_candidates([start], request, options) if math.isfinite(f.chi2)]
+    start = _best_placed(cls, placed, 1, 1)
+    return [] if start is None else [f for f in refine_candidates([start], request, options) if math.isfinite(f.chi2)]
 
 
 #: scan starts refined directly when every semicubical contact fit puts a touch at its cusp
@@ -448,7 +462,7 @@ def _valleys_continued(chosen: Candidate, fits: list[Candidate], request: Reques
                      and (not refined or f.nfev >= MAX_NFEV) and float(chosen.chi2) < f.chi2 <= top
                      and not same_valley(chosen, f)), key=lambda i: fits[i].chi2)
     # a contact fit's σ's where it is consistent, as in _recognize
-    limit = math.inf if refined else chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[chosen.cls] + d.n), 1))
+    limit = math.inf if refined else _contact_limit(chosen.cls, d, options.alpha)
     out = list(fits)
 
     def step(f: Candidate) -> tuple[Candidate, bool]:
@@ -746,7 +760,7 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
         if d.n < MIN_TOUCHES[cls] or len(places) < MIN_PLACES[cls]:
             skipped[cls] = untested[cls] = _too_few_places(cls, places, d.n)
             continue
-        limit = chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[cls] + d.n), 1))  # as in _candidate
+        limit = _contact_limit(cls, d, options.alpha)
         give_up = 1e4 * limit
         if options.refine and cls in EVERY_START:
             fits = fit_class_every_start(cls, d, give_up=give_up, sigma_below=limit)
@@ -762,7 +776,7 @@ def _recognize(request: Request, options: RecognizeOptions, unit: Unit) -> Recog
         # fits", every start of the classes with several valleys (fast profile, P-series cubical
         # of dev seed 13 object 10: χ² 56.9 on 23 dof from two starts, 11.0 from every start)
         for cls in (c for c in tested if c in EVERY_START):
-            limit = chi2_limit(options.alpha, max(5 * d.n - (N_SHAPE[cls] + d.n), 1))
+            limit = _contact_limit(cls, d, options.alpha)
             cands += [_candidate(f, options.alpha)
                       for f in fit_class_every_start(cls, d, give_up=1e4 * limit, sigma_below=limit)]
     if options.refine:
@@ -884,7 +898,7 @@ def _every_valley(chosen: Candidate, d: Contacts, alpha: float) -> tuple[Candida
     placed starts ended at χ² 13.7 where another start reaches 9.4; a semicubical across
     both branches: |b| ≈ 7–15 answered 14–20 σ from the truth whose valley lies Δχ²
     1.4–2.4 higher (tools.bench_sigma seed 1, development)."""
-    limit = chi2_limit(alpha, max(5 * d.n - (N_SHAPE[chosen.cls] + d.n), 1))  # as in _recognize
+    limit = _contact_limit(chosen.cls, d, alpha)
     valleys = [_candidate(f, alpha) for f in
                fit_class_every_start(chosen.cls, d, give_up=1e4 * limit, sigma_below=limit)]
     lower = [v for v in valleys if v.consistent and v.chi2 < chosen.chi2 and v.uncertainty]
