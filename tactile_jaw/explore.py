@@ -46,7 +46,7 @@ from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_p
                                     guard_done, short_face_stop, unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, left_out, longest_run,
-                                  near_corners, on_corner, sure_corner, too_few_clear, workspace_reach)
+                                  near_corners, sure_corner, too_few_clear, workspace_reach)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              feasible, nominal_psi, passes_end, predicted_tangent, probe_face_contact,
                              retreat_offset, within_curve)
@@ -700,12 +700,17 @@ def _past_end(recognition, touches: list[FeltTouch], end: int) -> dict | None:
     the usable ``touches`` have there ({x, y, phi}: :func:`_curve_place`); None when that place is
     the end itself or lies across a branch's end (the semicubical's cusp: not on the object)."""
     t = np.array([float(c["t"]) for c in recognition.contacts])
-    lo, hi = int(np.argmin(t)), int(np.argmax(t))
-    t_far = float(t[end] + PAST_END_FRACTION * (t[end] - t[hi if end == lo else lo]))
+    t_far = _t_past(t, end)
     curve = CURVES[recognition.cls](recognition.params)
     if t_far == t[end] or float(np.ravel(curve.keep_branch(np.array([t[end]]), np.array([t_far])))[0]) != t_far:
         return None
     return _curve_place(recognition, touches, end, t_far)
+
+
+def _t_past(t: np.ndarray, end: int) -> float:
+    """The curve parameter ``PAST_END_FRACTION`` of the felt stretch (contacts' ``t``) past its end ``end``."""
+    lo, hi = int(np.argmin(t)), int(np.argmax(t))
+    return float(t[end] + PAST_END_FRACTION * (t[end] - t[hi if end == lo else lo]))
 
 
 def _curve_place(recognition, touches: list[FeltTouch], near: int, u: float) -> dict:
@@ -754,8 +759,7 @@ def felt_side_places(recognition, touches: list[FeltTouch], corners=()) -> tuple
         past = _past_end(recognition, touches, end)
         if past is None or beyond_felt_end(recognition, past["x"], past["y"], corners):
             continue
-        u = float(t[end] + PAST_END_FRACTION * (t[end] - t[other]))
-        kappa = abs(float(np.ravel(curve.kappa(np.array([u])))[0]))
+        kappa = abs(float(np.ravel(curve.kappa(np.array([_t_past(t, end)])))[0]))
         back = _curve_place(recognition, touches, other, float(t[other]))
         found.append((kappa, (past["x"], past["y"], past["phi"]), (back["x"], back["y"], back["phi"])))
     if not found:
