@@ -848,7 +848,7 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     no_curve: set[int] = set()  # presses whose scans rolled on no curved part (their id; scanned_curve)
     sided: set[str] = set()  # fingers sent to a closed answer's other side once (other_side_aim)
     cornered: set[int] = set()  # usable touches dropped for their samples at a corner, looked at once (beside_corners)
-    handed: list[Aim] = []  # the roll on a curved part felt while no touch was usable, once (felt_curve_roll)
+    handed: list[Aim | None] = []  # the roll on a curved part felt while no touch was usable, asked once (felt_curve_roll)
 
     def hand_back() -> bool:
         """Before the rolls give way to the flat phase with no touch usable: whether a finger rolls
