@@ -357,8 +357,7 @@ def main(argv: list[str] | None = None) -> int:
     followed = (follow_advice(scenes, results, args.profile, args.jobs, explore_config, args.truth_config)
                 if args.follow else None)
     print_tell_table(scenes, results, explore_config, followed)
-    if args.truth_config:
-        print_sigma_table(scenes, results)
+    print_sigma_table(scenes, results)
     if args.kappa:
         print_kappa_table([(path.with_suffix(".log"), obj) for path, obj in scenes])
     return 0
