@@ -101,6 +101,7 @@ parabola trial 6: the place across the vertex decides).
 from __future__ import annotations
 
 import math
+import threading
 from typing import Sequence
 
 import numpy as np
@@ -234,12 +235,46 @@ def _pad_span(c: Candidate, n: int = N_DENSE) -> np.ndarray:
     return t
 
 
+class _WorkArrays(threading.local):
+    """Each thread's (places × dense points) work arrays, by name, kept between calls: at 160 ×
+    400 a fresh one is 0.5 MB that glibc maps anew and the kernel pages in (~125 page faults,
+    ~1 ms here), several times a call; kept, they are paged in once a process. What they hold
+    never leaves the function that filled it (``_closest``, ``_landed``, ``_met_by_face``)."""
+
+    def __init__(self) -> None:
+        self.arrays: dict[str, np.ndarray] = {}
+
+
+_WORK = _WorkArrays()
+
+
+def _work(name: str, rows: int, cols: int) -> np.ndarray:
+    """The thread's work array ``name`` as ``rows`` × ``cols`` (contents undefined), grown when too small."""
+    buf = _WORK.arrays.get(name)
+    if buf is None or buf.size < rows * cols:
+        buf = _WORK.arrays[name] = np.empty(rows * cols)
+    return buf[: rows * cols].reshape(rows, cols)
+
+
+def _rows(a: np.ndarray, rows: np.ndarray, name: str) -> np.ndarray:
+    """``a[rows]`` (rows of a 2-D array) in the work array ``name``."""
+    return np.take(a, rows, axis=0, out=_work(name, rows.size, a.shape[1]))
+
+
+def _squares_added(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a² + b² in ``a`` (``b`` overwritten): ``a ** 2 + b ** 2`` bit for bit, in the arrays given."""
+    np.square(a, out=a)
+    a += np.square(b, out=b)
+    return a
+
+
 def _closest(curve, pose: Pose, t_dense: np.ndarray, dense: tuple, px: np.ndarray, py: np.ndarray) -> np.ndarray:
     """t of the curve's point closest to each hand-frame (px, py): the nearest dense
     sample (``dense``: the hand-frame points at ``t_dense``), then three Newton steps
     (``Curve.project``)."""
     cx, cy = dense
-    d2 = (px[:, None] - cx[None, :]) ** 2 + (py[:, None] - cy[None, :]) ** 2
+    d2 = _squares_added(np.subtract(px[:, None], cx[None, :], out=_work("a", px.size, cx.size)),
+                        np.subtract(py[:, None], cy[None, :], out=_work("b", py.size, cy.size)))
     t = t_dense[np.argmin(d2, axis=1)]
     return curve.project(t, *pose.inverse(px, py), steps=3)
 
@@ -267,15 +302,17 @@ def _landed(curve, pose: Pose, t_dense: np.ndarray, px, py, phi, left: bool, hal
     ``SEAT_RAD`` to the tangent of the curve's point nearest the place, and lands if it
     lands so."""
     cx, cy = pose.apply(*curve.point(t_dense))
-    dx, dy = cx[None, :] - px[:, None], cy[None, :] - py[:, None]
+    dx = np.subtract(cx[None, :], px[:, None], out=_work("a", px.size, cx.size))
+    dy = np.subtract(cy[None, :], py[:, None], out=_work("b", py.size, cy.size))
     out = _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff)
     lost = np.flatnonzero(~out)
     if lost.size:
-        near = t_dense[np.argmin(dx[lost] ** 2 + dy[lost] ** 2, axis=1)]
+        near = t_dense[np.argmin(_squares_added(_rows(dx, lost, "v"), _rows(dy, lost, "w")), axis=1)]
         seated = phi[lost] + _wrap_half(np.asarray(curve.tangent_angle(near), float) + pose.theta - phi[lost])
         turn = np.abs(seated - phi[lost]) <= SEAT_RAD
         k = lost[turn]
-        out[k] = _met_by_face(curve, t_dense, dx[k], dy[k], seated[turn], left, half_pad, reach, standoff)
+        out[k] = _met_by_face(curve, t_dense, _rows(dx, k, "c"), _rows(dy, k, "d"), seated[turn], left, half_pad, reach,
+                              standoff)
     return out
 
 
@@ -292,8 +329,9 @@ def _met_by_face(curve, t_dense, dx, dy, phi, left, half_pad, reach, standoff) -
         h = dx[r, col] * out_x[r, 0] + dy[r, col] * out_y[r, 0]
         return (np.abs(v[r, col]) <= half_pad) & (h <= standoff) & np.isfinite(h)
 
-    v = dx * ux + dy * uy
-    r, col = np.nonzero(np.abs(v) <= half_pad)
+    v = np.multiply(dx, ux, out=_work("v", *dx.shape))
+    v += np.multiply(dy, uy, out=_work("w", *dx.shape))  # dx·ux + dy·uy
+    r, col = np.nonzero(np.abs(v, out=_work("w", *dx.shape)) <= half_pad)
     h = dx[r, col] * out_x[r, 0] + dy[r, col] * out_y[r, 0]
     seen = (h <= standoff) & np.isfinite(h)
     r, col, h = r[seen], col[seen], h[seen]

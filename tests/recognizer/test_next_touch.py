@@ -664,3 +664,42 @@ def test_a_suggestion_lands_on_a_semicubical_answered_ellipse(i):
     _, shape, rec, got = _suggestion_sent("semicubical_parabola", i, 467)
     assert rec.cls == "ellipse"
     assert got.why == "" and got.miss_mm < 0.01 * shape.size, got
+
+
+def test_closest_points_and_landings_in_kept_work_arrays_are_the_plain_formulas_bits():
+    """``_closest`` and ``_landed`` compute their (places × dense points) arrays in each thread's
+    kept work arrays (``_work``: a fresh 0.5 MB array is paged in anew, ~1 ms a call): the nearest
+    dense points and the landings are the plain formulas' to the bit, call after call in the same
+    memory (places lost and seated included), and another thread gets arrays of its own."""
+    import threading
+    from recognizer.next_touch import SEAT_RAD, _WORK, _closest, _landed, _met_by_face, _wrap_half
+    curve, pose = CURVES["ellipse"]({"a": 40.0, "b": 6.0}), Pose(0.3, 5.0, -2.0)
+    rng = np.random.default_rng(3)
+    t_dense = np.linspace(-np.pi, np.pi, 400, endpoint=False)
+    cx, cy = pose.apply(*curve.point(t_dense))
+    t = rng.uniform(-2.0, 2.0, 160)
+    px, py = pose.apply(*curve.point(t))
+    px, py = px + rng.normal(0, 0.05, t.size), py + rng.normal(0, 0.05, t.size)
+    phi = np.asarray(curve.tangent_angle(t), float) + pose.theta + rng.normal(0, 0.03, t.size)
+    near = t_dense[np.argmin((px[:, None] - cx[None, :]) ** 2 + (py[:, None] - cy[None, :]) ** 2, axis=1)]
+    want_t = curve.project(near, *pose.inverse(px, py), steps=3)
+    dx, dy = cx[None, :] - px[:, None], cy[None, :] - py[:, None]
+    want = _met_by_face(curve, t_dense, dx, dy, phi, True, 3.0, 1.0, 2.0)
+    lost = np.flatnonzero(~want)
+    seat = t_dense[np.argmin(dx[lost] ** 2 + dy[lost] ** 2, axis=1)]
+    seated = phi[lost] + _wrap_half(np.asarray(curve.tangent_angle(seat), float) + pose.theta - phi[lost])
+    k = lost[np.abs(seated - phi[lost]) <= SEAT_RAD]
+    want[k] = _met_by_face(curve, t_dense, dx[k], dy[k], seated[np.abs(seated - phi[lost]) <= SEAT_RAD], True, 3.0, 1.0, 2.0)
+    assert 0 < k.size and 0 < want.sum() < t.size  # some lost, some seated, some landed
+    kept = []
+    for _ in range(2):
+        got_t = _closest(curve, pose, t_dense, (cx, cy), px, py)
+        got = _landed(curve, pose, t_dense, px, py, phi, True, 3.0, 1.0, 2.0)
+        assert got_t.tobytes() == want_t.tobytes() and got.tolist() == want.tolist()
+        kept.append(_WORK.arrays["a"])
+    assert kept[0] is kept[1]
+    other = []
+    thread = threading.Thread(target=lambda: (_closest(curve, pose, t_dense, (cx, cy), px, py), other.append(_WORK.arrays["a"])))
+    thread.start()
+    thread.join()
+    assert not np.shares_memory(other[0], kept[0])
