@@ -519,7 +519,13 @@ def _clear_of_cusp_fits(cands: list[Candidate], d: Contacts, request: Request,
                         options: RecognizeOptions) -> list[Candidate]:
     """Refined semicubical fits from its scan's best starts clear of the cusp
     (``starts.semicubical_scan``: every touch at least its reach from the cusp), when the
-    semicubical's best fit is inconsistent and puts some touch nearer. The contact fit sees one point per
+    semicubical's best fit is inconsistent and some semicubical fit (the best or another) puts
+    a touch nearer: the fits of the valley beside the cusp stalled there, and the best may be
+    another valley's, clear of the cusp and inconsistent (tools.bench_wide --set wide seed 601,
+    semicubical trial 15, far out on a branch: four contact fits at χ² 7.3 with the first touch
+    0.035 of arc from the cusp, its roll reaching 0.082, stalled at 2,288–2,681; the best, 1,383,
+    clear of it; the semicubical ended at its parabola limit, 80.46, and the answer was
+    parabola; from the scan's starts, 67.84, the truth's own 69.35). The contact fit sees one point per
     touch, not how far its samples reach: from a start clear of the cusp it can slide to a
     consistent fit whose cusp lies within a touch's roll, where the refinement piles that
     touch's samples at the cusp and stalls (tools.bench_wide seed 5, semicubical trial 3
@@ -530,7 +536,7 @@ def _clear_of_cusp_fits(cands: list[Candidate], d: Contacts, request: Request,
         return []
     own = [c for c in cands if c.cls == cls]
     best = min(own, key=lambda c: c.chi2, default=None)
-    if best is None or best.consistent or clear_of_cusp((best.params, list(best.t)), d.reach):
+    if best is None or best.consistent or all(clear_of_cusp((c.params, list(c.t)), d.reach) for c in own):
         return []
     dom = d.dominant_kappa()
     dd = d.flipped() if dom != 0 and math.copysign(1.0, dom) != CURVES[cls].kappa_sign else d
