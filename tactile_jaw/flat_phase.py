@@ -39,8 +39,8 @@ from tactile_jaw.settings import ExploreSettings
 #: The rolling touches give way to flat presses once FLAT_AFTER_TOUCHES of them were
 #: tried and none was usable (every one on a corner, a pad end or across a face: the line
 #: example turned −5° spent 8 rolling touches, 54 s of robot time, before). A later press
-#: starts whole steps farther out where the finger's last seated press could not tell the
-#: lines on that side near the seat (:func:`restart_steps`)
+#: starts whole steps farther out where the finger's last seated press, started so, could not
+#: tell the lines on that side near the seat (:func:`restart_steps`)
 FLAT_RESTART_STEPS = 2.5
 FLAT_RESTART_MM = 3.0
 FLAT_SPARE = 2
@@ -243,33 +243,37 @@ def straight_side(out: Exploration, finger: str, length_mm: float, psi: float) -
     return p, q
 
 
-def restart_steps(press: FlatResult, face_psi: float, side: int) -> float:
+def restart_steps(press: FlatResult, face_psi: float, side: int, restart: float = FLAT_RESTART_STEPS) -> float:
     """How many FLAT_STEP_DEG turn steps before the normal ``face_psi`` of the face it seated on
     a finger's next press there starts, from ``side`` (+1: below the normal) as before, after its
-    seated ``press``: FLAT_RESTART_STEPS, plus the whole steps that put the third stop on that
-    side (FLAT_RESTART_STEPS − 2 steps from the seat, plus those) more than a quarter step beyond
-    every line of ``press`` on that side that lay between its two supports' runs (role ``scan``:
-    it fitted neither support, hand_driver.flat_press.seat_split). The same pad on the same face at
-    the same orientations rests the same way, so such a stop is no support's again, and the press
-    turned through the seat in whole steps, then back past its start for the missing third line
-    and forth again. P line 2 of bench_explore --finite 20 --anywhere --seed 599 (a face's second
-    support a pad end sliding on past its corner): the line half a step from the seat fitted
-    neither support in each of its three presses, each turned 12° back and 15° forth, 4.0 s a press
-    where the others took 2.5 s. A press without lines through both supports tells nothing of it."""
+    seated ``press``, which started ``restart`` steps before it: when ``press`` started there (within
+    a quarter step), ``restart`` plus the whole steps that put the third stop on that side more than
+    a quarter step beyond every line of ``press`` on that side that lay between its two supports'
+    runs (role ``scan``: it fitted neither, hand_driver.flat_press.seat_split); else ``restart``.
+    The same pad on the same face, started and turned alike, rests the same way at each stop, so such
+    a stop is no support's again, and the press turned through the seat in whole steps, then back past
+    its start for the missing third line and forth again. P line 2 of bench_explore --finite 20
+    --anywhere --seed 599 (a face's second support a pad end sliding on past its corner): the line
+    half a step from the seat fitted neither support in each of its three presses, each turned 12°
+    back and 15° forth, 4.0 s a press where the others took 2.5 s. A press started elsewhere (from the
+    pad's nominal normal: its stops on another grid, the pad resting otherwise) tells nothing of it:
+    seed 599's first presses had such lines 0.04–0.69 steps from the seat, and the later presses from
+    FLAT_RESTART_STEPS had none; nor does a press without lines through both supports."""
     if side not in (1, -1):
         raise ValueError(f"side must be +1 or -1, not {side!r}")
     step = math.radians(FLAT_STEP_DEG)
     supported = [k for k, role in enumerate(press.roles) if role in ("P", "Q")]
-    if {press.roles[k] for k in supported} != {"P", "Q"}:
-        return FLAT_RESTART_STEPS  # no lines through both supports (a press booked without its stops): none between
+    started = -side * math.remainder(press.psi_center - face_psi, 2 * math.pi) / step
+    if {press.roles[k] for k in supported} != {"P", "Q"} or abs(started - restart) > 0.25:
+        return restart
     offsets = [math.remainder(float(s.line.psi) - face_psi, 2 * math.pi) / step for s in press.samples]
     low, high = sorted((max(offsets[k] for k in supported if press.roles[k] == r),
                         min(offsets[k] for k in supported if press.roles[k] == r)) for r in ("P", "Q"))
     between = [-side * x for x, role in zip(offsets, press.roles)
                if role == "scan" and low[0] < x < high[1] and -side * x > 0.0]
     if not between:
-        return FLAT_RESTART_STEPS
-    return FLAT_RESTART_STEPS + max(0, math.floor(max(between) - 0.25) + 1)
+        return restart
+    return restart + max(0, math.floor(max(between) - (restart - 2.0) + 0.25) + 1)
 
 
 def _timed_out(max_s: float) -> str:
@@ -505,7 +509,8 @@ class _Faces:
             if self.faces[name] is None:
                 self.sides[name] = 1 if math.remainder(felt.face.psi - felt.touch.psi_center, 2 * math.pi) >= 0 else -1
             self.faces[name] = felt.face
-            self.restarts[name] = restart_steps(felt.touch, felt.face.psi, self.sides[name])
+            self.restarts[name] = restart_steps(felt.touch, felt.face.psi, self.sides[name],
+                                                self.restarts.get(name, FLAT_RESTART_STEPS))
             self.flat.append(felt)
             emit({"type": "event", "kind": "touch_used", "message": f"{name}: flat press {felt.touch.touch} seated",
                   "touch": felt.touch.touch, "samples": felt.to_json()})

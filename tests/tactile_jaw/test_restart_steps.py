@@ -1,7 +1,7 @@
 """Where a later flat press on a seated face starts (tactile_jaw.flat_phase.restart_steps): a
-stop of the last seated press that fitted neither support, on the side the presses come from,
-moves the start out by whole steps, so the press turns through the seat once; none, and it
-starts FLAT_RESTART_STEPS before the face's normal as before."""
+stop of the last seated press, started as the next one will be, that fitted neither support on
+the side the presses come from moves the start out by whole steps, so the press turns through
+the seat once; none, or a press started elsewhere, and it starts where it did."""
 
 from __future__ import annotations
 
@@ -67,16 +67,34 @@ def test_a_stop_at_the_seat_fitting_both_leaves_the_start():
 def test_scan_stops_beyond_the_supports_are_not_between():
     """Stops of the walk to the seat far out on the start side fitted neither support, being
     far from it: not between the supports' runs, they move nothing."""
-    walk = [(-8.0, "scan"), (-7.0, "scan"), (-6.0, "scan")] + CLEAN
+    walk = CLEAN + [(-8.0, "scan"), (-7.0, "scan"), (-6.0, "scan")]
     assert restart_steps(_press(walk), FACE_PSI, 1) == FLAT_RESTART_STEPS
 
 
 def test_a_stop_further_in_moves_the_start_out_further():
     """Stops fitting neither support up to 1.3 steps from the seat: the third stop must lie at
     2.5 steps, FLAT_RESTART_STEPS + 2."""
-    wide = [(-3.5, "P"), (-2.5, "P"), (-1.5, "P"), (-0.5, "scan"), (0.5, "scan"), (1.3, "scan"),
-            (2.5, "Q"), (3.5, "Q"), (4.5, "Q")]
+    wide = [(2.5, "Q"), (1.3, "scan"), (0.5, "scan"), (-0.5, "scan"), (-1.5, "P"), (-2.5, "P"), (-3.5, "P"),
+            (3.5, "Q"), (4.5, "Q")]
     assert restart_steps(_press(wide), FACE_PSI, -1) == FLAT_RESTART_STEPS + 2
+
+
+def test_a_press_started_elsewhere_tells_nothing():
+    """A first press from the pad's nominal normal, 3.57 steps below the seat (P line 19 of seed
+    599): its stop 0.57 steps below fitted neither support, and the later presses from 2.5 steps
+    had their third stop there 0.5 steps below, through its support; their stops lie on another
+    grid, the pad resting otherwise."""
+    nominal = [(-3.57, "P"), (-2.57, "P"), (-1.57, "P"), (-0.57, "scan"), (0.43, "Q"), (1.43, "Q"), (0.68, "Q"),
+               (0.0, "seat"), (-0.03, "seat"), (0.03, "seat")]
+    assert restart_steps(_press(nominal), FACE_PSI, 1) == FLAT_RESTART_STEPS
+
+
+def test_a_press_started_farther_out_keeps_its_start():
+    """Started 3.5 steps out, its stop half a step from the seat between the supports: the third
+    stop (1.5 steps) lies beyond it, the start stays."""
+    out = [(3.5, "Q"), (2.5, "Q"), (1.5, "Q"), (0.5, "scan"), (-0.5, "P"), (-1.5, "P"), (-2.5, "P"),
+           (0.0, "seat"), (-0.03, "seat"), (0.03, "seat")]
+    assert restart_steps(_press(out), FACE_PSI, -1, FLAT_RESTART_STEPS + 1) == FLAT_RESTART_STEPS + 1
 
 
 def test_bad_input_is_refused_and_a_press_without_both_supports_tells_nothing():
