@@ -42,6 +42,10 @@ from tactile_jaw.settings import ExploreSettings
 #: starts whole steps farther out where the finger's last seated press, started so, could not
 #: tell the lines on that side near the seat (:func:`restart_steps`)
 FLAT_RESTART_STEPS = 2.5
+#: ... a press started this many steps or fewer from where the next one starts, and a line of it
+#: this much nearer the seat than the next press's third stop, are taken for the same (a stop lies
+#: nearer its own grid point than the next, half a step off either way: :func:`restart_steps`)
+RESTART_MATCH_STEPS = 0.25
 FLAT_RESTART_MM = 3.0
 FLAT_SPARE = 2
 FLAT_TRIES = 2
@@ -247,8 +251,8 @@ def restart_steps(press: FlatResult, face_psi: float, side: int, restart: float 
     """How many FLAT_STEP_DEG turn steps before the normal ``face_psi`` of the face it seated on
     a finger's next press there starts, from ``side`` (+1: below the normal) as before, after its
     seated ``press``, which started ``restart`` steps before it: when ``press`` started there (within
-    a quarter step), ``restart`` plus the whole steps that put the third stop on that side more than
-    a quarter step beyond every line of ``press`` on that side that lay between its two supports'
+    RESTART_MATCH_STEPS), ``restart`` plus the whole steps that put the third stop on that side more than
+    RESTART_MATCH_STEPS beyond every line of ``press`` on that side that lay between its two supports'
     runs (role ``scan``: it fitted neither, hand_driver.flat_press.seat_split); else ``restart``.
     The same pad on the same face, started and turned alike, rests the same way at each stop, so such
     a stop is no support's again, and the press turned through the seat in whole steps, then back past
@@ -264,7 +268,7 @@ def restart_steps(press: FlatResult, face_psi: float, side: int, restart: float 
     step = math.radians(FLAT_STEP_DEG)
     supported = [k for k, role in enumerate(press.roles) if role in ("P", "Q")]
     started = -side * math.remainder(press.psi_center - face_psi, 2 * math.pi) / step
-    if {press.roles[k] for k in supported} != {"P", "Q"} or abs(started - restart) > 0.25:
+    if {press.roles[k] for k in supported} != {"P", "Q"} or abs(started - restart) > RESTART_MATCH_STEPS:
         return restart
     offsets = [math.remainder(float(s.line.psi) - face_psi, 2 * math.pi) / step for s in press.samples]
     low, high = sorted((max(offsets[k] for k in supported if press.roles[k] == r),
@@ -273,7 +277,7 @@ def restart_steps(press: FlatResult, face_psi: float, side: int, restart: float 
                if role == "scan" and low[0] < x < high[1] and -side * x > 0.0]
     if not between:
         return restart
-    return restart + max(0, math.floor(max(between) - (restart - 2.0) + 0.25) + 1)
+    return restart + max(0, math.floor(max(between) - (restart - 2.0) + RESTART_MATCH_STEPS) + 1)
 
 
 def _timed_out(max_s: float) -> str:
