@@ -38,8 +38,14 @@ from tactile_jaw.settings import ExploreSettings
 #: half a step further on, other stops, other roundings), or after one that found no seat.
 #: The rolling touches give way to flat presses once FLAT_AFTER_TOUCHES of them were
 #: tried and none was usable (every one on a corner, a pad end or across a face: the line
-#: example turned −5° spent 8 rolling touches, 54 s of robot time, before)
+#: example turned −5° spent 8 rolling touches, 54 s of robot time, before). A later press
+#: starts whole steps farther out where the finger's last seated press, started so, could not
+#: tell the lines on that side near the seat (:func:`restart_steps`)
 FLAT_RESTART_STEPS = 2.5
+#: ... a press started this many steps or fewer from where the next one starts, and a line of it
+#: this much nearer the seat than the next press's third stop, are taken for the same (a stop lies
+#: nearer its own grid point than the next, half a step off either way: :func:`restart_steps`)
+RESTART_MATCH_STEPS = 0.25
 FLAT_RESTART_MM = 3.0
 FLAT_SPARE = 2
 FLAT_TRIES = 2
@@ -241,6 +247,39 @@ def straight_side(out: Exploration, finger: str, length_mm: float, psi: float) -
     return p, q
 
 
+def restart_steps(press: FlatResult, face_psi: float, side: int, restart: float = FLAT_RESTART_STEPS) -> float:
+    """How many FLAT_STEP_DEG turn steps before the normal ``face_psi`` of the face it seated on
+    a finger's next press there starts, from ``side`` (+1: below the normal) as before, after its
+    seated ``press``, which started ``restart`` steps before it: when ``press`` started there (within
+    RESTART_MATCH_STEPS), ``restart`` plus the whole steps that put the third stop on that side more than
+    RESTART_MATCH_STEPS beyond every line of ``press`` on that side that lay between its two supports'
+    runs (role ``scan``: it fitted neither, hand_driver.flat_press.seat_split); else ``restart``.
+    The same pad on the same face, started and turned alike, rests the same way at each stop, so such
+    a stop is no support's again, and the press turned through the seat in whole steps, then back past
+    its start for the missing third line and forth again. P line 2 of bench_explore --finite 20
+    --anywhere --seed 599 (a face's second support a pad end sliding on past its corner): the line
+    half a step from the seat fitted neither support in each of its three presses, each turned 12°
+    back and 15° forth, 4.0 s a press where the others took 2.5 s. A press started elsewhere (from the
+    pad's nominal normal: its stops on another grid, the pad resting otherwise) tells nothing of it:
+    seed 599's first presses had such lines 0.04–0.69 steps from the seat, and the later presses from
+    FLAT_RESTART_STEPS had none; nor does a press without lines through both supports."""
+    if side not in (1, -1):
+        raise ValueError(f"side must be +1 or -1, not {side!r}")
+    step = math.radians(FLAT_STEP_DEG)
+    supported = [k for k, role in enumerate(press.roles) if role in ("P", "Q")]
+    started = -side * math.remainder(press.psi_center - face_psi, 2 * math.pi) / step
+    if {press.roles[k] for k in supported} != {"P", "Q"} or abs(started - restart) > RESTART_MATCH_STEPS:
+        return restart
+    offsets = [math.remainder(float(s.line.psi) - face_psi, 2 * math.pi) / step for s in press.samples]
+    low, high = sorted((max(offsets[k] for k in supported if press.roles[k] == r),
+                        min(offsets[k] for k in supported if press.roles[k] == r)) for r in ("P", "Q"))
+    between = [-side * x for x, role in zip(offsets, press.roles)
+               if role == "scan" and low[0] < x < high[1] and -side * x > 0.0]
+    if not between:
+        return restart
+    return restart + max(0, math.floor(max(between) - (restart - 2.0) + RESTART_MATCH_STEPS) + 1)
+
+
 def _timed_out(max_s: float) -> str:
     """Why a press gave up after ``max_s`` without a seat (the walk beside's: :meth:`_Faces.book`)."""
     return f"no seat found within {max_s:g} s"
@@ -249,12 +288,13 @@ def _timed_out(max_s: float) -> str:
 def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, touch_index: int, emit,
                spent: dict[str, float], felt: tuple[float, float, int] | None = None, seated: set[str] | None = None,
                seat: tuple[float, np.ndarray, np.ndarray] | None = None, side: int = 1,
-               max_s: float = FLAT_MAX_S):
+               max_s: float = FLAT_MAX_S, restart: float = FLAT_RESTART_STEPS):
     """One flat press of ``finger``: the first at the pad's nominal normal (after a transit)
     from the workspace edge, or — ``felt``, an earlier stop (ψ, d) near that normal and the
     way to turn first (:func:`_felt_stop`) — at that ψ from FLAT_RESTART_MM outside that stop
     (1.4 s less of guarded approach on the line example) — or ``seat``, one the rolls already show (:func:`_felt_seat`), as a later press
-    starts at its face; a later one close to the ``face`` it seated on (module constants),
+    starts at its face; a later one close to the ``face`` it seated on (module constants;
+    ``restart`` steps before its normal: :func:`restart_steps`),
     on the ``side`` of it (+1: below its normal, turning up; −1: above) the finger's first
     seated press came from (the other side may lie beyond a joint limit); after
     ``misses`` presses that did not seat, from the edge, half a step further on each. While
@@ -283,7 +323,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
             travel = felt[1] + FLAT_RESTART_MM - d_start
     else:
         spent[finger] = 0.0
-        start = face.psi - side * (FLAT_RESTART_STEPS + 0.5 * misses) * step
+        start = face.psi - side * (restart + 0.5 * misses) * step
         n = kin.unit(start)
         d_start = min(float(n @ face.p), float(n @ face.q)) - FLAT_RESTART_MM
         # each joint runs its own profile: from the seat the base joint's turn ends first and
@@ -438,7 +478,8 @@ def beside_press(jaw: Jaw, finger: str, model: ObjectModel, out: Exploration, pr
     walk = state.faces[finger] is None and seat is None  # from its nominal normal: bounded by FLAT_BESIDE_S
     return _flat_plan(jaw, finger, model, state.faces[finger], state.misses[finger], touch_index, emit, spent,
                       _felt_stop(out, finger, nominal_psi(f), f.pad.length_mm, model.workspace_center), set(), seat,
-                      state.sides[finger], FLAT_BESIDE_S if walk else FLAT_MAX_S)
+                      state.sides[finger], FLAT_BESIDE_S if walk else FLAT_MAX_S,
+                      state.restarts.get(finger, FLAT_RESTART_STEPS))
 
 
 def _booked(cfg, pressed: Sequence[FeltTouch], emit=None, say=None) -> "_Faces":
@@ -454,7 +495,8 @@ def _booked(cfg, pressed: Sequence[FeltTouch], emit=None, say=None) -> "_Faces":
 class _Faces:
     """Each finger's flat-press state: the face it seated on, its presses that missed, the
     side of its face its first seated press came from, the seated presses so far, the fingers
-    whose walk beside gave up after FLAT_BESIDE_S (no miss: the flat phase walks again)."""
+    whose walk beside gave up after FLAT_BESIDE_S (no miss: the flat phase walks again), and how
+    many turn steps before its face's normal its next press starts (:func:`restart_steps`)."""
 
     faces: dict[str, Any]
     misses: dict[str, int]
@@ -462,6 +504,7 @@ class _Faces:
     active: list[str]
     flat: list[FeltTouch] = field(default_factory=list)
     walked: set[str] = field(default_factory=set)
+    restarts: dict[str, float] = field(default_factory=dict)
 
     def book(self, name: str, felt: FeltTouch, seated: set[str], emit, say) -> None:
         """Count ``name``'s press ``felt`` (``seated``: the fingers whose press of the same
@@ -470,6 +513,8 @@ class _Faces:
             if self.faces[name] is None:
                 self.sides[name] = 1 if math.remainder(felt.face.psi - felt.touch.psi_center, 2 * math.pi) >= 0 else -1
             self.faces[name] = felt.face
+            self.restarts[name] = restart_steps(felt.touch, felt.face.psi, self.sides[name],
+                                                self.restarts.get(name, FLAT_RESTART_STEPS))
             self.flat.append(felt)
             emit({"type": "event", "kind": "touch_used", "message": f"{name}: flat press {felt.touch.touch} seated",
                   "touch": felt.touch.touch, "samples": felt.to_json()})
@@ -527,7 +572,7 @@ def flat_presses(jaw: Jaw, settings: ExploreSettings, model: ObjectModel, out: E
                                              model.workspace_center),
                                   set() if name in pending else seated,  # not stopped by another pad's seat
                                   _felt_seat(out, name, cfg.finger(name).pad.length_mm, nominal_psi(cfg.finger(name))),
-                                  state.sides[name])
+                                  state.sides[name], restart=state.restarts.get(name, FLAT_RESTART_STEPS))
                  for k, name in enumerate(state.active)}
         index += len(plans)
         out.rounds += 1
