@@ -64,19 +64,32 @@ def test_bad_missed_places_are_one_clear_line(missed, says):
 
 
 def test_the_missed_stretch_is_a_pad_length_along_the_same_normal():
-    half_pad = 3.0
+    roll = 3.0
     m = MissedPlace(10.0, 5.0, 0.3)
     u = np.array([math.cos(0.3), math.sin(0.3)])
     n = np.array([-u[1], u[0]])
-    along = np.array([0.0, 2 * half_pad * (1 - 1e-9), 2 * half_pad * (1 + 1e-9), -2 * half_pad * (1 - 1e-9), 0.0, 0.0,
-                      0.0, 0.0])
+    pad = 2 * PAD_ROLLS * roll
+    along = np.array([0.0, pad * (1 - 1e-9), pad * (1 + 1e-9), -pad * (1 - 1e-9), 0.0, 0.0, 0.0, 0.0])
     across = np.array([0.0, 0.0, 0.0, 0.0, 50.0, 0.0, 0.0, 0.0])  # the pad sweeps its whole normal strip
     phi = 0.3 + np.array([0.0, 0.0, 0.0, 0.0, 0.0, SEAT_RAD * (1 - 1e-9), SEAT_RAD * (1 + 1e-6), 2 * math.pi])
     px, py = (np.array([m.x, m.y])[:, None] + np.outer(u, along) + np.outer(n, across))
-    got = _on_missed_stretch(px, py, phi, [m], half_pad)
-    assert got.tolist() == [True, True, False, True, True, True, False, True]
-    assert not _on_missed_stretch(px, py, phi + math.pi, [m], half_pad).any()  # the other side: another approach
-    assert not _on_missed_stretch(px, py, phi, [], half_pad).any()
+    straight = np.zeros(px.size)  # a pad turns SEAT_RAD to seat
+    assert _on_missed_stretch(px, py, phi, straight, [m], roll).tolist() == [True, True, False, True, True, True, False,
+                                                                            True]
+    assert not _on_missed_stretch(px, py, phi + math.pi, straight, [m], roll).any()  # the other side: another approach
+    assert not _on_missed_stretch(px, py, phi, straight, [], roll).any()
+
+
+def test_on_a_curve_the_tilt_tolerance_is_a_rolls_room_along_the_pad():
+    """A tilt δφ puts a pad's contact δφ/|κ| along it: within (PAD_ROLLS − ½)·roll, the same stretch."""
+    roll, kappa = 3.0, 0.1
+    tol = kappa * roll * (PAD_ROLLS - 0.5)
+    assert tol > SEAT_RAD
+    m = MissedPlace(0.0, 0.0, 1.0)
+    phi = 1.0 + np.array([0.99 * tol, -0.99 * tol, 1.01 * tol, 1.6, np.nan])  # beyond π/2: from the solid side
+    got = _on_missed_stretch(np.zeros(5), np.zeros(5), phi, np.array([kappa, -kappa, kappa, np.inf, kappa]), [m], roll)
+    assert got.tolist() == [True, True, False, False, False]
+    assert _on_missed_stretch(np.zeros(1), np.zeros(1), np.array([1.0 + 1.5]), np.array([np.inf]), [m], roll).all()
 
 
 def test_a_lost_suggestion_sent_back_is_not_suggested_again():
