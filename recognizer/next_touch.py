@@ -77,14 +77,16 @@ candidates say. A pad sent along the same normal near the same place meets the s
 no place is suggested where its pad would come in on that stretch again
 (``_on_missed_stretch``): its middle less than a pad length (2 ``PAD_ROLLS`` rolls) from the
 lost pad's along its tangent (the pads overlap, and where along itself the lost pad met what
-stopped it is not known) and its orientation within the pad's tilt tolerance of the lost
-pad's (``_tilt_tolerance``, ``_seats``'s: ``SEAT_RAD``, the turn a pad makes to seat, and on
-a curve of curvature κ, the leader's there, (``PAD_ROLLS`` − ½)·roll·|κ|, the tilt that puts
-the contact a roll's room along the pad), so both come in along one normal. The miss is not weighed as
-evidence against the candidates whose curve a pad would have landed on there: the landing is
-modelled on each candidate's mean curve (only its tangent's tilt has a probability,
-``_seats``), so the leader's own suggested place has a landing probability near 1 and one miss
-would rule the leader out, though its position and curvature σ's alone can make a pad miss.
+stopped it is not known), and its orientation within the pad's tilt tolerance of the lost
+pad's (``_tilt_tolerance``, the one ``_seats`` uses: the larger of ``SEAT_RAD``, the turn a
+pad makes to seat, and, on the leader's curve of curvature κ there, (``PAD_ROLLS`` − ½)·roll·|κ|,
+the tilt that moves the contact a roll's room along the pad), so that both come in along one
+normal.
+The miss is not weighed as evidence against the candidates a pad would have landed on there:
+the landing is modelled on each candidate's mean curve (only its tangent's tilt has a
+probability, ``_seats``), so the leader's own suggested place has a landing probability near
+1 and one miss would rule the leader out, though its position and curvature σ's alone can
+make a pad miss.
 
 Greedy, one touch at a time (adaptive-submodular selection, so greedy is near-optimal):
 while some place resolves at least ``CLASS_GAIN_MIN`` nats of class entropy, the place of

@@ -21,8 +21,9 @@ class RecognizeOptions:
     (None: exact contacts; a default for samples-touches, docs/recognition.md), ``profile`` a name
     of recognizer.profiles.PROFILES or None, ``reach`` the hand-frame disk the robot can
     touch (``next_touch`` stays inside it) or None, ``missed`` the places where touches sent
-    were lost (``next_touch`` keeps off the stretch a pad sent there meets), ``close_rivals`` what to do when a class
-    that is not nested with the answer fits within recognizer.classify.RIVAL_BIC:
+    were lost (``next_touch`` keeps off the stretch a pad sent there meets), ``close_rivals``
+    what to do when a class that is not nested with the answer fits within
+    recognizer.classify.RIVAL_BIC:
     ``name`` answers the best class and says it could not tell (the rival in ``also_fits``,
     the ``reason``), ``refuse`` answers ``unclassified`` naming both."""
 

@@ -25,8 +25,8 @@ from recognizer.scene import ALL_CLASSES, check_profile, load_scene
 from tactile_common.errors import InputError, check_keys
 from tactile_common.inputs import finite_number
 
-__all__ = ["NoiseModel", "Reach", "MissedPlace", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
-           "MIN_TOUCHES", "check_touch_count", "finite_number", "touch_points"]
+__all__ = ["NoiseModel", "Reach", "MissedPlace", "SamplesTouch", "ContactTouch", "Request", "parse_request",
+           "parse_noise", "MIN_TOUCHES", "check_touch_count", "finite_number", "touch_points"]
 
 #: touches a class needs before its invariants can be cross-checked (>= 2 pairs for the
 #: two-parameter and cubic classes, >= 1 pair for the others)
