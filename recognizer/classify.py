@@ -151,7 +151,7 @@ def options_for(request: Request, overrides: dict | None = None) -> RecognizeOpt
         raise InputError(f"alpha: must be in (0, 0.5), got {alpha}")
     return RecognizeOptions(estimator=opts.get("estimator", "auto"), refine=bool(opts.get("refine", False)),
                             alpha=alpha, noise=request.noise, profile=opts.get("profile"),
-                            reach=request.options.get("reach"))
+                            reach=request.options.get("reach"), missed=request.options.get("missed", ()))
 
 
 def _pair_invariants(d: Contacts) -> dict:
@@ -927,7 +927,8 @@ def _suggest(request: Request, options: RecognizeOptions, cands: list[Candidate]
     t0, c0 = time.perf_counter(), time.process_time()
     noise = options.noise or request.noise or default_noise
     try:
-        out = next_touch(cands, leader, d, noise, int(np.median(sizes)), options.reach, _roll(request))
+        out = next_touch(cands, leader, d, noise, int(np.median(sizes)), options.reach, _roll(request),
+                         options.missed)
     except (np.linalg.LinAlgError, ValueError, ArithmeticError):  # numerics of a degenerate candidate:
         out = None  # no suggestion rather than no answer
     timing["next_touch_ms"] = 1e3 * (time.perf_counter() - t0)

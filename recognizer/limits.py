@@ -18,7 +18,8 @@ import numpy as np
 from tactile_common.errors import InputError
 
 __all__ = ["MAX_TOUCHES", "MAX_SAMPLES_PER_TOUCH", "MAX_SAMPLES", "MAX_COORD_MM", "KAPPA_L", "KAPPA_S_L2",
-           "MIN_SCALE_MM", "MIN_NOISE", "MAX_PHI_RAD", "MAX_TIMEOUT_S", "check_sizes", "check_magnitudes"]
+           "MIN_SCALE_MM", "MIN_NOISE", "MAX_PHI_RAD", "MAX_TIMEOUT_S", "MAX_MISSED", "check_sizes",
+           "check_magnitudes"]
 
 MAX_TOUCHES = 64
 MAX_SAMPLES_PER_TOUCH = 500
@@ -38,6 +39,8 @@ MIN_SCALE_MM = 1e-3
 #: (its pseudo-inverse) leave double precision
 MIN_NOISE = 1e-12
 MAX_TIMEOUT_S = 3600.0
+#: places in ``options.missed``: each is a touch sent, and a request holds at most as many touches
+MAX_MISSED = MAX_TOUCHES
 
 
 def check_sizes(raw_touches: Sequence, source: str) -> None:

@@ -71,6 +71,23 @@ touch lost (bench_wide seeds 179 and 5, ellipse short stretches), and far out on
 semicubical's branch, answered parabola, suggested touches were lost beside its true cusp
 (seed 179).
 
+A place a touch was sent to and lost (``options.missed``: its point and pad orientation, as
+a suggestion gives them) says the pad met nothing it could roll on there, whatever the
+candidates say. A pad sent along the same normal near the same place meets the same thing, so
+no place is suggested where its pad would come in on that stretch again
+(``_on_missed_stretch``): its middle less than a pad length (2 ``PAD_ROLLS`` rolls) from the
+lost pad's along its tangent (the pads overlap, and where along itself the lost pad met what
+stopped it is not known), and its orientation within the pad's tilt tolerance of the lost
+pad's (``_tilt_tolerance``, the one ``_seats`` uses: the larger of ``SEAT_RAD``, the turn a
+pad makes to seat, and, on the leader's curve of curvature κ there, (``PAD_ROLLS`` − ½)·roll·|κ|,
+the tilt that moves the contact a roll's room along the pad), so that both come in along one
+normal.
+The miss is not weighed as evidence against the candidates a pad would have landed on there:
+the landing is modelled on each candidate's mean curve (only its tangent's tilt has a
+probability, ``_seats``), so the leader's own suggested place has a landing probability near
+1 and one miss would rule the leader out, though its position and curvature σ's alone can
+make a pad miss.
+
 Greedy, one touch at a time (adaptive-submodular selection, so greedy is near-optimal):
 while some place resolves at least ``CLASS_GAIN_MIN`` nats of class entropy, the place of
 largest class gain, else of largest gain. A touch is ``roll`` long: no place within
@@ -111,7 +128,7 @@ from recognizer.contacts import Contacts
 from recognizer.curves import CURVES, Pose, travel_direction
 from recognizer.result import Candidate
 from recognizer.scale_free import PARAM_POWER
-from recognizer.touches import NoiseModel, Reach
+from recognizer.touches import MissedPlace, NoiseModel, Reach
 from tactile_common.angles import wrap_angle
 
 __all__ = ["next_touch", "roll_cov", "CLASS_GAIN_MIN", "SHRINK_MIN", "REL_SIGMA_ENOUGH"]
@@ -545,7 +562,7 @@ def _seats(tilt: np.ndarray, mean: np.ndarray, P: np.ndarray, W: np.ndarray, rol
     candidate's tangent differs from the leader's, or is unknown (a stretch extrapolated far
     from the touches), the touch is likely lost if that candidate is true."""
     kappa = np.abs(np.linalg.solve(W[2:, 2:], mean[:, 2:].T)[0])
-    tol = np.clip(kappa * roll * (PAD_ROLLS - 0.5), SEAT_RAD, np.pi / 2)
+    tol = _tilt_tolerance(kappa, roll)
     s_phi = np.sqrt(np.clip(P[:, 1, 1], 0.0, None)) / W[1, 1]
     s_phi = np.maximum(s_phi, 1e-12 * tol)  # an exact prediction: the tilt is the mean's
     p = special.ndtr((tol - tilt) / s_phi) - special.ndtr((-tol - tilt) / s_phi)
@@ -639,13 +656,41 @@ def _entropy2(p):
 
 
 def next_touch(cands: Sequence[Candidate], leader: Candidate, d: Contacts, noise: NoiseModel,
-               samples: int, reach: Reach | None = None, roll: float = 0.0) -> dict | None:
-    """The suggested next touch (module docstring) or None when no touch helps."""
+               samples: int, reach: Reach | None = None, roll: float = 0.0,
+               missed: Sequence[MissedPlace] = ()) -> dict | None:
+    """The suggested next touch (module docstring) or None when no touch helps; ``missed``:
+    places where touches sent were lost (``_on_missed_stretch``)."""
     with np.errstate(all="ignore"):
-        return _next_touch(cands, leader, d, noise, samples, reach, roll)
+        return _next_touch(cands, leader, d, noise, samples, reach, roll, missed)
 
 
-def _next_touch(cands, leader, d, noise, samples, reach, roll):
+def _on_missed_stretch(px, py, travel, kappa, missed: Sequence[MissedPlace], roll: float) -> np.ndarray:
+    """Whether a pad sent to each place (px, py) with orientation ``travel`` (the direction of
+    travel), on a curve of curvature ``kappa`` there, comes in on the stretch a pad sent to one
+    of the ``missed`` places met, and was lost there: its middle less than a pad length
+    (2 ``PAD_ROLLS`` rolls) from that pad's along its tangent (the two pads overlap, and the
+    lost one may have met what stopped it anywhere along itself) and its orientation within
+    the pad's tilt tolerance of that pad's (``_tilt_tolerance``: tilted less, a pad's face
+    meets the same stretch with room for its roll, so the two come in along one normal).
+    Across the tangent nothing counts: a pad sweeps its whole normal strip on its way in."""
+    px, py, travel = np.asarray(px, float), np.asarray(py, float), np.asarray(travel, float)
+    tol = _tilt_tolerance(np.abs(np.asarray(kappa, float)), roll)
+    same = np.zeros(px.shape, bool)
+    for m in missed:
+        along = (px - m.x) * math.cos(m.phi) + (py - m.y) * math.sin(m.phi)
+        same |= (np.abs(wrap_angle(travel - m.phi)) <= tol) & (np.abs(along) < 2.0 * PAD_ROLLS * roll)
+    return same
+
+
+def _tilt_tolerance(kappa: np.ndarray, roll: float) -> np.ndarray:
+    """How far a pad may be tilted from a boundary's tangent and still meet it with its face
+    with room for the roll, on a curve of curvature |κ| ``kappa``: a tilt δφ puts the contact
+    δφ/|κ| along the pad, at most (``PAD_ROLLS`` − ½)·roll, and a pad that meets it with its
+    end turns ``SEAT_RAD`` to seat; a tilt beyond π/2 comes in from the solid's side."""
+    return np.clip(kappa * roll * (PAD_ROLLS - 0.5), SEAT_RAD, np.pi / 2)
+
+
+def _next_touch(cands, leader, d, noise, samples, reach, roll, missed):
     bic = np.array([c.bic for c in cands], float)
     ok = np.isfinite(bic)
     if not ok.any():
@@ -694,6 +739,7 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll):
     if reach is not None:  # the place's tangent in the touches' direction of travel: a robot's reach may depend on it
         keep &= reach.contains(px, py, phi + flip)
     keep &= _touchable(curve, t, roll)
+    keep &= ~_on_missed_stretch(px, py, phi + flip, curve.kappa(t), missed, roll)
     if keep.any() and curve.name != "line":  # where a pad sent there lands on the leader's curve (a line: anywhere)
         keep[keep] = lands(leader, px[keep], py[keep], phi[keep] + flip)
     if not keep.any():

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from recognizer.curves import CURVES, Pose
-from recognizer.touches import NoiseModel, Reach
+from recognizer.touches import MissedPlace, NoiseModel, Reach
 
 __all__ = ["Recognition", "Ranked", "Candidate", "RecognizeOptions", "shape_pose_vector"]
 
@@ -20,8 +20,10 @@ class RecognizeOptions:
     false-rejection rate of each χ² consistency test, ``noise`` the measurement noise
     (None: exact contacts; a default for samples-touches, docs/recognition.md), ``profile`` a name
     of recognizer.profiles.PROFILES or None, ``reach`` the hand-frame disk the robot can
-    touch (``next_touch`` stays inside it) or None, ``close_rivals`` what to do when a class
-    that is not nested with the answer fits within recognizer.classify.RIVAL_BIC:
+    touch (``next_touch`` stays inside it) or None, ``missed`` the places where touches sent
+    were lost (``next_touch`` keeps off the stretch a pad sent there meets), ``close_rivals``
+    what to do when a class that is not nested with the answer fits within
+    recognizer.classify.RIVAL_BIC:
     ``name`` answers the best class and says it could not tell (the rival in ``also_fits``,
     the ``reason``), ``refuse`` answers ``unclassified`` naming both."""
 
@@ -31,6 +33,7 @@ class RecognizeOptions:
     noise: NoiseModel | None = None
     profile: str | None = None
     reach: Reach | None = None
+    missed: tuple[MissedPlace, ...] = ()
     close_rivals: str = "name"
 
 

@@ -26,7 +26,7 @@ import numpy as np
 from recognizer.contacts import Contacts
 from recognizer.curves import CURVES, Pose
 from recognizer.noise import NoiseModel
-from recognizer.touches import ContactTouch, Request, SamplesTouch
+from recognizer.touches import ContactTouch, MissedPlace, Request, SamplesTouch
 
 __all__ = ["Unit", "PARAM_POWER", "UNIT_RANGE_MM"]
 
@@ -98,6 +98,10 @@ class Unit:
         """A reach (anything with ``contains(x, y, phi)``: a disk, a jaw's pads) asked in units of U."""
         return None if r is None else _ReachInUnits(r, self)
 
+    def _missed(self, places) -> tuple[MissedPlace, ...]:
+        """Places where touches were lost (``options.missed``), in units of U (phi unchanged)."""
+        return tuple(MissedPlace((p.x - self.ox) / self.u, (p.y - self.oy) / self.u, p.phi) for p in places)
+
     def _cov(self, cov) -> np.ndarray:
         d = np.array([self.u, self.u * self.u])
         return np.asarray(cov, float) * np.outer(d, d)
@@ -121,13 +125,16 @@ class Unit:
         opts = dict(request.options)
         if opts.get("reach") is not None:
             opts["reach"] = self._reach(opts["reach"])
+        if opts.get("missed"):
+            opts["missed"] = self._missed(opts["missed"])
         return replace(request, touches=tuple(self._touch(t) for t in request.touches),
                        noise=self.noise(request.noise), options=opts)
 
     def options(self, options):
         if self.identity:
             return options
-        return replace(options, noise=self.noise(options.noise), reach=self._reach(options.reach))
+        return replace(options, noise=self.noise(options.noise), reach=self._reach(options.reach),
+                       missed=self._missed(options.missed))
 
     # -- back to mm ------------------------------------------------------------------------
     def contacts(self, d: Contacts) -> Contacts:

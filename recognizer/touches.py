@@ -5,7 +5,8 @@ A request is ``{"scene": path|mapping (optional), "touches": [...], "noise": {..
 equal lengths, >= 3 samples) or ``{"contact": {x, y, phi, kappa, kappa_s}}`` with
 optional ``cov`` (2×2 covariance of κ, κ_s) or ``sigma_kappa`` / ``sigma_kappa_s``.
 Extensions: top-level ``noise: {phi: rad, pos: mm}`` and ``options: {refine, estimator,
-profile, alpha, reach: {x, y, radius}}``. Every problem raises a one-line :class:`InputError`.
+profile, alpha, reach: {x, y, radius}, missed: [{x, y, phi}, ...]}``. Every problem raises a
+one-line :class:`InputError`.
 """
 
 from __future__ import annotations
@@ -24,8 +25,8 @@ from recognizer.scene import ALL_CLASSES, check_profile, load_scene
 from tactile_common.errors import InputError, check_keys
 from tactile_common.inputs import finite_number
 
-__all__ = ["NoiseModel", "Reach", "SamplesTouch", "ContactTouch", "Request", "parse_request", "parse_noise",
-           "MIN_TOUCHES", "check_touch_count", "finite_number", "touch_points"]
+__all__ = ["NoiseModel", "Reach", "MissedPlace", "SamplesTouch", "ContactTouch", "Request", "parse_request",
+           "parse_noise", "MIN_TOUCHES", "check_touch_count", "finite_number", "touch_points"]
 
 #: touches a class needs before its invariants can be cross-checked (>= 2 pairs for the
 #: two-parameter and cubic classes, >= 1 pair for the others)
@@ -37,7 +38,8 @@ _TOP_KEYS = {"scene", "touches", "noise", "options", "meta"}
 _SAMPLE_KEYS = {"phi", "x", "y", "s", "curvature", "noise_factor", "finger", "meta"}
 _CURVATURE_KEYS = ("kappa", "kappa_s", "cov", "sigma_kappa", "sigma_kappa_s")
 _CONTACT_KEYS = ("x", "y", "phi") + _CURVATURE_KEYS
-_OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float, "reach": dict}
+_OPTION_KEYS = {"refine": bool, "estimator": str, "profile": str, "alpha": float, "timeout_s": float, "reach": dict,
+                "missed": list}
 
 
 @dataclass(frozen=True)
@@ -68,6 +70,42 @@ def parse_reach(raw, where: str = "options.reach") -> Reach:
         if abs(v) > limits.MAX_COORD_MM:
             raise InputError(f"{where}.{k}: |{v:.6g}| mm is beyond {limits.MAX_COORD_MM:g} mm")
     return Reach(**vals)
+
+
+@dataclass(frozen=True)
+class MissedPlace:
+    """A place a touch was sent to and lost (the pad met nothing it could roll on): the
+    hand-frame point (mm) and the pad's orientation ``phi`` (rad), as a ``next_touch`` gives
+    them (recognizer.next_touch keeps its suggestions off the stretch a pad sent there meets)."""
+
+    x: float
+    y: float
+    phi: float
+
+    def to_json(self) -> dict:
+        return {"x": self.x, "y": self.y, "phi": self.phi}
+
+
+def parse_missed(raw, where: str = "options.missed") -> tuple[MissedPlace, ...]:
+    """A list of at most ``limits.MAX_MISSED`` places {x, y, phi}: finite numbers, |x|, |y|
+    within ``limits.MAX_COORD_MM``, |phi| within ``limits.MAX_PHI_RAD``."""
+    if not isinstance(raw, list):
+        raise InputError(f"{where}: must be a list of places {{x: mm, y: mm, phi: rad}}")
+    if len(raw) > limits.MAX_MISSED:
+        raise InputError(f"{where}: {len(raw)} places; at most {limits.MAX_MISSED}")
+    out = []
+    for i, place in enumerate(raw):
+        at = f"{where}[{i}]"
+        if not isinstance(place, Mapping):
+            raise InputError(f"{at}: must be a mapping {{x: mm, y: mm, phi: rad}}")
+        check_keys(place, ("x", "y", "phi"), at)
+        vals = _required(place, ("x", "y", "phi"), at, "a missed place")
+        for k, bound, unit in (("x", limits.MAX_COORD_MM, "mm"), ("y", limits.MAX_COORD_MM, "mm"),
+                               ("phi", limits.MAX_PHI_RAD, "rad")):
+            if abs(vals[k]) > bound:
+                raise InputError(f"{at}.{k}: |{vals[k]:.6g}| {unit} is beyond {bound:g} {unit}")
+        out.append(MissedPlace(**vals))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -251,6 +289,8 @@ def _parse_options(raw, where: str = "options") -> dict:
             v = finite_number(v, f"{where}.{k}")
         if _OPTION_KEYS[k] is dict:
             v = parse_reach(v, f"{where}.{k}")
+        if _OPTION_KEYS[k] is list:
+            v = parse_missed(v, f"{where}.{k}")
         out[k] = v
     if "estimator" in out and out["estimator"] not in METHODS:
         raise InputError(f"{where}.estimator: unknown {out['estimator']!r}; allowed: {', '.join(METHODS)}")

@@ -35,10 +35,16 @@ positions 0.1 % of L), the balanced profile, every class allowed. Rows:
   cusp or inflection, a semicubical's other branch). ``--aim approach`` (the default): every
   extra touch is sent as a place and a pad orientation (a random one: the region's random
   point as the 3-touch answer places it, with its tangent) and lands where a pad coming in
-  along its normal first meets the object (tools.pad_approach), or is lost; a lost
-  suggested touch ends the suggestions. ``--aim nearest``: a suggestion is touched at the
+  along its normal first meets the object (tools.pad_approach), or is lost. Each suggested
+  touch sent is one of the two attempts, landed or lost, as each random one is; a lost one
+  is sent back as missed (``options.missed``: next_touch keeps off the stretch its pad met)
+  and the next suggestion asked for with the same touches and the missed places, as a hand
+  whose touch met nothing asks again. ``--aim nearest``: a suggestion is touched at the
   true curve's point closest to it (a semicubical's clear of the cusp), a random touch where
-  drawn. ``aim miss`` is how far the landing lies from the place sent to.
+  drawn. ``aim miss`` is how far the landing lies from the place sent to; ``suggested used``
+  the suggested touches that landed; ``touches lost`` of those sent; ``next_touch ms`` over
+  every next_touch of the 3-touch recognition and of the recognitions after each suggested
+  attempt (a re-ask after a lost one included).
 - coverage: on right answers of ``3 touches``, the fraction of shape parameters within
   1.96 stated σ and the RMS of (p̂ − p)/σ. ``--coverage-only`` runs the 3-touch
   recognitions alone (trials ``--first`` … ``--first + --trials − 1``) and gives each
@@ -66,7 +72,7 @@ from recognizer.localize import N_SHAPE
 from recognizer.profiles import PROFILES
 from recognizer.refine import refine_one
 from recognizer.result import Candidate, RecognizeOptions
-from recognizer.touches import NoiseModel, Request, SamplesTouch
+from recognizer.touches import MissedPlace, NoiseModel, Request, SamplesTouch
 from tools.bench import _pool, rel_error
 from tools.bench_sigma import interval_z
 from tools.pad_approach import Landing, land, solid_left
@@ -241,10 +247,12 @@ def drawn_trial(cls: str, i: int, seed: int, dist: str = "hand") -> Trial:
     return Trial(region, shape, ts, lo, hi, sign, both, clear, direction, touches, NoiseModel(noise.phi, noise.pos), rs)
 
 
-def _recognize(touches, nm, reach=None):
-    req = Request(tuple(SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, CLASSES, nm,
-                  {"reach": reach} if reach else {})
-    opts = RecognizeOptions(noise=nm, reach=reach, **PROFILES["balanced"].options())
+def _recognize(touches, nm, reach=None, missed=()):
+    """(recognition, CPU s, request) of ``touches``; ``missed``: the places where sent touches
+    were lost (``options.missed``: next_touch keeps off them)."""
+    opt = {k: v for k, v in (("reach", reach), ("missed", tuple(missed))) if v}
+    req = Request(tuple(SamplesTouch(t.phi, t.x, t.y, t.s) for t in touches), None, CLASSES, nm, opt)
+    opts = RecognizeOptions(noise=nm, reach=reach, missed=tuple(missed), **PROFILES["balanced"].options())
     t0 = time.process_time()
     out = recognize(req, opts)
     return out, time.process_time() - t0, req
@@ -357,6 +365,52 @@ def _random_aim(shape, t, direction, rec, touches):
     return float(cx[k]), float(cy[k]), ang + (math.pi if way < 0 else 0.0)
 
 
+SUGGESTED_ATTEMPTS = 2
+"""suggested touches sent per trial, landed or lost (as many as the random ones)."""
+
+
+@dataclass
+class Suggested:
+    """The ``3 + ≤2 suggested`` stage of a trial: the last recognition and its request (None
+    when none followed an attempt), how many suggested touches landed, each one sent (its
+    landing, why it was lost, the suggestion's reason, leader and next_touch ms), and the
+    next_touch ms of every recognition after an attempt (a re-ask after a lost one included)."""
+
+    rec: object
+    request: Request | None
+    used: int
+    sent: list
+    nt_ms: list
+
+
+def suggested_touches(rec, touches, nm, send, touch_at) -> Suggested:
+    """Up to ``SUGGESTED_ATTEMPTS`` touches where ``next_touch`` says, from the 3-touch
+    recognition ``rec`` of ``touches``: each sent (``send(next_touch)`` → Landing) is one
+    attempt, landed or lost; a landed one is touched (``touch_at(t)`` → the touch) and the
+    touches recognized again, a lost one sent back as missed (``options.missed``) and, while an
+    attempt is left, the next suggestion asked for with the same touches, as a hand whose touch
+    met nothing asks again."""
+    cur, tl, missed, out = rec, list(touches), [], Suggested(rec, None, 0, [], [])
+    for attempt in range(SUGGESTED_ATTEMPTS):
+        nt = cur.next_touch
+        if nt is None:
+            break
+        landing = send(nt)
+        out.sent.append({"t": landing.t, "why": nt["why"], "leader": cur.cls, "lost": landing.why,
+                         "ms": cur.timing.get("next_touch_cpu_ms"), "miss_mm": landing.miss_mm})
+        if landing.t is not None:
+            tl.append(touch_at(landing.t))
+            out.used += 1
+        elif attempt + 1 < SUGGESTED_ATTEMPTS:
+            missed.append(MissedPlace(nt["x"], nt["y"], nt["phi"]))
+        else:
+            break  # lost, and no attempt left to ask again for
+        cur, _, req = _recognize(tl, nm, missed=missed)
+        out.rec, out.request = cur, req
+        out.nt_ms.append(cur.timing.get("next_touch_cpu_ms", math.nan))
+    return out
+
+
 def _exact(shape, ts, direction) -> dict:
     """The same touches noise-free (noise model zero): class and relative error."""
     touches, _ = synth.sample_shape(shape, ts, SAMPLES, SPACING * shape.size, direction, None, None, with_s=False)
@@ -401,22 +455,14 @@ def run_trial(task) -> dict:
             extra.append(_extra_touch(shape, landing.t, rs, direction))
     rec5, _, _ = _recognize(list(touches) + extra, nm)
     out.update(rank5=_ranking(rec5), got5=rec5.cls, err5=rel_error(shape.params, rec5.params) if rec5.cls == cls else math.nan)
-    # up to two suggested touches; a lost one ends them (the same touches, the same suggestion)
-    cur, tl, used = rec, list(touches), 0
-    for _ in range(2):
-        nt = cur.next_touch
-        if nt is None:
-            break
-        landing = _send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, aim, left, direction)
-        out.setdefault("suggested", []).append({"t": landing.t, "why": nt["why"], "leader": cur.cls, "lost": landing.why,
-                                                "ms": cur.timing.get("next_touch_cpu_ms"), "miss_mm": landing.miss_mm})
-        if landing.t is None:
-            break
-        tl.append(_extra_touch(shape, landing.t, rs, direction))
-        used += 1
-        cur, _, reqS = _recognize(tl, nm)
+    def send(nt) -> Landing:
+        return _send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, aim, left, direction)
+
+    sug = suggested_touches(rec, touches, nm, send, lambda t: _extra_touch(shape, t, rs, direction))
+    cur, used, reqS = sug.rec, sug.used, sug.request
+    out.update(suggested=sug.sent, nt_ms_all=[out["nt_ms"]] + sug.nt_ms)
     if cur.cls != cls and used:
-        out["oracleS"] = _oracle(shape, ts, direction, cur, reqS, nm, [s["t"] for s in out["suggested"] if s["t"] is not None])
+        out["oracleS"] = _oracle(shape, ts, direction, cur, reqS, nm, [s["t"] for s in sug.sent if s["t"] is not None])
     out.update(rivalS=_rival(cur), namedS=_named(cur), rankS=_ranking(cur), t3=[float(v) for v in ts], span=[float(lo), float(hi)],
                params=dict(shape.params), gotS=cur.cls, errS=rel_error(shape.params, cur.params) if cur.cls == cls else math.nan, used=used)
     if cur.cls == cls:
@@ -455,7 +501,7 @@ def report(recs: list[dict]) -> str:
         z = np.array([v for r in rs for v in r.get("z", [])], float)
         cov = _pct(np.abs(z) <= 1.96) if z.size else "–"
         rms = f"{math.sqrt(float(np.mean(z ** 2))):.2f}" if z.size else "–"
-        nt = np.array([r["nt_ms"] for r in rs], float)
+        nt = np.array([v for r in rs for v in r.get("nt_ms_all", [r["nt_ms"]])], float)
         nt = nt[np.isfinite(nt)]
         miss = [s["miss_mm"] for r in rs for s in r.get("suggested", ()) if s.get("t") is not None]
         lost = (f"{sum(bool(x.get('lost')) for r in rs for x in r.get('random', ()))} of {sum(len(r.get('random', ())) for r in rs)} / "
@@ -593,8 +639,9 @@ def main(argv=None) -> int:
                          "small shapes, repeated touches; noise-free exactness); hand: the earlier regions, L 30-120 mm")
     ap.add_argument("--aim", choices=AIMS, default="approach",
                     help="approach: a sent touch lands where a pad with its orientation, coming in along its normal, "
-                         "first meets the object, or is lost; nearest: at the true curve's point nearest the place "
-                         "(the rule before session 17, an upper bound)")
+                         "first meets the object, or is lost (a lost suggested touch counts as one of the two "
+                         "suggested attempts and is sent back as options.missed for the next suggestion); nearest: "
+                         "at the true curve's point nearest the place (the rule before session 17, an upper bound)")
     args = ap.parse_args(argv)
     if args.trials < 1 or args.first < 0:
         raise SystemExit("bench_wide: --trials must be >= 1 and --first >= 0")

@@ -126,3 +126,42 @@ def test_suggested_touches_far_out_and_at_the_cusp_are_answered():
         region, shape, touches, nm, ts, direction = _trial_touches(cls, i, seed, sugg)
         rec, _, _ = B._recognize(touches, nm)
         assert rec.cls == cls and rec.ranking[0].chi2 < chi2, (cls, rec.ranking)
+
+
+class _Rec:
+    """A recognition as suggested_touches reads it: class, next_touch, timing."""
+
+    def __init__(self, k):
+        self.cls = "ellipse"
+        self.next_touch = {"x": 10.0 + k, "y": 2.0, "phi": 0.5, "why": f"suggestion {k}"}
+        self.timing = {"next_touch_cpu_ms": 5.0 + k}
+
+
+def _asked(monkeypatch):
+    """The calls suggested_touches makes to the recognizer: (touches, missed places)."""
+    calls = []
+
+    def fake(touches, nm, reach=None, missed=()):
+        calls.append((len(touches), tuple(missed)))
+        return _Rec(len(calls)), 0.0, f"request {len(calls)}"
+
+    monkeypatch.setattr(B, "_recognize", fake)
+    return calls
+
+
+def test_a_lost_suggested_touch_is_an_attempt_sent_back_as_missed(monkeypatch):
+    calls = _asked(monkeypatch)
+    landings = iter([B.Landing(None, "the pad meets nothing"), B.Landing(0.7, "", 0.1)])
+    sug = B.suggested_touches(_Rec(0), ["touch"] * 3, None, lambda nt: next(landings), lambda t: f"touch at {t}")
+    first = B.MissedPlace(10.0, 2.0, 0.5)
+    assert calls == [(3, (first,)), (4, (first,))]  # asked again with the same touches, then with the landed one
+    assert [s["lost"] for s in sug.sent] == ["the pad meets nothing", ""] and sug.used == 1
+    assert sug.nt_ms == [6.0, 7.0] and sug.request == "request 2"
+
+
+def test_the_last_lost_attempt_asks_nothing_more(monkeypatch):
+    calls = _asked(monkeypatch)
+    sug = B.suggested_touches(_Rec(0), ["touch"] * 3, None, lambda nt: B.Landing(None, "the pad meets the cusp"),
+                              lambda t: t)
+    assert calls == [(3, (B.MissedPlace(10.0, 2.0, 0.5),))]
+    assert len(sug.sent) == B.SUGGESTED_ATTEMPTS and sug.used == 0 and sug.nt_ms == [6.0]
