@@ -440,7 +440,7 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
                 return result
             psi = psi_start + k * step
             try:
-                approach = yield from _unless(_press(jaw, finger, psi), interrupt)
+                approach = yield from _unless(_press_across(jaw, finger, psi, result.samples), interrupt)
             except kin.Unreachable:
                 side = 1 if k > 0 else -1
                 blocked[side] = min(abs(k), abs(blocked.get(side, math.inf))) * side
@@ -459,17 +459,7 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
         psi_f = math.atan2(normal[1], normal[0])
         for extra in SEAT_PRESSES_DEG:
             a = psi_f + math.radians(extra)
-            try:
-                approach = yield from _press(jaw, finger, a)
-            except kin.Unreachable:
-                if extra != SEAT_PRESSES_DEG[0]:
-                    raise
-                # the turn back from the range's far end was blocked, and backing off there is
-                # beyond the joints (a pad end slid along a face to the finger's reach): back
-                # along the scan's own stops, each ROLL_CLEARANCE_MM off, then press
-                path = _back_along(result.samples, psi_f, ROLL_CLEARANCE_MM)
-                yield from move_line(jaw, finger, *path[-1], via=path[:-1])
-                approach = yield from _press(jaw, finger, a)
+            approach = yield from _press_across(jaw, finger, a, result.samples)
             if not take(approach, a, "seat"):
                 return result
         last = result.samples[-1]
@@ -482,10 +472,33 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
     return result
 
 
+def _press_across(jaw: Jaw, finger: str, psi: float, samples) -> Motion:
+    """:func:`_press` at ψ; where that one move is blocked by the object and backing off there
+    is beyond the joints (kin.Unreachable) while stops of the press's scan (``samples``) lie
+    between the pad and ψ, back along those stops, each ROLL_CLEARANCE_MM off (:func:`_back_along`),
+    then press. A pad whose end slid along a face, or that turned about a corner until the corner
+    met its end, stands at the finger's reach: the turn back across the range it scanned (to the
+    seat, or to grow the range the other way) sweeps the pad through the object, and backing off
+    along its own normal leaves the joints' limits, while every stop it made on the way there was
+    within them and clear of the object. Random P block 1 of bench_explore --finite 20 --anywhere
+    --seed 599: the left pad met the face's corner 14 mm from its proximal end and lowered its
+    longer part (:func:`lowering_turn`) 49° to its reach, where the corner met its distal end; the
+    face lay the other way, 7° from the start, and every turn back raised kin.Unreachable: no seat."""
+    try:
+        return (yield from _press(jaw, finger, psi))
+    except kin.Unreachable:
+        path = _back_along(samples, psi, ROLL_CLEARANCE_MM)
+        if not path:
+            raise
+        yield from move_line(jaw, finger, *path[-1], via=path[:-1])
+        return (yield from _press(jaw, finger, psi))
+
+
 def _back_along(samples, psi_f: float, off_mm: float) -> list[tuple[float, float]]:
     """The pad lines (ψ, d) ``off_mm`` off the press's stops from the pad's newest one to the one
-    nearest the seat ψ_f (the turn back across the range the press scanned, every line a stop
-    the finger reached, so within its joints and clear of the object), in that order."""
+    nearest ψ_f, the seat or a step beyond the range's other end (the turn back across the range
+    the press scanned, every line a stop the finger reached, so within its joints and clear of
+    the object), in that order."""
     here = float(samples[-1].line.psi)
     turn = math.remainder(psi_f - here, 2 * math.pi)
     on_way = sorted((s for s in samples if 1e-6 < math.remainder(float(s.line.psi) - here, 2 * math.pi) * np.sign(turn)
