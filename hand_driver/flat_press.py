@@ -480,10 +480,14 @@ def _press_across(jaw: Jaw, finger: str, psi: float, samples) -> Motion:
     met its end, stands at the finger's reach: the turn back across the range it scanned (to the
     seat, or to grow the range the other way) sweeps the pad through the object, and backing off
     along its own normal leaves the joints' limits, while every stop it made on the way there was
-    within them and clear of the object. Random P block 1 of bench_explore --finite 20 --anywhere
+    within them and clear of the object. A turn whose goal itself lies beyond the joints is beyond
+    the finger's reach, whatever the object: kin.Unreachable at once, as before. Random P block 1 of bench_explore --finite 20 --anywhere
     --seed 599: the left pad met the face's corner 14 mm from its proximal end and lowered its
     longer part (:func:`lowering_turn`) 49° to its reach, where the corner met its distal end; the
     face lay the other way, 7° from the start, and every turn back raised kin.Unreachable: no seat."""
+    # the turn's goal beyond the joints: ψ lies beyond the finger's reach, whatever the object (raises)
+    jaw.solve(finger, psi, _press_goal(jaw, finger, jaw.pad_line(jaw.last_state, finger), psi)[0],
+              jaw.finger_q(jaw.last_state, finger))
     try:
         return (yield from _press(jaw, finger, psi))
     except kin.Unreachable:
@@ -533,10 +537,15 @@ def _press(jaw: Jaw, finger: str, psi: float) -> Motion:
     what turning to ψ about the pad's middle can sweep (the pad line is interpolated, so
     the end the turn lowers stays clear all the way), then a guarded approach."""
     m = jaw.config.motion
-    here = jaw.pad_line(jaw.last_state, finger)
-    turn = abs(math.remainder(psi - float(here.psi), 2 * math.pi))
-    middle = 0.5 * (here.proximal + here.distal)
-    clearance = ROLL_CLEARANCE_MM + 0.5 * jaw.config.finger(finger).pad.length_mm * turn
-    n = kin.unit(psi)
-    d_from = yield from turn_to(jaw, finger, psi, float(n @ middle) - clearance)
+    d_goal, clearance = _press_goal(jaw, finger, jaw.pad_line(jaw.last_state, finger), psi)
+    d_from = yield from turn_to(jaw, finger, psi, d_goal)
     return (yield from guarded_approach(jaw, finger, psi, d_from, 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + m.backoff_mm))
+
+
+def _press_goal(jaw: Jaw, finger: str, here: kin.PadLine, psi: float) -> tuple[float, float]:
+    """The offset d of the pad line of normal ψ :func:`_press` turns to from the pad line ``here``,
+    and its clearance (mm): off the object by ROLL_CLEARANCE_MM plus what turning to ψ about the
+    pad's middle can sweep."""
+    turn = abs(math.remainder(psi - float(here.psi), 2 * math.pi))
+    clearance = ROLL_CLEARANCE_MM + 0.5 * jaw.config.finger(finger).pad.length_mm * turn
+    return float(kin.unit(psi) @ (0.5 * (here.proximal + here.distal))) - clearance, clearance
