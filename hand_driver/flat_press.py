@@ -16,7 +16,9 @@ lies flat at ψ_f. The press finds that kink from any start the finger can turn 
    the side the seat lies beyond, and once it lies between the ends, on the side with
    fewer lines through its support. A pivot over the middle of the pad (a corner with
    faces either side) may lower the wrong face first: at ``FLAT_MAX_TURN_DEG`` or the
-   joint limits that way, the range grows the other way. Where a whole step would pass
+   joint limits that way, the range grows the other way (where the object blocks that turn
+   back and backing off is beyond the finger, back along the scan's own stops:
+   :func:`_press_across`). Where a whole step would pass
    a joint limit, the range grows by part of one (``FILL_PARTS``), and when it cannot grow
    at all its outermost gap is halved: a seat close to the limit still gets its three lines.
 3. Once ≥ 3 lines pass through P and ≥ 3 through Q at least ``FACE_MIN_FRACTION`` of the
