@@ -16,7 +16,9 @@ lies flat at ψ_f. The press finds that kink from any start the finger can turn 
    the side the seat lies beyond, and once it lies between the ends, on the side with
    fewer lines through its support. A pivot over the middle of the pad (a corner with
    faces either side) may lower the wrong face first: at ``FLAT_MAX_TURN_DEG`` or the
-   joint limits that way, the range grows the other way. Where a whole step would pass
+   joint limits that way, the range grows the other way (where the object blocks that turn
+   back and backing off is beyond the finger, back along the scan's own stops:
+   :func:`_press_across`). Where a whole step would pass
    a joint limit, the range grows by part of one (``FILL_PARTS``), and when it cannot grow
    at all its outermost gap is halved: a seat close to the limit still gets its three lines.
 3. Once ≥ 3 lines pass through P and ≥ 3 through Q at least ``FACE_MIN_FRACTION`` of the
@@ -440,7 +442,7 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
                 return result
             psi = psi_start + k * step
             try:
-                approach = yield from _unless(_press(jaw, finger, psi), interrupt)
+                approach = yield from _unless(_press_across(jaw, finger, psi, result.samples), interrupt)
             except kin.Unreachable:
                 side = 1 if k > 0 else -1
                 blocked[side] = min(abs(k), abs(blocked.get(side, math.inf))) * side
@@ -459,17 +461,7 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
         psi_f = math.atan2(normal[1], normal[0])
         for extra in SEAT_PRESSES_DEG:
             a = psi_f + math.radians(extra)
-            try:
-                approach = yield from _press(jaw, finger, a)
-            except kin.Unreachable:
-                if extra != SEAT_PRESSES_DEG[0]:
-                    raise
-                # the turn back from the range's far end was blocked, and backing off there is
-                # beyond the joints (a pad end slid along a face to the finger's reach): back
-                # along the scan's own stops, each ROLL_CLEARANCE_MM off, then press
-                path = _back_along(result.samples, psi_f, ROLL_CLEARANCE_MM)
-                yield from move_line(jaw, finger, *path[-1], via=path[:-1])
-                approach = yield from _press(jaw, finger, a)
+            approach = yield from _press_across(jaw, finger, a, result.samples)
             if not take(approach, a, "seat"):
                 return result
         last = result.samples[-1]
@@ -482,10 +474,37 @@ def flat_press(jaw: Jaw, finger: str, touch: int, psi_start: float, first_turn: 
     return result
 
 
+def _press_across(jaw: Jaw, finger: str, psi: float, samples) -> Motion:
+    """:func:`_press` at ψ; where that one move is blocked by the object and backing off there
+    is beyond the joints (kin.Unreachable) while stops of the press's scan (``samples``) lie
+    between the pad and ψ, back along those stops, each ROLL_CLEARANCE_MM off (:func:`_back_along`),
+    then press. A pad whose end slid along a face, or that turned about a corner until the corner
+    met its end, stands at the finger's reach: the turn back across the range it scanned (to the
+    seat, or to grow the range the other way) sweeps the pad through the object, and backing off
+    along its own normal leaves the joints' limits, while every stop it made on the way there was
+    within them and clear of the object. A turn whose goal itself lies beyond the joints is beyond
+    the finger's reach, whatever the object: kin.Unreachable at once, as before. Random P block 1 of bench_explore --finite 20 --anywhere
+    --seed 599: the left pad met the face's corner 14 mm from its proximal end and lowered its
+    longer part (:func:`lowering_turn`) 49° to its reach, where the corner met its distal end; the
+    face lay the other way, 7° from the start, and every turn back raised kin.Unreachable: no seat."""
+    # the turn's goal beyond the joints: ψ lies beyond the finger's reach, whatever the object (raises)
+    jaw.solve(finger, psi, _press_goal(jaw, finger, jaw.pad_line(jaw.last_state, finger), psi)[0],
+              jaw.finger_q(jaw.last_state, finger))
+    try:
+        return (yield from _press(jaw, finger, psi))
+    except kin.Unreachable:
+        path = _back_along(samples, psi, ROLL_CLEARANCE_MM)
+        if not path:
+            raise
+        yield from move_line(jaw, finger, *path[-1], via=path[:-1])
+        return (yield from _press(jaw, finger, psi))
+
+
 def _back_along(samples, psi_f: float, off_mm: float) -> list[tuple[float, float]]:
     """The pad lines (ψ, d) ``off_mm`` off the press's stops from the pad's newest one to the one
-    nearest the seat ψ_f (the turn back across the range the press scanned, every line a stop
-    the finger reached, so within its joints and clear of the object), in that order."""
+    nearest ψ_f, the seat or a step beyond the range's other end (the turn back across the range
+    the press scanned, every line a stop the finger reached, so within its joints and clear of
+    the object), in that order."""
     here = float(samples[-1].line.psi)
     turn = math.remainder(psi_f - here, 2 * math.pi)
     on_way = sorted((s for s in samples if 1e-6 < math.remainder(float(s.line.psi) - here, 2 * math.pi) * np.sign(turn)
@@ -520,10 +539,15 @@ def _press(jaw: Jaw, finger: str, psi: float) -> Motion:
     what turning to ψ about the pad's middle can sweep (the pad line is interpolated, so
     the end the turn lowers stays clear all the way), then a guarded approach."""
     m = jaw.config.motion
-    here = jaw.pad_line(jaw.last_state, finger)
-    turn = abs(math.remainder(psi - float(here.psi), 2 * math.pi))
-    middle = 0.5 * (here.proximal + here.distal)
-    clearance = ROLL_CLEARANCE_MM + 0.5 * jaw.config.finger(finger).pad.length_mm * turn
-    n = kin.unit(psi)
-    d_from = yield from turn_to(jaw, finger, psi, float(n @ middle) - clearance)
+    d_goal, clearance = _press_goal(jaw, finger, jaw.pad_line(jaw.last_state, finger), psi)
+    d_from = yield from turn_to(jaw, finger, psi, d_goal)
     return (yield from guarded_approach(jaw, finger, psi, d_from, 2.0 * clearance + 3.0 * ROLL_CLEARANCE_MM + m.backoff_mm))
+
+
+def _press_goal(jaw: Jaw, finger: str, here: kin.PadLine, psi: float) -> tuple[float, float]:
+    """The offset d of the pad line of normal ψ :func:`_press` turns to from the pad line ``here``,
+    and its clearance (mm): off the object by ROLL_CLEARANCE_MM plus what turning to ψ about the
+    pad's middle can sweep."""
+    turn = abs(math.remainder(psi - float(here.psi), 2 * math.pi))
+    clearance = ROLL_CLEARANCE_MM + 0.5 * jaw.config.finger(finger).pad.length_mm * turn
+    return float(kin.unit(psi) @ (0.5 * (here.proximal + here.distal))) - clearance, clearance

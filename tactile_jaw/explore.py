@@ -46,7 +46,7 @@ from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_p
                                     guard_done, short_face_stop, unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_in_doubt, curved_part, feel, left_out, longest_run,
-                                  near_corners, sure_corner, too_few_clear, workspace_reach)
+                                  near_corners, on_pivots, sure_corner, too_few_clear, workspace_reach)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              feasible, nominal_psi, passes_end, predicted_tangent, probe_face_contact,
                              retreat_offset, within_curve)
@@ -206,7 +206,12 @@ def felt_curve_roll(cfg, out: Exploration, settings: ExploreSettings, reach: Jaw
     one roll span (``settings.roll_span_rad``) on away from it, cut short of the finger's corner
     cones (:func:`corner_cones`) and of the pad-end normals it met (:func:`pad_end_normals`), never
     shorter than the stretch; a stretch cut alike at both ends, or a press's scan, its own range:
-    between the corners its normals bound. Aimed at the osculating circle of the stretch (radius
+    between the corners its normals bound. The stretch's samples whose pad lines rest on a corner
+    one of the finger's rolls turned about (its pivot, tactile_jaw.pipeline.on_pivots) are that
+    corner's, not the curve's, and bound nothing: P semicubical 121 of bench_explore --finite 20
+    --anywhere --follow --seed 599 --config config/jaw-p.yaml, moved as advised, kept two lines
+    through the curve's end corner in its stretch, and the roll handed back ended among them, ran
+    onto the corner again and retired the finger. Aimed at the osculating circle of the stretch (radius
     ρ, eq. of a circle's tangent lines d = n·c − ρ) at the roll's middle normal. Calibrated P
     semicubical 63 of bench_explore --finite 10 --anywhere --calibrate --seed 613 (held out in
     session 34, development data since), moved as advised: the left roll at −55.9…−37.9° kept
@@ -218,10 +223,16 @@ def felt_curve_roll(cfg, out: Exploration, settings: ExploreSettings, reach: Jaw
     felt = next(t for t in out.touches if t.touch.touch == curve.touch.touch and t.finger == curve.finger)
     c, rho = curve.contacts, float(curve.fit.rho)
     psi = np.asarray(c.psi, dtype=float)
-    mid = len(psi) // 2
-    psi = psi[mid] + np.remainder(psi - psi[mid] + math.pi, 2 * math.pi) - math.pi  # unwrapped about its middle
-    lo, hi = float(np.min(psi)), float(np.max(psi))
+    psi = psi[len(psi) // 2] + np.remainder(psi - psi[len(psi) // 2] + math.pi, 2 * math.pi) - math.pi  # unwrapped
+    # its samples resting on a corner one of the finger's rolls turned about are that corner's, not the curve's
+    on_corner = on_pivots(curve, [t.pivot for t in out.touches if t.finger == felt.finger and t.pivot is not None])
+    if np.all(on_corner):
+        return None
+    kept = np.flatnonzero(~on_corner)
+    mid = int(kept[len(kept) // 2])
+    lo, hi = float(np.min(psi[kept])), float(np.max(psi[kept]))
     low, high = left_out(felt, curve)
+    low, high = low + int(np.sum(psi[on_corner] < lo)), high + int(np.sum(psi[on_corner] > hi))
     span = max(settings.roll_span_rad, hi - lo)
     start, end = (lo, lo + span) if low > high else (hi - span, hi) if high > low else (lo, hi)
     way = 1.0 if low > high else -1.0  # toward the roll's free end (away from the stretch's cut end)

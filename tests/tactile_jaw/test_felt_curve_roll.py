@@ -8,6 +8,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from hand_driver.config import load_config
 from hand_driver.motion import TouchResult
@@ -78,3 +79,37 @@ def test_no_roll_when_no_curved_part_was_felt():
     out.touches = [t for t in out.touches if t.touch.touch == 6]
     settings = ExploreSettings.from_profile("balanced")
     assert felt_curve_roll(config, out, settings, JawReach(config, settings, [])) is None
+
+
+# P semicubical 121 of bench_explore --finite 20 --anywhere --follow --seed 599 --config config/jaw-p.yaml, moved as advised
+DATA_121 = Path(__file__).parent / "data" / "p_semicubical_121_moved_rolls.json"
+OBJECT_121 = {"class": "semicubical_parabola", "extent": [1.054931092650383, 5.658266769670235],
+              "params": {"a": 0.2815349761412611, "b": -1.2},
+              "pose": {"theta": 2.3237614752263847, "x": 115.6137166757059, "y": -41.589991333245244}}
+
+
+def test_the_roll_handed_back_ends_short_of_the_corner_its_felt_roll_turned_about():
+    """The left roll 4 at ψ −92.25…−74.25° kept 3 lines on the curve, then turned about the
+    curve's end corner (84.54, −26.83) mm (its pivot): the stretch curved_part keeps reaches
+    two lines (−85.5°, −83.25°) through that corner, and the roll handed back over the stretch's
+    last 18° (−101.25…−83.25°) ran onto the corner again and was rejected (no smooth curve's
+    tangents), retiring the finger. Those two lines rest on the pivot (pipeline.on_pivots): the
+    roll now ends at the stretch's last line on the curve (−87.75°), and at each of its 9 pad
+    normals the exact object's support point lies on the curve clear of the end corner."""
+    config = load_config("config/jaw-p.yaml")
+    out = Exploration()
+    for raw in json.loads(DATA_121.read_text())["rolls"]:
+        samples = logged_samples(config, raw["finger"], raw["ticks"], raw["psi"])
+        out.touches.append(feel(config, TouchResult(raw["finger"], raw["touch"], raw["psi_center"], samples,
+                                                    outcome=raw["outcome"]), 9))
+    curve = curved_part(config, out.touches)
+    assert curve is not None and curve.touch.touch == 4 and out.touches[0].pivot is not None
+    assert math.degrees(float(np.max(curve.contacts.psi))) > -84.0  # the stretch reaches the corner's lines
+    settings = ExploreSettings.from_profile("balanced")
+    aim = felt_curve_roll(config, out, settings, JawReach(config, settings, []))
+    assert aim is not None and aim.finger == "left" and aim.kind == "felt"
+    assert math.degrees(aim.psi + 0.5 * aim.span) == pytest.approx(-87.75, abs=0.01)
+    obj = load_scene({"classes": CLASSES, "object": OBJECT_121}).object
+    lo, hi = obj.extent
+    for psi in np.linspace(aim.psi - 0.5 * aim.span, aim.psi + 0.5 * aim.span, 9):
+        assert lo + 0.05 < _support_t(obj, float(psi)) < hi - 0.05  # on the curve, not at its end corner
