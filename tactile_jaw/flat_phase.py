@@ -200,7 +200,14 @@ def guard_done(cfg, out: Exploration, pressed: Sequence[FeltTouch], settings: Ex
     probes and rolls a second straight face (:func:`straight_side`) more than SPLIT_APART ·
     SEAT_TOL_MM off the pressed face's line at both supports: a finite curved object closed
     by one straight segment has no second, and the lines of a curve, of a radius its rolls
-    tell from 0, meet no two corners. P line 19 of bench_explore --finite 20 --anywhere --follow --seed 571: the
+    tell from 0, meet no two corners. One closed by several segments (the cubical example's
+    three) may show two straight faces, both closing segments: then the second face proves
+    only that the other finger's lines so far met no curved part — a roll of it that turned
+    past a corner onto a curved part would not pass through P or Q and would keep the guard,
+    and any touch that felt one refuses the line (flat_phase._curve_felt) — not that no curved
+    part lies beyond a corner at normals its rolls did not reach. The demo of such a block turned
+    −90° (its curved part facing +x, out of both pads' reach: tests/tactile_jaw/test_guard_done.py)
+    ends here and answers line with and without this stop, in the same robot time. P line 19 of bench_explore --finite 20 --anywhere --follow --seed 571: the
     right pad's third press answered at 16.2 s, the left then probed and rolled across the
     block's far face until 23.4 s (docs/exploration.md, session 34)."""
     state = _booked(cfg, pressed)

@@ -124,3 +124,40 @@ def test_the_guard_ends_with_the_presses_only_beside_a_second_straight_face():
     out = _out(_hyperbola())
     out.touches += _presses(bottom)
     assert guard_done(cfg, out, out.touches[1:], settings) is None
+
+
+def _cubical_block(k: float = 1.5, at=(118.3472, -16.5)) -> np.ndarray:
+    """config/scenes/cubical_parabola.yaml's object scaled k times ((t, a t³ + c t), a = 0.0008 / k²,
+    c = −0.5, t in [−24k, 2k], closed by three segments through (2k, −20k) and (−24k, −20k)), turned
+    −90° so its curved part faces +x, away from both pads, and its two side faces (closing segments)
+    face them: sampled 0.01 mm apart."""
+    a, c = 0.0008 / k**2, -0.5
+    t = np.linspace(-24.0 * k, 2.0 * k, 2601)
+    arc = np.stack([t, a * t**3 + c * t], axis=1)
+    corners = [arc[-1], np.array([2.0 * k, -20.0 * k]), np.array([-24.0 * k, -20.0 * k]), arc[0]]
+    canonical = np.concatenate([arc, *(np.linspace(p, q, 3001) for p, q in zip(corners, corners[1:]))])
+    return np.stack([canonical[:, 1], -canonical[:, 0]], axis=1) + at  # turned −90°, moved
+
+
+def test_a_second_straight_face_beside_a_curve_beyond_its_corner():
+    """A cubical block closed by three segments (the bench's cubical objects are): the right pad's
+    presses seat on one side face, the left's lines met the other side face and the corner (119.8,
+    19.5) mm where the curved part begins (its normal cone 41.4°–90°: rolls at pad normals −100°,
+    −115° as tactile demo --config config/jaw-p.yaml ran it). Two straight faces prove no polygon
+    here; the guard ends there (the demo's answer, line, is the same without it: no pad reaches
+    the curved part's normals below 41.4°). A roll turned past the corner's cone meets the curve,
+    a line through neither support: the guard goes on."""
+    cfg = load_config("config/jaw-p.yaml")
+    settings = ExploreSettings.from_profile("balanced")
+    block = _cubical_block()
+    corner = np.array([118.3472 + 0.0008 / 1.5**2 * (-36.0) ** 3 + 18.0, 19.5])
+    out = _out(block, probes=(-100.0, -90.0, -80.0), rolls=(-100.0, -115.0))
+    side = straight_side(out, "left", PAD_MM, math.radians(-90.0))
+    assert side is not None and min(np.linalg.norm(x - corner) for x in side) < 0.05
+    right_face = _face((88.35, -19.5), (116.86, -19.5), 90.0)
+    out.touches += _presses(right_face)
+    why = guard_done(cfg, out, out.touches[2:], settings)
+    assert why is not None and "straight face" in why
+    out = _out(block, probes=(-100.0, -90.0, -80.0), rolls=(-100.0, -115.0, -150.0))
+    out.touches += _presses(right_face)
+    assert guard_done(cfg, out, out.touches[3:], settings) is None
