@@ -51,7 +51,8 @@ def park(jaw) -> None:
 def _corner_approach(jaw, finger: str, center, r: float, direction, end: str, q_branch, gap0: float,
                      travel: float):
     """Guarded approach of a pad end toward the disk centre along −direction, from
-    ``gap0`` mm outside the disk (nominal geometry); returns the contact ticks or None."""
+    ``gap0`` mm outside the disk (nominal geometry); returns the contact's reading (a
+    JointState) or None."""
     m = jaw.config.motion
     step = m.approach_step_mm
     f = jaw.config.finger(finger)
@@ -76,12 +77,22 @@ def _corner_approach(jaw, finger: str, center, r: float, direction, end: str, q_
         felt = current is not None and current >= m.contact_current_ma
         stalled = len(history) >= 3 and gap - gap_goal >= 1.5 * step and history[-3] - history[-1] < 0.2 * step
         if felt or stalled:
-            return jaw.finger_ticks(state, finger)
+            return state
         elapsed = jaw.robot_time() - t0
         if gap0 - gap_goal >= travel or elapsed > m.max_touch_s:
             return None
         gap_goal = max(gap0 - m.approach_speed_mm_s * elapsed, gap - 2.0 * step, gap0 - travel)
         state, _ = yield solve(gap_goal, jaw.finger_q(state, finger))
+
+
+def _reading(jaw, state, finger: str, kind: str, placement: int) -> Reading:
+    """The calibration reading of a contact: the finger's ticks and its joints' currents (None
+    where a joint senses none) in that one reading."""
+    ticks = jaw.finger_ticks(state, finger)
+    currents = None if state.current_ma is None else np.asarray(state.current_ma, dtype=object)[jaw.slices[finger]]
+    sensed = currents is not None and all(c is not None for c in currents)
+    return Reading(finger, kind, (float(ticks[0]), float(ticks[1])), placement,
+                   (float(currents[0]), float(currents[1])) if sensed else None)
 
 
 def _pre_pose(cfg: JawConfig, t: PlannedTouch, center, r: float, gap: float):
@@ -176,19 +187,22 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
             d_pre = float(n @ np.asarray(center)) - r - gap
             try:
                 result = yield from guarded_approach(jaw, finger, t.psi, d_pre, travel)
-                ticks = None if result.contact is None else result.contact.ticks
+                # the approach ends on the reading it judged a contact, the jaw's last
+                state = None if result.contact is None else jaw.last_state
+                if state is not None and result.contact.reading != jaw.last_index:
+                    raise RuntimeError("the contact's reading is not the jaw's last")
             except kin.Unreachable:
-                ticks = None
+                state = None
         else:
             try:
-                ticks = yield from _corner_approach(jaw, finger, center, r, t.direction,
+                state = yield from _corner_approach(jaw, finger, center, r, t.direction,
                                                     "distal" if t.kind == "corner" else "proximal", pre, gap, travel)
             except kin.Unreachable:
-                ticks = None
-        if ticks is None:
+                state = None
+        if state is None:
             skipped.append(f"{finger} {t.kind}: no contact")
         else:
-            out.append(Reading(finger, t.kind, (float(ticks[0]), float(ticks[1])), placement))
+            out.append(_reading(jaw, state, finger, t.kind, placement))
         yield from move_to(jaw, finger, pre)
     if len(trail) > 1 and not guard(finger, here, home):
         trail = yield from retrace()

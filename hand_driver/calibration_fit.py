@@ -68,7 +68,8 @@ ROBUST_Z = 3.0
 ROBUST_PASSES = 20
 ROBUST_SETTLED = 1e-3
 #: default standard-error tolerances: half the recovery targets (1 tick, 0.1 mm, 0.02° of band)
-TOLERANCES = {"zero_tick": 0.5, "link_mm": 0.05, "offset_mm": 0.05, "backlash_deg": 0.01}
+TOLERANCES = {"zero_tick": 0.5, "link_mm": 0.05, "offset_mm": 0.05, "backlash_deg": 0.01,
+              "compliance_deg_per_nm": 0.05, "compliance_mm_per_n": 0.005}
 #: a zero tick's tolerance is never below this angle (deg): 14 ticks of a PH54, whose encoder
 #: is finer than the contact physics of a calibration touch
 ZERO_FLOOR_DEG = 0.005
@@ -79,6 +80,10 @@ BAND_MIN_EACH_WAY = 3
 #: few readings against the working load cannot fix is then b ± b/2, and what that leaves is in
 #: every parameter's standard error (docs/kinematics.md, backlash on the X-series jaw)
 BAND_PRIOR_FRACTION = 0.5
+#: with declared compliance measured (module docstring): the compliant fit is kept when some joint's c
+#: or pad's k comes out above this many standard errors, else the rigid one (a jaw whose links and
+#: pads do not yield is calibrated exactly as before)
+COMPLIANCE_Z = 3.0
 #: a reading's leverage in the standard errors is taken as at most this (one that alone fixes a
 #: parameter has leverage 1 and a zero residual: its leave-one-out residual r/(1 − h) is finite)
 LEVERAGE_MAX = 1.0 - 1e-9
@@ -89,6 +94,8 @@ _NEEDS = {
     "link_mm": "corner touches (distal link) or face touches at widely spread orientations (proximal link)",
     "offset_mm": "face touches at widely spread pad orientations",
     "backlash_deg": "touches that load the joint both ways (both inverse-kinematics branches, corner touches)",
+    "compliance_deg_per_nm": "touches that load the joint with widely different torques",
+    "compliance_mm_per_n": "face touches pressed with widely different forces",
 }
 
 
@@ -99,12 +106,14 @@ class CalibrationRefused(InputError):
 @dataclass(frozen=True)
 class Reading:
     """One contact: finger name, kind ('face', 'corner' or 'heel'), that finger's two
-    encoder ticks, and which placement of the reference it touched (0, 1, ...)."""
+    encoder ticks, which placement of the reference it touched (0, 1, ...), and its two joints'
+    Present Current at that reading (mA as the bus reads them; None: not read)."""
 
     finger: str
     kind: str
     ticks: tuple[float, float]
     placement: int = 0
+    current_ma: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -148,32 +157,42 @@ class CalibrationResult:
 
 # ----------------------------------------------------------------------------- model
 
-def _param_names(cfg: JawConfig, bands: tuple[int, ...] = ()) -> list[tuple[str, str]]:
+def _param_names(cfg: JawConfig, bands: tuple[int, ...] = (), compliance: bool = False) -> list[tuple[str, str]]:
     out = []
     for f in cfg.fingers:
         out += [(f"{f.name}.joint{j.id}.zero_tick", "zero_tick") for j in f.joints]
         out += [(f"{f.name}.joint{j.id}.link_mm", "link_mm") for j in f.joints]
         out.append((f"{f.name}.pad.offset_mm", "offset_mm"))
     names = {k: f"{f.name}.joint{j.id}" for k, (f, j) in enumerate((f, j) for f in cfg.fingers for j in f.joints)}
-    return out + [(f"{names[k]}.backlash_deg", "backlash_deg") for k in bands]
+    out += [(f"{names[k]}.backlash_deg", "backlash_deg") for k in bands]
+    if compliance:
+        out += [(f"{names[k]}.compliance_deg_per_nm", "compliance_deg_per_nm") for k in range(len(names))]
+        out += [(f"{f.name}.pad.compliance_mm_per_n", "compliance_mm_per_n") for f in cfg.fingers]
+    return out
 
 
-def pack_params(cfg: JawConfig, bands: tuple[int, ...] = ()) -> np.ndarray:
+def pack_params(cfg: JawConfig, bands: tuple[int, ...] = (), compliance: bool = False) -> np.ndarray:
     """The fit's unknowns of ``cfg``: per finger both zero ticks, both links and the pad
-    offset, then the band (backlash_deg) of each joint of ``bands`` (indices in cfg.joints)."""
+    offset, then the band (backlash_deg) of each joint of ``bands`` (indices in cfg.joints), then
+    with ``compliance`` every joint's compliance_deg_per_nm and every pad's compliance_mm_per_n."""
     v = []
     for f in cfg.fingers:
         v += [j.zero_tick for j in f.joints] + [j.link_mm for j in f.joints] + [f.pad.offset_mm]
     joints = cfg.joints
-    return np.array(v + [joints[k].backlash_deg for k in bands], dtype=float)
+    v += [joints[k].backlash_deg for k in bands]
+    if compliance:
+        v += [j.compliance_deg_per_nm for j in joints] + [f.pad.compliance_mm_per_n for f in cfg.fingers]
+    return np.array(v, dtype=float)
 
 
-def apply_params(cfg: JawConfig, v, bands: tuple[int, ...] = ()) -> JawConfig:
+def apply_params(cfg: JawConfig, v, bands: tuple[int, ...] = (), compliance: bool = False) -> JawConfig:
     """A copy of ``cfg`` with the calibrated parameters ``v`` (the fit's order)."""
     fingers, k = [], 0
-    band_of = dict(zip(bands, v[5 * len(cfg.fingers):]))
+    nf, nj = len(cfg.fingers), len(cfg.joints)
+    band_of = dict(zip(bands, v[5 * nf:5 * nf + len(bands)]))
+    first = 5 * nf + len(bands)
     g = 0
-    for f in cfg.fingers:
+    for fi, f in enumerate(cfg.fingers):
         z, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
         k += 5
         joints = []
@@ -181,19 +200,29 @@ def apply_params(cfg: JawConfig, v, bands: tuple[int, ...] = ()) -> JawConfig:
             j = dataclasses.replace(j, zero_tick=float(z[i]), link_mm=float(links[i]))
             if g in band_of:
                 j = dataclasses.replace(j, backlash_deg=max(0.0, float(band_of[g])))
+            if compliance:
+                j = dataclasses.replace(j, compliance_deg_per_nm=max(0.0, float(v[first + g])))
             joints.append(j)
             g += 1
-        fingers.append(dataclasses.replace(f, joints=tuple(joints),
-                                           pad=dataclasses.replace(f.pad, offset_mm=float(off))))
+        pad = dataclasses.replace(f.pad, offset_mm=float(off))
+        if compliance:
+            pad = dataclasses.replace(pad, compliance_mm_per_n=max(0.0, float(v[first + nj + fi])))
+        fingers.append(dataclasses.replace(f, joints=tuple(joints), pad=pad))
     return dataclasses.replace(cfg, fingers=tuple(fingers))
 
 
 class ContactModel:
     """Residuals (mm) of every reading for kinematic parameters v and object pose w."""
 
-    def __init__(self, cfg: JawConfig, reference, readings: list[Reading], bands: tuple[int, ...] = ()):
+    def __init__(self, cfg: JawConfig, reference, readings: list[Reading], bands: tuple[int, ...] = (),
+                 compliance: bool = False):
         self.cfg = cfg
         self.bands = tuple(bands)  # joints (indices in cfg.joints) whose band is an unknown
+        #: every joint's compliance and every pad's give are unknowns, each reading's own currents
+        #: its joints' torques (:func:`joint_torques`) and the force they balance (:meth:`set_forces`)
+        self.compliance = compliance
+        if compliance and any(r.current_ma is None for r in readings):
+            raise InputError("a compliance fit needs every reading's joint currents")
         joints = cfg.joints
         #: each fitted band's prior (deg): its model's stated backlash, None where none is stated
         self.priors = tuple(joints[k].spec.backlash_deg for k in self.bands)
@@ -215,7 +244,11 @@ class ContactModel:
                     sel = [i for i, r in enumerate(readings)
                            if r.finger == f.name and r.kind == kind and r.placement == pl]
                     if sel:
-                        self.groups.append((pl, fi, kind, np.array([readings[i].ticks for i in sel], dtype=float)))
+                        ticks = np.array([readings[i].ticks for i in sel], dtype=float)
+                        if compliance:  # columns: ticks, load signs (set_loads), torques, force (set_forces)
+                            torques = joint_torques(f, np.array([readings[i].current_ma for i in sel], dtype=float))
+                            ticks = np.hstack([ticks, np.zeros_like(ticks), torques, np.zeros((len(sel), 1))])
+                        self.groups.append((pl, fi, kind, ticks))
                         self.members.append(sel)
         unknown = {r.finger for r in readings} - set(names)
         if unknown:
@@ -234,17 +267,30 @@ class ContactModel:
                 h[k - first] = math.radians(v[nf + slot]) / 2.0
         return h
 
+    def compliances(self, v, fi: int) -> tuple[np.ndarray, float]:
+        """Finger ``fi``'s joints' compliance c (rad per N·m) and its pad's give k (mm per N) in ``v``."""
+        first = 5 * len(self.cfg.fingers) + len(self.bands)
+        c = np.radians(v[first + 2 * fi:first + 2 * fi + 2])
+        return c, float(v[first + len(self.cfg.joints) + fi])
+
     def lines(self, v, fi: int, ticks) -> kin.PadLine:
         """The pad lines of readings ``ticks`` (n, 2), or (n, 4) with each joint's load sign
-        (set_loads): the link angles are the encoders' less sign·h."""
+        (set_loads): the link angles are the encoders' less sign·h; or (n, 7) with each joint's
+        torque τ and the contact force F too (compliance): the link angles less c·τ as well, and
+        the pad's face k·F behind the line its links give (hand_driver.sim.errors: the give moves
+        the pad line along its normal)."""
         f = self.cfg.fingers[fi]
         k = 5 * fi
         zero, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
         sign = np.array([j.direction for j in f.joints], dtype=float)
         ticks = np.asarray(ticks, dtype=float)
         q = ticks_to_rad(ticks[..., :2], zero, sign, kin.resolutions(f.joints))
-        if ticks.shape[-1] == 4:  # zero_tick: the link's zero under the working load
-            q = q - np.where(ticks[..., 2:] == 0.0, 0.0, ticks[..., 2:] - kin.working_loads(f)) * self.half_bands(v, fi)
+        if ticks.shape[-1] >= 4:  # zero_tick: the link's zero under the working load
+            q = q - np.where(ticks[..., 2:4] == 0.0, 0.0, ticks[..., 2:4] - kin.working_loads(f)) * self.half_bands(v, fi)
+        if ticks.shape[-1] == 7:
+            c, give = self.compliances(v, fi)
+            q = q - c * ticks[..., 4:6]
+            off = (off - give * ticks[..., 6])[..., None]
         return kin.chain_pad_line((f.base.x, f.base.y, f.base.angle), q, links, off, f.pad.length_mm,
                                   f.pad.side_sign)
 
@@ -280,33 +326,57 @@ class ContactModel:
         """The fit's residuals at x = (parameters, poses): each reading's by its σ, then the priors."""
         return np.concatenate([self.residuals(x[:nv], x[nv:]) / sig, self.prior_residuals(x[:nv])])
 
+    def _pressing(self, v, w, pl: int, fi: int, kind: str, ticks) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(link angles, contact points, force directions) of a group's readings at (v, w): the
+        force the finger applies at its contact, along the pad's normal for a face touch, toward
+        the disk's centre for a pad end (module docstring)."""
+        f = self.cfg.fingers[fi]
+        t2 = np.asarray(ticks, dtype=float)[:, :2]
+        line = self.lines(v, fi, t2)
+        q = ticks_to_rad(t2, v[5 * fi:5 * fi + 2], np.array([j.direction for j in f.joints], dtype=float),
+                         kin.resolutions(f.joints))
+        points, directions = [], []
+        for i in range(len(t2)):
+            ln = line.at(i)
+            if self.cls == "circle":
+                c = np.array([w[2 * pl], w[2 * pl + 1]])
+                if kind == "face":
+                    point, direction = c - self.r * ln.normal, ln.normal
+                else:
+                    point = ln.distal if kind == "corner" else ln.proximal
+                    direction = (c - point) / max(float(np.hypot(*(c - point))), 1e-12)
+            else:
+                m = kin.unit(w[2 * pl])
+                direction = m if float(m @ ln.normal) >= 0.0 else -m
+                point = (0.5 * (ln.proximal + ln.distal) if kind == "face"
+                         else ln.distal if kind == "corner" else ln.proximal)
+            points.append(point)
+            directions.append(direction)
+        return q, np.array(points), np.array(directions)
+
     def set_loads(self, v, w) -> None:
-        """Append each reading's load sign on each joint (the sign of the moment arm of the
-        force the finger applies at its contact, module docstring) to its group's ticks."""
+        """Set each reading's load sign on each joint (the sign of the moment arm of the
+        force the finger applies at its contact, module docstring) in its group's ticks."""
         out = []
         for pl, fi, kind, ticks in self.groups:
-            f = self.cfg.fingers[fi]
-            t2 = np.asarray(ticks, dtype=float)[:, :2]
-            line = self.lines(v, fi, t2)
-            q = ticks_to_rad(t2, v[5 * fi:5 * fi + 2], np.array([j.direction for j in f.joints], dtype=float),
-                             kin.resolutions(f.joints))
-            signs = []
-            for i in range(len(t2)):
-                ln = line.at(i)
-                if self.cls == "circle":
-                    c = np.array([w[2 * pl], w[2 * pl + 1]])
-                    if kind == "face":
-                        point, direction = c - self.r * ln.normal, ln.normal
-                    else:
-                        point = ln.distal if kind == "corner" else ln.proximal
-                        direction = (c - point) / max(float(np.hypot(*(c - point))), 1e-12)
-                else:
-                    m = kin.unit(w[2 * pl])
-                    direction = m if float(m @ ln.normal) >= 0.0 else -m
-                    point = (0.5 * (ln.proximal + ln.distal) if kind == "face"
-                             else ln.distal if kind == "corner" else ln.proximal)
-                signs.append(np.sign(kin.moment_arms(f, q[i], point, direction)))
-            out.append((pl, fi, kind, np.hstack([t2, np.array(signs)])))
+            q, points, directions = self._pressing(v, w, pl, fi, kind, ticks)
+            signs = np.sign(kin.moment_arms(self.cfg.fingers[fi], q, points, directions))
+            t = np.asarray(ticks, dtype=float)
+            out.append((pl, fi, kind, np.hstack([t[:, :2], signs, t[:, 4:]])))
+        self.groups = out
+
+    def set_forces(self, v, w) -> None:
+        """Set each reading's contact force F ≥ 0 (N) in its group's ticks: the least squares of its
+        joints' torques (from its own currents) against a_j·F, a_j the moment arms at (v, w) (the
+        balance a blocked finger's servos hold, hand_driver.sim.errors)."""
+        out = []
+        for pl, fi, kind, ticks in self.groups:
+            q, points, directions = self._pressing(v, w, pl, fi, kind, ticks)
+            arms = kin.moment_arms(self.cfg.fingers[fi], q, points, directions) / 1000.0
+            t = np.array(ticks, dtype=float)
+            norm = np.maximum(np.sum(arms**2, axis=1), 1e-12)
+            t[:, 6] = np.maximum(0.0, np.sum(arms * t[:, 4:6], axis=1) / norm)
+            out.append((pl, fi, kind, t))
         self.groups = out
 
     def loads_by_joint(self) -> dict[int, tuple[int, int]]:
@@ -314,7 +384,7 @@ class ContactModel:
         out: dict[int, list[int]] = {}
         for pl, fi, kind, ticks in self.groups:
             t = np.asarray(ticks)
-            if t.shape[-1] != 4:
+            if t.shape[-1] < 4:
                 continue
             for i in range(2):
                 c = out.setdefault(2 * fi + i, [0, 0])
@@ -401,6 +471,14 @@ class ContactModel:
             self.groups = saved
 
 
+def joint_torques(finger, current_ma) -> np.ndarray:
+    """Each joint's torque (N·m along its angle) from its Present Current (mA as read, (n, 2)):
+    Kt·I, each model's torque constant (hand_driver.control_table), signed by the joint's direction."""
+    kt = np.array([j.spec.torque_nm_per_a for j in finger.joints])
+    sign = np.array([j.direction for j in finger.joints], dtype=float)
+    return kt * sign * np.asarray(current_ma, dtype=float) / 1000.0
+
+
 def standard_errors(u, s, vt, fun, n_prior: int) -> np.ndarray:
     """Each unknown's standard error from the weighted fit's Jacobian J = U·S·Vᵀ and residuals
     ``fun`` (readings by their quantization σ, then ``n_prior`` prior rows): the leave-one-out
@@ -439,18 +517,38 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
         backlash: bool = False) -> CalibrationResult:
     """Least-squares calibration (module docstring); with ``backlash`` the readings' load
     directions are modelled and the band of every joint loaded both ways is fitted;
-    :class:`CalibrationRefused` when a parameter is not determined to its tolerance."""
+    :class:`CalibrationRefused` when a parameter is not determined to its tolerance. When every
+    reading carries its joints' currents, the fit with every joint's compliance and pad's give
+    as unknowns (each reading's link angles its encoders' less c·τ, its pad k·F behind its line,
+    τ and F from its own currents) is kept if some c or k comes out above ``COMPLIANCE_Z``
+    standard errors: a jaw that yields measurably; else (or if that fit is refused) the rigid fit."""
     tol = dict(TOLERANCES, **(tolerances or {}))
     counts = _bands(cfg, reference, readings) if backlash else {}
     joints = cfg.joints
     bands = tuple(sorted(k for k, (neg, pos) in counts.items()
                          if min(neg, pos) >= (1 if joints[k].spec.backlash_deg else BAND_MIN_EACH_WAY)))
-    v0 = pack_params(cfg, bands)
-    names = _param_names(cfg, bands)
+    if all(r.current_ma is not None for r in readings):
+        try:
+            yielding = _fit(cfg, reference, readings, tol, backlash, counts, bands, compliance=True)
+        except CalibrationRefused:
+            yielding = None
+        if yielding is not None and any(e.after > COMPLIANCE_Z * e.se for e in yielding.estimates
+                                        if e.kind in ("compliance_deg_per_nm", "compliance_mm_per_n")):
+            return yielding
+    return _fit(cfg, reference, readings, tol, backlash, counts, bands, compliance=False)
+
+
+def _fit(cfg: JawConfig, reference, readings: list[Reading], tol: dict, backlash: bool, counts: dict,
+         bands: tuple[int, ...], compliance: bool) -> CalibrationResult:
+    """:func:`fit` with the bands ``bands`` (``counts``: every joint's load counts) and, with
+    ``compliance``, every joint's c and pad's k as unknowns."""
+    joints = cfg.joints
+    v0 = pack_params(cfg, bands, compliance)
+    names = _param_names(cfg, bands, compliance)
     nv = v0.size
     used, n_reclassified, n_dropped = list(readings), 0, 0
     for attempt in range(SCREEN_PASSES + 1):
-        model = ContactModel(cfg, reference, used, bands)
+        model = ContactModel(cfg, reference, used, bands, compliance)
         n_pose = 2 * len(model.placements)
         n_res = sum(len(t) * (2 if (model.cls == "line" and kind == "face") else 1)
                     for _, _, kind, t in model.groups)
@@ -462,6 +560,8 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
         before = least_squares(lambda w: model.residuals(v0, w), w0, method="lm")
         if backlash:
             model.set_loads(v0, before.x)
+        if compliance:
+            model.set_forces(v0, before.x)
         x0 = np.concatenate([v0, before.x])
         # weighted by each reading's quantization σ (at the nominal geometry), so that
         # readings with long lever arms (coarse) count less than fine ones
@@ -494,7 +594,7 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     se = standard_errors(u, s, vt, res.fun, m - sig.size)
     zero_tol = [max(tol["zero_tick"], ZERO_FLOOR_DEG * j.ticks_per_rev / 360.0) for j in joints]
     # a band with a stated figure is known to its prior at worst: its tolerance is the prior's σ
-    prior_tol = {nv - len(bands) + i: BAND_PRIOR_FRACTION * b for i, b in enumerate(model.priors) if b}
+    prior_tol = {5 * len(cfg.fingers) + i: BAND_PRIOR_FRACTION * b for i, b in enumerate(model.priors) if b}
     tolerance = [zero_tol[2 * (i // 5) + i % 5] if kind == "zero_tick" else max(tol[kind], prior_tol.get(i, 0.0))
                  for i, (_, kind) in enumerate(names)]
     estimates = tuple(Estimate(name, kind, float(v0[i]), float(res.x[i]), float(se[i]), tolerance[i])
@@ -508,8 +608,9 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     poses = tuple({"x": float(w[2 * i]), "y": float(w[2 * i + 1])} if model.cls == "circle"
                   else {"normal_angle": float(w[2 * i]), "offset_mm": float(w[2 * i + 1])}
                   for i in model.placements)
-    spread = _placement_spread(cfg, reference, used, bands, v0, res.x, backlash)
-    return CalibrationResult(config=_with_zero_sigmas(apply_params(cfg, res.x[:nv], bands), estimates, spread),
+    spread = _placement_spread(cfg, reference, used, bands, v0, res.x, backlash, compliance)
+    return CalibrationResult(config=_with_zero_sigmas(apply_params(cfg, res.x[:nv], bands, compliance), estimates,
+                                                      spread),
                              estimates=estimates, reference_poses=poses,
                              rms_before_mm=float(np.sqrt(np.mean(before.fun**2))),
                              rms_after_mm=float(np.sqrt(np.mean(r**2))), max_after_mm=float(np.max(np.abs(r))),
@@ -539,7 +640,8 @@ def _robust_fit(fun, x0: np.ndarray):
     return res
 
 
-def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0, x, backlash: bool) -> np.ndarray | None:
+def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0, x, backlash: bool,
+                      compliance: bool = False) -> np.ndarray | None:
     """The jackknife standard error of every parameter over the reference's placements: the
     fit repeated leaving out each placement in turn (from the full fit's values, each
     reading's load as judged there), √((k − 1)/k · Σ (v_i − v̄)²). It holds what differs
@@ -547,7 +649,7 @@ def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0,
     the emulator's or the jaw's contact physics) that the quantization model's standard
     errors leave out: on the P-series jaw calibrated against config/jaw-p-truth.yaml the zero
     ticks came out 2–4 of those off. None with fewer than 3 placements, or when a left-out
-    fit is not determined (rank deficient) or fails."""
+    fit is not determined (fewer residuals than unknowns, rank deficient) or fails."""
     placements = sorted({r.placement for r in used})
     if len(placements) < 3:
         return None
@@ -558,13 +660,17 @@ def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0,
         renum = {p: i for i, p in enumerate(kept)}
         sub = [dataclasses.replace(r, placement=renum[r.placement]) for r in used if r.placement != drop]
         try:
-            model = ContactModel(cfg, reference, sub, bands)
+            model = ContactModel(cfg, reference, sub, bands, compliance)
         except InputError:
             return None
         w = np.concatenate([x[nv + 2 * p: nv + 2 * p + 2] for p in kept])
         if backlash:
             model.set_loads(v0, w)
+        if compliance:
+            model.set_forces(v0, w)
         sig = np.maximum(model.reading_sigmas(v0, w), 1e-4)
+        if sig.size + len(model.priors) <= nv + w.size:  # fewer residuals than unknowns: not determined
+            return None
         res = least_squares(lambda y: model.weighted(y, nv, sig), np.concatenate([x[:nv], w]), method="lm",
                             x_scale="jac", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
         sv = np.linalg.svd(res.jac, compute_uv=False)
