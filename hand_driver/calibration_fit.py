@@ -39,6 +39,19 @@ both ways (the plan's two inverse-kinematics branches and its corner touches do)
 band 2h as an unknown, ``backlash_deg``; a joint loaded one way only keeps ``backlash_deg``
 as configured and its ``zero_tick`` is the offset under that load. Zero ticks are in each joint's model's
 ticks; their tolerance is the larger of ``zero_tick`` (0.5 tick) and ``ZERO_FLOOR_DEG``.
+
+Compliance (docs/kinematics.md, declared compliance): a blocked servo's current balances the
+contact's torque, Kt_j·I_j = τ_j = a_j·F (hand_driver.sim.errors), so each reading's own currents
+(``Reading.current_ma``) give its joints' torques (:func:`joint_torques`) and, by least squares
+against the moment arms at its contact, its force F (:meth:`ContactModel.set_forces`). A joint of
+compliance c reads its link c·τ behind the encoder, and a pad of give k stands k·F behind the line
+its links give. Where every reading carries its currents the fit with every c and k as unknowns
+(``compliance_deg_per_nm``, ``compliance_mm_per_n``) is made, and kept when some c or k is above
+``COMPLIANCE_Z`` standard errors; a jaw that does not measurably yield keeps the rigid fit, so its
+calibration is the same as without currents. Each reading keeps its quantization σ: what the load
+model leaves, the current's resolution (one unit, ±½ uniform) times c (and k/|a|), is 0.02–0.07 µm
+at the pad on the P-series jaw at 0.02°/N·m and 0.002 mm/N, against the quantization's 0.1–0.3 µm,
+and is not yet added (nor a real jaw's gear friction f, f·c per joint: the e-Manual states none).
 """
 
 from __future__ import annotations
