@@ -290,8 +290,8 @@ class ContactModel:
         """The pad lines of readings ``ticks`` (n, 2), or (n, 4) with each joint's load sign
         (set_loads): the link angles are the encoders' less sign·h; or (n, 7) with each joint's
         torque τ and the contact force F too (compliance): the link angles less c·τ as well, and
-        the pad's face k·F behind the line its links give (hand_driver.sim.errors: the give moves
-        the pad line along its normal)."""
+        less the turns that put the pad's line k·F further in along its normal at the same angle
+        (kinematics.give_turns: how the pad's give places the links)."""
         f = self.cfg.fingers[fi]
         k = 5 * fi
         zero, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
@@ -303,7 +303,7 @@ class ContactModel:
         if ticks.shape[-1] == 7:
             c, give = self.compliances(v, fi)
             q = q - c * ticks[..., 4:6]
-            off = (off - give * ticks[..., 6])[..., None]
+            q = q - kin.give_turns(f.base.angle, q, links[0], f.pad.side_sign, give * ticks[..., 6])
         return kin.chain_pad_line((f.base.x, f.base.y, f.base.angle), q, links, off, f.pad.length_mm,
                                   f.pad.side_sign)
 

@@ -8,7 +8,6 @@ readings a jaw of known geometry would produce (tests and benchmarks).
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -144,18 +143,15 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
     load, kinematics.load_offsets), rounded to whole ticks as the encoders do (unless
     quantize=False). With ``forces_n`` (one per planned touch, N) each touch presses with that
     force F and its reading carries its joints' currents, the torque balance Kt·I = τ_j = a_j·F
-    rounded to each model's current unit (hand_driver.sim.errors): the pad's face gives k·F (the
-    links stand where a pad k·F thinner touches) and each encoder leads its link by c·τ_j more."""
+    rounded to each model's current unit (hand_driver.sim.errors): the pad's face gives k·F (its
+    links turned to put its line k·F further in at the same angle, kinematics.give_turns) and each
+    encoder leads its link by c·τ_j more."""
     out = []
     r = float(reference.params["r"])
     c = np.array([reference.pose.x, reference.pose.y])
     for k, t in enumerate(nominal_plan):
         f = truth.finger(t.finger)
         force = None if forces_n is None else float(forces_n[k])
-        rigid = f
-        if force is not None:  # the links of a pad whose face gave k·F: a pad that much thinner touches
-            f = dataclasses.replace(f, pad=dataclasses.replace(f.pad, offset_mm=f.pad.offset_mm
-                                                               - f.pad.compliance_mm_per_n * force))
         if t.kind == "face":
             n = kin.unit(t.psi)
             sols = kin.ik_line_solutions(f, t.psi, float(n @ c) - r)
@@ -176,10 +172,12 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
         arms = kin.moment_arms(f, q, point, direction)
         lead = kin.load_offsets(f, np.sign(arms))
         currents = None
-        if force is not None:
+        if force is not None:  # the pad's give turns the links (kinematics.give_turns), the torques lead the motors
             torque = arms / 1000.0 * force
+            q = q + kin.give_turns(f.base.angle, q, f.joints[0].link_mm, f.pad.side_sign,
+                                   f.pad.compliance_mm_per_n * force)
             lead = lead + np.radians([j.compliance_deg_per_nm for j in f.joints]) * torque
-            currents = tuple(_balance_current(j, tau) for j, tau in zip(rigid.joints, torque))
+            currents = tuple(_balance_current(j, tau) for j, tau in zip(f.joints, torque))
         ticks = kin.angles_to_ticks(f.joints, q + lead)
         if quantize:
             ticks = np.rint(ticks)

@@ -65,6 +65,28 @@ def ticks_to_angles(joints: tuple[JointConfig, ...], ticks) -> np.ndarray:
     return ticks_to_rad(ticks, zero, sign, resolutions(joints))
 
 
+#: a pad cannot be moved along its normal at a fixed angle when the base link is within this of
+#: parallel to it (n·e1⊥ below it): :func:`give_turns` then gives no turn
+GIVE_SINGULAR_COS = 0.05
+
+
+def give_turns(base_angle: float, q, l1: float, side_sign: float, depth_mm) -> np.ndarray:
+    """Joint turns (rad, (..., 2)) that move a pad line ``depth_mm`` along its normal at the same
+    angle ψ: the base joint by Δ = δ / (L1 · n·e1⊥), the distal by −Δ (the pad translates along
+    e1⊥, its normal component δ): how a pad's face giving δ under its contact force places the links
+    (the emulator's declared pad compliance, hand_driver.sim.errors, and the calibration's model of
+    it). No turn where ``depth_mm`` ≤ 0 or the base link is within ``GIVE_SINGULAR_COS`` of
+    parallel to the pad. Vectorized over ``q`` (..., 2) and ``depth_mm`` (...)."""
+    q = np.asarray(q, dtype=float)
+    depth = np.asarray(depth_mm, dtype=float)
+    a1 = base_angle + q[..., 0]
+    a2 = a1 + q[..., 1]
+    reach = l1 * side_sign * (np.sin(a2) * np.sin(a1) + np.cos(a2) * np.cos(a1))  # L1 · n·e1⊥
+    ok = (depth > 0.0) & (np.abs(reach) >= GIVE_SINGULAR_COS * l1)
+    turn = np.where(ok, depth / np.where(ok, reach, 1.0), 0.0)
+    return np.stack([turn, -turn], axis=-1)
+
+
 def working_loads(finger: FingerConfig) -> np.ndarray:
     """Each joint's working load direction (±1, counter-clockwise +): the way a press of the
     pad's face turns it, toward the pad's side. A joint's torque is arm·F with arm from

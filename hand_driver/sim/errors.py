@@ -46,8 +46,6 @@ one instant, and Kt·I explains its deflection to the current's resolution.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from hand_driver import kinematics as kin
@@ -59,9 +57,6 @@ LOADED_NM = 1e-3
 TOUCH_MM = 0.05
 #: a contact this close (mm) to an end of the pad is a pad end pressing the object
 END_MM = 0.05
-#: a pad cannot be moved along its normal at a fixed angle when the base link is within
-#: this of parallel to it (n·e1⊥ below it): its compliance is then not applied
-SINGULAR_COS = 0.05
 #: fixed-point passes of a torque balance (module docstring: each shrinks the force's error
 #: by about 50×), and the relative change of the force at which it has settled
 BALANCE_ITERATIONS = 12
@@ -205,15 +200,6 @@ def _force_direction(contact_world, finger, q, info) -> np.ndarray:
 
 
 def _pad_give(finger, q, depth_mm: float) -> np.ndarray:
-    """Joint turns moving the pad line ``depth_mm`` along its normal at the same angle."""
-    if depth_mm <= 0.0:
-        return np.zeros(2)
-    a1 = finger.base.angle + q[0]
-    a2 = a1 + q[1]
-    side = finger.pad.side_sign
-    n = np.array([-side * math.sin(a2), side * math.cos(a2)])
-    reach = finger.joints[0].link_mm * float(n @ np.array([-math.sin(a1), math.cos(a1)]))
-    if abs(reach) < SINGULAR_COS * finger.joints[0].link_mm:
-        return np.zeros(2)
-    turn = depth_mm / reach
-    return np.array([turn, -turn])
+    """Joint turns moving the pad line ``depth_mm`` along its normal at the same angle
+    (kinematics.give_turns)."""
+    return kin.give_turns(finger.base.angle, q, finger.joints[0].link_mm, finger.pad.side_sign, depth_mm)
