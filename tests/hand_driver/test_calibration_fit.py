@@ -305,8 +305,8 @@ def test_compliance_is_fitted_from_each_readings_own_currents():
     up to 70 µm of link deflection at the pad, where a reading's quantization σ is 0.1–0.3 µm):
     each reading's link angles are its encoders' less c·τ and its pad k·F behind its line, τ = Kt·I
     and F from its own currents. The fit keeps 85 of 88 readings and puts every parameter, c and k
-    included, within 3 standard errors of the truth (without them: 66 of 88 readings left out and
-    the kept ones 127 standard errors off)."""
+    included, within 3 standard errors of the truth (the rigid fit of such readings left 66 of 88
+    out and the kept ones up to 127 standard errors off)."""
     nominal, truth, readings = _yielding_p_readings(0.02, 0.002)
     assert all(r.current_ma is not None for r in readings)
     result = cal.fit(nominal, DISK, readings)
