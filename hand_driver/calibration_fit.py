@@ -42,7 +42,7 @@ ticks; their tolerance is the larger of ``zero_tick`` (0.5 tick) and ``ZERO_FLOO
 
 Compliance (docs/kinematics.md, declared compliance): a blocked servo's current balances the
 contact's torque, Kt_j·I_j = τ_j = a_j·F (hand_driver.sim.errors), so each reading's own currents
-(``Reading.current_ma``) give its joints' torques (:func:`joint_torques`) and, by least squares
+(``Reading.current_ma``) give its joints' torques (kinematics.joint_torques) and, by least squares
 against the moment arms at its contact, its force F (:meth:`ContactModel.set_forces`). A joint of
 compliance c reads its link c·τ behind the encoder, and a pad of give k stands k·F behind the line
 its links give. Where every reading carries its currents the fit with every c and k as unknowns
@@ -232,7 +232,7 @@ class ContactModel:
         self.cfg = cfg
         self.bands = tuple(bands)  # joints (indices in cfg.joints) whose band is an unknown
         #: every joint's compliance and every pad's give are unknowns, each reading's own currents
-        #: its joints' torques (:func:`joint_torques`) and the force they balance (:meth:`set_forces`)
+        #: its joints' torques (kinematics.joint_torques) and the force they balance (:meth:`set_forces`)
         self.compliance = compliance
         if compliance and any(r.current_ma is None for r in readings):
             raise InputError("a compliance fit needs every reading's joint currents")
@@ -259,7 +259,7 @@ class ContactModel:
                     if sel:
                         ticks = np.array([readings[i].ticks for i in sel], dtype=float)
                         if compliance:  # columns: ticks, load signs (set_loads), torques, force (set_forces)
-                            torques = joint_torques(f, np.array([readings[i].current_ma for i in sel], dtype=float))
+                            torques = kin.joint_torques(f, np.array([readings[i].current_ma for i in sel], dtype=float))
                             ticks = np.hstack([ticks, np.zeros_like(ticks), torques, np.zeros((len(sel), 1))])
                         self.groups.append((pl, fi, kind, ticks))
                         self.members.append(sel)
@@ -385,10 +385,8 @@ class ContactModel:
         out = []
         for pl, fi, kind, ticks in self.groups:
             q, points, directions = self._pressing(v, w, pl, fi, kind, ticks)
-            arms = kin.moment_arms(self.cfg.fingers[fi], q, points, directions) / 1000.0
             t = np.array(ticks, dtype=float)
-            norm = np.maximum(np.sum(arms**2, axis=1), 1e-12)
-            t[:, 6] = np.maximum(0.0, np.sum(arms * t[:, 4:6], axis=1) / norm)
+            t[:, 6] = kin.pressed_force(self.cfg.fingers[fi], q, points, t[:, 4:6], directions)
             out.append((pl, fi, kind, t))
         self.groups = out
 
@@ -482,14 +480,6 @@ class ContactModel:
             return self.residuals(v, w)
         finally:
             self.groups = saved
-
-
-def joint_torques(finger, current_ma) -> np.ndarray:
-    """Each joint's torque (N·m along its angle) from its Present Current (mA as read, (n, 2)):
-    Kt·I, each model's torque constant (hand_driver.control_table), signed by the joint's direction."""
-    kt = np.array([j.spec.torque_nm_per_a for j in finger.joints])
-    sign = np.array([j.direction for j in finger.joints], dtype=float)
-    return kt * sign * np.asarray(current_ma, dtype=float) / 1000.0
 
 
 def standard_errors(u, s, vt, fun, n_prior: int) -> np.ndarray:
@@ -697,20 +687,25 @@ def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0,
 
 def _with_zero_sigmas(cfg: JawConfig, estimates, spread: np.ndarray | None = None) -> JawConfig:
     """The calibrated config with the uncertainty of what it fitted: each joint's
-    ``zero_sigma_deg`` (in degrees) and ``link_sigma_mm``, each pad's ``offset_sigma_mm``: the
-    parameter's standard error, or its spread over the placements (:func:`_placement_spread`)
-    where that is larger. What the exploration states as each touch's offsets
-    (tactile_jaw.envelope.joint_noise, docs/exploration.md#the-stated-noise): a pad offset or
-    link length off by 0.5 µm moves a P-series touch's contacts by 2–5 times their
-    quantization's deviation."""
+    ``zero_sigma_deg`` (in degrees) and ``link_sigma_mm``, each pad's ``offset_sigma_mm``, and
+    where the compliance was fitted each joint's ``compliance_sigma_deg_per_nm`` and pad's
+    ``compliance_sigma_mm_per_n``: the parameter's standard error, or its spread over the
+    placements (:func:`_placement_spread`) where that is larger. What the exploration states as
+    each touch's offsets (tactile_jaw.envelope.joint_noise, docs/exploration.md#the-stated-noise):
+    a pad offset or link length off by 0.5 µm moves a P-series touch's contacts by 2–5 times
+    their quantization's deviation."""
     se = {e.name: e.se if spread is None else max(e.se, float(spread[i]))
-          for i, e in enumerate(estimates) if e.kind in ("zero_tick", "link_mm", "offset_mm")}
+          for i, e in enumerate(estimates) if e.kind in ("zero_tick", "link_mm", "offset_mm", "compliance_deg_per_nm",
+                                                          "compliance_mm_per_n")}
     fingers = []
     for f in cfg.fingers:
         joints = tuple(dataclasses.replace(j, zero_sigma_deg=float(se[f"{f.name}.joint{j.id}.zero_tick"])
                                            * 360.0 / j.spec.ticks_per_rev,
-                                           link_sigma_mm=float(se.get(f"{f.name}.joint{j.id}.link_mm", 0.0)))
+                                           link_sigma_mm=float(se.get(f"{f.name}.joint{j.id}.link_mm", 0.0)),
+                                           compliance_sigma_deg_per_nm=float(
+                                               se.get(f"{f.name}.joint{j.id}.compliance_deg_per_nm", 0.0)))
                        for j in f.joints)
-        pad = dataclasses.replace(f.pad, offset_sigma_mm=float(se.get(f"{f.name}.pad.offset_mm", 0.0)))
+        pad = dataclasses.replace(f.pad, offset_sigma_mm=float(se.get(f"{f.name}.pad.offset_mm", 0.0)),
+                                  compliance_sigma_mm_per_n=float(se.get(f"{f.name}.pad.compliance_mm_per_n", 0.0)))
         fingers.append(dataclasses.replace(f, joints=joints, pad=pad))
     return dataclasses.replace(cfg, fingers=tuple(fingers))

@@ -87,6 +87,42 @@ def give_turns(base_angle: float, q, l1: float, side_sign: float, depth_mm) -> n
     return np.stack([turn, -turn], axis=-1)
 
 
+def joint_torques(finger: FingerConfig, current_ma) -> np.ndarray:
+    """Each joint's torque (N·m along its angle) from its Present Current (mA as read, (..., 2)):
+    Kt·I, each model's torque constant (hand_driver.control_table), signed by the joint's direction:
+    a blocked servo's current balances its contact's torque (hand_driver.sim.errors)."""
+    kt = np.array([j.spec.torque_nm_per_a for j in finger.joints])
+    sign = np.array([j.direction for j in finger.joints], dtype=float)
+    return kt * sign * np.asarray(current_ma, dtype=float) / 1000.0
+
+
+def pressed_force(finger: FingerConfig, q, point, torques, direction=None) -> np.ndarray:
+    """The contact force F ≥ 0 (N, (...)) that the joints' torques ``torques`` (N·m, (..., 2))
+    balance best, τ_j = a_j·F, a_j the :func:`moment_arms` (m) of the press at ``point`` along
+    ``direction`` (default the pad's normal): the least squares Σ a_j τ_j / Σ a_j²."""
+    arms = moment_arms(finger, q, point, direction) / 1000.0
+    norm = np.maximum(np.sum(arms**2, axis=-1), 1e-12)
+    return np.maximum(0.0, np.sum(arms * np.asarray(torques, dtype=float), axis=-1) / norm)
+
+
+def declares_compliance(finger: FingerConfig) -> bool:
+    """Whether any of the finger's joints declares a compliance or its pad a give."""
+    return any(j.compliance_deg_per_nm > 0.0 for j in finger.joints) or finger.pad.compliance_mm_per_n > 0.0
+
+
+def compliance_turns(finger: FingerConfig, q, torques, force) -> np.ndarray:
+    """What to subtract from the encoders' joint angles ``q`` (rad, (..., 2)) for the link angles
+    of readings whose joints carry ``torques`` (N·m) and whose pad presses with ``force`` (N):
+    each link c·τ behind its encoder (c ``compliance_deg_per_nm``), then the turns that put the
+    pad's line k·F further in along its normal (k ``compliance_mm_per_n``, :func:`give_turns`):
+    the emulator's declared compliance (hand_driver.sim.errors) and the calibration's model of it."""
+    q = np.asarray(q, dtype=float)
+    c = np.radians([j.compliance_deg_per_nm for j in finger.joints])
+    bent = c * np.asarray(torques, dtype=float)
+    give = finger.pad.compliance_mm_per_n * np.asarray(force, dtype=float)
+    return bent + give_turns(finger.base.angle, q - bent, finger.joints[0].link_mm, finger.pad.side_sign, give)
+
+
 def working_loads(finger: FingerConfig) -> np.ndarray:
     """Each joint's working load direction (±1, counter-clockwise +): the way a press of the
     pad's face turns it, toward the pad's side. A joint's torque is arm·F with arm from
