@@ -18,7 +18,7 @@ from hand_driver.calibration_fit import CalibrationRefused, ContactModel, Readin
 from hand_driver.calibration_plan import DEFAULT_PLACEMENTS, PlannedTouch, plan_touches
 from hand_driver.config import JawConfig
 from hand_driver.cycle import LIMIT_MARGIN_RAD, run_together
-from hand_driver.motion import guarded_approach, move_joint_line, move_to
+from hand_driver.motion import guarded_approach, joint_currents, move_joint_line, move_to
 from tactile_common.angles import wrap_angle
 
 #: pre-contact gap (mm) from which every calibration touch approaches, and its travel
@@ -87,12 +87,9 @@ def _corner_approach(jaw, finger: str, center, r: float, direction, end: str, q_
 
 def _reading(jaw, state, finger: str, kind: str, placement: int) -> Reading:
     """The calibration reading of a contact: the finger's ticks and its joints' currents (None
-    where a joint senses none) in that one reading."""
+    unless every joint senses one, hand_driver.motion.joint_currents) in that one reading."""
     ticks = jaw.finger_ticks(state, finger)
-    currents = None if state.current_ma is None else np.asarray(state.current_ma, dtype=object)[jaw.slices[finger]]
-    sensed = currents is not None and all(c is not None for c in currents)
-    return Reading(finger, kind, (float(ticks[0]), float(ticks[1])), placement,
-                   (float(currents[0]), float(currents[1])) if sensed else None)
+    return Reading(finger, kind, (float(ticks[0]), float(ticks[1])), placement, joint_currents(jaw, state, finger))
 
 
 def _pre_pose(cfg: JawConfig, t: PlannedTouch, center, r: float, gap: float):

@@ -23,7 +23,10 @@ same fit gives ρ and dρ/dψ at every sample (tactile_jaw.envelope reads κ, κ
 Accuracy: the only data error is encoder quantization, ±½ tick = ±π/ticks_per_rev rad per
 joint. :func:`quantization_bound` propagates it to first order (worst case over all joints,
 Σ_j |∂output/∂q_j|·π/ticks_per_rev_j) for every output of :func:`touch_from_pad_lines`; the
-tests check the errors on exact curves against it (docs/kinematics.md).
+tests check the errors on exact curves against it (docs/kinematics.md). A jaw that declares
+compliance (hand_driver.config) reads each link c·τ behind its encoder and its pad's face k·F in:
+:func:`compliance_turns` takes both out of a reading, τ = Kt·I from its own Present Currents
+(:func:`joint_torques`) and F the force they balance (:func:`pressed_force`).
 """
 
 from __future__ import annotations

@@ -168,7 +168,9 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     cannot measure a radius of curvature), that it rolled on the curved part
     (:func:`off_curve_reason`); a roll that ran off it at an end is used on its longest
     stretch that passes (``trim``, :func:`smooth_stretch`), else its shorter stretch on the
-    curve is noted (``curve_at``, :func:`curve_hint`, :func:`moving_hint`, :func:`past_stretch`). A flat press is felt by
+    curve is noted (``curve_at``, :func:`curve_hint`, :func:`moving_hint`, :func:`past_stretch`). The link angles
+    are the encoders' less the backlash (:func:`touch_loads`) and, where the finger declares compliance, less
+    each reading's deflection and its pad's give (:func:`touch_compliance`). A flat press is felt by
     tactile_jaw.flat.feel_flat."""
     if isinstance(touch, FlatResult):
         lines, problem, contact, face = feel_flat(config, touch)
