@@ -317,6 +317,12 @@ def test_compliance_is_fitted_from_each_readings_own_currents():
         assert abs(d) <= 3.0 * e.se, f"{e.name}: error {d:+.3g}, se {e.se:.3g}"
     assert result.config.joints[0].compliance_deg_per_nm == pytest.approx(0.02, rel=0.1)
     assert result.config.fingers[0].pad.compliance_mm_per_n == pytest.approx(0.002, rel=0.1)
+    # their standard errors written for the exploration's stated noise (tactile_jaw.envelope.joint_noise)
+    se = {e.name: e.se for e in result.estimates}
+    for f in result.config.fingers:
+        for j in f.joints:
+            assert j.compliance_sigma_deg_per_nm >= se[f"{f.name}.joint{j.id}.compliance_deg_per_nm"] > 0.0
+        assert f.pad.compliance_sigma_mm_per_n >= se[f"{f.name}.pad.compliance_mm_per_n"] > 0.0
 
 
 def test_a_rigid_jaws_readings_with_currents_calibrate_as_without():

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from hand_driver import kinematics as kin
-from hand_driver.config import load_config
+from hand_driver.config import dump_config, load_config
 from hand_driver.motion import Sample, TouchResult
 from tactile_common.errors import InputError
 from tactile_jaw.pipeline import feel
@@ -95,6 +95,14 @@ def test_give_is_k_times_force_along_the_normal():
     before, after = kin.finger_pad_line(f, q), kin.finger_pad_line(f, q - kin.compliance_turns(bare, q, (0.0, 0.0), 3.0))
     assert after.psi == pytest.approx(before.psi, abs=1e-12)
     assert before.d - after.d == pytest.approx(3.0 * K_MM_PER_N, rel=1e-4)  # first order in the turn
+
+
+def test_compliance_sigmas_are_written_and_read(tmp_path):
+    cfg = yielding(RIGID, C_DEG_PER_NM, K_MM_PER_N, c_sigma=0.0015, k_sigma=1e-5)
+    dump_config(cfg, tmp_path / "c.yaml", source="config/jaw-p.yaml", header="test")
+    back = load_config(tmp_path / "c.yaml").finger("left")
+    assert [j.compliance_sigma_deg_per_nm for j in back.joints] == [0.0015, 0.0015]
+    assert back.pad.compliance_sigma_mm_per_n == 1e-5
 
 
 def test_readings_without_currents_are_refused():
