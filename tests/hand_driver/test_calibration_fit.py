@@ -283,7 +283,8 @@ def test_readings_the_contact_model_does_not_explain_do_not_pull_the_screen():
 def _yielding_p_readings(compliance_deg_per_nm: float, compliance_mm_per_n: float) -> tuple:
     """Synthetic readings (calibration_plan.synthesize with forces) of the P-series jaw with
     config/jaw-p-truth.yaml's zero errors, no backlash, and the given compliance of every joint
-    and pad: 3 face and 2 pad-end touches per finger, branch and default placement, each pressed
+    and pad: 3 face and 2 pad-end touches per finger, branch and the first two default placements
+    (fewer than the placements' jackknife needs: not run, the test's CPU ~1 s), each pressed
     with 3–30 N; the truth and the readings, which carry their joints' balance currents."""
     nominal = load_config("config/jaw-p.yaml")
     truth = load_config("config/jaw-p-truth.yaml")
@@ -293,7 +294,7 @@ def _yielding_p_readings(compliance_deg_per_nm: float, compliance_mm_per_n: floa
         pad=dataclasses.replace(f.pad, compliance_mm_per_n=compliance_mm_per_n)) for f in truth.fingers))
     rng = np.random.default_rng(1)
     readings = []
-    for k, (x, y) in enumerate(cp.DEFAULT_PLACEMENTS):
+    for k, (x, y) in enumerate(cp.DEFAULT_PLACEMENTS[:2]):
         disk = dataclasses.replace(DISK, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
         plan = cp.plan_touches(nominal, DISK, (x, y), faces=3, corners=2)
         readings += cp.synthesize(truth, disk, plan, placement=k, forces_n=rng.uniform(3.0, 30.0, len(plan)))
@@ -304,8 +305,8 @@ def test_compliance_is_fitted_from_each_readings_own_currents():
     """A jaw whose links yield 0.02°/N·m and pads 0.002 mm/N (3–30 N presses: 8–140 µm of give,
     up to 70 µm of link deflection at the pad, where a reading's quantization σ is 0.1–0.3 µm):
     each reading's link angles are its encoders' less c·τ and its pad k·F behind its line, τ = Kt·I
-    and F from its own currents. The fit keeps 85 of 88 readings and puts every parameter, c and k
-    included, within 3 standard errors of the truth (the rigid fit of such readings left 66 of 88
+    and F from its own currents. The fit keeps 47 of 48 readings and puts every parameter, c and k
+    included, within 3 standard errors of the truth (1.3 at worst; on all four placements 85 of 88) (the rigid fit of such readings left 66 of 88
     out and the kept ones up to 127 standard errors off)."""
     nominal, truth, readings = _yielding_p_readings(0.02, 0.002)
     assert all(r.current_ma is not None for r in readings)
