@@ -18,7 +18,7 @@ from hand_driver.calibration_fit import CalibrationRefused, ContactModel, Readin
 from hand_driver.calibration_plan import DEFAULT_PLACEMENTS, PlannedTouch, plan_touches
 from hand_driver.config import JawConfig
 from hand_driver.cycle import LIMIT_MARGIN_RAD, run_together
-from hand_driver.motion import guarded_approach, move_joint_line, move_to
+from hand_driver.motion import guarded_approach, joint_currents, move_joint_line, move_to
 from tactile_common.angles import wrap_angle
 
 #: pre-contact gap (mm) from which every calibration touch approaches, and its travel
@@ -51,7 +51,8 @@ def park(jaw) -> None:
 def _corner_approach(jaw, finger: str, center, r: float, direction, end: str, q_branch, gap0: float,
                      travel: float):
     """Guarded approach of a pad end toward the disk centre along −direction, from
-    ``gap0`` mm outside the disk (nominal geometry); returns the contact ticks or None."""
+    ``gap0`` mm outside the disk (nominal geometry); returns the contact's reading (a
+    JointState) or None."""
     m = jaw.config.motion
     step = m.approach_step_mm
     f = jaw.config.finger(finger)
@@ -76,12 +77,19 @@ def _corner_approach(jaw, finger: str, center, r: float, direction, end: str, q_
         felt = current is not None and current >= m.contact_current_ma
         stalled = len(history) >= 3 and gap - gap_goal >= 1.5 * step and history[-3] - history[-1] < 0.2 * step
         if felt or stalled:
-            return jaw.finger_ticks(state, finger)
+            return state
         elapsed = jaw.robot_time() - t0
         if gap0 - gap_goal >= travel or elapsed > m.max_touch_s:
             return None
         gap_goal = max(gap0 - m.approach_speed_mm_s * elapsed, gap - 2.0 * step, gap0 - travel)
         state, _ = yield solve(gap_goal, jaw.finger_q(state, finger))
+
+
+def _reading(jaw, state, finger: str, kind: str, placement: int) -> Reading:
+    """The calibration reading of a contact: the finger's ticks and its joints' currents (None
+    unless every joint senses one, hand_driver.motion.joint_currents) in that one reading."""
+    ticks = jaw.finger_ticks(state, finger)
+    return Reading(finger, kind, (float(ticks[0]), float(ticks[1])), placement, joint_currents(jaw, state, finger))
 
 
 def _pre_pose(cfg: JawConfig, t: PlannedTouch, center, r: float, gap: float):
@@ -176,19 +184,22 @@ def _finger_touches(jaw, finger: str, plan: list[PlannedTouch], center, r: float
             d_pre = float(n @ np.asarray(center)) - r - gap
             try:
                 result = yield from guarded_approach(jaw, finger, t.psi, d_pre, travel)
-                ticks = None if result.contact is None else result.contact.ticks
+                # the approach ends on the reading it judged a contact, the jaw's last
+                state = None if result.contact is None else jaw.last_state
+                if state is not None and result.contact.reading != jaw.last_index:
+                    raise RuntimeError("the contact's reading is not the jaw's last")
             except kin.Unreachable:
-                ticks = None
+                state = None
         else:
             try:
-                ticks = yield from _corner_approach(jaw, finger, center, r, t.direction,
+                state = yield from _corner_approach(jaw, finger, center, r, t.direction,
                                                     "distal" if t.kind == "corner" else "proximal", pre, gap, travel)
             except kin.Unreachable:
-                ticks = None
-        if ticks is None:
+                state = None
+        if state is None:
             skipped.append(f"{finger} {t.kind}: no contact")
         else:
-            out.append(Reading(finger, t.kind, (float(ticks[0]), float(ticks[1])), placement))
+            out.append(_reading(jaw, state, finger, t.kind, placement))
         yield from move_to(jaw, finger, pre)
     if len(trail) > 1 and not guard(finger, here, home):
         trail = yield from retrace()

@@ -39,6 +39,19 @@ both ways (the plan's two inverse-kinematics branches and its corner touches do)
 band 2h as an unknown, ``backlash_deg``; a joint loaded one way only keeps ``backlash_deg``
 as configured and its ``zero_tick`` is the offset under that load. Zero ticks are in each joint's model's
 ticks; their tolerance is the larger of ``zero_tick`` (0.5 tick) and ``ZERO_FLOOR_DEG``.
+
+Compliance (docs/kinematics.md, declared compliance): a blocked servo's current balances the
+contact's torque, Kt_j·I_j = τ_j = a_j·F (hand_driver.sim.errors), so each reading's own currents
+(``Reading.current_ma``) give its joints' torques (kinematics.joint_torques) and, by least squares
+against the moment arms at its contact, its force F (:meth:`ContactModel.set_forces`). A joint of
+compliance c reads its link c·τ behind the encoder, and a pad of give k stands k·F behind the line
+its links give. Where every reading carries its currents the fit with every c and k as unknowns
+(``compliance_deg_per_nm``, ``compliance_mm_per_n``) is made, and kept when some c or k is above
+``COMPLIANCE_Z`` standard errors; a jaw that does not measurably yield keeps the rigid fit, so its
+calibration is the same as without currents. Each reading keeps its quantization σ: what the load
+model leaves, the current's resolution (one unit, ±½ uniform) times c (and k/|a|), is 0.02–0.07 µm
+at the pad on the P-series jaw at 0.02°/N·m and 0.002 mm/N, against the quantization's 0.1–0.3 µm,
+and is not yet added (nor a real jaw's gear friction f, f·c per joint: the e-Manual states none).
 """
 
 from __future__ import annotations
@@ -68,7 +81,8 @@ ROBUST_Z = 3.0
 ROBUST_PASSES = 20
 ROBUST_SETTLED = 1e-3
 #: default standard-error tolerances: half the recovery targets (1 tick, 0.1 mm, 0.02° of band)
-TOLERANCES = {"zero_tick": 0.5, "link_mm": 0.05, "offset_mm": 0.05, "backlash_deg": 0.01}
+TOLERANCES = {"zero_tick": 0.5, "link_mm": 0.05, "offset_mm": 0.05, "backlash_deg": 0.01,
+              "compliance_deg_per_nm": 0.05, "compliance_mm_per_n": 0.005}
 #: a zero tick's tolerance is never below this angle (deg): 14 ticks of a PH54, whose encoder
 #: is finer than the contact physics of a calibration touch
 ZERO_FLOOR_DEG = 0.005
@@ -79,6 +93,10 @@ BAND_MIN_EACH_WAY = 3
 #: few readings against the working load cannot fix is then b ± b/2, and what that leaves is in
 #: every parameter's standard error (docs/kinematics.md, backlash on the X-series jaw)
 BAND_PRIOR_FRACTION = 0.5
+#: with declared compliance measured (module docstring): the compliant fit is kept when some joint's c
+#: or pad's k comes out above this many standard errors, else the rigid one (a jaw whose links and
+#: pads do not yield is calibrated exactly as before)
+COMPLIANCE_Z = 3.0
 #: a reading's leverage in the standard errors is taken as at most this (one that alone fixes a
 #: parameter has leverage 1 and a zero residual: its leave-one-out residual r/(1 − h) is finite)
 LEVERAGE_MAX = 1.0 - 1e-9
@@ -89,6 +107,8 @@ _NEEDS = {
     "link_mm": "corner touches (distal link) or face touches at widely spread orientations (proximal link)",
     "offset_mm": "face touches at widely spread pad orientations",
     "backlash_deg": "touches that load the joint both ways (both inverse-kinematics branches, corner touches)",
+    "compliance_deg_per_nm": "touches that load the joint with widely different torques",
+    "compliance_mm_per_n": "face touches pressed with widely different forces",
 }
 
 
@@ -99,12 +119,14 @@ class CalibrationRefused(InputError):
 @dataclass(frozen=True)
 class Reading:
     """One contact: finger name, kind ('face', 'corner' or 'heel'), that finger's two
-    encoder ticks, and which placement of the reference it touched (0, 1, ...)."""
+    encoder ticks, which placement of the reference it touched (0, 1, ...), and its two joints'
+    Present Current at that reading (mA as the bus reads them; None: not read)."""
 
     finger: str
     kind: str
     ticks: tuple[float, float]
     placement: int = 0
+    current_ma: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -148,32 +170,42 @@ class CalibrationResult:
 
 # ----------------------------------------------------------------------------- model
 
-def _param_names(cfg: JawConfig, bands: tuple[int, ...] = ()) -> list[tuple[str, str]]:
+def _param_names(cfg: JawConfig, bands: tuple[int, ...] = (), compliance: bool = False) -> list[tuple[str, str]]:
     out = []
     for f in cfg.fingers:
         out += [(f"{f.name}.joint{j.id}.zero_tick", "zero_tick") for j in f.joints]
         out += [(f"{f.name}.joint{j.id}.link_mm", "link_mm") for j in f.joints]
         out.append((f"{f.name}.pad.offset_mm", "offset_mm"))
     names = {k: f"{f.name}.joint{j.id}" for k, (f, j) in enumerate((f, j) for f in cfg.fingers for j in f.joints)}
-    return out + [(f"{names[k]}.backlash_deg", "backlash_deg") for k in bands]
+    out += [(f"{names[k]}.backlash_deg", "backlash_deg") for k in bands]
+    if compliance:
+        out += [(f"{names[k]}.compliance_deg_per_nm", "compliance_deg_per_nm") for k in range(len(names))]
+        out += [(f"{f.name}.pad.compliance_mm_per_n", "compliance_mm_per_n") for f in cfg.fingers]
+    return out
 
 
-def pack_params(cfg: JawConfig, bands: tuple[int, ...] = ()) -> np.ndarray:
+def pack_params(cfg: JawConfig, bands: tuple[int, ...] = (), compliance: bool = False) -> np.ndarray:
     """The fit's unknowns of ``cfg``: per finger both zero ticks, both links and the pad
-    offset, then the band (backlash_deg) of each joint of ``bands`` (indices in cfg.joints)."""
+    offset, then the band (backlash_deg) of each joint of ``bands`` (indices in cfg.joints), then
+    with ``compliance`` every joint's compliance_deg_per_nm and every pad's compliance_mm_per_n."""
     v = []
     for f in cfg.fingers:
         v += [j.zero_tick for j in f.joints] + [j.link_mm for j in f.joints] + [f.pad.offset_mm]
     joints = cfg.joints
-    return np.array(v + [joints[k].backlash_deg for k in bands], dtype=float)
+    v += [joints[k].backlash_deg for k in bands]
+    if compliance:
+        v += [j.compliance_deg_per_nm for j in joints] + [f.pad.compliance_mm_per_n for f in cfg.fingers]
+    return np.array(v, dtype=float)
 
 
-def apply_params(cfg: JawConfig, v, bands: tuple[int, ...] = ()) -> JawConfig:
+def apply_params(cfg: JawConfig, v, bands: tuple[int, ...] = (), compliance: bool = False) -> JawConfig:
     """A copy of ``cfg`` with the calibrated parameters ``v`` (the fit's order)."""
     fingers, k = [], 0
-    band_of = dict(zip(bands, v[5 * len(cfg.fingers):]))
+    nf, nj = len(cfg.fingers), len(cfg.joints)
+    band_of = dict(zip(bands, v[5 * nf:5 * nf + len(bands)]))
+    first = 5 * nf + len(bands)
     g = 0
-    for f in cfg.fingers:
+    for fi, f in enumerate(cfg.fingers):
         z, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
         k += 5
         joints = []
@@ -181,19 +213,29 @@ def apply_params(cfg: JawConfig, v, bands: tuple[int, ...] = ()) -> JawConfig:
             j = dataclasses.replace(j, zero_tick=float(z[i]), link_mm=float(links[i]))
             if g in band_of:
                 j = dataclasses.replace(j, backlash_deg=max(0.0, float(band_of[g])))
+            if compliance:
+                j = dataclasses.replace(j, compliance_deg_per_nm=max(0.0, float(v[first + g])))
             joints.append(j)
             g += 1
-        fingers.append(dataclasses.replace(f, joints=tuple(joints),
-                                           pad=dataclasses.replace(f.pad, offset_mm=float(off))))
+        pad = dataclasses.replace(f.pad, offset_mm=float(off))
+        if compliance:
+            pad = dataclasses.replace(pad, compliance_mm_per_n=max(0.0, float(v[first + nj + fi])))
+        fingers.append(dataclasses.replace(f, joints=tuple(joints), pad=pad))
     return dataclasses.replace(cfg, fingers=tuple(fingers))
 
 
 class ContactModel:
     """Residuals (mm) of every reading for kinematic parameters v and object pose w."""
 
-    def __init__(self, cfg: JawConfig, reference, readings: list[Reading], bands: tuple[int, ...] = ()):
+    def __init__(self, cfg: JawConfig, reference, readings: list[Reading], bands: tuple[int, ...] = (),
+                 compliance: bool = False):
         self.cfg = cfg
         self.bands = tuple(bands)  # joints (indices in cfg.joints) whose band is an unknown
+        #: every joint's compliance and every pad's give are unknowns, each reading's own currents
+        #: its joints' torques (kinematics.joint_torques) and the force they balance (:meth:`set_forces`)
+        self.compliance = compliance
+        if compliance and any(r.current_ma is None for r in readings):
+            raise InputError("a compliance fit needs every reading's joint currents")
         joints = cfg.joints
         #: each fitted band's prior (deg): its model's stated backlash, None where none is stated
         self.priors = tuple(joints[k].spec.backlash_deg for k in self.bands)
@@ -215,7 +257,11 @@ class ContactModel:
                     sel = [i for i, r in enumerate(readings)
                            if r.finger == f.name and r.kind == kind and r.placement == pl]
                     if sel:
-                        self.groups.append((pl, fi, kind, np.array([readings[i].ticks for i in sel], dtype=float)))
+                        ticks = np.array([readings[i].ticks for i in sel], dtype=float)
+                        if compliance:  # columns: ticks, load signs (set_loads), torques, force (set_forces)
+                            torques = kin.joint_torques(f, np.array([readings[i].current_ma for i in sel], dtype=float))
+                            ticks = np.hstack([ticks, np.zeros_like(ticks), torques, np.zeros((len(sel), 1))])
+                        self.groups.append((pl, fi, kind, ticks))
                         self.members.append(sel)
         unknown = {r.finger for r in readings} - set(names)
         if unknown:
@@ -234,17 +280,30 @@ class ContactModel:
                 h[k - first] = math.radians(v[nf + slot]) / 2.0
         return h
 
+    def compliances(self, v, fi: int) -> tuple[np.ndarray, float]:
+        """Finger ``fi``'s joints' compliance c (rad per N·m) and its pad's give k (mm per N) in ``v``."""
+        first = 5 * len(self.cfg.fingers) + len(self.bands)
+        c = np.radians(v[first + 2 * fi:first + 2 * fi + 2])
+        return c, float(v[first + len(self.cfg.joints) + fi])
+
     def lines(self, v, fi: int, ticks) -> kin.PadLine:
         """The pad lines of readings ``ticks`` (n, 2), or (n, 4) with each joint's load sign
-        (set_loads): the link angles are the encoders' less sign·h."""
+        (set_loads): the link angles are the encoders' less sign·h; or (n, 7) with each joint's
+        torque τ and the contact force F too (compliance): the link angles less c·τ as well, and
+        less the turns that put the pad's line k·F further in along its normal at the same angle
+        (kinematics.give_turns: how the pad's give places the links)."""
         f = self.cfg.fingers[fi]
         k = 5 * fi
         zero, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
         sign = np.array([j.direction for j in f.joints], dtype=float)
         ticks = np.asarray(ticks, dtype=float)
         q = ticks_to_rad(ticks[..., :2], zero, sign, kin.resolutions(f.joints))
-        if ticks.shape[-1] == 4:  # zero_tick: the link's zero under the working load
-            q = q - np.where(ticks[..., 2:] == 0.0, 0.0, ticks[..., 2:] - kin.working_loads(f)) * self.half_bands(v, fi)
+        if ticks.shape[-1] >= 4:  # zero_tick: the link's zero under the working load
+            q = q - np.where(ticks[..., 2:4] == 0.0, 0.0, ticks[..., 2:4] - kin.working_loads(f)) * self.half_bands(v, fi)
+        if ticks.shape[-1] == 7:
+            c, give = self.compliances(v, fi)
+            q = q - c * ticks[..., 4:6]
+            q = q - kin.give_turns(f.base.angle, q, links[0], f.pad.side_sign, give * ticks[..., 6])
         return kin.chain_pad_line((f.base.x, f.base.y, f.base.angle), q, links, off, f.pad.length_mm,
                                   f.pad.side_sign)
 
@@ -280,33 +339,55 @@ class ContactModel:
         """The fit's residuals at x = (parameters, poses): each reading's by its σ, then the priors."""
         return np.concatenate([self.residuals(x[:nv], x[nv:]) / sig, self.prior_residuals(x[:nv])])
 
+    def _pressing(self, v, w, pl: int, fi: int, kind: str, ticks) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(link angles, contact points, force directions) of a group's readings at (v, w): the
+        force the finger applies at its contact, along the pad's normal for a face touch, toward
+        the disk's centre for a pad end (module docstring)."""
+        f = self.cfg.fingers[fi]
+        t2 = np.asarray(ticks, dtype=float)[:, :2]
+        line = self.lines(v, fi, t2)
+        q = ticks_to_rad(t2, v[5 * fi:5 * fi + 2], np.array([j.direction for j in f.joints], dtype=float),
+                         kin.resolutions(f.joints))
+        points, directions = [], []
+        for i in range(len(t2)):
+            ln = line.at(i)
+            if self.cls == "circle":
+                c = np.array([w[2 * pl], w[2 * pl + 1]])
+                if kind == "face":
+                    point, direction = c - self.r * ln.normal, ln.normal
+                else:
+                    point = ln.distal if kind == "corner" else ln.proximal
+                    direction = (c - point) / max(float(np.hypot(*(c - point))), 1e-12)
+            else:
+                m = kin.unit(w[2 * pl])
+                direction = m if float(m @ ln.normal) >= 0.0 else -m
+                point = (0.5 * (ln.proximal + ln.distal) if kind == "face"
+                         else ln.distal if kind == "corner" else ln.proximal)
+            points.append(point)
+            directions.append(direction)
+        return q, np.array(points), np.array(directions)
+
     def set_loads(self, v, w) -> None:
-        """Append each reading's load sign on each joint (the sign of the moment arm of the
-        force the finger applies at its contact, module docstring) to its group's ticks."""
+        """Set each reading's load sign on each joint (the sign of the moment arm of the
+        force the finger applies at its contact, module docstring) in its group's ticks."""
         out = []
         for pl, fi, kind, ticks in self.groups:
-            f = self.cfg.fingers[fi]
-            t2 = np.asarray(ticks, dtype=float)[:, :2]
-            line = self.lines(v, fi, t2)
-            q = ticks_to_rad(t2, v[5 * fi:5 * fi + 2], np.array([j.direction for j in f.joints], dtype=float),
-                             kin.resolutions(f.joints))
-            signs = []
-            for i in range(len(t2)):
-                ln = line.at(i)
-                if self.cls == "circle":
-                    c = np.array([w[2 * pl], w[2 * pl + 1]])
-                    if kind == "face":
-                        point, direction = c - self.r * ln.normal, ln.normal
-                    else:
-                        point = ln.distal if kind == "corner" else ln.proximal
-                        direction = (c - point) / max(float(np.hypot(*(c - point))), 1e-12)
-                else:
-                    m = kin.unit(w[2 * pl])
-                    direction = m if float(m @ ln.normal) >= 0.0 else -m
-                    point = (0.5 * (ln.proximal + ln.distal) if kind == "face"
-                             else ln.distal if kind == "corner" else ln.proximal)
-                signs.append(np.sign(kin.moment_arms(f, q[i], point, direction)))
-            out.append((pl, fi, kind, np.hstack([t2, np.array(signs)])))
+            q, points, directions = self._pressing(v, w, pl, fi, kind, ticks)
+            signs = np.sign(kin.moment_arms(self.cfg.fingers[fi], q, points, directions))
+            t = np.asarray(ticks, dtype=float)
+            out.append((pl, fi, kind, np.hstack([t[:, :2], signs, t[:, 4:]])))
+        self.groups = out
+
+    def set_forces(self, v, w) -> None:
+        """Set each reading's contact force F ≥ 0 (N) in its group's ticks: the least squares of its
+        joints' torques (from its own currents) against a_j·F, a_j the moment arms at (v, w) (the
+        balance a blocked finger's servos hold, hand_driver.sim.errors)."""
+        out = []
+        for pl, fi, kind, ticks in self.groups:
+            q, points, directions = self._pressing(v, w, pl, fi, kind, ticks)
+            t = np.array(ticks, dtype=float)
+            t[:, 6] = kin.pressed_force(self.cfg.fingers[fi], q, points, t[:, 4:6], directions)
+            out.append((pl, fi, kind, t))
         self.groups = out
 
     def loads_by_joint(self) -> dict[int, tuple[int, int]]:
@@ -314,7 +395,7 @@ class ContactModel:
         out: dict[int, list[int]] = {}
         for pl, fi, kind, ticks in self.groups:
             t = np.asarray(ticks)
-            if t.shape[-1] != 4:
+            if t.shape[-1] < 4:
                 continue
             for i in range(2):
                 c = out.setdefault(2 * fi + i, [0, 0])
@@ -439,18 +520,38 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
         backlash: bool = False) -> CalibrationResult:
     """Least-squares calibration (module docstring); with ``backlash`` the readings' load
     directions are modelled and the band of every joint loaded both ways is fitted;
-    :class:`CalibrationRefused` when a parameter is not determined to its tolerance."""
+    :class:`CalibrationRefused` when a parameter is not determined to its tolerance. When every
+    reading carries its joints' currents, the fit with every joint's compliance and pad's give
+    as unknowns (each reading's link angles its encoders' less c·τ, its pad k·F behind its line,
+    τ and F from its own currents) is kept if some c or k comes out above ``COMPLIANCE_Z``
+    standard errors: a jaw that yields measurably; else (or if that fit is refused) the rigid fit."""
     tol = dict(TOLERANCES, **(tolerances or {}))
     counts = _bands(cfg, reference, readings) if backlash else {}
     joints = cfg.joints
     bands = tuple(sorted(k for k, (neg, pos) in counts.items()
                          if min(neg, pos) >= (1 if joints[k].spec.backlash_deg else BAND_MIN_EACH_WAY)))
-    v0 = pack_params(cfg, bands)
-    names = _param_names(cfg, bands)
+    if all(r.current_ma is not None for r in readings):
+        try:
+            yielding = _fit(cfg, reference, readings, tol, backlash, counts, bands, compliance=True)
+        except CalibrationRefused:
+            yielding = None
+        if yielding is not None and any(e.after > COMPLIANCE_Z * e.se for e in yielding.estimates
+                                        if e.kind in ("compliance_deg_per_nm", "compliance_mm_per_n")):
+            return yielding
+    return _fit(cfg, reference, readings, tol, backlash, counts, bands, compliance=False)
+
+
+def _fit(cfg: JawConfig, reference, readings: list[Reading], tol: dict, backlash: bool, counts: dict,
+         bands: tuple[int, ...], compliance: bool) -> CalibrationResult:
+    """:func:`fit` with the bands ``bands`` (``counts``: every joint's load counts) and, with
+    ``compliance``, every joint's c and pad's k as unknowns."""
+    joints = cfg.joints
+    v0 = pack_params(cfg, bands, compliance)
+    names = _param_names(cfg, bands, compliance)
     nv = v0.size
     used, n_reclassified, n_dropped = list(readings), 0, 0
     for attempt in range(SCREEN_PASSES + 1):
-        model = ContactModel(cfg, reference, used, bands)
+        model = ContactModel(cfg, reference, used, bands, compliance)
         n_pose = 2 * len(model.placements)
         n_res = sum(len(t) * (2 if (model.cls == "line" and kind == "face") else 1)
                     for _, _, kind, t in model.groups)
@@ -462,6 +563,8 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
         before = least_squares(lambda w: model.residuals(v0, w), w0, method="lm")
         if backlash:
             model.set_loads(v0, before.x)
+        if compliance:
+            model.set_forces(v0, before.x)
         x0 = np.concatenate([v0, before.x])
         # weighted by each reading's quantization σ (at the nominal geometry), so that
         # readings with long lever arms (coarse) count less than fine ones
@@ -494,7 +597,7 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     se = standard_errors(u, s, vt, res.fun, m - sig.size)
     zero_tol = [max(tol["zero_tick"], ZERO_FLOOR_DEG * j.ticks_per_rev / 360.0) for j in joints]
     # a band with a stated figure is known to its prior at worst: its tolerance is the prior's σ
-    prior_tol = {nv - len(bands) + i: BAND_PRIOR_FRACTION * b for i, b in enumerate(model.priors) if b}
+    prior_tol = {5 * len(cfg.fingers) + i: BAND_PRIOR_FRACTION * b for i, b in enumerate(model.priors) if b}
     tolerance = [zero_tol[2 * (i // 5) + i % 5] if kind == "zero_tick" else max(tol[kind], prior_tol.get(i, 0.0))
                  for i, (_, kind) in enumerate(names)]
     estimates = tuple(Estimate(name, kind, float(v0[i]), float(res.x[i]), float(se[i]), tolerance[i])
@@ -508,8 +611,9 @@ def fit(cfg: JawConfig, reference, readings: list[Reading], tolerances: dict | N
     poses = tuple({"x": float(w[2 * i]), "y": float(w[2 * i + 1])} if model.cls == "circle"
                   else {"normal_angle": float(w[2 * i]), "offset_mm": float(w[2 * i + 1])}
                   for i in model.placements)
-    spread = _placement_spread(cfg, reference, used, bands, v0, res.x, backlash)
-    return CalibrationResult(config=_with_zero_sigmas(apply_params(cfg, res.x[:nv], bands), estimates, spread),
+    spread = _placement_spread(cfg, reference, used, bands, v0, res.x, backlash, compliance)
+    return CalibrationResult(config=_with_zero_sigmas(apply_params(cfg, res.x[:nv], bands, compliance), estimates,
+                                                      spread),
                              estimates=estimates, reference_poses=poses,
                              rms_before_mm=float(np.sqrt(np.mean(before.fun**2))),
                              rms_after_mm=float(np.sqrt(np.mean(r**2))), max_after_mm=float(np.max(np.abs(r))),
@@ -539,7 +643,8 @@ def _robust_fit(fun, x0: np.ndarray):
     return res
 
 
-def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0, x, backlash: bool) -> np.ndarray | None:
+def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0, x, backlash: bool,
+                      compliance: bool = False) -> np.ndarray | None:
     """The jackknife standard error of every parameter over the reference's placements: the
     fit repeated leaving out each placement in turn (from the full fit's values, each
     reading's load as judged there), √((k − 1)/k · Σ (v_i − v̄)²). It holds what differs
@@ -547,7 +652,7 @@ def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0,
     the emulator's or the jaw's contact physics) that the quantization model's standard
     errors leave out: on the P-series jaw calibrated against config/jaw-p-truth.yaml the zero
     ticks came out 2–4 of those off. None with fewer than 3 placements, or when a left-out
-    fit is not determined (rank deficient) or fails."""
+    fit is not determined (fewer residuals than unknowns, rank deficient) or fails."""
     placements = sorted({r.placement for r in used})
     if len(placements) < 3:
         return None
@@ -558,13 +663,17 @@ def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0,
         renum = {p: i for i, p in enumerate(kept)}
         sub = [dataclasses.replace(r, placement=renum[r.placement]) for r in used if r.placement != drop]
         try:
-            model = ContactModel(cfg, reference, sub, bands)
+            model = ContactModel(cfg, reference, sub, bands, compliance)
         except InputError:
             return None
         w = np.concatenate([x[nv + 2 * p: nv + 2 * p + 2] for p in kept])
         if backlash:
             model.set_loads(v0, w)
+        if compliance:
+            model.set_forces(v0, w)
         sig = np.maximum(model.reading_sigmas(v0, w), 1e-4)
+        if sig.size + len(model.priors) <= nv + w.size:  # fewer residuals than unknowns: not determined
+            return None
         res = least_squares(lambda y: model.weighted(y, nv, sig), np.concatenate([x[:nv], w]), method="lm",
                             x_scale="jac", xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
         sv = np.linalg.svd(res.jac, compute_uv=False)
@@ -578,20 +687,25 @@ def _placement_spread(cfg: JawConfig, reference, used: list[Reading], bands, v0,
 
 def _with_zero_sigmas(cfg: JawConfig, estimates, spread: np.ndarray | None = None) -> JawConfig:
     """The calibrated config with the uncertainty of what it fitted: each joint's
-    ``zero_sigma_deg`` (in degrees) and ``link_sigma_mm``, each pad's ``offset_sigma_mm``: the
-    parameter's standard error, or its spread over the placements (:func:`_placement_spread`)
-    where that is larger. What the exploration states as each touch's offsets
-    (tactile_jaw.envelope.joint_noise, docs/exploration.md#the-stated-noise): a pad offset or
-    link length off by 0.5 µm moves a P-series touch's contacts by 2–5 times their
-    quantization's deviation."""
+    ``zero_sigma_deg`` (in degrees) and ``link_sigma_mm``, each pad's ``offset_sigma_mm``, and
+    where the compliance was fitted each joint's ``compliance_sigma_deg_per_nm`` and pad's
+    ``compliance_sigma_mm_per_n``: the parameter's standard error, or its spread over the
+    placements (:func:`_placement_spread`) where that is larger. What the exploration states as
+    each touch's offsets (tactile_jaw.envelope.joint_noise, docs/exploration.md#the-stated-noise):
+    a pad offset or link length off by 0.5 µm moves a P-series touch's contacts by 2–5 times
+    their quantization's deviation."""
     se = {e.name: e.se if spread is None else max(e.se, float(spread[i]))
-          for i, e in enumerate(estimates) if e.kind in ("zero_tick", "link_mm", "offset_mm")}
+          for i, e in enumerate(estimates) if e.kind in ("zero_tick", "link_mm", "offset_mm", "compliance_deg_per_nm",
+                                                          "compliance_mm_per_n")}
     fingers = []
     for f in cfg.fingers:
         joints = tuple(dataclasses.replace(j, zero_sigma_deg=float(se[f"{f.name}.joint{j.id}.zero_tick"])
                                            * 360.0 / j.spec.ticks_per_rev,
-                                           link_sigma_mm=float(se.get(f"{f.name}.joint{j.id}.link_mm", 0.0)))
+                                           link_sigma_mm=float(se.get(f"{f.name}.joint{j.id}.link_mm", 0.0)),
+                                           compliance_sigma_deg_per_nm=float(
+                                               se.get(f"{f.name}.joint{j.id}.compliance_deg_per_nm", 0.0)))
                        for j in f.joints)
-        pad = dataclasses.replace(f.pad, offset_sigma_mm=float(se.get(f"{f.name}.pad.offset_mm", 0.0)))
+        pad = dataclasses.replace(f.pad, offset_sigma_mm=float(se.get(f"{f.name}.pad.offset_mm", 0.0)),
+                                  compliance_sigma_mm_per_n=float(se.get(f"{f.name}.pad.compliance_mm_per_n", 0.0)))
         fingers.append(dataclasses.replace(f, joints=joints, pad=pad))
     return dataclasses.replace(cfg, fingers=tuple(fingers))

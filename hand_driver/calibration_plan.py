@@ -133,7 +133,7 @@ def _spread(finger: str, kind: str, items: list, count: int, meta, accept=None) 
 
 
 def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], quantize: bool = True,
-               placement: int = 0) -> list[Reading]:
+               placement: int = 0, forces_n=None) -> list[Reading]:
     """Readings a jaw with geometry ``truth`` would produce for a plan (tests and
     benchmarks): the exact truth contact configuration on the same IK branch (face touches
     whose tangent point falls off the truth pad are left out: a pad end would touch), as ticks
@@ -141,12 +141,17 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
     backlash toward its load (the sign of the moment arm of the pressing force: along the pad's
     normal, or toward the disk's centre for a pad end; zero_tick is the zero under the working
     load, kinematics.load_offsets), rounded to whole ticks as the encoders do (unless
-    quantize=False)."""
+    quantize=False). With ``forces_n`` (one per planned touch, N) each touch presses with that
+    force F and its reading carries its joints' currents, the torque balance Kt·I = τ_j = a_j·F
+    rounded to each model's current unit (hand_driver.sim.errors): the pad's face gives k·F (its
+    links turned to put its line k·F further in at the same angle, kinematics.give_turns) and each
+    encoder leads its link by c·τ_j more."""
     out = []
     r = float(reference.params["r"])
     c = np.array([reference.pose.x, reference.pose.y])
-    for t in nominal_plan:
+    for k, t in enumerate(nominal_plan):
         f = truth.finger(t.finger)
+        force = None if forces_n is None else float(forces_n[k])
         if t.kind == "face":
             n = kin.unit(t.psi)
             sols = kin.ik_line_solutions(f, t.psi, float(n @ c) - r)
@@ -164,9 +169,24 @@ def synthesize(truth: JawConfig, reference, nominal_plan: list[PlannedTouch], qu
         else:
             point = line.distal if t.kind == "corner" else line.proximal
             direction = (c - point) / r
-        load = np.sign(kin.moment_arms(f, q, point, direction))
-        ticks = kin.angles_to_ticks(f.joints, q + kin.load_offsets(f, load))
+        arms = kin.moment_arms(f, q, point, direction)
+        lead = kin.load_offsets(f, np.sign(arms))
+        currents = None
+        if force is not None:  # the pad's give turns the links (kinematics.give_turns), the torques lead the motors
+            torque = arms / 1000.0 * force
+            q = q + kin.give_turns(f.base.angle, q, f.joints[0].link_mm, f.pad.side_sign,
+                                   f.pad.compliance_mm_per_n * force)
+            lead = lead + np.radians([j.compliance_deg_per_nm for j in f.joints]) * torque
+            currents = tuple(_balance_current(j, tau) for j, tau in zip(f.joints, torque))
+        ticks = kin.angles_to_ticks(f.joints, q + lead)
         if quantize:
             ticks = np.rint(ticks)
-        out.append(Reading(t.finger, t.kind, (float(ticks[0]), float(ticks[1])), placement))
+        out.append(Reading(t.finger, t.kind, (float(ticks[0]), float(ticks[1])), placement, currents))
     return out
+
+
+def _balance_current(joint, torque_nm: float) -> float:
+    """The Present Current (mA, as the bus reads it) of a blocked joint balancing ``torque_nm``
+    along its angle: τ/Kt, signed by the joint's direction, in whole units of its model."""
+    unit = joint.spec.current_unit_ma
+    return float(np.rint(torque_nm / joint.spec.torque_nm_per_a * 1000.0 * joint.direction / unit) * unit)

@@ -68,6 +68,7 @@ class JointConfig:
     compliance_deg_per_nm: float = 0.0  # link and gear deflection per joint torque (declared error)
     zero_sigma_deg: float = 0.0  # standard error of zero_tick after calibration (tactile calibrate writes it)
     link_sigma_mm: float = 0.0  # and of link_mm (tactile calibrate writes it)
+    compliance_sigma_deg_per_nm: float = 0.0  # and of compliance_deg_per_nm (tactile calibrate writes it)
 
     @property
     def spec(self) -> ModelSpec:
@@ -101,6 +102,7 @@ class PadConfig:
     length_mm: float
     compliance_mm_per_n: float = 0.0  # the face yields along its normal per N (declared error)
     offset_sigma_mm: float = 0.0  # standard error of offset_mm after calibration (tactile calibrate writes it)
+    compliance_sigma_mm_per_n: float = 0.0  # and of compliance_mm_per_n (tactile calibrate writes it)
 
     @property
     def side_sign(self) -> int:
@@ -267,7 +269,8 @@ def _watchdog_ms(c: _Checker, m: dict, default: int) -> int:
 
 def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointConfig:
     allowed = ("id", "model", "zero_tick", "link_mm", "direction", "min_deg", "max_deg", "current_limit_ma",
-               "backlash_deg", "compliance_deg_per_nm", "zero_sigma_deg", "link_sigma_mm")
+               "backlash_deg", "compliance_deg_per_nm", "zero_sigma_deg", "link_sigma_mm",
+               "compliance_sigma_deg_per_nm")
     m = c.mapping(obj, key, allowed, required=("id", "model", "zero_tick", "link_mm"))
     d = JointConfig(0, "", 0, 0)
     model = c.string(m, key, "model", None, models)
@@ -289,6 +292,8 @@ def _joint(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> JointCon
         compliance_deg_per_nm=c.number(m, key, "compliance_deg_per_nm", d.compliance_deg_per_nm, 0.0, 10.0),
         zero_sigma_deg=c.number(m, key, "zero_sigma_deg", d.zero_sigma_deg, 0.0, 5.0),
         link_sigma_mm=c.number(m, key, "link_sigma_mm", d.link_sigma_mm, 0.0, 10.0),
+        compliance_sigma_deg_per_nm=c.number(m, key, "compliance_sigma_deg_per_nm", d.compliance_sigma_deg_per_nm,
+                                             0.0, 10.0),
     )
     # Limits must stay inside one encoder turn of position mode (the model's Min/Max
     # Position Limit range).
@@ -319,7 +324,7 @@ def _finger(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> FingerC
         c.fail(f"{key}.joints", "expected a list of exactly 2 joints (a 2-joint planar chain)")
     joints = tuple(_joint(c, j, f"{key}.joints[{i}]", models) for i, j in enumerate(joints_obj))
     pm = c.mapping(m["pad"], f"{key}.pad", ("side", "offset_mm", "length_mm", "compliance_mm_per_n",
-                                                    "offset_sigma_mm"),
+                                                    "offset_sigma_mm", "compliance_sigma_mm_per_n"),
                    required=("side", "offset_mm", "length_mm"))
     distal = joints[-1].link_mm
     pad = PadConfig(
@@ -328,6 +333,7 @@ def _finger(c: _Checker, obj: Any, key: str, models: tuple[str, ...]) -> FingerC
         length_mm=c.number(pm, f"{key}.pad", "length_mm", None, 0.0, distal, lo_open=True),
         compliance_mm_per_n=c.number(pm, f"{key}.pad", "compliance_mm_per_n", 0.0, 0.0, 5.0),
         offset_sigma_mm=c.number(pm, f"{key}.pad", "offset_sigma_mm", 0.0, 0.0, 10.0),
+        compliance_sigma_mm_per_n=c.number(pm, f"{key}.pad", "compliance_sigma_mm_per_n", 0.0, 0.0, 5.0),
     )
     return FingerConfig(name=name, base=base, joints=joints, pad=pad)
 
@@ -483,10 +489,11 @@ def config_to_mapping(cfg: JawConfig) -> dict:
             "joints": [{"id": j.id, "model": j.model, "zero_tick": _num(j.zero_tick), "link_mm": _num(j.link_mm),
                         "direction": j.direction, "min_deg": _num(j.min_deg), "max_deg": _num(j.max_deg),
                         "current_limit_ma": _num(j.current_limit_ma),
-                        **_declared(j, ("backlash_deg", "compliance_deg_per_nm", "zero_sigma_deg", "link_sigma_mm"))}
+                        **_declared(j, ("backlash_deg", "compliance_deg_per_nm", "zero_sigma_deg", "link_sigma_mm",
+                                        "compliance_sigma_deg_per_nm"))}
                        for j in f.joints],
             "pad": {"side": f.pad.side, "offset_mm": _num(f.pad.offset_mm), "length_mm": _num(f.pad.length_mm),
-                    **_declared(f.pad, ("compliance_mm_per_n", "offset_sigma_mm"))},
+                    **_declared(f.pad, ("compliance_mm_per_n", "offset_sigma_mm", "compliance_sigma_mm_per_n"))},
         } for f in cfg.fingers],
         "motion": {k: _num(v) if isinstance(v, float) else v for k, v in asdict(cfg.motion).items()},
         "workspace": {"center_mm": [_num(v) for v in cfg.workspace.center_mm],

@@ -23,7 +23,10 @@ same fit gives ρ and dρ/dψ at every sample (tactile_jaw.envelope reads κ, κ
 Accuracy: the only data error is encoder quantization, ±½ tick = ±π/ticks_per_rev rad per
 joint. :func:`quantization_bound` propagates it to first order (worst case over all joints,
 Σ_j |∂output/∂q_j|·π/ticks_per_rev_j) for every output of :func:`touch_from_pad_lines`; the
-tests check the errors on exact curves against it (docs/kinematics.md).
+tests check the errors on exact curves against it (docs/kinematics.md). A jaw that declares
+compliance (hand_driver.config) reads each link c·τ behind its encoder and its pad's face k·F in:
+:func:`compliance_turns` takes both out of a reading, τ = Kt·I from its own Present Currents
+(:func:`joint_torques`) and F the force they balance (:func:`pressed_force`).
 """
 
 from __future__ import annotations
@@ -63,6 +66,64 @@ def ticks_to_angles(joints: tuple[JointConfig, ...], ticks) -> np.ndarray:
     zero = np.array([j.zero_tick for j in joints])
     sign = np.array([j.direction for j in joints], dtype=float)
     return ticks_to_rad(ticks, zero, sign, resolutions(joints))
+
+
+#: a pad cannot be moved along its normal at a fixed angle when the base link is within this of
+#: parallel to it (n·e1⊥ below it): :func:`give_turns` then gives no turn
+GIVE_SINGULAR_COS = 0.05
+
+
+def give_turns(base_angle: float, q, l1: float, side_sign: float, depth_mm) -> np.ndarray:
+    """Joint turns (rad, (..., 2)) that move a pad line ``depth_mm`` along its normal at the same
+    angle ψ: the base joint by Δ = δ / (L1 · n·e1⊥), the distal by −Δ (the pad translates along
+    e1⊥, its normal component δ): how a pad's face giving δ under its contact force places the links
+    (the emulator's declared pad compliance, hand_driver.sim.errors, and the calibration's model of
+    it). No turn where ``depth_mm`` ≤ 0 or the base link is within ``GIVE_SINGULAR_COS`` of
+    parallel to the pad. Vectorized over ``q`` (..., 2) and ``depth_mm`` (...)."""
+    q = np.asarray(q, dtype=float)
+    depth = np.asarray(depth_mm, dtype=float)
+    a1 = base_angle + q[..., 0]
+    a2 = a1 + q[..., 1]
+    reach = l1 * side_sign * (np.sin(a2) * np.sin(a1) + np.cos(a2) * np.cos(a1))  # L1 · n·e1⊥
+    ok = (depth > 0.0) & (np.abs(reach) >= GIVE_SINGULAR_COS * l1)
+    turn = np.where(ok, depth / np.where(ok, reach, 1.0), 0.0)
+    return np.stack([turn, -turn], axis=-1)
+
+
+def joint_torques(finger: FingerConfig, current_ma) -> np.ndarray:
+    """Each joint's torque (N·m along its angle) from its Present Current (mA as read, (..., 2)):
+    Kt·I, each model's torque constant (hand_driver.control_table), signed by the joint's direction:
+    a blocked servo's current balances its contact's torque (hand_driver.sim.errors)."""
+    kt = np.array([j.spec.torque_nm_per_a for j in finger.joints])
+    sign = np.array([j.direction for j in finger.joints], dtype=float)
+    return kt * sign * np.asarray(current_ma, dtype=float) / 1000.0
+
+
+def pressed_force(finger: FingerConfig, q, point, torques, direction=None) -> np.ndarray:
+    """The contact force F ≥ 0 (N, (...)) that the joints' torques ``torques`` (N·m, (..., 2))
+    balance best, τ_j = a_j·F, a_j the :func:`moment_arms` (m) of the press at ``point`` along
+    ``direction`` (default the pad's normal): the least squares Σ a_j τ_j / Σ a_j²."""
+    arms = moment_arms(finger, q, point, direction) / 1000.0
+    norm = np.maximum(np.sum(arms**2, axis=-1), 1e-12)
+    return np.maximum(0.0, np.sum(arms * np.asarray(torques, dtype=float), axis=-1) / norm)
+
+
+def declares_compliance(finger: FingerConfig) -> bool:
+    """Whether any of the finger's joints declares a compliance or its pad a give."""
+    return any(j.compliance_deg_per_nm > 0.0 for j in finger.joints) or finger.pad.compliance_mm_per_n > 0.0
+
+
+def compliance_turns(finger: FingerConfig, q, torques, force) -> np.ndarray:
+    """What to subtract from the encoders' joint angles ``q`` (rad, (..., 2)) for the link angles
+    of readings whose joints carry ``torques`` (N·m) and whose pad presses with ``force`` (N):
+    each link c·τ behind its encoder (c ``compliance_deg_per_nm``), then the turns that put the
+    pad's line k·F further in along its normal (k ``compliance_mm_per_n``, :func:`give_turns`):
+    the emulator's declared compliance (hand_driver.sim.errors) and the calibration's model of it."""
+    q = np.asarray(q, dtype=float)
+    c = np.radians([j.compliance_deg_per_nm for j in finger.joints])
+    bent = c * np.asarray(torques, dtype=float)
+    give = finger.pad.compliance_mm_per_n * np.asarray(force, dtype=float)
+    return bent + give_turns(finger.base.angle, q - bent, finger.joints[0].link_mm, finger.pad.side_sign, give)
 
 
 def working_loads(finger: FingerConfig) -> np.ndarray:

@@ -80,6 +80,9 @@ class Sample:
     line: kin.PadLine  # the pad at contact, from those ticks
     current_ma: float | None
     robot_time: float
+    #: each joint's Present Current (mA as read, signed) at contact: what the joints' torques and the
+    #: pad's force are read from (kinematics.joint_torques); None where a joint senses none
+    joint_current_ma: tuple[float, ...] | None = None
 
     @property
     def psi_measured(self) -> float:
@@ -97,6 +100,14 @@ class ApproachResult:
     contact: Sample | None
     travel_mm: float
     reason: str  # "current", "stall", "no_contact", "timeout"; "blocked": the pad did not turn
+
+
+def joint_currents(jaw: Jaw, state, finger: str) -> tuple[float, ...] | None:
+    """The finger's joints' Present Currents (mA, signed) in ``state``; None unless every one senses it."""
+    if state.current_ma is None:
+        return None
+    values = np.asarray(state.current_ma, dtype=object)[jaw.slices[finger]]
+    return None if any(v is None for v in values) else tuple(float(v) for v in values)
 
 
 def move_to(jaw: Jaw, finger: str, q_goal, max_cycles: int = 200) -> Motion:
@@ -263,7 +274,8 @@ def guarded_approach(jaw: Jaw, finger: str, psi: float, d_start: float, travel_m
             return ApproachResult(again.contact, again.travel_mm + back - d_start, again.reason)
         if felt or stalled:
             sample = Sample(reading=i, psi=psi, ticks=jaw.finger_ticks(state, finger), line=line,
-                            current_ma=current, robot_time=jaw.robot_time())
+                            current_ma=current, robot_time=jaw.robot_time(),
+                            joint_current_ma=joint_currents(jaw, state, finger))
             return ApproachResult(sample, d_meas - d_start, "current" if felt else "stall")
         if d_goal - d_start >= travel_mm:
             return ApproachResult(None, d_meas - d_start, "no_contact")

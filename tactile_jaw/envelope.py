@@ -44,11 +44,20 @@ class JointNoise:
     #: calibration leaves uncertain: ``link_sigma_mm``, ``pad.offset_sigma_mm``)
     link_mm: tuple[float, float] = (0.0, 0.0)
     pad_mm: float = 0.0
+    #: what a declared compliance's correction leaves (tactile_jaw.pipeline.touch_compliance): σ per
+    #: joint (rad) of each reading's c·τ from its current quantized to one unit (independent per reading) ...
+    current_rad: tuple[float, float] = (0.0, 0.0)
+    #: ... each reading's c·τ off by the standard error of c (rad, (n, joints) in the order taken,
+    #: one error per joint over the touch) ...
+    bent_rad: np.ndarray | None = field(default=None, compare=False)
+    #: ... and its pad's give k·F off by the standard error of k (mm along the normal, (n,))
+    give_mm: np.ndarray | None = field(default=None, compare=False)
 
     @property
     def quantization(self) -> np.ndarray:
-        """σ of each joint's quantization (rad)."""
-        return np.asarray(self.tick_rad, dtype=float) / math.sqrt(12.0)
+        """σ of each joint's independent error per reading (rad): its quantization, and its
+        compliance correction's current quantized (``current_rad``)."""
+        return np.hypot(np.asarray(self.tick_rad, dtype=float) / math.sqrt(12.0), self.current_rad)
 
     def order_test(self) -> JointNoise:
         """The noise the order rule's truncation test (:func:`truncation`) weighs the fits'
@@ -77,7 +86,7 @@ class JointNoise:
 SECOND_ORDER_PER_RAD = 85.0
 
 
-def joint_noise(finger, load_known=None) -> JointNoise:
+def joint_noise(finger, load_known=None, bent=None) -> JointNoise:
     """The noise a finger's joints declare (hand_driver.config) over one touch: each joint's
     tick (its model's resolution) and its offset over the touch. ``zero_tick`` is the
     encoder's reading at the link's zero under the joint's working load (the calibration
@@ -88,14 +97,26 @@ def joint_noise(finger, load_known=None) -> JointNoise:
     joint whose load over the touch is not known to stay one way (``load_known`` False for
     it; None: known on every joint) may rest anywhere in its dead band: σ = √(z² + (b/2)²),
     b its declared ``backlash_deg``. The calibrated link lengths and pad offset are off by
-    their ``link_sigma_mm`` and ``pad.offset_sigma_mm`` the same way over a touch.
-    docs/exploration.md#the-stated-noise."""
+    their ``link_sigma_mm`` and ``pad.offset_sigma_mm`` the same way over a touch. A touch whose
+    declared compliance was taken out (``bent``, tactile_jaw.pipeline.TouchCompliance: each
+    reading's torques τ and force F) keeps what that leaves: each reading's c·τ off by c times its
+    current quantized to one unit (Kt·unit/√12 per joint, independent), and by the standard error
+    of c (``compliance_sigma_deg_per_nm``) times τ and of k (``compliance_sigma_mm_per_n``) times F,
+    one error over the touch. docs/exploration.md#the-stated-noise."""
     ticks = rad_per_tick(kin.resolutions(finger.joints))
     known = [True] * len(finger.joints) if load_known is None else [bool(k) for k in load_known]
-    return JointNoise(tuple(float(t) for t in ticks),
-                      tuple(math.radians(j.zero_sigma_deg if k else math.hypot(j.zero_sigma_deg, j.backlash_deg / 2.0))
-                            for j, k in zip(finger.joints, known)),
-                      tuple(float(j.link_sigma_mm) for j in finger.joints), float(finger.pad.offset_sigma_mm))
+    noise = JointNoise(tuple(float(t) for t in ticks),
+                       tuple(math.radians(j.zero_sigma_deg if k else math.hypot(j.zero_sigma_deg, j.backlash_deg / 2.0))
+                             for j, k in zip(finger.joints, known)),
+                       tuple(float(j.link_sigma_mm) for j in finger.joints), float(finger.pad.offset_sigma_mm))
+    if bent is None:
+        return noise
+    step = [math.radians(j.compliance_deg_per_nm) * j.spec.torque_nm_per_a * (j.spec.current_unit_ma or 0.0) / 1000.0
+            for j in finger.joints]
+    se = np.radians([j.compliance_sigma_deg_per_nm for j in finger.joints])
+    return replace(noise, current_rad=tuple(float(s) / math.sqrt(12.0) for s in step),
+                   bent_rad=se * np.asarray(bent.torques, dtype=float),
+                   give_mm=finger.pad.compliance_sigma_mm_per_n * np.asarray(bent.force, dtype=float))
 
 
 @dataclass(frozen=True)
@@ -503,6 +524,11 @@ def _propagate(finger, q, origin, degree: int, noise: JointNoise) -> tuple[kin.T
     for sigma, moves in geometry:
         if sigma > 0.0:  # the same error over every reading: one column (ψ does not move with it)
             factor = np.hstack([factor, sigma * (by_d @ moves[base.order])[:, None]])
+    if noise.bent_rad is not None:  # one error of each joint's c over the touch, times each reading's τ
+        bent = np.einsum("rij,ij->rj", jac.reshape(jac.shape[0], n, 2), noise.bent_rad)
+        factor = np.hstack([factor, bent[:, np.any(noise.bent_rad != 0.0, axis=0)]])
+    if noise.give_mm is not None and np.any(noise.give_mm > 0.0):  # one error of k, times each reading's F
+        factor = np.hstack([factor, (by_d @ noise.give_mm[base.order])[:, None]])
     return base, factor
 
 

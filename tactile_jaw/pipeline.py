@@ -168,7 +168,9 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
     cannot measure a radius of curvature), that it rolled on the curved part
     (:func:`off_curve_reason`); a roll that ran off it at an end is used on its longest
     stretch that passes (``trim``, :func:`smooth_stretch`), else its shorter stretch on the
-    curve is noted (``curve_at``, :func:`curve_hint`, :func:`moving_hint`, :func:`past_stretch`). A flat press is felt by
+    curve is noted (``curve_at``, :func:`curve_hint`, :func:`moving_hint`, :func:`past_stretch`). The link angles
+    are the encoders' less the backlash (:func:`touch_loads`) and, where the finger declares compliance, less
+    each reading's deflection and its pad's give (:func:`touch_compliance`). A flat press is felt by
     tactile_jaw.flat.feel_flat."""
     if isinstance(touch, FlatResult):
         lines, problem, contact, face = feel_flat(config, touch)
@@ -205,7 +207,11 @@ def feel(config, touch: TouchResult, samples: int, curve_checks: bool = True, tr
         if np.any(loads.offsets):
             q = q - loads.offsets
             lines = kin.finger_pad_line(f, q)
-        noise = joint_noise(f, loads.known)
+        bent = touch_compliance(f, touch.samples, q, lines)
+        if bent is not None:
+            q = q - bent.turns
+            lines = kin.finger_pad_line(f, q)
+        noise = joint_noise(f, loads.known, bent)
         if curve_checks:
             fit = fit_envelope(f, q, lines, noise=noise)
             c = fit.contacts
@@ -291,6 +297,15 @@ class TouchLoads:
     reversed: int | None = None  # a joint with backlash whose load reversed during the touch
 
 
+@dataclass(frozen=True)
+class TouchCompliance:
+    """What declared compliance does to one touch's readings (:func:`touch_compliance`)."""
+
+    turns: np.ndarray  # (n, joints) rad to subtract from the joint angles: the links' deflection and the pad's give
+    torques: np.ndarray  # (n, joints) N·m: each reading's joint torques, Kt·I
+    force: np.ndarray  # (n,) N: each reading's contact force
+
+
 def touch_loads(finger, q, lines: kin.PadLine) -> TouchLoads:
     """Each joint's load over a touch of ``finger`` (joint angles ``q`` (n, 2), pad lines
     ``lines``): the sign of kinematics.moment_arms of the pad's press (along its normal) at
@@ -317,6 +332,27 @@ def touch_loads(finger, q, lines: kin.PadLine) -> TouchLoads:
     offsets = np.broadcast_to(np.where(bands, kin.load_offsets(finger, sign), 0.0), q.shape).copy()
     return TouchLoads(tuple(bool(k) for k in known), offsets,
                       int(np.flatnonzero(turned)[0]) if np.any(turned) else None)
+
+
+def touch_compliance(finger, samples, q, lines: kin.PadLine) -> TouchCompliance | None:
+    """What the finger's declared compliance did to a touch's readings (joint angles ``q`` (n, 2),
+    backlash taken out, their pad lines ``lines``); None where the finger declares none. Each
+    reading's joints carry τ = Kt·I from its own Present Currents (kinematics.joint_torques), the
+    pad presses its contact (the touch's envelope) along its normal with the force F they balance
+    (kinematics.pressed_force); its links stand c·τ behind the encoders and the pad's give k·F
+    further in (kinematics.compliance_turns): the calibration's model (hand_driver.calibration_fit).
+    InputError when a reading carries no joint currents: its deflection cannot be taken out."""
+    if not kin.declares_compliance(finger):
+        return None
+    if any(s.joint_current_ma is None for s in samples):
+        raise InputError("the jaw declares compliance but not every reading of the touch carries its joints' "
+                         "currents: its deflection cannot be taken out")
+    torques = kin.joint_torques(finger, np.array([s.joint_current_ma for s in samples], dtype=float))
+    c = kin.touch_from_pad_lines(lines.psi, lines.d)
+    points = np.empty((c.order.size, 2))
+    points[c.order] = np.stack([c.x, c.y], axis=-1)  # each reading's contact, in the order taken
+    force = kin.pressed_force(finger, q, points, torques)
+    return TouchCompliance(kin.compliance_turns(finger, q, torques, force), torques, force)
 
 
 def smooth_stretch(config, touch: TouchResult, samples: int) -> FeltTouch | None:
@@ -1189,15 +1225,26 @@ def too_few_clear(usable: Sequence[FeltTouch], used: int, exc: Exception) -> Rec
                                               f"corners other touches pivoted about: {exc}")
 
 
-def logged_samples(config, finger: str, ticks, psi, readings=None) -> list[Sample]:
+def logged_samples(config, finger: str, ticks, psi, readings=None, currents=None) -> list[Sample]:
     """A touch's samples rebuilt from its logged joint ticks (one row per reading) and
     commanded pad orientations ``psi``: pad lines by the config's kinematics, in one pass;
-    ``readings`` their indices in the log (default 0, 1, …)."""
+    ``readings`` their indices in the log (default 0, 1, …); ``currents`` each reading's joint
+    currents (mA, None where not logged)."""
     ticks = np.asarray(ticks, dtype=float)
     lines = kin.finger_pad_line_from_ticks(config, finger, ticks)
     readings = range(len(ticks)) if readings is None else readings
-    return [Sample(reading=i, psi=float(p), ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0)
+    currents = [None] * len(ticks) if currents is None else currents
+    return [Sample(reading=i, psi=float(p), ticks=ticks[k], line=lines.at(k), current_ma=None, robot_time=0.0,
+                   joint_current_ma=currents[k])
             for k, (i, p) in enumerate(zip(readings, psi))]
+
+
+def _logged_currents(reading: dict, joints: slice) -> tuple[float, ...] | None:
+    """A logged reading's joint currents (mA) of one finger's ``joints``; None unless every one was read."""
+    logged = reading.get("current_ma")
+    if logged is None or any(c is None for c in logged[joints]):
+        return None
+    return tuple(float(c) for c in logged[joints])
 
 
 def logged_felt(config, contents, settings: ExploreSettings) -> tuple[list[FeltTouch], list[FeltTouch]]:
@@ -1210,7 +1257,9 @@ def logged_felt(config, contents, settings: ExploreSettings) -> tuple[list[FeltT
         if logged.readings:
             ticks = [np.asarray(contents.readings[i]["ticks"], dtype=float)[slices[logged.finger]]
                      for i in logged.readings]
-            samples = logged_samples(config, logged.finger, ticks, logged.psi, logged.readings)
+            samples = logged_samples(config, logged.finger, ticks, logged.psi, logged.readings,
+                                     [_logged_currents(contents.readings[i], slices[logged.finger])
+                                      for i in logged.readings])
         if logged.kind == "flat":
             touch = FlatResult(logged.finger, logged.touch, logged.psi_center or 0.0, samples,
                                outcome=logged.outcome or "interrupted", roles=list(logged.roles))

@@ -19,17 +19,32 @@ the truth config declares (hand_driver.config: none declared, none simulated):
 - a **zero error** is the truth config's ``zero_tick`` differing from the nominal one (the
   emulator's encoder angles are the truth's).
 
-The contact force F of a pad is the one that explains its joints' present currents best
+Where the truth declares no compliance (backlash and zero errors only: every shipped truth
+config), the contact force F of a pad is the one that explains its joints' present currents best
 (least squares of τ_j = Kt_j·I_j against τ_j = a_j·F, a_j = ((p − J_j) × u)_z the moment arm of a
 force along u at the contact p, F ≥ 0; u is the pad's normal where its face touches, the
 object's normal where a pad end presses it), with each model's torque constant
 Kt (hand_driver.control_table); it is judged once per integration span (a lag of one bus
-packet), and used for the next.
+packet), and used for the next (:meth:`ServoErrors.judge_load`): the currents are the servos'
+position lag, and only the side of the load matters.
+
+Where it declares compliance (some joint's c or pad's k), the deflection is what a reading
+measures, so the load is a **torque balance of one instant** (:meth:`ServoErrors.balance`, at
+the end of every span, before the servos publish): a pad touching the object carries the force
+F ≥ 0 along u that its servos' drive (each one's lag current, hand_driver.sim.servo) pushes
+with, the least-squares F of τ_j = a_j·F against the drive, no larger than the weakest joint's
+current cap allows; the joints then carry exactly τ_j = a_j·F (the drive's part across a_j is
+held by the finger's static friction, as a blocked finger's is), deflect by c·τ_j and the pad
+gives k·F, the motors stand where the links and the deflection put them, and each blocked
+servo's Present Current is the balance Kt_j·I_j = τ_j (the e-Manual states no gear friction,
+so none is added). F, the deflection and the motors' position depend on each other through
+the drive (the motor's lead over its trajectory); the balance is their fixed point, a
+contraction of ratio c·K + k·K/L² ≈ 0.02 for the servos' 14 A/rad (K ≈ 64 N·m/rad on a PH54):
+``BALANCE_ITERATIONS`` settle it far below a tick. So a reading's ticks and currents are of
+one instant, and Kt·I explains its deflection to the current's resolution.
 """
 
 from __future__ import annotations
-
-import math
 
 import numpy as np
 
@@ -42,9 +57,16 @@ LOADED_NM = 1e-3
 TOUCH_MM = 0.05
 #: a contact this close (mm) to an end of the pad is a pad end pressing the object
 END_MM = 0.05
-#: a pad cannot be moved along its normal at a fixed angle when the base link is within
-#: this of parallel to it (n·e1⊥ below it): its compliance is then not applied
-SINGULAR_COS = 0.05
+#: fixed-point passes of a torque balance (module docstring: each shrinks the force's error
+#: by about 50×), and the relative change of the force at which it has settled
+BALANCE_ITERATIONS = 12
+BALANCE_SETTLED = 1e-12
+
+
+def declares_compliance(truth: JawConfig) -> bool:
+    """Does the truth jaw declare a link or pad compliance (its load is then a torque balance of
+    one instant, :meth:`ServoErrors.balance`)?"""
+    return any(j.compliance_deg_per_nm for j in truth.joints) or any(f.pad.compliance_mm_per_n for f in truth.fingers)
 
 
 class ServoErrors:
@@ -63,6 +85,9 @@ class ServoErrors:
         self.pad_dq = np.zeros(n)  # link − rigid-pad configuration (pad compliance)
         self.torque = np.zeros(n)  # the contact's load on each joint (N·m, counter-clockwise +)
         self.force = np.zeros(len(truth.fingers))  # each pad's contact force (N)
+        #: the load is a torque balance of one instant (:meth:`balance`), not judged from the last
+        #: span's currents (:meth:`judge_load`)
+        self.balanced = declares_compliance(truth)
 
     def world_angles(self, motor) -> np.ndarray:
         """The configuration the contact world sees (a rigid pad at its nominal offset) for
@@ -107,6 +132,60 @@ class ServoErrors:
         self.torque, self.force = torque, force
         self.pad_dq = pad_dq
 
+    def balance(self, contact_world, world, drive) -> tuple[np.ndarray, np.ndarray]:
+        """The torque balance of this instant (module docstring) at world angles ``world``, the
+        motors' gap as the span's steps left it: ``drive(motor)`` → (each joint's drive torque
+        toward its trajectory with its motor at ``motor`` rad, N·m along its angle, NaN without
+        current sensing; each joint's largest |torque|, N·m). Sets each pad's force, the joints'
+        torques, gaps and the pads' give; returns (the motor angles, each joint's balanced
+        torque, N·m, NaN where its finger carries no force: its servos draw their lag current)."""
+        q = np.asarray(world, dtype=float)
+        infos = contact_world.contact_info(q) if contact_world is not None else [None] * len(self.cfg.fingers)
+        play = np.clip(self.gap, -self.half, self.half)  # unloaded, a joint's deflection springs back
+        torque, force = np.zeros_like(self.torque), np.zeros_like(self.force)
+        gap, pad_dq = play.copy(), np.zeros_like(self.pad_dq)
+        balanced = np.full_like(self.torque, np.nan)
+        k = 0
+        for i, (f, info) in enumerate(zip(self.cfg.fingers, infos)):
+            sl = slice(k, k + len(f.joints))
+            k += len(f.joints)
+            if info is None or not (info.penetrating or info.gap_mm <= TOUCH_MM):
+                continue
+            arms = kin.moment_arms(f, q[sl], info.point, _force_direction(contact_world, f, q[sl], info)) / 1000.0
+            norm = float(arms @ arms)
+            if norm == 0.0:
+                continue
+            force_i = self.force[i]
+            for _ in range(BALANCE_ITERATIONS):
+                motor = q.copy()
+                motor[sl] += self._loaded_gap(sl, arms * force_i, play[sl]) + _pad_give(
+                    f, q[sl], self.pad_compliance[i] * force_i)
+                push, cap = (a[sl] for a in drive(motor))
+                if np.any(np.isnan(push)):  # a joint senses no current: no balance to read
+                    force_i = 0.0
+                    break
+                bound = min((float(c / abs(a)) for a, c in zip(arms, cap) if a != 0.0), default=0.0)
+                new = min(max(0.0, float(arms @ push) / norm), bound)
+                settled = abs(new - force_i) <= BALANCE_SETTLED * max(new, 1.0)
+                force_i = new
+                if settled:
+                    break
+            if force_i <= 0.0:
+                continue
+            force[i] = force_i
+            tau = arms * force_i
+            torque[sl] = tau
+            pad_dq[sl] = _pad_give(f, q[sl], self.pad_compliance[i] * force[i])
+            gap[sl] = self._loaded_gap(sl, tau, play[sl])
+            balanced[sl] = tau
+        self.torque, self.force, self.gap, self.pad_dq = torque, force, gap, pad_dq
+        return q + gap + pad_dq, balanced
+
+    def _loaded_gap(self, sl: slice, tau, play) -> np.ndarray:
+        """Motor − link of joints ``sl`` under torques ``tau``: sign(τ)·h + c·τ where loaded,
+        ``play`` where not."""
+        return np.where(np.abs(tau) > LOADED_NM, np.sign(tau) * self.half[sl] + self.compliance[sl] * tau, play)
+
 
 def _force_direction(contact_world, finger, q, info) -> np.ndarray:
     """The direction of the force a pad applies at its contact: its normal where its face
@@ -121,15 +200,6 @@ def _force_direction(contact_world, finger, q, info) -> np.ndarray:
 
 
 def _pad_give(finger, q, depth_mm: float) -> np.ndarray:
-    """Joint turns moving the pad line ``depth_mm`` along its normal at the same angle."""
-    if depth_mm <= 0.0:
-        return np.zeros(2)
-    a1 = finger.base.angle + q[0]
-    a2 = a1 + q[1]
-    side = finger.pad.side_sign
-    n = np.array([-side * math.sin(a2), side * math.cos(a2)])
-    reach = finger.joints[0].link_mm * float(n @ np.array([-math.sin(a1), math.cos(a1)]))
-    if abs(reach) < SINGULAR_COS * finger.joints[0].link_mm:
-        return np.zeros(2)
-    turn = depth_mm / reach
-    return np.array([turn, -turn])
+    """Joint turns moving the pad line ``depth_mm`` along its normal at the same angle
+    (kinematics.give_turns)."""
+    return kin.give_turns(finger.base.angle, q, finger.joints[0].link_mm, finger.pad.side_sign, depth_mm)

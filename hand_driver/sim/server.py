@@ -223,10 +223,14 @@ class EmulatedBus:
                     prop = list(rad_to_ticks_exact(q, self._zero, self._dir, self._per_rev))
                 for s, p in zip(servos, prop):
                     s.settle(float(p), h)
-            for s in servos:
-                s.publish(dt)
+            if self.errors is not None and self.errors.balanced:
+                for s, cur in zip(servos, self._balance(servos)):
+                    s.publish(dt, cur)
+            else:
+                for s in servos:
+                    s.publish(dt)
             self.sim_time += dt
-            if self.errors is not None:
+            if self.errors is not None and not self.errors.balanced:
                 self._judge_load(servos)
 
     def _step_with_errors(self, pos: list[float], prop: list[float]) -> list[float]:
@@ -239,6 +243,27 @@ class EmulatedBus:
         world = (np.asarray(self.world.constrain(world_from, world_to), dtype=float)
                  if self.world is not None else world_to)
         return list(rad_to_ticks_exact(e.settle(world, gap), self._zero, self._dir, self._per_rev))
+
+    def _balance(self, servos: list[EmulatedServo]) -> list[float | None]:
+        """Declared compliance: the torque balance of this instant (hand_driver.sim.errors): the
+        motors moved to where the links and their deflection put them; returns each servo's
+        Present Current (raw units) of the balance, None where it draws its lag current."""
+        kt = self.errors.kt
+
+        def drive(motor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+            ticks = rad_to_ticks_exact(motor, self._zero, self._dir, self._per_rev)
+            push = [k * d * s.drive_current(float(t)) * s.spec.current_unit_ma / 1000.0 if s.spec.has_current_sensing
+                    else math.nan for s, t, d, k in zip(servos, ticks, self._dir, kt)]
+            cap = [k * s.current_cap() * s.spec.current_unit_ma / 1000.0 if s.spec.has_current_sensing else 0.0
+                   for s, k in zip(servos, kt)]
+            return np.array(push), np.array(cap)
+
+        motor = ticks_to_rad([s.pos for s in servos], self._zero, self._dir, self._per_rev)
+        motor, torque = self.errors.balance(self.world, self.errors.world_angles(motor), drive)
+        for s, t in zip(servos, rad_to_ticks_exact(motor, self._zero, self._dir, self._per_rev)):
+            s.pos = float(t)
+        return [None if math.isnan(t) else t * 1000.0 / (k * d * s.spec.current_unit_ma)
+                for s, t, d, k in zip(servos, torque, self._dir, kt)]
 
     def _judge_load(self, servos: list[EmulatedServo]) -> None:
         """The pads' contact forces from the servos' present currents (for the next span)."""

@@ -328,11 +328,29 @@ class EmulatedServo:
         self.actual_vel = (actual - self.pos) / dt if dt > 0 else 0.0
         self.pos = actual
 
-    def publish(self, dt: float) -> None:
+    def publish(self, dt: float, current: float | None = None) -> None:
         """Write the Present* items (position, velocity, current, moving) after a step of dt,
-        and judge overload over it."""
-        self._sync_present(dt)
+        and judge overload over it; ``current`` (raw units): the Present Current a torque
+        balance sets (hand_driver.sim.errors, declared compliance), else the lag's."""
+        self._sync_present(dt, current)
         self._judge_overload(dt)
+
+    def drive_current(self, pos: float) -> float:
+        """The Present Current (raw units, unrounded) the servo draws with its shaft at ``pos``
+        ticks: its trajectory's lead times ``current_per_tick``, within :meth:`current_cap`; 0
+        with torque off."""
+        if not self.torque_on:
+            return 0.0
+        limit = self.current_cap()
+        return max(-limit, min(limit, self._current_per_tick * (self.traj - pos)))
+
+    def current_cap(self) -> int:
+        """The largest |Present Current| (raw units) the servo draws: Goal Current in the modes
+        where the e-Manual says it caps the current, else Current Limit."""
+        limit = self.get("current_limit")
+        if self.get("operating_mode") in self.spec.current_capped_modes:
+            limit = min(limit, abs(self.get("goal_current")))
+        return limit
 
     def _judge_overload(self, dt: float) -> None:
         if "present_current" in self.spec.fields:
@@ -344,13 +362,10 @@ class EmulatedServo:
         if self.overload_s >= OVERLOAD_TIME_S and self.get("shutdown") & OVERLOAD_BIT:
             self.set_hardware_error(self.hardware_error | OVERLOAD_BIT)
 
-    def _sync_present(self, dt: float) -> None:
+    def _sync_present(self, dt: float, current: float | None = None) -> None:
         gap = self.traj - self.pos
         if "present_current" in self.spec.fields:
-            limit = self.get("current_limit")
-            if self.get("operating_mode") in self.spec.current_capped_modes:
-                limit = min(limit, abs(self.get("goal_current")))  # Goal Current caps only these modes
-            cur = max(-limit, min(limit, self._current_per_tick * gap)) if self.torque_on else 0.0
+            cur = self.drive_current(self.pos) if current is None else current
             self._put("present_current", int(round(cur)))
         else:  # XL430: Present Load in 0.1 % of max torque
             self._put("present_load", int(round(max(-1000.0, min(1000.0, LOAD_PER_TICK * gap)))) if self.torque_on else 0)

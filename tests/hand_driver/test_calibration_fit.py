@@ -278,3 +278,58 @@ def test_readings_the_contact_model_does_not_explain_do_not_pull_the_screen():
             assert abs(d) <= 1e-3, f"{e.name}: {d * 1e3:+.2f} µm"
     assert all(f.pad.offset_sigma_mm <= 2e-3 for f in result.config.fingers)
     assert result.rms_after_mm < 3e-4 and result.n_readings >= 120
+
+
+def _yielding_p_readings(compliance_deg_per_nm: float, compliance_mm_per_n: float) -> tuple:
+    """Synthetic readings (calibration_plan.synthesize with forces) of the P-series jaw with
+    config/jaw-p-truth.yaml's zero errors, no backlash, and the given compliance of every joint
+    and pad: 3 face and 2 pad-end touches per finger, branch and the first two default placements
+    (fewer than the placements' jackknife needs: not run, the test's CPU ~1 s), each pressed
+    with 3–30 N; the truth and the readings, which carry their joints' balance currents."""
+    nominal = load_config("config/jaw-p.yaml")
+    truth = load_config("config/jaw-p-truth.yaml")
+    truth = dataclasses.replace(truth, fingers=tuple(dataclasses.replace(
+        f, joints=tuple(dataclasses.replace(j, backlash_deg=0.0, compliance_deg_per_nm=compliance_deg_per_nm)
+                        for j in f.joints),
+        pad=dataclasses.replace(f.pad, compliance_mm_per_n=compliance_mm_per_n)) for f in truth.fingers))
+    rng = np.random.default_rng(1)
+    readings = []
+    for k, (x, y) in enumerate(cp.DEFAULT_PLACEMENTS[:2]):
+        disk = dataclasses.replace(DISK, pose=Pose(0.0, x + rng.uniform(-3, 3), y + rng.uniform(-3, 3)))
+        plan = cp.plan_touches(nominal, DISK, (x, y), faces=3, corners=2)
+        readings += cp.synthesize(truth, disk, plan, placement=k, forces_n=rng.uniform(3.0, 30.0, len(plan)))
+    return nominal, truth, readings
+
+
+def test_compliance_is_fitted_from_each_readings_own_currents():
+    """A jaw whose links yield 0.02°/N·m and pads 0.002 mm/N (3–30 N presses: 8–140 µm of give,
+    up to 70 µm of link deflection at the pad, where a reading's quantization σ is 0.1–0.3 µm):
+    each reading's link angles are its encoders' less c·τ and its pad k·F behind its line, τ = Kt·I
+    and F from its own currents. The fit keeps 47 of 48 readings and puts every parameter, c and k
+    included, within 3 standard errors of the truth (1.3 at worst; on all four placements 85 of 88) (the rigid fit of such readings left 66 of 88
+    out and the kept ones up to 127 standard errors off)."""
+    nominal, truth, readings = _yielding_p_readings(0.02, 0.002)
+    assert all(r.current_ma is not None for r in readings)
+    result = cal.fit(nominal, DISK, readings)
+    assert result.n_dropped <= 3
+    err = cal.pack_params(result.config, compliance=True) - cal.pack_params(truth, compliance=True)
+    assert [e.kind for e in result.estimates][-6:] == ["compliance_deg_per_nm"] * 4 + ["compliance_mm_per_n"] * 2
+    for e, d in zip(result.estimates, err):
+        assert abs(d) <= 3.0 * e.se, f"{e.name}: error {d:+.3g}, se {e.se:.3g}"
+    assert result.config.joints[0].compliance_deg_per_nm == pytest.approx(0.02, rel=0.1)
+    assert result.config.fingers[0].pad.compliance_mm_per_n == pytest.approx(0.002, rel=0.1)
+    # their standard errors written for the exploration's stated noise (tactile_jaw.envelope.joint_noise)
+    se = {e.name: e.se for e in result.estimates}
+    for f in result.config.fingers:
+        for j in f.joints:
+            assert j.compliance_sigma_deg_per_nm >= se[f"{f.name}.joint{j.id}.compliance_deg_per_nm"] > 0.0
+        assert f.pad.compliance_sigma_mm_per_n >= se[f"{f.name}.pad.compliance_mm_per_n"] > 0.0
+
+
+def test_a_rigid_jaws_readings_with_currents_calibrate_as_without():
+    """No compliance in the truth: the compliance fit finds no c or k beyond 3 standard errors, and
+    the rigid fit is kept, the same result as from the readings without their currents."""
+    nominal, truth, readings = _yielding_p_readings(0.0, 0.0)
+    result = cal.fit(nominal, DISK, readings)
+    assert not any(e.kind.startswith("compliance") for e in result.estimates)
+    assert result == cal.fit(nominal, DISK, [dataclasses.replace(r, current_ma=None) for r in readings])

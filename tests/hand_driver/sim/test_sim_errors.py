@@ -29,10 +29,11 @@ def declared(cfg, backlash_deg=0.0, compliance=0.0, pad=0.0):
     return dataclasses.replace(cfg, fingers=fingers)
 
 
-def press_left(truth, goal_current_ma=300.0, settle_s=2.0):
+def press_left(truth, goal_current_ma=300.0, settle_s=2.0, step_s=0.05, every=None):
     """The left pad closed onto the disk (its base joint commanded 20° toward it from the open
-    pose: it touches after about 9.5°) at ``goal_current_ma``; returns (reading angles, link
-    angles, emulator, reading)."""
+    pose: it touches after about 9.5°) at ``goal_current_ma``, the emulator stepped ``step_s`` at
+    a time; returns (reading angles, link angles, emulator, reading). ``every(reading angles, link
+    angles, emulator, reading)`` is called after each step."""
     cfg = NOMINAL
     q_open = open_pose(cfg)
     start = np.rint(kin.angles_to_ticks(cfg.joints, q_open)).astype(int)
@@ -43,8 +44,11 @@ def press_left(truth, goal_current_ma=300.0, settle_s=2.0):
         bus.set_goal_current(goal_current_ma)
         goal = kin.angles_to_ticks(cfg.joints, q_open + np.radians([-20.0, 0.0, 0.0, 0.0]))
         bus.write_goal_ticks(np.rint(goal))
-        for _ in range(int(settle_s / 0.05)):
-            sim.step(0.05)
+        for _ in range(int(round(settle_s / step_s))):
+            sim.step(step_s)
+            if every is not None:
+                state = bus.read_state()
+                every(kin.ticks_to_angles(cfg.joints, state.ticks), sim.link_angles(), sim, state)
         state = bus.read_state()
         reading = kin.ticks_to_angles(cfg.joints, state.ticks)
         return reading, sim.link_angles(), sim, state
@@ -141,6 +145,40 @@ def test_link_compliance_deflects_by_the_joint_torque():
     deflection = np.radians(compliance) * arms * force
     tick = 2 * math.pi / kin.resolutions(NOMINAL.joints)[:2]
     assert np.allclose(reading[:2] - link[:2], deflection, atol=3 * tick.max() + 0.02 * np.abs(deflection).max())
+
+
+def test_declared_compliance_reads_one_instants_torque_balance():
+    """A pad pressed on a fixed face (the disk), with backlash, link and pad compliance declared:
+    every reading in contact, from the first, is one instant's torque balance. Its currents are
+    the contact force's torques, Kt_j·I_j = a_j·F (a_j the exact moment arms at the tangent point)
+    within the current's resolution; its encoders lead the links by sign(τ)·h + c·τ with τ = Kt·I,
+    within a tick; the nominal pad line lies k·F inside the disk. (Before: the currents were the
+    servos' position lag, (300, −14) mA against a balance of (270, 117), and the deflection was
+    that of the previous packet's currents, 8–15 ticks off.)"""
+    c_deg, k, half = 0.02, 0.002, HALF_DEG
+    truth = declared(NOMINAL, backlash_deg=2 * half, compliance=c_deg, pad=k)
+    left = NOMINAL.finger("left")
+    kt = np.array([j.spec.torque_nm_per_a for j in left.joints])
+    direction = np.array([j.direction for j in left.joints])
+    resolution = kt * np.array([j.spec.current_unit_ma for j in left.joints]) / 1000.0  # N·m per current unit
+    tick = 2 * math.pi / kin.resolutions(NOMINAL.joints)[:2]
+    forces = []
+
+    def check(reading, link, sim, state):
+        if sim.errors.force[0] <= 0.0:
+            return
+        arms = exact_arms(left, link[:2])
+        torque = kt * direction * np.asarray(state.current_ma[:2], dtype=float) / 1000.0
+        force = float(arms @ torque) / float(arms @ arms)
+        forces.append(force)
+        assert np.all(np.abs(torque - arms * force) <= resolution)
+        motor = reading[:2] + kin.working_loads(left) * math.radians(half)
+        lead = np.sign(arms) * math.radians(half) + math.radians(c_deg) * torque
+        assert np.all(np.abs(motor - link[:2] - lead) <= tick + math.radians(c_deg) * resolution)
+        assert gap_to_disk(left, link[:2]) == pytest.approx(-k * force, abs=1e-4)
+
+    press_left(truth, settle_s=0.6, step_s=0.02, every=check)
+    assert len(forces) >= 5 and max(forces) > 5.0  # pressed, at several forces on the way up
 
 
 def test_pad_compliance_puts_the_pad_line_into_the_object_by_the_give():
