@@ -1001,7 +1001,15 @@ def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = fr
     the two that straddle a pivot's change (P cubical 21 of bench_explore --finite 4 --anywhere
     --follow --seed 191: the left pad's roll pivoted on the curve's end corner, then its last
     lines moved along the curve, ρ 9–127 ± 0.4 mm over 3 windows, and the right pad's presses
-    on a closing segment were answered line). So do one finger's
+    on a closing segment were answered line). Every roll is held to that test, whatever
+    dropped it: one :func:`feel` found usable and :func:`clear_of_corners` dropped later (its
+    samples near a corner another touch pivoted about, too few left), one whose contact reached
+    a pad end. Its radius ≥ 2 σ_ρ alone is no curve beside a corner (a pivot passed for 18.6 ±
+    4.2 mm at 4,096 ticks), but three windows each ≥ ``MOVED_SIGMAS`` σ_ρ are a contact moving
+    along the boundary, which no pivot does (P cubical example scaled 1.5×, turned −75°, at
+    (112, −8) mm: the left roll's contact moved 5 mm while the pad turned 13°, it was dropped
+    for one sample within 2 mm of the corner, and the right pad's presses on the closing
+    segment were answered line). So do one finger's
     presses whose seats stopped short of their supports by a bulge, twice on one face
     (tactile_jaw.flat.bulged_presses), as the last of them: P hyperbola 93 of --seed 191, the
     left pad's presses +0.26 mm on its curved part, its rolls on the corners, the right pad's
@@ -1011,9 +1019,9 @@ def curved_part(config, felt: Sequence[FeltTouch], checked: Collection[int] = fr
     for t in felt:
         if id(t) in checked:
             continue
-        if not isinstance(t.touch, FlatResult):  # a usable roll beside a corner can be a pivot at 4,096 ticks
+        if not isinstance(t.touch, FlatResult):
             stretch = curved_stretch(config, t) if t.curve_at is not None else None
-            if stretch is None and t.off_curve:  # its hint may be moving_hint's
+            if stretch is None:  # whatever dropped it: its hint may be moving_hint's, or it was usable
                 stretch = moving_stretch(config, t, MOVED_RUN_WINDOWS)
             if stretch is not None:
                 return stretch
