@@ -584,7 +584,7 @@ def _fit(cfg: JawConfig, reference, readings: list[Reading], tol: dict, backlash
     res = least_squares(lambda x: model.weighted(x, nv, sig), robust.x, method="lm", x_scale="jac",
                         xtol=1e-12, ftol=1e-12, gtol=1e-12, max_nfev=2000)
     r = res.fun[:sig.size] * sig  # mm
-    m, p = res.fun.size, x0.size
+    m = res.fun.size
     jac = res.jac
     u, s, vt = np.linalg.svd(jac, full_matrices=False)
     col = np.linalg.norm(jac, axis=0)

@@ -16,7 +16,6 @@ import pytest
 from hand_driver import kinematics as kin
 from hand_driver.config import dump_config, load_config
 from hand_driver.motion import Sample, TouchResult
-from tactile_common.errors import InputError
 from tactile_jaw.pipeline import feel
 
 RIGID = load_config("config/jaw-p.yaml")
