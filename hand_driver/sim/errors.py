@@ -63,12 +63,6 @@ BALANCE_ITERATIONS = 12
 BALANCE_SETTLED = 1e-12
 
 
-def declares_compliance(truth: JawConfig) -> bool:
-    """Does the truth jaw declare a link or pad compliance (its load is then a torque balance of
-    one instant, :meth:`ServoErrors.balance`)?"""
-    return any(j.compliance_deg_per_nm for j in truth.joints) or any(f.pad.compliance_mm_per_n for f in truth.fingers)
-
-
 class ServoErrors:
     """The declared errors' state: per joint the encoder's lead over the link (rad), per pad
     its contact force; angles in config joint order, rad, the truth's."""
@@ -85,9 +79,10 @@ class ServoErrors:
         self.pad_dq = np.zeros(n)  # link − rigid-pad configuration (pad compliance)
         self.torque = np.zeros(n)  # the contact's load on each joint (N·m, counter-clockwise +)
         self.force = np.zeros(len(truth.fingers))  # each pad's contact force (N)
-        #: the load is a torque balance of one instant (:meth:`balance`), not judged from the last
-        #: span's currents (:meth:`judge_load`)
-        self.balanced = declares_compliance(truth)
+        #: some finger declares a link or pad compliance (kinematics.declares_compliance): the load
+        #: is a torque balance of one instant (:meth:`balance`), not judged from the last span's
+        #: currents (:meth:`judge_load`)
+        self.balanced = any(kin.declares_compliance(f) for f in truth.fingers)
 
     def world_angles(self, motor) -> np.ndarray:
         """The configuration the contact world sees (a rigid pad at its nominal offset) for
