@@ -39,9 +39,10 @@ from hand_driver.flat_press import SEAT_TOL_MM, FlatResult, clear_of_pad_ends
 from hand_driver.motion import TouchResult, contact_on_pad, roll_angles, rolling_touch
 from recognizer.curves import CURVES
 from tactile_common.errors import InputError
-from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, budget_advice, next_aim
+from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, Stop, budget_advice, next_aim
 from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
                                  noted, sample_positions)
+from tactile_jaw.felt_before import MOVED_OFF_CURVE, FeltBefore, not_a_line
 from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_press, early_press, flat_presses,
                                     guard_done, short_face_stop, unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
@@ -789,7 +790,8 @@ def _spent(out: Exploration) -> int:
 def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTouches,
             emit: Callable[[dict], None] | None = None,
             progress: Callable[[str], None] | None = None,
-            recognize_anywhere: RecognizeTouches | None = None, moved_for: Sequence[dict] = ()) -> Exploration:
+            recognize_anywhere: RecognizeTouches | None = None, moved_for: Sequence[dict] = (),
+            felt_before: FeltBefore | None = None) -> Exploration:
     """Explore with both fingers (module docstring). ``recognize_touches`` maps a list of
     usable felt touches to a Recognition (tactile_jaw.pipeline.make_recognizer, its
     ``next_touch`` within the jaw's reach); ``emit`` receives log records; ``progress``
@@ -797,7 +799,9 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     anywhere in the workspace, lets a stop for want of reach say where the touch would go
     and how far to move the object (tactile_jaw.choose.move_advice); ``moved_for``, where the move
     of the object a refusal named was for (its ``move['places']``): each finger named rolls there
-    first after its probes (:func:`promised_aims`)."""
+    first after its probes (:func:`promised_aims`); ``felt_before``, what the run before that move
+    felt of the object (tactile_jaw.felt_before: logged first; a `line` answer refused when it felt
+    curvature, :func:`closing_answer`)."""
     emit = emit or (lambda rec: None)
     say = progress or (lambda msg: None)
     recognize_touches = _memo(recognize_touches)
@@ -806,6 +810,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
     model = ObjectModel(ws.center_mm, ws.radius_mm)
     out = Exploration()
     t0 = jaw.robot_time()
+    if felt_before is not None:
+        emit(felt_before.to_event())
     off_curve: dict[str, int] = {f.name: 0 for f in cfg.fingers}  # the finger's latest touches off the curve
     pressed: list[FeltTouch] = []  # flat presses made during the probes and rolls (tactile_jaw.flat_phase)
     aside: set[int] = set()  # presses of fingers with no roll to make, beside the others' probes and rolls
@@ -1166,13 +1172,14 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                    f"object offers no boundary they can roll on (flat, concave, or felt only by a pad end)")
         emit({"type": "event", "kind": "no_face_contact", "message": message})
         say(message)
-    closing_answer(cfg, out, cleared, recognize_touches, settings, emit, say)
+    closing_answer(cfg, out, cleared, recognize_touches, settings, emit, say, felt_before)
     out.robot_time_s = jaw.robot_time() - t0
     return out
 
 
 def closing_answer(cfg, out: Exploration, cleared: Callable[[], list[FeltTouch]], recognize_touches: RecognizeTouches,
-                   settings: ExploreSettings, emit: Callable[[dict], None], say: Callable[[str], None]) -> None:
+                   settings: ExploreSettings, emit: Callable[[dict], None], say: Callable[[str], None],
+                   felt_before: FeltBefore | None = None) -> None:
     """The exploration's answer into ``out.recognition`` (with ``out.used``, and ``out.stopped``
     when it names one): :func:`tactile_jaw.decide.final_answer` on the usable touches
     (``cleared()``), else the refusal already made (a curved part felt, tactile_jaw.flat_phase)
@@ -1181,7 +1188,10 @@ def closing_answer(cfg, out: Exploration, cleared: Callable[[], list[FeltTouch]]
     1 of its 2 usable touches clear of the corners, was refused with no stop, and the command's advice fell back
     to "no class of the scene fits"); whichever it is, its reason ends with the jaw's
     calibration note (:func:`tactile_jaw.decide.noted`): the flat phase's "no usable touch"
-    refusals of held-out seed 313 (P lines 5, 8, 10) did not carry it."""
+    refusals of held-out seed 313 (P lines 5, 8, 10) did not carry it. A `line` after a move
+    whose run before felt curvature (``felt_before``, tactile_jaw.felt_before.not_a_line) is
+    refused, naming no move (X cubicals 104, 111, 112, 119 and hyperbola 93 of bench_explore
+    --finite 20 --anywhere --follow --seed 617 were answered line after their moves)."""
     if out.used:
         usable = cleared()
         try:  # the answer on every usable touch, a refusal unless decisive
@@ -1204,5 +1214,10 @@ def closing_answer(cfg, out: Exploration, cleared: Callable[[], list[FeltTouch]]
         out.recognition, out.stopped = unusable_refusal(out)
         if stopped is None:
             emit(out.stopped.event("stopped_early"))
+        say(f"{out.recognition.reason}; {out.stopped}")
+    refused = not_a_line(out.recognition, felt_before)
+    if refused is not out.recognition:
+        out.recognition, out.stopped = refused, Stop(MOVED_OFF_CURVE)
+        emit(out.stopped.event("stopped_early"))
         say(f"{out.recognition.reason}; {out.stopped}")
     out.recognition = replace(out.recognition, reason=noted(out.recognition.reason, states_calibration(cfg)))

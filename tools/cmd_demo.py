@@ -18,6 +18,7 @@ from tools.cmd_explore import (
     add_common_arguments,
     check_outputs,
     default_path,
+    felt_before_move,
     finish,
     moved_for,
     progress_printer,
@@ -95,7 +96,7 @@ def run(args) -> int:
     scene_path = default_path(args.scene)
     config_path = args.config or default_path("config/jaw.yaml")
     check_outputs(args, args.log, [config_path, args.truth_config, scene_path, args.moved_as])
-    moved = moved_for(args.moved_as)
+    moved, before = moved_for(args.moved_as), felt_before_move(args.moved_as)
     scene_mapping, lines = read_yaml_mapping_located(scene_path, "scene")
     config = load_config(config_path)
     with lines.errors(scene_path):
@@ -115,6 +116,7 @@ def run(args) -> int:
                              f"disk's edge, config 'workspace'): place it clear of them")
         session = run_session(port=sim.port, config=config, scene_mapping=scene_mapping, profile=args.profile,
                               log_path=args.log, force=args.force, clock_factory=lambda: LockstepClock(sim),
-                              bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say, mcap_path=args.mcap, moved=moved)
+                              bus_timeout_s=EMULATED_BUS_TIMEOUT_S, progress=say, mcap_path=args.mcap, moved=moved,
+                              before=before)
     extra = truth_lines(session.recognition or {"class": "unclassified"}, scene.object)
     return finish(session, args, config=config, truth=scene.object, extra_lines=extra)

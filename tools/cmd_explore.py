@@ -59,6 +59,20 @@ def moved_for(path: str | None) -> list[dict]:
     return list(stop["move"].get("places") or [])
 
 
+def felt_before_move(path: str | None):
+    """What the run of ``--moved-as``'s log felt of the object's curvature
+    (tactile_jaw.felt_before.felt_in: its touches rebuilt with the jaw config and settings its
+    header holds); None without one."""
+    if path is None:
+        return None
+    from hand_driver.log import read_log
+    from tactile_jaw.felt_before import felt_in
+    from tactile_jaw.settings import ExploreSettings
+
+    contents = read_log(path)
+    return felt_in(contents.jaw_config(), contents, ExploreSettings.from_json(contents.header["settings"]))
+
+
 def check_outputs(args, log_path: str | None, reads) -> None:
     """Refuse, before the jaw moves, a --log, --mcap or --plot that exists (without --force) or that
     is a file this command reads (tactile_common.files.check_output)."""
@@ -114,12 +128,13 @@ def read_yaml_mapping_located(path: str, what: str):
 
 def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, log_path: str | None,
                 force: bool, clock_factory: Callable[[], Any], bus_timeout_s: float, progress: Callable[[str], None],
-                mcap_path: str | None = None, moved: list[dict] | None = None) -> Session:
+                mcap_path: str | None = None, moved: list[dict] | None = None, before=None) -> Session:
     """Open the bus, explore, log everything (and with ``mcap_path`` write the bag as the
     run goes, from the log's records: without ``log_path`` the log is a scratch file,
     tools.ros_bag); returns the :class:`Session`. ``clock_factory`` is called once the log
     is open, before the bus is: it may talk to the bus (:func:`bus_time_scale`). ``moved``:
-    where the move the object was moved by was for (:func:`moved_for`)."""
+    where the move the object was moved by was for (:func:`moved_for`); ``before``: what the run
+    before that move felt (:func:`felt_before_move`)."""
     from tactile_jaw.settings import ExploreSettings
 
     settings = ExploreSettings.from_profile(profile)
@@ -127,13 +142,13 @@ def run_session(*, port: str, config, scene_mapping: dict | None, profile: str, 
     if mcap_path is not None and log_path is None:
         with tempfile.TemporaryDirectory(prefix="tactile-") as scratch:
             return _run_session(port, config, scene_mapping, settings, str(Path(scratch) / "run.jsonl"), None,
-                                force, clock_factory, bus_timeout_s, progress, mcap_path, t0, moved or [])
+                                force, clock_factory, bus_timeout_s, progress, mcap_path, t0, moved or [], before)
     return _run_session(port, config, scene_mapping, settings, log_path, log_path, force, clock_factory,
-                        bus_timeout_s, progress, mcap_path, t0, moved or [])
+                        bus_timeout_s, progress, mcap_path, t0, moved or [], before)
 
 
 def _run_session(port, config, scene_mapping, settings, log_path, shown_log, force, clock_factory, bus_timeout_s,
-                 progress, mcap_path, t0, moved) -> Session:
+                 progress, mcap_path, t0, moved, before) -> Session:
     """:func:`run_session` once the log's path is known (``shown_log``: the one to print, or None)."""
     from hand_driver.bus import JointBus
     from hand_driver.config import config_to_mapping
@@ -172,7 +187,8 @@ def _run_session(port, config, scene_mapping, settings, log_path, shown_log, for
             progress(f"exploring: up to {settings.touches} touches of {settings.samples_per_touch} samples over "
                      f"{settings.to_json()['roll_span_deg']:.0f} deg, profile {settings.profile}")
             exploration = explore(jaw, settings, recognize_touches, emit=log.write if log is not None else None,
-                                  progress=progress, recognize_anywhere=recognize_anywhere, moved_for=moved)
+                                  progress=progress, recognize_anywhere=recognize_anywhere, moved_for=moved,
+                                  felt_before=before)
         recognition = exploration.recognition.to_json() if exploration.recognition is not None else None
         if log is not None:
             log.write({"type": "result", "recognition": recognition, "robot_time_s": exploration.robot_time_s,
@@ -308,7 +324,7 @@ def run(args) -> int:
     config = load_config(args.config or default_path("config/jaw.yaml"))
     log_path = args.log or default_log_path()
     check_outputs(args, log_path, [args.config or default_path("config/jaw.yaml"), args.scene, args.moved_as])
-    moved = moved_for(args.moved_as)
+    moved, before = moved_for(args.moved_as), felt_before_move(args.moved_as)
     scene_mapping = None
     if args.scene:
         from recognizer.scene import load_scene
@@ -321,7 +337,8 @@ def run(args) -> int:
     session = run_session(port=port, config=config, scene_mapping=scene_mapping,
                           profile=args.profile, log_path=log_path, force=args.force,
                           clock_factory=lambda: WallClock(bus_time_scale(config, port, say, args.time_scale)),
-                          bus_timeout_s=config.bus.timeout_s, progress=say, mcap_path=args.mcap, moved=moved)
+                          bus_timeout_s=config.bus.timeout_s, progress=say, mcap_path=args.mcap, moved=moved,
+                          before=before)
     return finish(session, args, config=config)
 
 

@@ -1,0 +1,63 @@
+"""A `line` after a move whose run before felt curvature is refused (tactile_jaw.felt_before)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy import stats
+
+from recognizer.classify import MODEL_ALPHA
+from recognizer.result import Recognition
+from tactile_jaw.felt_before import FELT_BEFORE_EVENT, FeltBefore, line_limit, not_a_line, roll_z
+
+LINE = Recognition("line", reason=None)
+
+
+def test_line_limit_is_chi2_quantile_of_the_rolls_at_the_recognizer_level():
+    assert math.isclose(line_limit(4), float(stats.chi2.isf(MODEL_ALPHA, 4)), rel_tol=1e-12)
+    assert 18.4 < line_limit(4) < 18.5  # χ²(4) upper 0.1 %
+
+
+def test_line_after_rolls_that_felt_curvature_is_refused():
+    # X cubical 104 of bench_explore --finite 20 --anywhere --follow --seed 617: 4 rolls, Σ z² 122
+    refused = not_a_line(LINE, FeltBefore(4, 122.0))
+    assert refused.cls == "unclassified"
+    assert "not reached after the move" in refused.reason and "122.0 on 4 dof" in refused.reason
+
+
+def test_line_stands_when_the_rolls_curvature_is_within_a_line_s_noise():
+    assert not_a_line(LINE, FeltBefore(4, line_limit(4) - 0.01)) is LINE
+    assert not_a_line(LINE, FeltBefore(4, line_limit(4) + 0.01)).cls == "unclassified"
+    assert not_a_line(LINE, FeltBefore(0, 0.0)) is LINE  # a block: no usable roll
+    assert not_a_line(LINE, None) is LINE  # no move before the run
+
+
+def test_curved_part_felt_without_a_usable_roll_refuses_a_line():
+    assert not_a_line(LINE, FeltBefore(0, 0.0, 15.7, 0.31)).cls == "unclassified"
+
+
+def test_other_answers_are_untouched():
+    circle = Recognition("circle", params={"r": 20.0})
+    assert not_a_line(circle, FeltBefore(4, 122.0)) is circle
+
+
+def test_evidence_round_trips_through_its_log_event():
+    before = FeltBefore(3, 40.5, 15.7, 0.31)
+    event = before.to_event()
+    assert event["kind"] == FELT_BEFORE_EVENT
+    assert FeltBefore.from_events([{"kind": "touch_used"}, event]) == before
+    assert FeltBefore.from_events([{"kind": "touch_used"}]) is None
+
+
+class _Fit:
+    kappa = 0.05
+    cov = np.array([[0.01**2, 0.0], [0.0, 1.0]])
+
+
+class _Roll:
+    fit = _Fit()
+
+
+def test_roll_z_is_kappa_over_its_deviation():
+    assert math.isclose(roll_z(_Roll()), 5.0, rel_tol=1e-12)
