@@ -62,15 +62,21 @@ def moved_for(path: str | None) -> list[dict]:
 def felt_before_move(path: str | None):
     """What the run of ``--moved-as``'s log felt of the object's curvature
     (tactile_jaw.felt_before.felt_in: its touches rebuilt with the jaw config and settings its
-    header holds); None without one."""
+    header holds); None without one. A log whose header lacks them is refused (InputError)."""
     if path is None:
         return None
     from hand_driver.log import read_log
+    from tactile_common.errors import InputError
     from tactile_jaw.felt_before import felt_in
     from tactile_jaw.settings import ExploreSettings
 
     contents = read_log(path)
-    return felt_in(contents.jaw_config(), contents, ExploreSettings.from_json(contents.header["settings"]))
+    try:
+        settings = ExploreSettings.from_json(contents.header.get("settings") or {})
+    except (KeyError, TypeError, ValueError):
+        raise InputError(f"{path}: --moved-as: line 1: header settings lack touches/samples_per_touch/roll_span_deg, "
+                         f"so what the run felt cannot be rebuilt") from None
+    return felt_in(contents.jaw_config(), contents, settings)
 
 
 def check_outputs(args, log_path: str | None, reads) -> None:

@@ -5,11 +5,16 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from scipy import stats
+
+from hand_driver.log import RunLog
 
 from recognizer.classify import MODEL_ALPHA
 from recognizer.result import Recognition
+from tactile_common.errors import InputError
 from tactile_jaw.felt_before import FELT_BEFORE_EVENT, FeltBefore, line_limit, not_a_line, roll_z
+from tools.cmd_explore import felt_before_move
 
 LINE = Recognition("line", reason=None)
 
@@ -61,3 +66,13 @@ class _Roll:
 
 def test_roll_z_is_kappa_over_its_deviation():
     assert math.isclose(roll_z(_Roll()), 5.0, rel_tol=1e-12)
+
+
+
+def test_moved_as_log_without_settings_is_refused_in_one_line(tmp_path):
+    log = tmp_path / "first.jsonl"
+    with RunLog(log).open(config={}, scene=None) as out:
+        out.write({"type": "event", "kind": "no_face_contact", "message": "nothing met"})
+    with pytest.raises(InputError, match="--moved-as"):
+        felt_before_move(str(log))
+    assert felt_before_move(None) is None
