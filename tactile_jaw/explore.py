@@ -43,6 +43,7 @@ from tactile_jaw.choose import VERTEX_ENDS, VERTEX_OFF, Aim, JawReach, Stop, bud
 from tactile_jaw.decide import (DECISIVE_CHI2, RecognizeTouches, beyond_resolution, decide, final_answer, imprecision,
                                  noted, sample_positions)
 from tactile_jaw.felt_before import MOVED_OFF_CURVE, FeltBefore, not_a_line
+from tactile_jaw.flat import face_line
 from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_press, early_press, flat_presses,
                                     guard_done, short_face_stop, unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
@@ -1190,7 +1191,8 @@ def closing_answer(cfg, out: Exploration, cleared: Callable[[], list[FeltTouch]]
     calibration note (:func:`tactile_jaw.decide.noted`): the flat phase's "no usable touch"
     refusals of held-out seed 313 (P lines 5, 8, 10) did not carry it. A `line` after a move
     whose run before felt curvature (``felt_before``, tactile_jaw.felt_before.not_a_line) is
-    refused, naming no move (X cubicals 104, 111, 112, 119 and hyperbola 93 of bench_explore
+    refused, naming no move; a `line` from one face's flat presses says which face and the stretch
+    felt (tactile_jaw.flat.face_line) (X cubicals 104, 111, 112, 119 and hyperbola 93 of bench_explore
     --finite 20 --anywhere --follow --seed 617 were answered line after their moves)."""
     if out.used:
         usable = cleared()
@@ -1215,6 +1217,7 @@ def closing_answer(cfg, out: Exploration, cleared: Callable[[], list[FeltTouch]]
         if stopped is None:
             emit(out.stopped.event("stopped_early"))
         say(f"{out.recognition.reason}; {out.stopped}")
+    out.recognition = face_line(out.recognition, out.used)
     refused = not_a_line(out.recognition, felt_before)
     if refused is not out.recognition:
         out.recognition, out.stopped = refused, Stop(MOVED_OFF_CURVE)

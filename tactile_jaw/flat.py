@@ -308,3 +308,36 @@ def recognized_touches(usable: Sequence, fewest: int = 1, curved: bool = False) 
               if float(np.mean([t.face.miss for t in g])) <= FACE_MISS_MM]
     best = max(groups, key=len) if groups else []
     return best if len(best) >= fewest else []
+
+
+def felt_face(touches: Sequence) -> tuple[np.ndarray, np.ndarray, float] | None:
+    """The stretch of one straight face that flat presses felt (``touches``, every one a flat
+    press with its face): the two outermost of their supports along the face's tangent (the
+    first faces' tangent; the supports lie on one line within ``SEAT_TOL_MM``) and the faces'
+    mean pad normal ψ; None unless every touch is such a press."""
+    faces = [t.face for t in touches if is_flat(t) and t.face is not None]
+    if not faces or len(faces) != len(touches):
+        return None
+    tangent = np.array([-faces[0].normal[1], faces[0].normal[0]])
+    points = np.array([p for f in faces for p in (f.p, f.q)], dtype=float)
+    along = points @ tangent
+    psi = math.atan2(float(np.mean([math.sin(f.psi) for f in faces])), float(np.mean([math.cos(f.psi) for f in faces])))
+    return points[int(np.argmin(along))], points[int(np.argmax(along))], psi
+
+
+def face_line(recognition, touches: Sequence):
+    """A `line` answered from one face's flat presses (``touches``), said to be that face's line
+    (docs/formats.md, ``reason``): which face (its pad normal) and the stretch between the
+    outermost supports the presses felt (:func:`felt_face`); past them the boundary was not
+    felt, so the object may be a block or a finite curved object's closing segment whose
+    curved part no pad reached (a P cubical block turned −105°, its curved part facing away
+    from both fingers: rolls on its corners only, three presses of its closing segment).
+    Any other answer is returned as it is."""
+    face = felt_face(touches) if recognition.cls == "line" else None
+    if face is None:
+        return recognition
+    p, q, psi = face
+    note = (f"the line of one straight face the pads pressed flat (pad normal {math.degrees(psi):.1f} deg), felt "
+            f"from ({p[0]:.1f}, {p[1]:.1f}) to ({q[0]:.1f}, {q[1]:.1f}) mm ({float(np.linalg.norm(q - p)):.1f} mm); "
+            f"past those supports the boundary was not felt")
+    return replace(recognition, reason=f"{note}; {recognition.reason}" if recognition.reason else note)

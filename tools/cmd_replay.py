@@ -76,7 +76,7 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
     from tactile_jaw.choose import JawReach, last_stop
     from tactile_jaw.decide import final_answer, noted
     from tactile_jaw.felt_before import FeltBefore, not_a_line
-    from tactile_jaw.flat import is_flat
+    from tactile_jaw.flat import face_line, is_flat
     from tactile_jaw.pipeline import curve_refusal, feel, logged_run, make_recognizer, stated_noise, too_few_clear, \
         workspace_reach
     from tactile_jaw.separation import jaw_ticks_per_rev
@@ -120,7 +120,7 @@ def _replay(args, contents) -> tuple[dict, list[str]]:
             recognition = too_few_clear(touches, len(usable), exc) if len(touches) < len(usable) else None
             too_few = str(exc)
     if recognition is not None:  # a line after a move whose run before felt curvature: refused as the run did
-        recognition = not_a_line(recognition, FeltBefore.from_events(contents.events))
+        recognition = not_a_line(face_line(recognition, touches), FeltBefore.from_events(contents.events))
     calibrated = states_calibration(config)  # every answer carries the jaw's calibration note, as the exploration's
     too_few = noted(too_few, calibrated) if too_few is not None else None
     if recognition is not None:

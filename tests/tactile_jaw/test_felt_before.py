@@ -76,3 +76,33 @@ def test_moved_as_log_without_settings_is_refused_in_one_line(tmp_path):
     with pytest.raises(InputError, match="--moved-as"):
         felt_before_move(str(log))
     assert felt_before_move(None) is None
+
+
+class _Press:
+    def __init__(self, face):
+        from hand_driver.flat_press import FlatResult
+
+        self.touch = FlatResult("left", 3, face.psi, [], outcome="ok", roles=[])
+        self.face = face
+
+
+def _face(p, q):
+    from tactile_jaw.flat import Face
+
+    p, q = np.asarray(p, float), np.asarray(q, float)
+    t = (q - p) / np.linalg.norm(q - p)
+    psi = math.atan2(-t[0], t[1])  # the normal a quarter turn clockwise of the tangent
+    return Face(psi, float(np.array([math.cos(psi), math.sin(psi)]) @ p), p, q)
+
+
+def test_a_line_from_one_face_s_presses_names_the_face_and_the_stretch_felt():
+    from tactile_jaw.flat import face_line
+
+    presses = [_Press(_face((100.0, 10.0), (130.0, 10.0))), _Press(_face((95.0, 10.0), (125.0, 10.0)))]
+    said = face_line(Recognition("line", reason="calibrate"), presses)
+    assert said.reason.startswith("the line of one straight face the pads pressed flat (pad normal -90.0 deg), "
+                                  "felt from (95.0, 10.0) to (130.0, 10.0) mm (35.0 mm)")
+    assert said.reason.endswith("; calibrate")
+    circle = Recognition("circle")
+    assert face_line(circle, presses) is circle
+    assert face_line(LINE, []) is LINE
