@@ -47,8 +47,8 @@ from tactile_jaw.flat import face_line
 from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_press, early_press, flat_presses,
                                     guard_done, short_face_stop, unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
-                                  clearing_corners, corner_in_doubt, curved_part, feel, left_out, longest_run,
-                                  near_corners, on_pivots, sure_corner, too_few_clear, workspace_reach)
+                                  clearing_corners, corner_clearance, corner_in_doubt, curved_part, feel, left_out,
+                                  longest_run, near_corners, on_pivots, sure_corner, too_few_clear, workspace_reach)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              feasible, nominal_psi, passes_end, predicted_tangent, probe_face_contact,
                              retreat_offset, within_curve)
@@ -170,7 +170,7 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
     the finger felt the curve only below ψ_end, (ψ_end, −1) only above it. The curve is felt
     at the pad orientations of its usable rolls' samples clear of the ``corners``
     (tactile_jaw.pipeline.clearing_corners); it is left at those of their samples within
-    ``CORNER_CLEARANCE_MM`` of a corner (tactile_jaw.pipeline.near_corners; and beyond them) and at the middle of its rolls off the curved part (a
+    their clearance of a corner (tactile_jaw.pipeline.corner_clearance; and beyond them) and at the middle of its rolls off the curved part (a
     corner, a closing segment). A finite object's curved part, convex toward the pad, is one
     stretch of orientations, so beyond such a place from the felt curve lie its end corner
     and closing segments: the planner's farthest orientation from the earlier rolls went
@@ -184,7 +184,7 @@ def curve_limits(name: str, touches: list[FeltTouch], corners) -> list[tuple[flo
         if t.problem is None and t.contacts is not None:
             c = t.contacts
             clear = np.zeros(c.x.size, bool)  # its longest run clear of the corners (the samples beyond a corner's go too)
-            clear[longest_run(~near_corners(c, corners))] = True
+            clear[longest_run(~near_corners(c, corners, corner_clearance(t)))] = True
             on += list(c.psi[clear])
             off += list(c.psi[~clear])
         elif t.off_curve:

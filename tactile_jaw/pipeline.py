@@ -91,6 +91,9 @@ ORIENTATION_STEP_SHARE = 0.5
 #: (measured on the random cubical parabolas of bench_explore --finite 20 --seed 11: every
 #: such sample within 1.5 mm of the corner another touch found)
 CORNER_CLEARANCE_MM = 2.0
+#: ... on a jaw whose pad lines deviate less, the arc within which they hide a pivot,
+#: √(2σρ) (:func:`corner_clearance`), times this
+CLEARANCE_SPREAD = 2.0
 #: only a corner touch whose radius of curvature is below this many of its deviations, or
 #: below ``CORNER_RADIUS_MM`` by this many, clears the samples around it
 #: (:func:`clears_around`, :func:`clear_of_corners`): of the bench's touches rejected as
@@ -590,8 +593,8 @@ def pivot_point(lines: kin.PadLine) -> tuple[float, float]:
 
 def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTouch],
                      samples: int) -> tuple[list[FeltTouch], list[str]]:
-    """The usable rolling touches without their samples that lie within
-    ``CORNER_CLEARANCE_MM`` of a corner another of the ``felt`` touches pivoted about
+    """The usable rolling touches without their samples that lie within their
+    :func:`corner_clearance` of a corner another of the ``felt`` touches pivoted about
     (:attr:`FeltTouch.corner`, its radius of curvature below ``CLEARANCE_SIGMAS`` of its
     deviation) or past the end of the curved part where a roll of the same finger left it
     (:func:`curve_ends`), and why each touch changed: a touch is felt again on its
@@ -611,7 +614,8 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
             continue
         c = t.contacts
         gaps = corner_gaps(c, corners) if corners.size else np.full((c.x.size, 1), np.inf)
-        near = gaps.min(axis=1) < CORNER_CLEARANCE_MM
+        clearance = corner_clearance(t)
+        near = gaps.min(axis=1) < clearance
         past = past_ends(c, ends.get(t.finger, []))
         on = on_pivots(t, pivots)
         if not near.any() and not past.any() and not on.any():
@@ -621,7 +625,7 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
         name = f"{t.finger}: touch {t.touch.touch}"
         if near.any():
             where = corners[np.argmin(gaps.min(axis=0))]
-            why = (f"{int(near.sum())} of its {near.size} samples within {CORNER_CLEARANCE_MM:g} mm of the corner at "
+            why = (f"{int(near.sum())} of its {near.size} samples within {clearance:.2g} mm of the corner at "
                    f"({where[0]:.1f}, {where[1]:.1f}) mm another touch pivoted about")
         elif on.any():
             where = min((p for p, _ in pivots), key=lambda p: float(np.min(np.hypot(c.x - p[0], c.y - p[1]))))
@@ -704,12 +708,31 @@ def corner_gaps(c: kin.TouchEnvelope, corners: np.ndarray) -> np.ndarray:
     return np.hypot(c.x[:, None] - corners[:, 0], c.y[:, None] - corners[:, 1])
 
 
-def near_corners(c: kin.TouchEnvelope, corners: np.ndarray) -> np.ndarray:
-    """(samples,) which of the contacts ``c`` lie within ``CORNER_CLEARANCE_MM`` of one of the
-    ``corners`` (k, 2; none near when k = 0)."""
+def near_corners(c: kin.TouchEnvelope, corners: np.ndarray, clearance: float = CORNER_CLEARANCE_MM) -> np.ndarray:
+    """(samples,) which of the contacts ``c`` lie within ``clearance`` (mm; a touch's
+    :func:`corner_clearance`) of one of the ``corners`` (k, 2; none near when k = 0)."""
     if not len(corners):
         return np.zeros(c.x.size, bool)
-    return corner_gaps(c, corners).min(axis=1) < CORNER_CLEARANCE_MM
+    return corner_gaps(c, corners).min(axis=1) < clearance
+
+
+def corner_clearance(touch: FeltTouch) -> float:
+    """How near a corner (mm) a usable roll's samples may be pivots about it rather than the
+    curve (ρ the roll's radius of curvature, Δψ its pad's turn between samples, σ its largest
+    pad line deviation): over a turn δ a pivot and an arc differ by ρδ²/2, which the lines hide
+    while δ < √(2σ/ρ), within the arc √(2σρ) of the corner, taken ``CLEARANCE_SPREAD`` times; and
+    the envelope fit smooths the support function's kink at the corner over a sample, placing a
+    pivoting sample's contact within about one step's arc ρΔψ of it. The larger, at most
+    ``CORNER_CLEARANCE_MM``: X-series lines (σ ≈ 0.05 mm, ρ 10–20 mm) keep the 2 mm measured
+    there; on P-series lines (σ ≈ 0.2 µm) it is one step's arc (0.4–0.8 mm on 2.25° steps),
+    keeping the samples next to a part's end where its curvature, most telling, grows (a
+    semicubical's tip toward its cusp)."""
+    fit, c = touch.fit, touch.contacts
+    if fit is None or c is None or c.psi.size < 2 or not np.size(fit.line_sigma):
+        return CORNER_CLEARANCE_MM
+    hidden = CLEARANCE_SPREAD * math.sqrt(2.0 * float(np.max(fit.line_sigma)) * abs(fit.rho))
+    step = abs(fit.rho) * float(np.median(np.abs(np.diff(np.sort(c.psi)))))
+    return min(CORNER_CLEARANCE_MM, max(hidden, step))
 
 
 def clearing_corners(felt: Sequence[FeltTouch]) -> np.ndarray:
@@ -765,7 +788,7 @@ def clear_side(touch: FeltTouch, corners: np.ndarray, span: float, samples: int)
     c = touch.contacts
     if c is None or not corners.size:
         return None
-    near = near_corners(c, corners)
+    near = near_corners(c, corners, corner_clearance(touch))
     clear = longest_run(~near)  # the samples beyond the corner's, which the fit places past it, go too
     if not near.any() or clear.size < 3:
         return None

@@ -12,9 +12,9 @@ import pytest
 
 from hand_driver import kinematics as kin
 from tactile_jaw.pipeline import (CLEARANCE_SIGMAS, CORNER_CLEARANCE_MM, CORNER_RADIUS_MM, clear_of_corners,
-                                  clearing_corners, clears_around, feel)
+                                  clearing_corners, clears_around, corner_clearance, feel)
 
-from test_pipeline_feel import CENTRE, P_CONFIG, _arc_then_corner, _p_touch
+from test_pipeline_feel import CENTRE, CONFIG, P_CONFIG, _arc_then_corner, _p_touch, quantized_touch
 
 R = 20.0
 CENTRE_PSI = math.radians(-80.0)
@@ -42,7 +42,7 @@ def _off_circle_um(c) -> np.ndarray:
     return 1000.0 * np.abs(np.hypot(c.x - CENTRE[0], c.y - CENTRE[1]) - R)
 
 
-@pytest.mark.parametrize("samples, span_deg, kept", [(9, 18.0, 0), (15, 24.0, 11)])
+@pytest.mark.parametrize("samples, span_deg, kept", [(9, 18.0, 7), (15, 24.0, 13)])
 def test_a_fine_corner_clears_the_samples_of_a_roll_that_ran_onto_it(samples, span_deg, kept):
     past, pivot, end = _rolls(samples, span_deg)
     assert past.problem is None, past.problem  # nothing in the roll itself tells
@@ -54,7 +54,9 @@ def test_a_fine_corner_clears_the_samples_of_a_roll_that_ran_onto_it(samples, sp
     assert clears_around(pivot.fit)
     np.testing.assert_allclose(clearing_corners([past, pivot]), [pivot.corner])
     usable, notes = clear_of_corners(P_CONFIG, [past], [past, pivot], samples)
-    assert len(notes) == 1 and f"within {CORNER_CLEARANCE_MM:g} mm of the corner" in notes[0], notes
+    clearance = corner_clearance(past)  # one step's arc on these fine lines (0.6-0.8 mm), not 2 mm
+    assert 0.5 < clearance < CORNER_CLEARANCE_MM
+    assert len(notes) == 1 and f"within {clearance:.2g} mm of the corner" in notes[0], notes
     if kept:
         assert len(usable) == 1 and usable[0].contacts.x.size == kept
         assert np.max(_off_circle_um(usable[0].contacts)) < 0.5
@@ -70,3 +72,21 @@ def test_a_coarse_hump_still_clears_nothing():
     for rho, sigma in ((6.5, 3.6), (0.9, 0.2)):
         fit = pivot.fit.__class__(**{**pivot.fit.__dict__, "rho": rho, "sigma_rho": sigma})
         assert not clears_around(fit)
+
+
+def test_the_clearance_is_the_arc_the_lines_leave_in_doubt():
+    """corner_clearance: on P-series lines (0.2 µm) one sample step's arc ρΔψ, within which the
+    envelope fit places a pivoting sample's contact (0.2 mm from the corner here), every sample
+    beyond it on the circle; on X-series lines (σ ≈ 0.05 mm) the 2 mm measured there, √(2σρ)
+    being larger."""
+    past, _, end = _rolls(9, 18.0)
+    clearance = corner_clearance(past)
+    assert clearance == pytest.approx(R * math.radians(18.0) / 8, rel=0.02)
+    gaps = np.hypot(past.contacts.x - end[0], past.contacts.y - end[1])
+    assert np.all(_off_circle_um(past.contacts)[gaps >= clearance] < 0.5)
+    assert _off_circle_um(past.contacts)[np.argmin(gaps)] > 1.0 and np.min(gaps) < clearance
+    psis = CENTRE_PSI + np.linspace(-0.5, 0.5, 9) * math.radians(18.0)
+    contact, _ = _arc_then_corner(CENTRE_PSI + math.pi + math.radians(18.0) / 8 * 1.5, R)
+    coarse = feel(CONFIG, quantized_touch(contact, psis), 9)
+    assert coarse.problem is None, coarse.problem
+    assert corner_clearance(coarse) == CORNER_CLEARANCE_MM

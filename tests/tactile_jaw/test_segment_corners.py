@@ -40,7 +40,7 @@ def _segment_roll(end: np.ndarray, samples: int, span_deg: float, before: int):
     return feel(P_CONFIG, _p_touch(q), samples), other
 
 
-@pytest.mark.parametrize("samples, span_deg, kept", [(9, 18.0, 0), (15, 24.0, 11)])
+@pytest.mark.parametrize("samples, span_deg, kept", [(9, 18.0, 7), (15, 24.0, 13)])
 def test_a_segments_end_corner_clears_the_samples_of_a_roll_that_ran_onto_it(samples, span_deg, kept):
     past, _, end = _rolls(samples, span_deg)
     assert past.problem is None, past.problem  # nothing in the roll itself tells
