@@ -118,12 +118,23 @@ def compliance_turns(finger: FingerConfig, q, torques, force) -> np.ndarray:
     of readings whose joints carry ``torques`` (N·m) and whose pad presses with ``force`` (N):
     each link c·τ behind its encoder (c ``compliance_deg_per_nm``), then the turns that put the
     pad's line k·F further in along its normal (k ``compliance_mm_per_n``, :func:`give_turns`):
-    the emulator's declared compliance (hand_driver.sim.errors) and the calibration's model of it."""
+    the emulator's declared compliance (hand_driver.sim.errors) and the calibration's model of it
+    (:func:`yield_turns` with the finger's own link, c and k)."""
+    return yield_turns(finger.base.angle, finger.joints[0].link_mm, finger.pad.side_sign,
+                       np.radians([j.compliance_deg_per_nm for j in finger.joints]),
+                       finger.pad.compliance_mm_per_n, q, torques, force)
+
+
+def yield_turns(base_angle: float, l1: float, side_sign: float, c_rad_per_nm, k_mm_per_n: float, q, torques,
+                force) -> np.ndarray:
+    """:func:`compliance_turns` of a finger with base angle ``base_angle``, base link ``l1`` (mm),
+    pad side ``side_sign``, joint compliances ``c_rad_per_nm`` (rad per N·m, (2,)) and pad give
+    ``k_mm_per_n``: c·τ, plus the :func:`give_turns` of k·F from the encoders' angles less c·τ.
+    The calibration (hand_driver.calibration_fit) calls it with the parameters it fits."""
     q = np.asarray(q, dtype=float)
-    c = np.radians([j.compliance_deg_per_nm for j in finger.joints])
-    bent = c * np.asarray(torques, dtype=float)
-    give = finger.pad.compliance_mm_per_n * np.asarray(force, dtype=float)
-    return bent + give_turns(finger.base.angle, q - bent, finger.joints[0].link_mm, finger.pad.side_sign, give)
+    bent = np.asarray(c_rad_per_nm, dtype=float) * np.asarray(torques, dtype=float)
+    give = k_mm_per_n * np.asarray(force, dtype=float)
+    return bent + give_turns(base_angle, q - bent, l1, side_sign, give)
 
 
 def working_loads(finger: FingerConfig) -> np.ndarray:
