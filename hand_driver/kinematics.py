@@ -102,8 +102,16 @@ def joint_torques(finger: FingerConfig, current_ma) -> np.ndarray:
 def pressed_force(finger: FingerConfig, q, point, torques, direction=None) -> np.ndarray:
     """The contact force F ≥ 0 (N, (...)) that the joints' torques ``torques`` (N·m, (..., 2))
     balance best, τ_j = a_j·F, a_j the :func:`moment_arms` (m) of the press at ``point`` along
-    ``direction`` (default the pad's normal): the least squares Σ a_j τ_j / Σ a_j²."""
-    arms = moment_arms(finger, q, point, direction) / 1000.0
+    ``direction`` (default the pad's normal): :func:`balanced_force`."""
+    return balanced_force(moment_arms(finger, q, point, direction) / 1000.0, torques)
+
+
+def balanced_force(arms_m, torques) -> np.ndarray:
+    """The force F ≥ 0 (N, (...)) that joint torques ``torques`` (N·m, (..., 2)) balance best
+    against moment arms ``arms_m`` (m, (..., 2)), τ_j = a_j·F: the least squares
+    Σ a_j τ_j / Σ a_j² (0 where every arm is 0): :func:`pressed_force`, and the emulator's
+    force of a pad from its servos' currents or drive (hand_driver.sim.errors)."""
+    arms = np.asarray(arms_m, dtype=float)
     norm = np.maximum(np.sum(arms**2, axis=-1), 1e-12)
     return np.maximum(0.0, np.sum(arms * np.asarray(torques, dtype=float), axis=-1) / norm)
 
