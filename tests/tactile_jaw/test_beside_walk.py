@@ -27,6 +27,18 @@ CFG = load_config(ROOT / "config" / "jaw-p.yaml")
 MODEL = ObjectModel(CFG.workspace.center_mm, CFG.workspace.radius_mm)
 
 
+def _stub_jaw(monkeypatch, press, clock: list[float]) -> SimpleNamespace:
+    """A jaw of config/jaw-p.yaml on the robot clock ``clock[0]`` (s) whose flat press is the stub
+    ``press`` and whose transits are made at once."""
+    def transit(*args, **kwargs):
+        return None
+        yield
+
+    monkeypatch.setattr(flat_phase, "flat_press", press)
+    monkeypatch.setattr(flat_phase, "transit_or_problem", transit)
+    return SimpleNamespace(config=CFG, robot_time=lambda: clock[0])
+
+
 def _give_up(monkeypatch):
     """The right pad's beside press run on a stub press; its ``give_up`` and the robot clock."""
     clock = [100.0]
@@ -37,13 +49,7 @@ def _give_up(monkeypatch):
         return SimpleNamespace(outcome="stopped")
         yield  # a generator, as the press is
 
-    def transit(*args, **kwargs):
-        return None
-        yield
-
-    monkeypatch.setattr(flat_phase, "flat_press", press)
-    monkeypatch.setattr(flat_phase, "transit_or_problem", transit)
-    jaw = SimpleNamespace(config=CFG, robot_time=lambda: clock[0])
+    jaw = _stub_jaw(monkeypatch, press, clock)
     plan = flat_phase.beside_press(jaw, "right", MODEL, Exploration(), [], ExploreSettings.from_profile("balanced"),
                                    7, lambda rec: None, {})
     for _ in plan:
@@ -99,13 +105,7 @@ def _press_given_up(monkeypatch, others_seated: bool):
         return FlatResult(finger, touch_index, start, outcome="stopped", message=f"{finger}: flat press stopped: {why}")
         yield  # a generator, as the press is
 
-    def transit(*args, **kwargs):
-        return None
-        yield
-
-    monkeypatch.setattr(flat_phase, "flat_press", press)
-    monkeypatch.setattr(flat_phase, "transit_or_problem", transit)
-    jaw = SimpleNamespace(config=CFG, robot_time=lambda: clock[0])
+    jaw = _stub_jaw(monkeypatch, press, clock)
     plan = flat_phase._flat_plan(jaw, "right", MODEL, None, 0, 7, lambda rec: None, {},
                                  seated={"left"} if others_seated else set(), max_s=flat_phase.FLAT_BESIDE_S)
     try:
