@@ -291,7 +291,8 @@ class ContactModel:
         (set_loads): the link angles are the encoders' less sign·h; or (n, 7) with each joint's
         torque τ and the contact force F too (compliance): the link angles less c·τ as well, and
         less the turns that put the pad's line k·F further in along its normal at the same angle
-        (kinematics.give_turns: how the pad's give places the links)."""
+        (kinematics.yield_turns, the exploration's kinematics.compliance_turns with the fitted
+        link, c and k)."""
         f = self.cfg.fingers[fi]
         k = 5 * fi
         zero, links, off = v[k:k + 2], v[k + 2:k + 4], v[k + 4]
@@ -302,8 +303,7 @@ class ContactModel:
             q = q - np.where(ticks[..., 2:4] == 0.0, 0.0, ticks[..., 2:4] - kin.working_loads(f)) * self.half_bands(v, fi)
         if ticks.shape[-1] == 7:
             c, give = self.compliances(v, fi)
-            q = q - c * ticks[..., 4:6]
-            q = q - kin.give_turns(f.base.angle, q, links[0], f.pad.side_sign, give * ticks[..., 6])
+            q = q - kin.yield_turns(f.base.angle, links[0], f.pad.side_sign, c, give, q, ticks[..., 4:6], ticks[..., 6])
         return kin.chain_pad_line((f.base.x, f.base.y, f.base.angle), q, links, off, f.pad.length_mm,
                                   f.pad.side_sign)
 

@@ -119,11 +119,14 @@ SEAT_PRESSES_DEG = (0.0, -0.1, 0.1)
 class FlatResult(TouchResult):
     """One flat press: every guarded approach's sample with its role — ``P`` (the pad
     rested on the first support), ``Q`` (on the second), ``seat`` (a press at the seat's
-    orientation), ``scan`` (none of these) — and the supports found (hand frame, mm)."""
+    orientation), ``scan`` (none of these) — and the supports found (hand frame, mm);
+    ``seek_limit_s``: the robot time (s) without a seat after which the caller's ``give_up``
+    ended the press (outcome ``stopped``; tactile_jaw.flat_phase sets it), else None."""
 
     roles: list[str] = field(default_factory=list)
     supports: tuple[np.ndarray, np.ndarray] | None = None
     kind: str = "flat"
+    seek_limit_s: float | None = None
 
 
 def line_point(lines: list[kin.PadLine]) -> tuple[np.ndarray, float]:

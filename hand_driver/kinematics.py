@@ -102,8 +102,16 @@ def joint_torques(finger: FingerConfig, current_ma) -> np.ndarray:
 def pressed_force(finger: FingerConfig, q, point, torques, direction=None) -> np.ndarray:
     """The contact force F ≥ 0 (N, (...)) that the joints' torques ``torques`` (N·m, (..., 2))
     balance best, τ_j = a_j·F, a_j the :func:`moment_arms` (m) of the press at ``point`` along
-    ``direction`` (default the pad's normal): the least squares Σ a_j τ_j / Σ a_j²."""
-    arms = moment_arms(finger, q, point, direction) / 1000.0
+    ``direction`` (default the pad's normal): :func:`balanced_force`."""
+    return balanced_force(moment_arms(finger, q, point, direction) / 1000.0, torques)
+
+
+def balanced_force(arms_m, torques) -> np.ndarray:
+    """The force F ≥ 0 (N, (...)) that joint torques ``torques`` (N·m, (..., 2)) balance best
+    against moment arms ``arms_m`` (m, (..., 2)), τ_j = a_j·F: the least squares
+    Σ a_j τ_j / Σ a_j² (0 where every arm is 0): :func:`pressed_force`, and the emulator's
+    force of a pad from its servos' currents or drive (hand_driver.sim.errors)."""
+    arms = np.asarray(arms_m, dtype=float)
     norm = np.maximum(np.sum(arms**2, axis=-1), 1e-12)
     return np.maximum(0.0, np.sum(arms * np.asarray(torques, dtype=float), axis=-1) / norm)
 
@@ -118,12 +126,23 @@ def compliance_turns(finger: FingerConfig, q, torques, force) -> np.ndarray:
     of readings whose joints carry ``torques`` (N·m) and whose pad presses with ``force`` (N):
     each link c·τ behind its encoder (c ``compliance_deg_per_nm``), then the turns that put the
     pad's line k·F further in along its normal (k ``compliance_mm_per_n``, :func:`give_turns`):
-    the emulator's declared compliance (hand_driver.sim.errors) and the calibration's model of it."""
+    the emulator's declared compliance (hand_driver.sim.errors) and the calibration's model of it
+    (:func:`yield_turns` with the finger's own link, c and k)."""
+    return yield_turns(finger.base.angle, finger.joints[0].link_mm, finger.pad.side_sign,
+                       np.radians([j.compliance_deg_per_nm for j in finger.joints]),
+                       finger.pad.compliance_mm_per_n, q, torques, force)
+
+
+def yield_turns(base_angle: float, l1: float, side_sign: float, c_rad_per_nm, k_mm_per_n: float, q, torques,
+                force) -> np.ndarray:
+    """:func:`compliance_turns` of a finger with base angle ``base_angle``, base link ``l1`` (mm),
+    pad side ``side_sign``, joint compliances ``c_rad_per_nm`` (rad per N·m, (2,)) and pad give
+    ``k_mm_per_n``: c·τ, plus the :func:`give_turns` of k·F from the encoders' angles less c·τ.
+    The calibration (hand_driver.calibration_fit) calls it with the parameters it fits."""
     q = np.asarray(q, dtype=float)
-    c = np.radians([j.compliance_deg_per_nm for j in finger.joints])
-    bent = c * np.asarray(torques, dtype=float)
-    give = finger.pad.compliance_mm_per_n * np.asarray(force, dtype=float)
-    return bent + give_turns(finger.base.angle, q - bent, finger.joints[0].link_mm, finger.pad.side_sign, give)
+    bent = np.asarray(c_rad_per_nm, dtype=float) * np.asarray(torques, dtype=float)
+    give = k_mm_per_n * np.asarray(force, dtype=float)
+    return bent + give_turns(base_angle, q - bent, l1, side_sign, give)
 
 
 def working_loads(finger: FingerConfig) -> np.ndarray:

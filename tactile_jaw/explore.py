@@ -48,7 +48,8 @@ from tactile_jaw.flat_phase import (FLAT_AFTER_TOUCHES, PIVOT_AGAIN_MM, beside_p
                                     guard_done, short_face_stop, unusable_refusal)
 from tactile_jaw.pipeline import (CORNER_CLEARANCE_MM, WIDER_SPAN, FeltTouch, clear_of_corners, clear_side,
                                   clearing_corners, corner_clearance, corner_in_doubt, curved_part, feel, left_out,
-                                  longest_run, near_corners, on_pivots, sure_corner, too_few_clear, workspace_reach)
+                                  longest_run, near_corners, on_osculating_circle, on_pivots, sure_corner, too_few_clear,
+                                  workspace_reach)
 from tactile_jaw.plan import (APPROACH_MARGIN_MM, FREE_MARGIN_MM, PROBE_SAMPLES, ObjectModel, choose_psi,
                              feasible, nominal_psi, passes_end, predicted_tangent, probe_face_contact,
                              retreat_offset, within_curve)
@@ -214,7 +215,7 @@ def felt_curve_roll(cfg, out: Exploration, settings: ExploreSettings, reach: Jaw
     --anywhere --follow --seed 599 --config config/jaw-p.yaml, moved as advised, kept two lines
     through the curve's end corner in its stretch, and the roll handed back ended among them, ran
     onto the corner again and retired the finger. Aimed at the osculating circle of the stretch (radius
-    ρ, eq. of a circle's tangent lines d = n·c − ρ) at the roll's middle normal. Calibrated P
+    ρ, eq. of a circle's tangent lines d = n·c − ρ) at the roll's middle normal (pipeline.on_osculating_circle). Calibrated P
     semicubical 63 of bench_explore --finite 10 --anywhere --calibrate --seed 613 (held out in
     session 34, development data since), moved as advised: the left roll at −55.9…−37.9° kept
     7 lines on the curve (ρ 14.7 mm) before a corner, the next rolled about the far corner at
@@ -251,9 +252,9 @@ def felt_curve_roll(cfg, out: Exploration, settings: ExploreSettings, reach: Jaw
     if any(lo + math.remainder(a - lo, 2 * math.pi) < hi and lo + math.remainder(b - lo, 2 * math.pi) > lo
            for a, b in bounds):
         return None  # the stretch itself among a corner's normals: nothing to roll on clear of it
-    # the osculating circle's centre from the stretch's middle contact, then its point at the roll's middle normal
-    ox, oy = float(c.x[mid]) + rho * math.cos(psi[mid]), float(c.y[mid]) + rho * math.sin(psi[mid])
-    x, y, phi = ox - rho * math.cos(centre), oy - rho * math.sin(centre), centre - math.pi / 2
+    # the osculating circle through the stretch's middle contact, its point at the roll's middle normal
+    x, y = (float(v) for v in on_osculating_circle(float(c.x[mid]), float(c.y[mid]), float(psi[mid]), rho, centre))
+    phi = centre - math.pi / 2
     if reach.finger(x, y, phi, [cfg.finger(felt.finger)]) is None:
         return None
     return Aim(x, y, phi, felt.finger, f"on the curved part its touch {felt.touch.touch} felt (radius of curvature "

@@ -288,7 +288,7 @@ def restart_steps(press: FlatResult, face_psi: float, side: int, restart: float 
 
 
 def _timed_out(max_s: float) -> str:
-    """Why a press gave up after ``max_s`` without a seat (the walk beside's: :meth:`_Faces.book`)."""
+    """Why a press gave up after ``max_s`` without a seat (its message; :func:`_flat_plan`)."""
     return f"no seat found within {max_s:g} s"
 
 
@@ -308,7 +308,7 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
     it seeks its seat it gives up once another finger's press of the same round is added to
     ``seated`` (pressed at its seat), in the cycle it is added, mid-turn or mid-approach:
     one face's touches make the answer, or after
-    ``max_s`` of robot time without a seat. Returns the
+    ``max_s`` of robot time without a seat (then its ``seek_limit_s``; :meth:`_Faces.book`). Returns the
     FlatResult (or a TouchResult if the transit could not go on)."""
     step = math.radians(FLAT_STEP_DEG)
     f = jaw.config.finger(finger)
@@ -347,8 +347,13 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
         others = sorted(seated - {finger})
         return f"the {others[0]} pad seated on a face" if others else None
 
+    timed_out = False  # give_up ended the seek at max_s (the press stops as soon as it gives a reason)
+
     def give_up() -> str | None:
-        return seated_other() or (_timed_out(max_s) if jaw.robot_time() - t0 > max_s else None)
+        nonlocal timed_out
+        other = seated_other()
+        timed_out = other is None and jaw.robot_time() - t0 > max_s
+        return other or (_timed_out(max_s) if timed_out else None)
 
     first_turn = side if face is not None else felt[2] if felt is not None and misses == 0 else 1
     result = yield from flat_press(jaw, finger, touch_index, start, first_turn, d_start, travel,
@@ -356,6 +361,8 @@ def _flat_plan(jaw: Jaw, finger: str, model: ObjectModel, face, misses: int, tou
                                    interrupt=seated_other, face=None if face is None else (face.p, face.q))
     if result.outcome == "ok":
         seated.add(finger)
+    if timed_out:
+        result.seek_limit_s = max_s
     return result
 
 
@@ -534,7 +541,7 @@ class _Faces:
         # found no seat (turned its range, ran out of time, met nothing)
         outcome = felt.touch.outcome
         for_other = outcome == "stopped" and bool(seated - {name})
-        if outcome == "stopped" and felt.touch.message.endswith(_timed_out(FLAT_BESIDE_S)):
+        if outcome == "stopped" and felt.touch.seek_limit_s == FLAT_BESIDE_S:
             self.walked.add(name)  # a walk beside cut short (FLAT_BESIDE_S): the flat phase walks again
             for_other = True
         retry = outcome in ("ok", "rejected") or self.faces[name] is not None

@@ -801,6 +801,15 @@ def clear_side(touch: FeltTouch, corners: np.ndarray, span: float, samples: int)
     return _roll_beside(touch, clear, edge, sign, span, samples)
 
 
+def on_osculating_circle(x_m: float, y_m: float, psi_m: float, rho: float, psi: float) -> np.ndarray:
+    """The contact (x, y, mm) of a pad line of normal angle ``psi`` on the circle of radius
+    ``rho`` through the contact (``x_m``, ``y_m``) whose pad normal is ``psi_m``: a stretch's
+    osculating circle, p(ψ) = p_m − ρ (n(ψ) − n(ψ_m)) (a circle's pad lines d(ψ) = n(ψ)·centre − ρ
+    touch it at centre − ρ n(ψ)): where a roll beside a stretch (:func:`_roll_beside`) or on
+    along it (tactile_jaw.explore.felt_curve_roll) is aimed."""
+    return np.array([x_m, y_m]) - rho * (kin.unit(psi) - kin.unit(psi_m))
+
+
 def _roll_beside(touch: FeltTouch, good: np.ndarray, edge: int, sign: float, span: float,
                  samples: int) -> tuple[float, float, float] | None:
     """(x, y, φ) of the middle of a roll of ``span`` (rad) and ``samples`` readings whose
@@ -814,7 +823,7 @@ def _roll_beside(touch: FeltTouch, good: np.ndarray, edge: int, sign: float, spa
     psi = float(c.psi[edge]) + sign * (0.5 * span + step)
     m = good[good.size // 2]
     rho = touch.fit.rho if touch.fit is not None and touch.fit.rho > 0.0 else 0.0
-    point = np.array([c.x[m], c.y[m]]) - rho * (kin.unit(psi) - kin.unit(float(c.psi[m])))
+    point = on_osculating_circle(c.x[m], c.y[m], float(c.psi[m]), rho, psi)
     if not np.all(np.isfinite(point)):
         return None
     return float(point[0]), float(point[1]), psi - math.pi / 2

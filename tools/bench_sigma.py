@@ -38,7 +38,6 @@ import argparse
 import math
 import sys
 import time
-from collections import defaultdict
 
 import numpy as np
 from scipy import stats

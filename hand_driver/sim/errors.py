@@ -23,7 +23,7 @@ Where the truth declares no compliance (backlash and zero errors only: every shi
 config), the contact force F of a pad is the one that explains its joints' present currents best
 (least squares of τ_j = Kt_j·I_j against τ_j = a_j·F, a_j = ((p − J_j) × u)_z the moment arm of a
 force along u at the contact p, F ≥ 0; u is the pad's normal where its face touches, the
-object's normal where a pad end presses it), with each model's torque constant
+object's normal where a pad end presses it; kinematics.balanced_force), with each model's torque constant
 Kt (hand_driver.control_table); it is judged once per integration span (a lag of one bus
 packet), and used for the next (:meth:`ServoErrors.judge_load`): the currents are the servos'
 position lag, and only the side of the load matters.
@@ -32,7 +32,7 @@ Where it declares compliance (some joint's c or pad's k), the deflection is what
 measures, so the load is a **torque balance of one instant** (:meth:`ServoErrors.balance`, at
 the end of every span, before the servos publish): a pad touching the object carries the force
 F ≥ 0 along u that its servos' drive (each one's lag current, hand_driver.sim.servo) pushes
-with, the least-squares F of τ_j = a_j·F against the drive, no larger than the weakest joint's
+with, the least-squares F of τ_j = a_j·F against the drive (kinematics.balanced_force), no larger than the weakest joint's
 current cap allows; the joints then carry exactly τ_j = a_j·F (the drive's part across a_j is
 held by the finger's static friction, as a blocked finger's is), deflect by c·τ_j and the pad
 gives k·F, the motors stand where the links and the deflection put them, and each blocked
@@ -119,9 +119,7 @@ class ServoErrors:
             if info is None or not (info.penetrating or info.gap_mm <= TOUCH_MM) or any(c is None for c in cur):
                 continue
             arms = kin.moment_arms(f, q[sl], info.point, _force_direction(contact_world, f, q[sl], info)) / 1000.0
-            measured = self.kt[sl] * np.asarray(cur, dtype=float) / 1000.0
-            norm = float(arms @ arms)
-            force[i] = max(0.0, float(arms @ measured) / norm) if norm > 0 else 0.0
+            force[i] = float(kin.balanced_force(arms, self.kt[sl] * np.asarray(cur, dtype=float) / 1000.0))
             torque[sl] = arms * force[i]
             pad_dq[sl] = _pad_give(f, q[sl], self.pad_compliance[i] * force[i])
         self.torque, self.force = torque, force
@@ -147,8 +145,7 @@ class ServoErrors:
             if info is None or not (info.penetrating or info.gap_mm <= TOUCH_MM):
                 continue
             arms = kin.moment_arms(f, q[sl], info.point, _force_direction(contact_world, f, q[sl], info)) / 1000.0
-            norm = float(arms @ arms)
-            if norm == 0.0:
+            if not np.any(arms):  # the press loads no joint
                 continue
             force_i = self.force[i]
             for _ in range(BALANCE_ITERATIONS):
@@ -160,7 +157,7 @@ class ServoErrors:
                     force_i = 0.0
                     break
                 bound = min((float(c / abs(a)) for a, c in zip(arms, cap) if a != 0.0), default=0.0)
-                new = min(max(0.0, float(arms @ push) / norm), bound)
+                new = min(float(kin.balanced_force(arms, push)), bound)
                 settled = abs(new - force_i) <= BALANCE_SETTLED * max(new, 1.0)
                 force_i = new
                 if settled:

@@ -13,6 +13,7 @@ import pytest
 
 from hand_driver import calibration_fit as cal
 from hand_driver import calibration_plan as cp
+from hand_driver import kinematics as kin
 from hand_driver.config import load_config, perturbed as perturbed_config
 from recognizer.curves import Pose
 from recognizer.scene import SceneObject, load_scene
@@ -299,6 +300,29 @@ def _yielding_p_readings(compliance_deg_per_nm: float, compliance_mm_per_n: floa
         plan = cp.plan_touches(nominal, DISK, (x, y), faces=3, corners=2)
         readings += cp.synthesize(truth, disk, plan, placement=k, forces_n=rng.uniform(3.0, 30.0, len(plan)))
     return nominal, truth, readings
+
+
+def test_the_fits_yielding_pad_lines_are_the_explorations():
+    """One model of a yielding jaw (kinematics.yield_turns): the fit's pad lines of readings with
+    their joints' torques and force (ContactModel.lines, 7 columns) are where the exploration puts
+    the pad of a jaw with those parameters (its encoders' angles less kinematics.compliance_turns),
+    to 1e-12 (mm, rad) on random readings of both fingers, 0.02°/N·m and 0.002 mm/N."""
+    truth = load_config("config/jaw-p-truth.yaml")
+    truth = dataclasses.replace(truth, fingers=tuple(dataclasses.replace(
+        f, joints=tuple(dataclasses.replace(j, backlash_deg=0.0, compliance_deg_per_nm=0.02) for j in f.joints),
+        pad=dataclasses.replace(f.pad, compliance_mm_per_n=0.002)) for f in truth.fingers))
+    model = cal.ContactModel(truth, DISK, [], compliance=True)
+    v = cal.pack_params(truth, compliance=True)
+    rng = np.random.default_rng(3)
+    for fi, f in enumerate(truth.fingers):
+        ticks = kin.angles_to_ticks(f.joints, rng.uniform(-0.6, 0.6, (40, 2)))
+        torques, force = rng.uniform(-3.0, 3.0, (40, 2)), rng.uniform(0.0, 30.0, 40)
+        fitted = model.lines(v, fi, np.hstack([ticks, np.zeros((40, 2)), torques, force[:, None]]))
+        q = kin.ticks_to_angles(f.joints, ticks)
+        explored = kin.finger_pad_line(f, q - kin.compliance_turns(f, q, torques, force))
+        assert np.max(np.abs(kin.compliance_turns(f, q, torques, force))) > 1e-3  # yields measurably
+        assert np.allclose(fitted.psi, explored.psi, rtol=0.0, atol=1e-12)
+        assert np.allclose(fitted.d, explored.d, rtol=0.0, atol=1e-12)
 
 
 def test_compliance_is_fitted_from_each_readings_own_currents():

@@ -332,7 +332,6 @@ def test_a_press_stops_mid_turn_when_interrupted():
     psi0 = -math.pi / 2
     with emulated_jaw(scene=scene) as (sim, jaw):
         run_together(jaw, {"left": move_line(jaw, "left", psi0, _edge(psi0))})
-        t0 = sim.sim_time
         first = []
 
         def interrupt():

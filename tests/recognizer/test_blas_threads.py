@@ -3,7 +3,6 @@ matrices are small (a refinement's Jacobian is ~100 × 40), where OpenBLAS's thr
 contend: an SVD of 108 × 41 (four touches of 9 samples) took 11 ms of CPU on two threads
 against 0.45 ms on one, and a 3-touch recognition on the widened set 1.9 s against 0.6 s."""
 
-import numpy as np
 from threadpoolctl import threadpool_info, threadpool_limits
 
 import recognizer.classify as classify

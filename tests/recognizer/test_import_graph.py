@@ -4,8 +4,6 @@ once) hides an order dependence behind deferred imports."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from tests.test_layers import ROOT, imported_modules
 
 

@@ -5,8 +5,6 @@ worse than the limit does (docs/recognition.md#nested-starts)."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 

@@ -103,7 +103,7 @@ def test_finite_objects():
     chord = load_scene({"object": {**PARABOLA, "extent": [-1.4, 1.4]}}).object
     assert chord.finite and chord.extent == (-1.4, 1.4) and chord.closure is None and chord.side == "right"
     assert np.allclose(chord.corners(), [[15.68, 22.4], [15.68, -22.4]])
-    box = load_scene({"object": {"class": "line", "pose": {"theta": 0, "x": 0, "y": 0}, "extent": [-10, 10], "closure": [[10, 5], [-10, 5]],
+    box = load_scene({"object": {"class": "line", "extent": [-10, 10], "closure": [[10, 5], [-10, 5]],
                                  "pose": {"theta": 0.0, "x": 100.0, "y": 1.0}}}).object
     assert box.side == "left"  # the solid above the line: on the left of increasing t
     x, y = box.outline(samples=3)

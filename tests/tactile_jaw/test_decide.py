@@ -265,7 +265,7 @@ def test_final_answer_states_the_rivals_gap_once(monkeypatch):
     3.0), and after a clause that names no resolution (gap 0: one curve)."""
     answer = rec("ellipse", ("ellipse", True, 25.6, 68, 458.7), ("hyperbola", True, 26.4, 68, 470.4))
     for gap, wording in ((8.5, "3 usable touches come close (expected chi2 gap 8.5 of the 10 that decides"),
-                         (3.0, f"tells them apart (expected chi2 gap 3)"),
+                         (3.0, "tells them apart (expected chi2 gap 3)"),
                          (0.0, "no encoder resolution tells them apart on these touches (expected chi2 gap 0)")):
         monkeypatch.setattr("tactile_jaw.decide.rivals_gap", lambda *args, gap=gap: gap)
         out = final_answer(lambda touches, **kw: answer, [{}] * 3, SETTINGS, ticks_per_rev=4096)

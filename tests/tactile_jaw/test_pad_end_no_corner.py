@@ -5,29 +5,22 @@ seed since session 17; a 21.8, b 13.1: ρ = b²/a = 7.9 mm at the end the left p
 the wider roll where an 18° roll was in doubt measured ρ −8.70 ± 1.01 mm, was taken for a sure
 corner, and trimmed the left pad's two usable rolls; the object was refused."""
 
-import json
 from pathlib import Path
 
 import pytest
 
 from hand_driver.config import load_config
-from hand_driver.motion import TouchResult
 from tactile_jaw.pipeline import (CORNER_RADIUS_MM, CORNER_SIGMAS, clear_of_corners, clearing_corners, clears_around,
-                                  feel, logged_samples, on_corner)
+                                  feel, on_corner)
+from tests.tactile_jaw.test_wider_roll import _roll
 
 DATA = Path(__file__).parent / "data" / "x_ellipse57_end_rolls.json"
 CONFIG = load_config("config/jaw.yaml")
 
 
-def _roll(key: str) -> TouchResult:
-    raw = json.loads(DATA.read_text())["rolls"][key]
-    samples = logged_samples(CONFIG, raw["finger"], raw["ticks"], raw["psi"])
-    return TouchResult(raw["finger"], int(key), raw["psi_center"], samples, outcome="ok")
-
-
 @pytest.fixture(scope="module")
 def felt():
-    return {k: feel(CONFIG, _roll(k), 9) for k in ("6", "8", "12")}
+    return {k: feel(CONFIG, _roll(k, DATA), 9) for k in ("6", "8", "12")}
 
 
 def test_the_wide_roll_is_no_curve_and_no_corner(felt):

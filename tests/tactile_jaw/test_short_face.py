@@ -136,7 +136,6 @@ def test_a_corner_turned_about_names_the_move_that_seats_its_face():
     from hand_driver.config import load_config
     from hand_driver.flat_press import seat_split
     from tactile_jaw.flat_phase import corner_faces
-    from tests.hand_driver.test_flat_press import _stop
     config = load_config("config/jaw-p.yaml")
     finger = config.finger("left")
     world = ContactWorld(config, load_scene({"name": "b", "classes": ["line"], "object": CORNERED}).object)

@@ -24,8 +24,9 @@ POSE = Pose(-2.026291734773856, 126.00148026381865, -9.005520852872607)
 CONFIG = load_config("config/jaw.yaml")
 
 
-def _roll(key: str) -> TouchResult:
-    raw = json.loads(DATA.read_text())["rolls"][key]
+def _roll(key: str, data: Path = DATA) -> TouchResult:
+    """Roll ``key`` of the logged rolls ``data`` (its finger's ticks and commanded ψ) as the run made it."""
+    raw = json.loads(data.read_text())["rolls"][key]
     samples = logged_samples(CONFIG, raw["finger"], raw["ticks"], raw["psi"])
     return TouchResult(raw["finger"], int(key), raw["psi_center"], samples, outcome="ok")
 
