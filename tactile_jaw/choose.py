@@ -471,7 +471,7 @@ def next_aim(recognition: Recognition, why: Why, touched, reach: JawReach, finge
             aim = Aim(x, y, phi, f.name, f"{where}: {suggested.get('why', '')}")
             skip = _aimed_near(aim.point, aimed_at) or _aimed_near(aim.point, empty_at, EMPTY_AIM_MM)
             return (None if skip else aim), None
-    if why.kind in ("unstable", "unclassified"):
+    if why.kind in ("unstable", "unclassified", "untested"):
         return None, None  # one more touch anywhere: the planner's
     what = ("narrow the parameters" if why.kind == "imprecise" else "tell the classes apart")
     if also and touched is not None and one_side is not None and one_side():
@@ -517,7 +517,7 @@ def budget_advice(recognition: Recognition, why: Why, touched, reach: JawReach, 
         stop = stop if stop is not None else other_side_stop(spent, touched, reach, also, recognition)
         if stop is not None:
             return stop
-    if why.kind == "unclassified" and recognition.untested:
+    if why.kind in ("unclassified", "untested") and recognition.untested:
         # the classes tested failed, the others need more usable touches than the budget gave:
         # the touches met corners or pad ends, so another placement, or more touches, may decide
         untested = ", ".join(recognition.untested)

@@ -100,9 +100,10 @@ NO_CLASS_FITS = "no class of the scene fits"
 #: fits significantly better; a rival fits as well; the answer changed with the last touch
 #: (or was not yet checked with one fewer); a parabola felt on one side of its vertex only;
 #: parameters not yet determined; a rival the touches of this jaw cannot tell apart however
-#: many the budget allows (:func:`inseparable`). The exploration picks its next touch by it
+#: many the budget allows (:func:`inseparable`); a class of the scene too few usable touches
+#: (distinct places) could test. The exploration picks its next touch by it
 #: (tactile_jaw.choose)
-KINDS = ("unclassified", "better", "rival", "unstable", "vertex", "imprecise", "resolution")
+KINDS = ("unclassified", "better", "rival", "unstable", "vertex", "imprecise", "resolution", "untested")
 
 
 class Why(str):
@@ -135,7 +136,8 @@ def indecision(recognition: Recognition, shorter: Recognition | None, settings: 
     felt ``VERTEX_SIDE_DEG`` on both sides of its vertex; (c) its shape parameters are determined (:func:`imprecision`). A class the
     answer is only a limit of (a parabola of long ellipses and hyperbolas) or that fits as
     well is no evidence either way: BIC's parameter penalty alone would always pick the
-    limit."""
+    limit. Last, (d): every class of the scene was tested (:func:`untested_rivals`; checked
+    last, so an answer undecided for another reason aims its next touch by that reason)."""
     ranked = [r for r in recognition.ranking if r.consistent]
     best = next(r for r in ranked if r.cls == recognition.cls)
     for r in ranked:
@@ -160,7 +162,25 @@ def indecision(recognition: Recognition, shorter: Recognition | None, settings: 
             return Why(f"{best.cls} and {richer.cls} both fit and the touches reach {sides[0]:.0f} and {sides[1]:.0f} "
                        f"deg either side of the parabola's vertex (less than {VERTEX_SIDE_DEG:g} on one side, where an "
                        f"arc of the {richer.cls} looks like a parabola's)", "vertex")
-    return imprecision(recognition, settings.profile, ticks_per_rev)
+    loose = imprecision(recognition, settings.profile, ticks_per_rev)
+    return loose if loose is not None else untested_rivals(recognition)
+
+
+def untested_rivals(recognition: Recognition) -> Why | None:
+    """Why a curved answer is not decisive while a class of the scene was not tested (the
+    recognizer's ``untested``: fewer usable touches at distinct places than the class has
+    free invariants to fit, recognizer.touches.MIN_TOUCHES), or None. Such a class is not
+    ruled out, only unseen: with no spare degree of freedom it fits those touches exactly,
+    so they cannot tell it from the answer (a P-series semicubical, moved as its refusal advised, answered parabola from its 2 usable
+    touches of 18, every richer class untested). A line answer is exempt: on the jaw it
+    comes from pads pressed flat on one face (tactile_jaw.flat), whose seat over the pad's
+    length rules out a curve of any class (a roll on a face pivots on its corners and is never
+    usable)."""
+    if recognition.cls == "line" or not recognition.untested:
+        return None
+    why = "; ".join(f"{cls} {reason}" for cls, reason in recognition.untested.items())
+    return Why(f"{recognition.cls} fits, but too few usable touches test the scene's other classes ({why})",
+               "untested")
 
 
 def vertex_sides(recognition: Recognition, touched: tuple[np.ndarray, np.ndarray]) -> tuple[float, float]:

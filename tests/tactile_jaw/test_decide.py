@@ -271,3 +271,20 @@ def test_final_answer_states_the_rivals_gap_once(monkeypatch):
         out = final_answer(lambda touches, **kw: answer, [{}] * 3, SETTINGS, ticks_per_rev=4096)
         assert out.cls == "unclassified" and wording in out.reason, out.reason
         assert out.reason.count("expected chi2 gap") == 1, out.reason
+
+
+def test_a_curved_answer_with_a_class_of_the_scene_untested_is_not_decisive():
+    # two usable touches: a parabola (2 free invariants) fits any two places' κ, κ_s that a
+    # richer class also fits, and those were never tested: no answer yet, and at the end a refusal
+    untested = {"ellipse": "needs 3 touches, got 2", "semicubical_parabola": "needs 3 touches, got 2"}
+    two = replace(rec("parabola", ("parabola", True, 8.6, 10, 76.6), ("circle", False, 3152.9, 5, 3164.4)),
+                  uncertainty={"a": 1e-4}, untested=untested)
+    why = indecision(two, None, SETTINGS)
+    assert why is not None and why.kind == "untested"
+    assert "ellipse needs 3 touches, got 2" in why and "semicubical_parabola" in why
+    out = final_answer(lambda touches: two, [{}] * 2, SETTINGS)
+    assert out.cls == "unclassified" and "too few usable touches" in out.reason
+    # the same answer with every class tested is decisive; a line (flat presses) is exempt
+    assert indecision(replace(two, untested={}), None, SETTINGS) is None
+    line = replace(rec("line", ("line", True, 0.4, 10, 13.9)), params={}, untested=untested)
+    assert indecision(line, None, SETTINGS) is None
