@@ -175,14 +175,23 @@ class Contacts:
             xi, yi, fi, _, _, pi, si = rows[i][:7]
             for j in range(i + 1, n):
                 xj, yj, fj, _, _, pj, sj = rows[j][:7]
-                dphi = (fi - fj + math.pi / 2) % math.pi - math.pi / 2  # the tangent line's angle
-                d2 = ((xi - xj) ** 2 + (yi - yj) ** 2) / (pi * pi + pj * pj) + dphi * dphi / (si * si + sj * sj)
-                if d2 <= SAME_PLACE_CHI2:
+                if _place_chi2(xi - xj, yi - yj, fi - fj, pi * pi + pj * pj, si * si + sj * sj) <= SAME_PLACE_CHI2:
                     root[find(i)] = find(j)
         groups: dict[int, list[int]] = {}
         for i in range(n):
             groups.setdefault(find(i), []).append(i)
         return sorted(groups.values())
+
+    def at_touched_place(self, x, y, phi) -> np.ndarray:
+        """Whether a new touch whose contact lies at each (x, y) with tangent φ would be at
+        one place with some touch (``places``' rule), its deviations that touch's own (a
+        roll like it measures the place as well): the recognizer would count it no new
+        place, and its measurement only re-draws that touch's noise."""
+        x, y, phi = (np.asarray(v, float) for v in (x, y, phi))
+        same = np.zeros(np.broadcast(x, y, phi).shape, bool)
+        for xi, yi, fi, _, _, pi, si in (r[:7] for r in self.rows()):
+            same |= _place_chi2(x - xi, y - yi, phi - fi, 2.0 * pi * pi, 2.0 * si * si) <= SAME_PLACE_CHI2
+        return same
 
     def flipped(self) -> "Contacts":
         """The same touches seen in the other direction (φ + π, −κ). With D = diag(−1, 1)
@@ -200,3 +209,12 @@ class Contacts:
                        for x, y, p, k, ks, sp, sf, w00, w01, w10, w11 in self.rows()]
             self._flip = f
         return self._flip
+
+
+def _place_chi2(dx, dy, dphi, var_pos, var_phi):
+    """The squared whitened distance of two contacts (``Contacts.places``): (Δx² + Δy²)/var_pos
+    + Δφ²/var_phi, Δφ the angle between their tangent lines (either direction), var_pos and
+    var_phi the sums of both contacts' variances."""
+    dline = np.remainder(np.asarray(dphi, float) + math.pi / 2, math.pi) - math.pi / 2
+    return (dx * dx + dy * dy) / var_pos + dline * dline / var_phi
+

@@ -19,7 +19,10 @@ Expected information gain (nats) of a place:
   separation of the two predictions (Δ = c's − the leader's; D_cov the Bhattacharyya
   distance's covariance term, ``_separation``); the pair's class entropy (w_ℓ + w_c)·H(w_ℓ/(w_ℓ + w_c))
   is resolved in proportion 1 − exp(−χ²_c/8) (the Bhattacharyya bound on the error of
-  telling two Gaussians apart). Both ways round, the smaller counting: c true, the pad
+  telling two Gaussians apart). P_ℓ and P_c there are conditioned on the touches (``_told``:
+  C' = (C⁻¹ + G_Tᵀ R⁻¹ G_T)⁻¹, G_T the measurement at every touch): a touch adds only what the
+  touches have not measured, and a candidate's spread at a touched place is at most that
+  touch's noise, however large its linearized C. Both ways round, the smaller counting: c true, the pad
   touches c's closest point q to the place, and the leader explains that touch by its own
   closest point to q (measured across c's tangent at q), not by the place (each touch gets
   its own point on every curve: a place on a semicubical leader's other branch, beyond its
@@ -87,6 +90,11 @@ the landing is modelled on each candidate's mean curve (only its tangent's tilt 
 probability, ``_seats``), so the leader's own suggested place has a landing probability near
 1 and one miss would rule the leader out, though its position and curvature σ's alone can
 make a pad miss.
+
+A touch whose contact the recognizer would count at one place with an earlier touch
+(``Contacts.at_touched_place``: ``Contacts.places``' χ² with that touch's deviations) adds no
+place and only re-draws that touch's noise: such places are suggested only where no other
+place helps.
 
 Greedy, one touch at a time (adaptive-submodular selection, so greedy is near-optimal):
 while some place resolves at least ``CLASS_GAIN_MIN`` nats of class entropy, the place of
@@ -531,7 +539,36 @@ def _prediction(pr: _Predictor, px, py, nx, ny, lead_phi, W: np.ndarray, roll: f
         G[..., i] = (_measure(cp, pp, tp, px, py, nx, ny, lead_phi) - mean) / h
     mean, G = mean @ W.T, np.einsum("ab,mbi->mai", W, G)
     G = np.where(np.isfinite(G), G, 0.0)
-    return mean, np.einsum("mai,ij,mbj->mab", G, pr.C, G), G, _touchable(curve, t, roll), (curve, pose, t)
+    return mean, _spread(G, pr.C), G, _touchable(curve, t, roll), (curve, pose, t)
+
+
+def _told(pr: _Predictor, d: Contacts, W: np.ndarray) -> np.ndarray:
+    """The candidate's covariance of (shape, θ, x, y) conditioned on what its touches measured:
+    C' = (C⁻¹ + G_Tᵀ G_T)⁻¹, G_T the whitened measurement (offset, tangent angle, κ, κ_s;
+    ``_measure``) at every touch's contact along its tangent, each touch measured as well as
+    a new roll (R = I whitened). A posterior cannot be less sure of a measured quantity than
+    its measurement: the predictive spread at a touched place is at most that touch's noise.
+    The linearized C of a rival at its limit of the leader is not (bench_wide --set wide seed
+    619 parabola trial 12: the hyperbola and cubical rivals' G·C·Gᵀ ≈ 1e16 at the first touch's
+    place, whose second touch "told parabola from hyperbola, expected χ² 130" by that spread
+    alone, re-drew the first touch's noise and turned the answer semicubical). Where C holds
+    the touches already (a well-posed fit) the spread they measured at most halves. Computed
+    as S·V·diag(1/(1 + σ²))·Vᵀ·S with S = C^½ and G_T·S = U·diag(σ)·Vᵀ (no C⁻¹: an undetermined
+    direction's variance is ~1e16 times another's)."""
+    nx, ny = -np.sin(d.phi), np.cos(d.phi)
+    G = _prediction(pr, d.x, d.y, nx, ny, d.phi, W)[2].reshape(4 * d.n, -1)
+    vals, vecs = np.linalg.eigh(0.5 * (pr.C + pr.C.T))
+    root = (vecs * np.sqrt(np.clip(vals, 0.0, None))) @ vecs.T
+    sv, v_t = np.linalg.svd(G @ root, full_matrices=True)[1:]
+    keep = np.ones(v_t.shape[0])
+    keep[:sv.size] = 1.0 / (1.0 + sv * sv)
+    B = root @ v_t.T
+    return (B * keep) @ B.T
+
+
+def _spread(G: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """The whitened predictive covariances G·C·Gᵀ (m, 4, 4) of whitened G (m, 4, k)."""
+    return np.einsum("mai,ij,mbj->mab", G, C, G)
 
 
 def _separation(delta: np.ndarray, P_a: np.ndarray, P_b: np.ndarray) -> np.ndarray:
@@ -753,6 +790,8 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll, missed):
     lead_pred = _Predictor(leader, np.concatenate((_t_span(leader, 1.0, N_DENSE), _far_span(leader, N_DENSE // 2))),
                            scale)
     mean_lead, P_lead, G_lead, _, _ = _prediction(lead_pred, px, py, nx, ny, phi, W)
+    told_lead = _told(lead_pred, d, W)  # what a touch adds beside the touches, for telling classes apart
+    S_lead = _spread(G_lead, told_lead)
     own = np.all(np.isfinite(mean_lead), axis=1)  # the leader's κ, κ_s defined there
     # parameters: entropy lost, and the shrink of the largest relative σ (whitened: R = I)
     eye = np.eye(4)[None]
@@ -781,18 +820,20 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll, missed):
     untold = False  # some likely rival no place within one extent tells from the leader
     curved = []  # a line leader's rivals: (c, weight, clear of a cusp, seats, resolved), landing checked below
     for c, wc in others:
-        mean_c, P_c, _, ok_c, posed_c = _prediction(_Predictor(c, _t_span(c, 2.0, N_DENSE), scale), px, py, nx, ny, phi,
-                                                    W, roll)
-        chi2 = _separation(mean_c - mean_lead, P_lead, P_c)
+        pred_c = _Predictor(c, _t_span(c, 2.0, N_DENSE), scale)
+        mean_c, P_c, G_c, ok_c, posed_c = _prediction(pred_c, px, py, nx, ny, phi, W, roll)
+        told_c = _told(pred_c, d, W)
+        S_c = _spread(G_c, told_c)
+        chi2 = _separation(mean_c - mean_lead, S_lead, S_c)
         # c true: the pad touches c's curve at c's point nearest the place; the leader
         # explains that touch by its own nearest point, not by the place
         # (only where the first way separates them at all: the smaller counts)
         sep = np.flatnonzero(~(chi2 <= SEPARATION_MIN))
         if sep.size:
             qx, qy, qphi = _contact((posed_c[0], posed_c[1], posed_c[2][sep]), phi[sep])
-            mean_b, P_b, _, _, _ = _prediction(lead_pred, qx, qy, -np.sin(qphi), np.cos(qphi), qphi, W)
+            mean_b, _, G_b, _, _ = _prediction(lead_pred, qx, qy, -np.sin(qphi), np.cos(qphi), qphi, W)
             delta = mean_b - np.concatenate((np.zeros_like(mean_c[sep, :2]), mean_c[sep, 2:]), axis=1)
-            chi2_b = _separation(delta, P_b, P_c[sep])
+            chi2_b = _separation(delta, _spread(G_b, told_lead), S_c[sep])
             chi2[sep] = np.minimum(chi2[sep], np.where(np.isfinite(chi2_b), chi2_b, np.inf))
         chi2 = np.where(ok_c & own, np.where(np.isfinite(chi2), chi2, 1e6), 0.0)
         # c true: the pad lands on c's curve, never toward a semicubical rival's cusp from its
@@ -862,6 +903,10 @@ def _next_touch(cands, leader, d, noise, samples, reach, roll, missed):
         helps &= on_all
     elif misplaced and (helps & ~cusp_side).any():  # no place lands for all (a degenerate
         helps &= ~cusp_side  # semicubical rival lands nowhere): still never on the cusp's side
+    # a touch at a touched place adds no place and re-draws that touch's noise: elsewhere, where some place helps
+    fresh = helps & ~d.at_touched_place(px, py, phi)
+    if fresh.any():
+        helps = fresh
     # while the class is in doubt, the place that tells the classes apart best; else the
     # place of largest gain (parameters)
     score = ig_class if float(np.max(ig_class)) >= CLASS_GAIN_MIN else gain

@@ -703,3 +703,111 @@ def test_closest_points_and_landings_in_kept_work_arrays_are_the_plain_formulas_
     thread.start()
     thread.join()
     assert not np.shares_memory(other[0], kept[0])
+
+
+def test_a_contact_at_a_touched_place_is_the_places_rule_with_that_touchs_deviations():
+    """``Contacts.at_touched_place``: a new contact is at one place with touch i when
+    (Δx² + Δy²)/(2σ_pos,i²) + Δφ²/(2σ_φ,i²) ≤ SAME_PLACE_CHI2 (16.27), Δφ between tangent
+    lines (either direction), exactly as ``places`` groups two touches of those deviations."""
+    from recognizer.contacts import SAME_PLACE_CHI2, Contacts
+
+    sp, sf = 0.01, 1e-3
+    d = Contacts(np.array([0.0, 10.0, 20.0]), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros(3), np.zeros((3, 2, 2)),
+                 np.full(3, sp), np.full(3, sf))
+    edge = math.sqrt(2.0 * SAME_PLACE_CHI2) * sp  # along x alone, the χ² bound's edge
+    got = d.at_touched_place(np.array([10.0 + 0.99 * edge, 10.0 + 1.01 * edge, 20.0, 20.0, 5.0]), np.zeros(5),
+                             np.array([0.0, 0.0, math.pi, 6.0 * sf, 0.0]))
+    assert got.tolist() == [True, False, True, False, False]  # φ + π is the same tangent line; 6σ_φ·√... is not
+    two = Contacts(np.array([10.0, 10.0 + 0.99 * edge]), np.zeros(2), np.zeros(2), np.zeros(2), np.zeros(2),
+                   np.zeros((2, 2, 2)), np.full(2, sp), np.full(2, sf))
+    assert two.places() == [[0, 1]]
+
+
+def _conditioned_circle(sigma_r: float):
+    """A circle candidate r = 10 at the origin touched at t = 0, 0.5, 1 (exact contacts, σ_pos
+    1e-3, σ_φ 1e-3, κ/κ_s covariance 1e-6 I) whose stated covariance makes its radius σ_r."""
+    from recognizer.contacts import Contacts
+    from recognizer.next_touch import _Predictor, _whitener
+    from recognizer.result import Candidate
+
+    curve, t = CURVES["circle"]({"r": 10.0}), np.array([0.0, 0.5, 1.0])
+    x, y = curve.point(t)
+    phi = np.asarray(curve.tangent_angle(t), float)
+    d = Contacts(x, y, phi, np.full(3, 0.1), np.zeros(3), np.array([1e-6 * np.eye(2)] * 3), np.full(3, 1e-3),
+                 np.full(3, 1e-3))
+    c = Candidate("circle", {"r": 10.0}, Pose(0.0, 0.0, 0.0), t, 0.0, 3, 12)
+    c.cov_pose = np.diag([sigma_r ** 2, 1e-12, 1e-8, 1e-8])
+    return _Predictor(c, np.linspace(-np.pi, np.pi, 400, endpoint=False), d.scale), d, \
+        _whitener(NoiseModel(1e-3, 1e-3), 1, 1e-6 * np.eye(2)), curve
+
+
+def test_the_spread_at_a_touched_place_is_at_most_that_touchs_noise():
+    """``_told``: a circle's radius stated σ_r = 1e8 (a linearized covariance that swamps its
+    touches) predicts a touch at a touched place with a whitened spread ~1e22 (G·C·Gᵀ); the
+    touches measured that place's offset to 1e-3, so conditioned on them its spread there is at
+    most 1 (the touch's own noise, R = I whitened); a well-determined C (σ_r = 1e-4, below what
+    the touches measure) is left nearly as it was (at most halved)."""
+    from recognizer.next_touch import _prediction, _spread, _told
+
+    for sigma_r, lo in ((1e8, 1e10), (1e-4, None)):
+        pr, d, W, curve = _conditioned_circle(sigma_r)
+        nx, ny = -np.sin(d.phi), np.cos(d.phi)
+        _, P, G, _, _ = _prediction(pr, d.x, d.y, nx, ny, d.phi, W)
+        told = _spread(G, _told(pr, d, W))
+        eig = np.linalg.eigvalsh(told)
+        assert np.all(eig <= 1.0 + 1e-6) and np.all(eig >= -1e-6)
+        if lo is not None:
+            assert P[:, 0, 0].min() > lo
+        else:
+            assert np.all(told[:, 0, 0] >= 0.5 * P[:, 0, 0] * (1 - 1e-6)) and np.all(told[:, 0, 0] <= P[:, 0, 0] * (1 + 1e-9))
+
+
+def test_a_suggestion_keeps_off_a_touched_place_while_another_helps(monkeypatch):
+    """A touch the recognizer would count at one place with an earlier one (``Contacts.
+    at_touched_place``) adds no place: the suggestion goes where it would, unless that place
+    is touched, then to the best other place that helps; when every helping place is
+    touched it stays (a re-drawn touch is still some information)."""
+    from recognizer.contacts import Contacts
+
+    free = _request([0.2, 0.5, 0.8]).next_touch
+
+    def chosen(self, x, y, phi):  # the free choice's place, by its tangent line (the same in mm and scale-free units)
+        return np.abs(np.remainder(np.asarray(phi) - free["phi"] + math.pi / 2, math.pi) - math.pi / 2) < 1e-9
+
+    monkeypatch.setattr(Contacts, "at_touched_place", chosen)
+    moved = _request([0.2, 0.5, 0.8]).next_touch
+    assert moved is not None and math.hypot(moved["x"] - free["x"], moved["y"] - free["y"]) > 1e-3
+    monkeypatch.setattr(Contacts, "at_touched_place", lambda self, x, y, phi: np.ones(np.shape(x), bool))
+    kept = _request([0.2, 0.5, 0.8]).next_touch
+    assert kept is not None and math.hypot(kept["x"] - free["x"], kept["y"] - free["y"]) < 1e-9
+
+
+def test_a_second_suggestion_is_not_at_a_touched_place_by_a_rivals_spread():
+    """bench_wide --set wide seed 619 (spent), parabola trial 12 (one side, L 6.4 mm): after
+    the first suggested touch the hyperbola and cubical rivals sit at the parabola's limit,
+    their linearized spread ~1e16 at the touches; the second suggestion was the first touch's
+    place again (same-place χ² 0.8: "tells parabola from hyperbola, expected χ² 130" by that
+    spread alone). Conditioned on the touches (``_told``) it lies at no touched place."""
+    from recognizer.contacts import Contacts
+    from tools import bench_wide as bw
+
+    shape, ts, (lo, hi, clear), rs, direction, left, touches, nm, rec = _wide_case_after_random("parabola", 12, 619)
+    nt = rec.next_touch
+    got = bw._send(shape, nt["x"], nt["y"], nt["phi"], lo, hi, clear, "approach", left, direction)
+    tl = list(touches) + [bw._extra_touch(shape, got.t, rs, direction)]
+    seen = []
+    real = Contacts.at_touched_place
+
+    def spy(self, x, y, phi):
+        seen.append((self, x, y, phi))
+        return real(self, x, y, phi)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(Contacts, "at_touched_place", spy)
+        rec, _, _ = bw._recognize(tl, nm)
+    nt = rec.next_touch
+    assert rec.cls == "parabola" and nt is not None and "hyperbola" not in nt["why"], nt
+    # the place chosen among those asked (in the request's own units: the answer is in mm), by its tangent line
+    d, x, y, phi = seen[-1]
+    j = int(np.argmin(np.abs(np.remainder(phi - nt["phi"] + math.pi / 2, math.pi) - math.pi / 2)))
+    assert not real(d, x[j:j + 1], y[j:j + 1], phi[j:j + 1])[0]
