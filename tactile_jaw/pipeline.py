@@ -780,8 +780,11 @@ def shared_pivot(finger, pool: tuple[kin.PadLine, np.ndarray, np.ndarray], seed:
     ``seed``, when it is a corner the usable ``roll`` rested on, else None. Its lines are those
     whose miss lies within the limit at ``SMOOTH_ALPHA`` (1 dof) of its deviation
     (tactile_jaw.envelope.point_miss_sigma), the point refitted on them until they stay the
-    same (at least ``SEGMENT_CORNER_LINES``: two lines always meet). It is a corner when their
-    normals spread wider than the roll's own, their χ² about the point lies within its limit at ``SMOOTH_ALPHA``
+    same (at least ``SEGMENT_CORNER_LINES``: two lines always meet). The normals of a convex
+    boundary's point form one arc and its support function is single-valued, so every line of
+    the finger whose normal lies between theirs is held to the point too (a selection by miss
+    alone would make a curve's tangents near any of its points look like a pivot). It is a
+    corner when those lines' normals spread wider than the roll's own, their χ² about the point lies within its limit at ``SMOOTH_ALPHA``
     (lines − 2 dof), and a curve as little bent as the roll admits, a circle of radius
     ρ_low = ρ − ``CORNER_SIGMAS`` σ_ρ (the roll's envelope fit), explains them worse than the
     point by more than the limit at ``SMOOTH_ALPHA`` on 1 dof (the likelihood ratio of the two):
@@ -802,18 +805,19 @@ def shared_pivot(finger, pool: tuple[kin.PadLine, np.ndarray, np.ndarray], seed:
     if taken is None or not np.array_equal(on, taken):
         return None
     rho_low = float(roll.fit.rho - CORNER_SIGMAS * roll.fit.sigma_rho)
-    own_psi = np.asarray(roll.lines.psi, dtype=float)
-    psi = np.asarray(lines.psi, dtype=float)[on]
-    psi = own_psi[0] + np.remainder(psi - own_psi[0] + math.pi, 2 * math.pi) - math.pi  # unwrapped about the roll
-    own = np.remainder(own_psi - own_psi[0] + math.pi, 2 * math.pi) - math.pi
-    k = int(on.sum())
-    if rho_low <= 0.0 or float(np.ptp(psi)) <= float(np.ptp(own)):
+    own = np.asarray(roll.lines.psi, dtype=float)
+    psi = np.remainder(np.asarray(lines.psi, dtype=float) - own[0] + math.pi, 2 * math.pi) - math.pi  # about the roll
+    own = np.remainder(own - own[0] + math.pi, 2 * math.pi) - math.pi
+    # a boundary point's normals are one arc: every line of the finger within it is held to the point
+    arc = (psi >= psi[on].min()) & (psi <= psi[on].max())
+    k = int(arc.sum())
+    if rho_low <= 0.0 or float(np.ptp(psi[arc])) <= float(np.ptp(own)):
         return None
-    chi2 = circle_chi2(normal[on], d[on], sigma[on], 0.0)
-    chi2_rho = circle_chi2(normal[on], d[on], sigma[on], rho_low)
+    chi2 = circle_chi2(normal[arc], d[arc], sigma[arc], 0.0)
+    chi2_rho = circle_chi2(normal[arc], d[arc], sigma[arc], rho_low)
     if chi2 > chi2_limit(SMOOTH_ALPHA, k - 2) or chi2_rho - chi2 <= limit1:
         return None
-    return SharedPivot(point, k, int(np.unique(owner[on]).size), float(np.ptp(psi)), chi2, rho_low, chi2_rho)
+    return SharedPivot(point, k, int(np.unique(owner[arc]).size), float(np.ptp(psi[arc])), chi2, rho_low, chi2_rho)
 
 
 def on_shared_pivot(finger, roll: FeltTouch, point: np.ndarray) -> np.ndarray:
@@ -832,7 +836,12 @@ def on_shared_pivots(config, roll: FeltTouch, felt: Sequence[FeltTouch]) -> tupl
     """Which samples of the usable ``roll`` (contacts' order) rest on a corner its finger's
     lines of every touch of ``felt`` pass through (:func:`shared_pivot`, sought from the point
     each of those touches' lines pass nearest), and the corner that holds most of them (None:
-    none). A support line of a convex boundary through one of its points touches it there,
+    none). Only a corner the roll's middle line passes through counts: the roll states its
+    radius of curvature at its middle contact, and the radius may shrink toward its ends (a
+    hyperbola's vertex, ρ = b²/a a few mm, whose tangents over 20° pass within an X-series line's
+    noise of one point: 6 of X finite 617's rolls on a curve, each with 1–3 end samples through
+    such a point 10–23 mm from any corner; the 11 whose middle passed through one lay 0.04–0.37
+    mm from a true corner). A support line of a convex boundary through one of its points touches it there,
     so such a sample's contact is that corner, whatever the envelope fit placed: X cubical
     106 of bench_explore --finite 20 --anywhere --seed 617, moved as its first refusal advised:
     the left rolls at −121…−103° and −119…−101° (ρ 33.9 ± 4.8, 20.5 ± 4.7 mm) had 7 and 8 of
@@ -855,6 +864,8 @@ def on_shared_pivots(config, roll: FeltTouch, felt: Sequence[FeltTouch]) -> tupl
         if pivot is None:
             continue
         these = on_shared_pivot(finger, roll, pivot.point)
+        if not these[c.x.size // 2]:  # the roll states its radius at its middle contact, not at its ends
+            continue
         on |= these
         if int(these.sum()) > most:
             best, most = pivot, int(these.sum())
