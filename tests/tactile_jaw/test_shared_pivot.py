@@ -7,14 +7,16 @@ as advised: two such left rolls were used and the answer was ellipse). Exact geo
 reading rounded to whole ticks: an arc of radius 80 mm about CENTRE ending at a corner E; and,
 for the alternative, circles."""
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 from hand_driver import kinematics as kin
 from hand_driver.motion import Sample, TouchResult
-from tactile_jaw.pipeline import clear_of_corners, feel, on_shared_pivots
+from tactile_jaw.pipeline import clear_of_corners, feel, logged_samples, on_shared_pivots
 
 from test_pipeline_feel import CENTRE, CONFIG, P_CONFIG, _arc_then_corner
 
@@ -93,3 +95,22 @@ def test_tangents_of_a_tight_circle_share_no_corner(config, radius):
     on, pivot = on_shared_pivots(config, roll, felt)
     assert pivot is None and not on.any()
     assert clear_of_corners(config, [roll], felt, 9) == ([roll], [])
+
+
+def test_the_moved_x_cubical_s_left_rolls_on_the_block_corner_are_left_out():
+    """X cubical 106 of finite seed 617 moved as advised (data: the left finger's logged probes
+    and rolls): rolls 4 and 6 pass as curves (ρ 33.9 ± 4.8 and 20.5 ± 4.7 mm) but 7 and 8 of
+    their 9 lines pass through the block's closing corner, as do the probes' and the rejected
+    rolls' lines, 44° of normals in all: both are left out (the answer was ellipse with them)."""
+    data = json.loads((Path(__file__).parent / "data" / "x_cubical_106_moved_left.json").read_text())
+    felt = [feel(CONFIG, TouchResult(r["finger"], r["touch"], r["psi_center"],
+                                     logged_samples(CONFIG, r["finger"], r["ticks"], r["psi"]), outcome=r["outcome"]), 9)
+            for r in data["rolls"]]
+    usable = [t for t in felt if t.problem is None]
+    assert [t.touch.touch for t in usable] == [4, 6]
+    for t, corner_lines in zip(usable, (7, 8)):
+        on, pivot = on_shared_pivots(CONFIG, t, felt)
+        assert pivot is not None and math.dist(pivot.point, data["corner"]) < 0.1
+        assert int(on.sum()) == corner_lines and pivot.span_rad > math.radians(40.0)
+    kept, notes = clear_of_corners(CONFIG, usable, felt, 9)
+    assert kept == [] and len(notes) == 2 and all("not used" in n and "pass through over" in n for n in notes)
