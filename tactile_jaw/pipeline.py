@@ -701,7 +701,7 @@ class SharedPivot:
     lines d = n·c − ρ)."""
 
     point: np.ndarray  # (2,) mm
-    lines: int  # how many of the finger's lines pass through it within their noise
+    lines: int  # how many of the finger's lines are held to it (those within its arc of normals)
     touches: int  # how many of its touches those lines are of
     span_rad: float  # the spread of their pad normals
     chi2: float  # their χ² about the point (lines − 2 dof)
@@ -784,8 +784,9 @@ def shared_pivot(finger, pool: tuple[kin.PadLine, np.ndarray, np.ndarray], seed:
     boundary's point form one arc and its support function is single-valued, so every line of
     the finger whose normal lies between theirs is held to the point too (a selection by miss
     alone would make a curve's tangents near any of its points look like a pivot). It is a
-    corner when those lines' normals spread wider than the roll's own, their χ² about the point lies within its limit at ``SMOOTH_ALPHA``
-    (lines − 2 dof), and a curve as little bent as the roll admits, a circle of radius
+    corner when those lines' normals spread wider than the roll's own, their χ² about the point
+    lies within its limit at ``SMOOTH_ALPHA`` (lines − 2 dof), and a curve as little bent as the
+    roll admits, a circle of radius
     ρ_low = ρ − ``CORNER_SIGMAS`` σ_ρ (the roll's envelope fit), explains them worse than the
     point by more than the limit at ``SMOOTH_ALPHA`` on 1 dof (the likelihood ratio of the two):
     a smooth boundary's tangent lines over a spread Δ miss any one point by about ρ(1 − cos Δ/2)
@@ -841,8 +842,9 @@ def on_shared_pivots(config, roll: FeltTouch, felt: Sequence[FeltTouch]) -> tupl
     hyperbola's vertex, ρ = b²/a a few mm, whose tangents over 20° pass within an X-series line's
     noise of one point: 6 of X finite 617's rolls on a curve, each with 1–3 end samples through
     such a point 10–23 mm from any corner; the 11 whose middle passed through one lay 0.04–0.37
-    mm from a true corner). A support line of a convex boundary through one of its points touches it there,
-    so such a sample's contact is that corner, whatever the envelope fit placed: X cubical
+    mm from a true corner). A support line of a convex boundary through one of its points
+    touches it there, so such a sample's contact is that corner, whatever the envelope fit
+    placed: X cubical
     106 of bench_explore --finite 20 --anywhere --seed 617, moved as its first refusal advised:
     the left rolls at −121…−103° and −119…−101° (ρ 33.9 ± 4.8, 20.5 ± 4.7 mm) had 7 and 8 of
     9 lines through the block's closing corner within 0.004–0.12 mm, as had the finger's probes
