@@ -606,3 +606,14 @@ def _line_sigma(finger, q, base: kin.TouchEnvelope, sq: np.ndarray) -> np.ndarra
     dd = _line_jacobian(finger, qs, kin.finger_pad_line(finger, qs))
     slope = -np.sin(base.psi) * base.x + np.cos(base.psi) * base.y  # d'(ψ) = p·n⊥
     return np.sqrt(np.sum(((dd["q"] - slope[:, None]) * sq) ** 2, axis=1))  # ∂ψ/∂q = 1
+
+
+def point_miss_sigma(finger, lines: kin.PadLine, point, joint_sigma: np.ndarray) -> np.ndarray:
+    """Each pad line's deviation (mm) of its miss n(ψ_i)·p − d_i of the point ``point``, its
+    joints off by independent errors of σ ``joint_sigma`` (n, joints; rad): a joint turned by δ
+    turns the line about the joint's centre J, which moves it at p by n⊥·(J − p)·δ
+    (:func:`_line_jacobian`'s ∂d/∂q with ∂ψ/∂q = 1)."""
+    nperp = np.stack([-lines.normal[..., 1], lines.normal[..., 0]], axis=-1)
+    arms = np.stack([nperp @ np.array([finger.base.x, finger.base.y]), np.sum(nperp * lines.joint2, axis=-1)],
+                    axis=-1) - (nperp @ np.asarray(point, dtype=float))[:, None]
+    return np.sqrt(np.sum((arms * joint_sigma) ** 2, axis=1))

@@ -112,16 +112,19 @@ def _clear_of_corners(cfg, out: Exploration, settings: ExploreSettings, emit, sa
     pivots and the closing segments' end corners — the last two were not counted until session
     32, so X line 18 of bench_explore --finite 20 --anywhere --seed 499 kept a roll on the end
     corner of the closing segment its next roll crossed, and was refused with its three seated
-    presses unused), each change logged once (event ``touch_trimmed``)."""
+    presses unused — and the touches and probes felt, whose lines may pass through one corner
+    together, tactile_jaw.pipeline.on_shared_pivots; the probes are among the touches it is
+    handed, as in a replay's), each change logged once (event ``touch_trimmed``)."""
     state: dict[str, Any] = {"key": None, "usable": [], "said": set()}
 
     def run() -> list[FeltTouch]:
         key = (len(out.used), sum(t.corner is not None for t in out.touches),
                sum(t.curve_span is not None for t in out.touches), sum(t.pivot is not None for t in out.touches),
-               sum(len(t.segment_corners) for t in out.touches))
+               sum(len(t.segment_corners) for t in out.touches), len(out.touches), len(out.probes))
         if key != state["key"]:
             state["key"] = key
-            state["usable"], notes = clear_of_corners(cfg, out.used, out.touches, settings.samples_per_touch)
+            state["usable"], notes = clear_of_corners(cfg, out.used, [*out.probes, *out.touches],
+                                                      settings.samples_per_touch)
             for note in notes:
                 if note not in state["said"]:
                     state["said"].add(note)

@@ -12,7 +12,7 @@ felt touches from its readings (replay, benchmarks).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from typing import Any, Callable, Collection, Sequence
 
 import numpy as np
@@ -28,7 +28,7 @@ from recognizer.scene import ALL_CLASSES, load_scene
 from recognizer.touches import ContactTouch, NoiseModel, Reach, Request, SamplesTouch, check_touch_count, parse_noise
 from tactile_common.errors import InputError
 from tactile_jaw.curvature_pool import pooled
-from tactile_jaw.envelope import MIN_DEGREE, EnvelopeFit, fit_envelope, joint_noise
+from tactile_jaw.envelope import MIN_DEGREE, EnvelopeFit, fit_envelope, joint_noise, point_miss_sigma
 from tactile_jaw.flat import Face, bulged_presses, feel_flat, flat_noise, recognized_touches
 from tactile_jaw.settings import MIN_SAMPLES_PER_TOUCH, ExploreSettings
 
@@ -105,6 +105,9 @@ CLEARANCE_SIGMAS = 1.0
 #: counts when at least this many of its pad lines pass through it: two lines always meet
 #: in a point, three meeting in one within their noise are a pivot
 SEGMENT_CORNER_LINES = 3
+#: the point a finger's pad lines of several touches pass through (:func:`shared_pivot`) is
+#: refitted on the lines within their noise of it at most this many times (it settles in 2–3)
+SHARED_PIVOT_ROUNDS = 8
 #: a joint whose moment arm (kinematics.moment_arms) under a touch's press stays at least this
 #: far (mm) from 0 one way has a known load: its gear rests on that side of its dead band.
 #: Nearer its line of action the press's torque on it (arm × a few N, below 0.01 N·m) is of
@@ -597,7 +600,9 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
     :func:`corner_clearance` of a corner another of the ``felt`` touches pivoted about
     (:attr:`FeltTouch.corner`, its radius of curvature below ``CLEARANCE_SIGMAS`` of its
     deviation) or past the end of the curved part where a roll of the same finger left it
-    (:func:`curve_ends`), and why each touch changed: a touch is felt again on its
+    (:func:`curve_ends`) or whose pad lines pass through a corner the same finger's lines of
+    its rolls and probes among ``felt`` pass through (:func:`on_shared_pivots`, beside a roll's
+    own pivots, :func:`on_pivots`), and why each touch changed: a touch is felt again on its
     longest stretch of samples clear of the corners (:func:`feel`: it still needs
     ``MIN_SAMPLES_PER_TOUCH`` and passes every check again; samples beyond a corner's, whose
     contacts the envelope fit places past it, go too), else it is dropped. Other touches
@@ -605,8 +610,6 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
     corners = clearing_corners(felt)
     ends = curve_ends(felt)
     pivots = [t.pivot for t in felt if t.pivot is not None]
-    if not corners.size and not ends and not pivots:
-        return list(usable), []
     kept, notes = [], []
     for t in usable:
         if t.contacts is None or t.fit is None:
@@ -617,7 +620,8 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
         clearance = corner_clearance(t)
         near = gaps.min(axis=1) < clearance
         past = past_ends(c, ends.get(t.finger, []))
-        on = on_pivots(t, pivots)
+        shared, pivot = on_shared_pivots(config, t, felt)
+        on = on_pivots(t, pivots) | shared
         if not near.any() and not past.any() and not on.any():
             kept.append(t)
             continue
@@ -627,6 +631,8 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
             where = corners[np.argmin(gaps.min(axis=0))]
             why = (f"{int(near.sum())} of its {near.size} samples within {clearance:.2g} mm of the corner at "
                    f"({where[0]:.1f}, {where[1]:.1f}) mm another touch pivoted about")
+        elif pivot is not None:
+            why = f"{int(on.sum())} of its {on.size} samples with their pad line through the corner at {pivot.note()}"
         elif on.any():
             where = min((p for p, _ in pivots), key=lambda p: float(np.min(np.hypot(c.x - p[0], c.y - p[1]))))
             why = (f"{int(on.sum())} of its {on.size} samples with their pad line through the corner at "
@@ -689,6 +695,187 @@ def on_pivots(touch: FeltTouch, pivots: Sequence[tuple[np.ndarray, np.ndarray]])
         limit = chi2_limit(SMOOTH_ALPHA, 1) * (sigma ** 2 + np.einsum("ij,jk,ik->i", normal, cov, normal))
         on |= (miss ** 2 <= limit) & (np.hypot(c.x - point[0], c.y - point[1]) < CORNER_CLEARANCE_MM)
     return on
+
+
+@dataclass(frozen=True)
+class SharedPivot:
+    """A point a finger's pad lines of several touches pass through (:func:`shared_pivot`), with
+    what tells it from a curve: the lines' χ² about the point and the χ² of the least-bent
+    curve the usable roll admits, a circle of radius ``rho_low`` (eq. of a circle's tangent
+    lines d = n·c − ρ)."""
+
+    point: np.ndarray  # (2,) mm
+    lines: int  # how many of the finger's lines are held to it (those within its arc of normals)
+    touches: int  # how many of its touches those lines are of
+    span_rad: float  # the spread of their pad normals
+    chi2: float  # their χ² about the point (lines − 2 dof)
+    rho_low: float  # mm: the least radius of curvature the roll admits, ρ − CORNER_SIGMAS σ_ρ
+    chi2_rho: float  # their χ² about the best circle of that radius
+
+    def note(self) -> str:
+        return (f"({self.point[0]:.1f}, {self.point[1]:.1f}) mm that {self.lines} pad lines of {self.touches} of "
+                f"its finger's touches pass through over {math.degrees(self.span_rad):.0f} deg (chi2 "
+                f"{self.chi2:.3g} on {self.lines - 2} dof; a curve of radius >= {self.rho_low:.1f} mm: chi2 "
+                f"{self.chi2_rho:.3g})")
+
+
+def touch_pad_lines(finger, touch: TouchResult) -> tuple[kin.PadLine, np.ndarray] | None:
+    """A rolling touch's or probe's pad lines (readings' order) with backlash and declared
+    compliance taken out as :func:`feel` takes them out, and each line's joint σ's (n, joints,
+    rad: its touch's quantization and offsets, tactile_jaw.envelope.joint_noise, independent
+    here); None when it has fewer than 3 readings (the load's contacts are an envelope's) or
+    its load reversed."""
+    samples = touch.samples
+    if len(samples) < 3:
+        return None
+    q = kin.ticks_to_angles(finger.joints, np.array([s.ticks for s in samples], dtype=float))
+    try:
+        loads = touch_loads(finger, q, kin.PadLine.stack([s.line for s in samples]))
+        if loads.reversed is not None:
+            return None
+        q = q - loads.offsets
+        bent = touch_compliance(finger, samples, q, kin.finger_pad_line(finger, q))
+    except InputError:
+        return None
+    if bent is not None:
+        q = q - bent.turns
+    noise = joint_noise(finger, loads.known, bent)
+    sigma = np.hypot(noise.quantization, np.asarray(noise.offset_rad, dtype=float))
+    return kin.finger_pad_line(finger, q), np.broadcast_to(sigma, q.shape)
+
+
+def finger_pad_lines(config, felt: Sequence[FeltTouch], finger: str
+                     ) -> tuple[kin.PadLine, np.ndarray, np.ndarray] | None:
+    """Every pad line finger ``finger`` felt on its rolls and probes of ``felt`` (flat presses
+    aside), each touch's readings at their orientation (:func:`at_orientation`) as
+    :func:`touch_pad_lines` gives them: (the lines, their joint σ's, each line's touch's index
+    in ``felt``), None when there are none. The same lines whether a probe was felt as the run
+    felt it or as replay does."""
+    f = config.finger(finger)
+    lines, sigmas, owner = [], [], []
+    for k, t in enumerate(felt):
+        if t.finger != finger or isinstance(t.touch, FlatResult):
+            continue
+        got = touch_pad_lines(f, at_orientation(t.touch))
+        if got is not None:
+            lines.append(got[0])
+            sigmas.append(got[1])
+            owner.append(np.full(got[1].shape[0], k))
+    if not lines:
+        return None
+    joined = kin.PadLine(**{f.name: np.concatenate([np.asarray(getattr(ln, f.name)) for ln in lines])
+                            for f in fields(kin.PadLine)})
+    return joined, np.concatenate(sigmas), np.concatenate(owner)
+
+
+def circle_chi2(normal: np.ndarray, d: np.ndarray, sigma: np.ndarray, rho: float) -> float:
+    """The least χ² of pad lines ``normal``·p = ``d`` (deviations ``sigma``, mm) about the
+    tangents of a circle of radius ``rho`` (d = n·c − ρ, its centre c fitted): ρ = 0 is a
+    point the lines pass through."""
+    w = 1.0 / sigma
+    a, b = normal * w[:, None], (d + rho) * w
+    centre = np.linalg.lstsq(a, b, rcond=None)[0]
+    return float(np.sum((a @ centre - b) ** 2))
+
+
+def shared_pivot(finger, pool: tuple[kin.PadLine, np.ndarray, np.ndarray], seed: np.ndarray, roll: FeltTouch
+                 ) -> SharedPivot | None:
+    """The point the finger's ``pool`` of lines (:func:`finger_pad_lines`) passes through near
+    ``seed``, when it is a corner the usable ``roll`` rested on, else None. Its lines are those
+    whose miss lies within the limit at ``SMOOTH_ALPHA`` (1 dof) of its deviation
+    (tactile_jaw.envelope.point_miss_sigma), the point refitted on them until they stay the
+    same (at least ``SEGMENT_CORNER_LINES``: two lines always meet). The normals of a convex
+    boundary's point form one arc and its support function is single-valued, so every line of
+    the finger whose normal lies between theirs is held to the point too (a selection by miss
+    alone would make a curve's tangents near any of its points look like a pivot). It is a
+    corner when those lines' normals spread wider than the roll's own, their χ² about the point
+    lies within its limit at ``SMOOTH_ALPHA`` (lines − 2 dof), and a curve as little bent as the
+    roll admits, a circle of radius
+    ρ_low = ρ − ``CORNER_SIGMAS`` σ_ρ (the roll's envelope fit), explains them worse than the
+    point by more than the limit at ``SMOOTH_ALPHA`` on 1 dof (the likelihood ratio of the two):
+    a smooth boundary's tangent lines over a spread Δ miss any one point by about ρ(1 − cos Δ/2)
+    (the X-series 13° roll cannot tell ρ 15 mm from a pivot; its lines and the same finger's
+    probes over 48° tell it from ρ ≳ 1.5 mm)."""
+    lines, joint_sigma, owner = pool
+    normal, d = np.asarray(lines.normal, dtype=float), np.asarray(lines.d, dtype=float)
+    limit1 = chi2_limit(SMOOTH_ALPHA, 1)
+    point, taken = np.asarray(seed, dtype=float), None
+    for _ in range(SHARED_PIVOT_ROUNDS):
+        sigma = point_miss_sigma(finger, lines, point, joint_sigma)
+        on = (normal @ point - d) ** 2 <= limit1 * sigma ** 2
+        if on.sum() < SEGMENT_CORNER_LINES or (taken is not None and np.array_equal(on, taken)):
+            break
+        taken = on
+        point = kin.nearest_point(normal[on] / sigma[on, None], d[on] / sigma[on])
+    if taken is None or not np.array_equal(on, taken):
+        return None
+    rho_low = float(roll.fit.rho - CORNER_SIGMAS * roll.fit.sigma_rho)
+    own = np.asarray(roll.lines.psi, dtype=float)
+    psi = np.remainder(np.asarray(lines.psi, dtype=float) - own[0] + math.pi, 2 * math.pi) - math.pi  # about the roll
+    own = np.remainder(own - own[0] + math.pi, 2 * math.pi) - math.pi
+    # a boundary point's normals are one arc: every line of the finger within it is held to the point
+    arc = (psi >= psi[on].min()) & (psi <= psi[on].max())
+    k = int(arc.sum())
+    if rho_low <= 0.0 or float(np.ptp(psi[arc])) <= float(np.ptp(own)):
+        return None
+    chi2 = circle_chi2(normal[arc], d[arc], sigma[arc], 0.0)
+    chi2_rho = circle_chi2(normal[arc], d[arc], sigma[arc], rho_low)
+    if chi2 > chi2_limit(SMOOTH_ALPHA, k - 2) or chi2_rho - chi2 <= limit1:
+        return None
+    return SharedPivot(point, k, int(np.unique(owner[arc]).size), float(np.ptp(psi[arc])), chi2, rho_low, chi2_rho)
+
+
+def on_shared_pivot(finger, roll: FeltTouch, point: np.ndarray) -> np.ndarray:
+    """Which samples of the usable ``roll`` (contacts' order) have their pad line through
+    ``point`` within the limit at ``SMOOTH_ALPHA`` (1 dof) of the line's deviation there."""
+    got = touch_pad_lines(finger, roll.touch)
+    if got is None:
+        return np.zeros(roll.contacts.x.size, bool)
+    lines, joint_sigma = got
+    sigma = point_miss_sigma(finger, lines, point, joint_sigma)
+    on = (np.asarray(lines.normal) @ point - np.asarray(lines.d)) ** 2 <= chi2_limit(SMOOTH_ALPHA, 1) * sigma ** 2
+    return on[roll.contacts.order]
+
+
+def on_shared_pivots(config, roll: FeltTouch, felt: Sequence[FeltTouch]) -> tuple[np.ndarray, SharedPivot | None]:
+    """Which samples of the usable ``roll`` (contacts' order) rest on a corner its finger's
+    lines of every touch of ``felt`` pass through (:func:`shared_pivot`, sought from the point
+    each of those touches' lines pass nearest), and the corner that holds most of them (None:
+    none). Only a corner the roll's middle line passes through counts: the roll states its
+    radius of curvature at its middle contact, and the radius may shrink toward its ends (a
+    hyperbola's vertex, ρ = b²/a a few mm, whose tangents over 20° pass within an X-series line's
+    noise of one point: 6 of X finite 617's rolls on a curve, each with 1–3 end samples through
+    such a point 10–23 mm from any corner; the 11 whose middle passed through one lay 0.04–0.37
+    mm from a true corner). A support line of a convex boundary through one of its points
+    touches it there, so such a sample's contact is that corner, whatever the envelope fit
+    placed: X cubical
+    106 of bench_explore --finite 20 --anywhere --seed 617, moved as its first refusal advised:
+    the left rolls at −121…−103° and −119…−101° (ρ 33.9 ± 4.8, 20.5 ± 4.7 mm) had 7 and 8 of
+    9 lines through the block's closing corner within 0.004–0.12 mm, as had the finger's probes
+    and rejected rolls there, −121° to −73° in all, and the answer was ellipse."""
+    c = roll.contacts
+    on = np.zeros(c.x.size, bool)
+    if roll.lines is None or roll.fit is None or roll.fit.rho - CORNER_SIGMAS * roll.fit.sigma_rho <= 0.0:
+        return on, None
+    finger = config.finger(roll.finger)
+    pool = finger_pad_lines(config, felt, roll.finger)
+    if pool is None:
+        return on, None
+    lines, _, owner = pool
+    best, most = None, 0
+    for k in np.unique(owner):
+        mine = owner == k
+        seed = kin.nearest_point(np.asarray(lines.normal)[mine], np.asarray(lines.d)[mine])
+        pivot = shared_pivot(finger, pool, seed, roll)
+        if pivot is None:
+            continue
+        these = on_shared_pivot(finger, roll, pivot.point)
+        if not these[c.x.size // 2]:  # the roll states its radius at its middle contact, not at its ends
+            continue
+        on |= these
+        if int(these.sum()) > most:
+            best, most = pivot, int(these.sum())
+    return on, best
 
 
 def past_ends(c: kin.TouchEnvelope, ends: Sequence[tuple[float, float, float, int]]) -> np.ndarray:
