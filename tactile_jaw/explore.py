@@ -1075,8 +1075,8 @@ def explore(jaw: Jaw, settings: ExploreSettings, recognize_touches: RecognizeTou
                 # naming a move (tactile_jaw.choose.VERTEX_OFF); one that ran off the pad's face (P
                 # parabola 78 of --seed 107: 28.8..51.4 mm along a 52 mm pad) goes to the next centre
                 if aimed.kind == "vertex" and (felt.off_curve or not touch.samples) and vertex_missed != VERTEX_ENDS:
-                    ends = felt.corner is not None or (not touch.samples and touch.outcome == "no_contact")
-                    vertex_missed = VERTEX_ENDS if ends else VERTEX_OFF
+                    object_ends = felt.corner is not None or (not touch.samples and touch.outcome == "no_contact")
+                    vertex_missed = VERTEX_ENDS if object_ends else VERTEX_OFF
                 if not touch.samples:
                     empty_at.append(aimed.point)  # the object is not where the answered curve goes on
         if probing:
