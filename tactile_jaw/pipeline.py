@@ -610,6 +610,7 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
     corners = clearing_corners(felt)
     ends = curve_ends(felt)
     pivots = [t.pivot for t in felt if t.pivot is not None]
+    pools: dict[str, Any] = {}  # each finger's pad lines of felt, gathered once (on_shared_pivots)
     kept, notes = [], []
     for t in usable:
         if t.contacts is None or t.fit is None:
@@ -620,7 +621,7 @@ def clear_of_corners(config, usable: Sequence[FeltTouch], felt: Sequence[FeltTou
         clearance = corner_clearance(t)
         near = gaps.min(axis=1) < clearance
         past = past_ends(c, ends.get(t.finger, []))
-        shared, pivot = on_shared_pivots(config, t, felt)
+        shared, pivot = on_shared_pivots(config, t, felt, pools)
         on = on_pivots(t, pivots) | shared
         if not near.any() and not past.any() and not on.any():
             kept.append(t)
@@ -825,23 +826,26 @@ def shared_pivot(finger, pool: tuple[kin.PadLine, np.ndarray, np.ndarray], seed:
     return SharedPivot(point, k, int(np.unique(owner[arc]).size), float(np.ptp(psi[arc])), chi2, rho_low, chi2_rho)
 
 
-def on_shared_pivot(finger, roll: FeltTouch, point: np.ndarray) -> np.ndarray:
-    """Which samples of the usable ``roll`` (contacts' order) have their pad line through
-    ``point`` within the limit at ``SMOOTH_ALPHA`` (1 dof) of the line's deviation there."""
-    got = touch_pad_lines(finger, roll.touch)
-    if got is None:
+def on_shared_pivot(finger, roll: FeltTouch, roll_lines: tuple[kin.PadLine, np.ndarray] | None,
+                    point: np.ndarray) -> np.ndarray:
+    """Which samples of the usable ``roll`` (contacts' order) have their pad line
+    (``roll_lines``, :func:`touch_pad_lines` of the roll) through ``point`` within the limit at
+    ``SMOOTH_ALPHA`` (1 dof) of the line's deviation there."""
+    if roll_lines is None:
         return np.zeros(roll.contacts.x.size, bool)
-    lines, joint_sigma = got
+    lines, joint_sigma = roll_lines
     sigma = point_miss_sigma(finger, lines, point, joint_sigma)
     on = (np.asarray(lines.normal) @ point - np.asarray(lines.d)) ** 2 <= chi2_limit(SMOOTH_ALPHA, 1) * sigma ** 2
     return on[roll.contacts.order]
 
 
-def on_shared_pivots(config, roll: FeltTouch, felt: Sequence[FeltTouch]) -> tuple[np.ndarray, SharedPivot | None]:
+def on_shared_pivots(config, roll: FeltTouch, felt: Sequence[FeltTouch],
+                     pools: dict[str, Any] | None = None) -> tuple[np.ndarray, SharedPivot | None]:
     """Which samples of the usable ``roll`` (contacts' order) rest on a corner its finger's
     lines of every touch of ``felt`` pass through (:func:`shared_pivot`, sought from the point
     each of those touches' lines pass nearest), and the corner that holds most of them (None:
-    none). Only a corner the roll's middle line passes through counts: the roll states its
+    none); ``pools``: each finger's lines of ``felt`` (:func:`finger_pad_lines`) as gathered so
+    far for other rolls of the same ``felt``, filled here. Only a corner the roll's middle line passes through counts: the roll states its
     radius of curvature at its middle contact, and the radius may shrink toward its ends (a
     hyperbola's vertex, ρ = b²/a a few mm, whose tangents over 20° pass within an X-series line's
     noise of one point: 6 of X finite 617's rolls on a curve, each with 1–3 end samples through
@@ -858,10 +862,14 @@ def on_shared_pivots(config, roll: FeltTouch, felt: Sequence[FeltTouch]) -> tupl
     if roll.lines is None or roll.fit is None or roll.fit.rho - CORNER_SIGMAS * roll.fit.sigma_rho <= 0.0:
         return on, None
     finger = config.finger(roll.finger)
-    pool = finger_pad_lines(config, felt, roll.finger)
+    pools = {} if pools is None else pools
+    if roll.finger not in pools:
+        pools[roll.finger] = finger_pad_lines(config, felt, roll.finger)
+    pool = pools[roll.finger]
     if pool is None:
         return on, None
     lines, _, owner = pool
+    roll_lines = touch_pad_lines(finger, roll.touch)
     best, most = None, 0
     for k in np.unique(owner):
         mine = owner == k
@@ -869,7 +877,7 @@ def on_shared_pivots(config, roll: FeltTouch, felt: Sequence[FeltTouch]) -> tupl
         pivot = shared_pivot(finger, pool, seed, roll)
         if pivot is None:
             continue
-        these = on_shared_pivot(finger, roll, pivot.point)
+        these = on_shared_pivot(finger, roll, roll_lines, pivot.point)
         if not these[c.x.size // 2]:  # the roll states its radius at its middle contact, not at its ends
             continue
         on |= these
